@@ -1,0 +1,138 @@
+#include "bvh.h"
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace rf {
+
+namespace {
+constexpr int kBins = 16;
+constexpr float kTraversalCost = 1.0f;  // relative to one primitive test
+constexpr int kMaxDepth = 62;           // traversal stack is 64 deep; deeper subtrees split by count
+}  // namespace
+
+void Bvh::build(const std::vector<Aabb>& primBounds, int maxLeafSize) {
+    nodes_.clear();
+    primIndex_.clear();
+    if (primBounds.empty()) return;
+    std::vector<BuildItem> items(primBounds.size());
+    primIndex_.resize(primBounds.size());
+    for (size_t i = 0; i < primBounds.size(); ++i) {
+        items[i].box = primBounds[i];
+        items[i].centroid = primBounds[i].center();
+        primIndex_[i] = static_cast<uint32_t>(i);
+    }
+    nodes_.reserve(2 * primBounds.size());
+    buildRecursive(items, 0, static_cast<uint32_t>(items.size()), maxLeafSize, 0);
+}
+
+void Bvh::refit(const std::vector<Aabb>& primBounds) {
+    // Children always sit after their parent, so a reverse sweep sees children first.
+    for (size_t i = nodes_.size(); i-- > 0;) {
+        BvhNode& n = nodes_[i];
+        Aabb b;
+        if (n.count > 0) {
+            for (uint32_t k = 0; k < n.count; ++k) b.grow(primBounds[primIndex_[n.offset + k]]);
+        } else {
+            b.grow(nodes_[i + 1].box);
+            b.grow(nodes_[n.offset].box);
+        }
+        n.box = b;
+    }
+}
+
+uint32_t Bvh::buildRecursive(std::vector<BuildItem>& items, uint32_t begin, uint32_t end, int maxLeaf, int depth) {
+    const uint32_t nodeIndex = static_cast<uint32_t>(nodes_.size());
+    nodes_.emplace_back();
+    Aabb box, cbox;
+    for (uint32_t i = begin; i < end; ++i) {
+        box.grow(items[i].box);
+        cbox.grow(items[i].centroid);
+    }
+    nodes_[nodeIndex].box = box;
+    const uint32_t count = end - begin;
+    auto makeLeaf = [&] {
+        nodes_[nodeIndex].offset = begin;
+        nodes_[nodeIndex].count = static_cast<uint16_t>(count);
+        return nodeIndex;
+    };
+    if (count <= 1) return makeLeaf();
+
+    // Binned SAH over the longest centroid axis.
+    const int axis = cbox.longestAxis();
+    const float lo = cbox.lo[axis], span = cbox.hi[axis] - lo;
+    uint32_t mid = begin;
+    if (span > 0.f && std::isfinite(span) && depth < kMaxDepth - 16) {
+        struct Bin {
+            Aabb box;
+            uint32_t n = 0;
+        } bins[kBins];
+        const float scale = kBins / span;
+        auto binOf = [&](const BuildItem& it) {
+            return std::min(kBins - 1, std::max(0, static_cast<int>((it.centroid[axis] - lo) * scale)));
+        };
+        for (uint32_t i = begin; i < end; ++i) {
+            Bin& b = bins[binOf(items[i])];
+            b.box.grow(items[i].box);
+            ++b.n;
+        }
+        float rightArea[kBins];
+        uint32_t rightCount[kBins];
+        Aabb acc;
+        uint32_t n = 0;
+        for (int i = kBins - 1; i > 0; --i) {
+            acc.grow(bins[i].box);
+            n += bins[i].n;
+            rightArea[i] = acc.area();
+            rightCount[i] = n;
+        }
+        float bestCost = kInf;
+        int bestSplit = -1;
+        acc = Aabb{};
+        n = 0;
+        for (int i = 0; i < kBins - 1; ++i) {
+            acc.grow(bins[i].box);
+            n += bins[i].n;
+            if (n == 0 || rightCount[i + 1] == 0) continue;
+            const float cost = acc.area() * n + rightArea[i + 1] * rightCount[i + 1];
+            if (cost < bestCost) {
+                bestCost = cost;
+                bestSplit = i;
+            }
+        }
+        const float leafCost = box.area() * count;
+        const float splitCost = kTraversalCost * box.area() + bestCost;
+        if (bestSplit >= 0 && (splitCost < leafCost || count > static_cast<uint32_t>(maxLeaf))) {
+            uint32_t* idx = primIndex_.data();
+            // Partition items and their primitive indices together.
+            uint32_t l = begin, r = end;
+            while (l < r) {
+                if (binOf(items[l]) <= bestSplit) {
+                    ++l;
+                } else {
+                    --r;
+                    std::swap(items[l], items[r]);
+                    std::swap(idx[l], idx[r]);
+                }
+            }
+            mid = l;
+        } else if (count <= static_cast<uint32_t>(maxLeaf)) {
+            return makeLeaf();
+        }
+    } else if (count <= static_cast<uint32_t>(maxLeaf)) {
+        return makeLeaf();
+    }
+    if (mid == begin || mid == end) {
+        // All centroids coincide (or SAH found no split) but the leaf is too big: split by count.
+        if (count <= static_cast<uint32_t>(maxLeaf) * 4 || depth >= kMaxDepth) return makeLeaf();
+        mid = begin + count / 2;
+    }
+    nodes_[nodeIndex].axis = static_cast<uint8_t>(axis);
+    buildRecursive(items, begin, mid, maxLeaf, depth + 1);
+    const uint32_t second = buildRecursive(items, mid, end, maxLeaf, depth + 1);
+    nodes_[nodeIndex].offset = second;
+    nodes_[nodeIndex].count = 0;
+    return nodeIndex;
+}
+
+}  // namespace rf

@@ -1,0 +1,38 @@
+#pragma once
+/// Perspective pin-hole camera and primary rays.
+#include "ray.h"
+
+namespace rf {
+
+struct Camera {
+    Vec3 eye{0.f, 0.f, 5.f};
+    Vec3 target{0.f};
+    Vec3 up{0.f, 1.f, 0.f};
+    float fovDeg = 45.f;         ///< full field of view along fovHorizontal ? x : y
+    bool fovHorizontal = false;
+};
+
+/// World-from-camera basis: right, up and forward, orthonormal and right-handed.
+struct CameraBasis {
+    Vec3 right{1.f, 0.f, 0.f};
+    Vec3 up{0.f, 1.f, 0.f};
+    Vec3 forward{0.f, 0.f, -1.f};
+};
+
+/// Look-at that stays orthonormal when forward is parallel to up (another up is chosen) and
+/// when eye == target (forward falls back to −z). Never NaN for finite input.
+CameraBasis lookAt(const Vec3& eye, const Vec3& target, const Vec3& up);
+
+/// Everything needed to shoot primary rays for one image size.
+struct CameraRays {
+    Vec3 origin;
+    CameraBasis basis;
+    float tanHalfX = 1.f, tanHalfY = 1.f;
+    int width = 1, height = 1;
+
+    CameraRays(const Camera& cam, int width, int height);
+    /// Ray through image position (x, y) in pixels, (0, 0) the top-left corner.
+    Ray generate(float x, float y) const;
+};
+
+}  // namespace rf

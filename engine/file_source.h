@@ -1,0 +1,53 @@
+#pragma once
+/// Where loaders get file bytes from. Rank 0 reads the disk and records every file it read into
+/// a bundle; the bundle is broadcast once and the other ranks load the same scene from memory,
+/// never touching the scene files themselves.
+#include <cstdint>
+#include <map>
+#include <string>
+
+namespace rf {
+
+/// Files by path, as read by a loader.
+struct FileBundle {
+    std::map<std::string, std::string> files;
+
+    /// Flat byte string: count, then (path length, path, size, bytes) per file.
+    std::string serialize() const;
+    /// Inverse of serialize; throws std::runtime_error on malformed input.
+    static FileBundle deserialize(const std::string& bytes);
+    size_t totalBytes() const;
+};
+
+class FileSource {
+public:
+    virtual ~FileSource() = default;
+    /// Whole file; throws InputError(path, …) if it cannot be read or exceeds maxBytes.
+    virtual std::string read(const std::string& path, uint64_t maxBytes = kDefaultMaxBytes) = 0;
+    virtual bool exists(const std::string& path) = 0;
+    static constexpr uint64_t kDefaultMaxBytes = 4ull << 30;
+};
+
+/// Reads from disk and remembers what it read.
+class DiskFileSource : public FileSource {
+public:
+    std::string read(const std::string& path, uint64_t maxBytes = kDefaultMaxBytes) override;
+    bool exists(const std::string& path) override;
+    const FileBundle& bundle() const { return bundle_; }
+
+private:
+    FileBundle bundle_;
+};
+
+/// Serves only what a bundle holds.
+class BundleFileSource : public FileSource {
+public:
+    explicit BundleFileSource(FileBundle bundle) : bundle_(std::move(bundle)) {}
+    std::string read(const std::string& path, uint64_t maxBytes = kDefaultMaxBytes) override;
+    bool exists(const std::string& path) override;
+
+private:
+    FileBundle bundle_;
+};
+
+}  // namespace rf

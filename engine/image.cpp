@@ -1,0 +1,64 @@
+#include "image.h"
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+// Debian builds stb as a shared library (libstb), so no *_IMPLEMENTATION here.
+#include <stb_image.h>
+#include <stb_image_write.h>
+
+namespace rf {
+
+void Image::setTile(int x, int y, int w, int h, const float* src) {
+    for (int j = 0; j < h; ++j) std::memcpy(pixel(x, y + j), src + size_t(j) * w * 3, sizeof(float) * 3 * w);
+}
+
+float srgbEncode(float v) {
+    if (!(v > 0.f)) return 0.f;
+    if (v >= 1.f) return 1.f;
+    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.f / 2.4f) - 0.055f;
+}
+
+float srgbDecode(float v) {
+    if (!(v > 0.f)) return 0.f;
+    if (v >= 1.f) return 1.f;
+    return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+}
+
+float toneMap(float x, ToneMap op) {
+    if (std::isnan(x) || x <= 0.f) return 0.f;
+    if (op == ToneMap::Clamp) return x >= 1.f ? 1.f : x;
+    if (std::isinf(x)) return 1.f;
+    return x / (1.f + x);
+}
+
+uint8_t toByte(float v) {
+    if (!(v > 0.f)) return 0;  // NaN, −0, negatives
+    if (!(v < 1.f)) return 255;
+    return static_cast<uint8_t>(v * 255.f + 0.5f);
+}
+
+std::vector<uint8_t> toRgb8(const Image& img, ToneMap op) {
+    const size_t n = size_t(img.width()) * img.height() * 3;
+    std::vector<uint8_t> out(n);
+    const float* src = img.data();
+    for (size_t i = 0; i < n; ++i) out[i] = toByte(srgbEncode(toneMap(src[i], op)));
+    return out;
+}
+
+void writePng(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb8) {
+    if (!stbi_write_png(path.c_str(), width, height, 3, rgb8.data(), width * 3))
+        throw std::runtime_error(path + ": cannot write PNG");
+}
+
+std::vector<uint8_t> readImageRgb8(const std::string& path, int& width, int& height) {
+    int comp = 0;
+    unsigned char* data = stbi_load(path.c_str(), &width, &height, &comp, 3);
+    if (!data) throw std::runtime_error(path + ": cannot read image (" + stbi_failure_reason() + ")");
+    std::vector<uint8_t> out(data, data + size_t(width) * height * 3);
+    stbi_image_free(data);
+    return out;
+}
+
+}  // namespace rf

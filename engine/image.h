@@ -1,0 +1,47 @@
+#pragma once
+/// Linear float RGB framebuffer, tone mapping, sRGB encoding and PNG files.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "settings.h"
+
+namespace rf {
+
+class Image {
+public:
+    Image() = default;
+    Image(int width, int height) : w_(width), h_(height), rgb_(size_t(width) * height * 3, 0.f) {}
+
+    int width() const { return w_; }
+    int height() const { return h_; }
+    float* data() { return rgb_.data(); }
+    const float* data() const { return rgb_.data(); }
+    float* pixel(int x, int y) { return &rgb_[3 * (size_t(y) * w_ + x)]; }
+    const float* pixel(int x, int y) const { return &rgb_[3 * (size_t(y) * w_ + x)]; }
+    /// Copies a w × h block of RGB floats to (x, y).
+    void setTile(int x, int y, int w, int h, const float* src);
+
+private:
+    int w_ = 0, h_ = 0;
+    std::vector<float> rgb_;
+};
+
+/// sRGB transfer function (IEC 61966-2-1) for linear values in [0, 1].
+float srgbEncode(float linear);
+/// Inverse of srgbEncode.
+float srgbDecode(float encoded);
+/// Tone mapping of one linear channel: clamp to [0, 1], or x/(1+x). NaN maps to 0.
+float toneMap(float x, ToneMap op);
+/// [0, 1] → 0..255 with rounding; NaN and negatives give 0, +Inf and > 1 give 255.
+uint8_t toByte(float v);
+
+/// Tone-maps and sRGB-encodes a linear image to 8-bit RGB.
+std::vector<uint8_t> toRgb8(const Image& img, ToneMap op);
+
+/// Writes 8-bit RGB as PNG; throws std::runtime_error naming the path on failure.
+void writePng(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb8);
+/// Reads a PNG (or any stb-readable image) as 8-bit RGB; throws naming the path on failure.
+std::vector<uint8_t> readImageRgb8(const std::string& path, int& width, int& height);
+
+}  // namespace rf

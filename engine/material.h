@@ -1,0 +1,45 @@
+#pragma once
+/// Surface description for the Whitted model: the seed's ambient/Lambert/Phong coefficients,
+/// mirror reflection, and a dielectric for refraction.
+#include <string>
+
+#include "math.h"
+
+namespace rf {
+
+enum class AlphaMode { Opaque, Mask, Blend };
+
+/// 2D affine UV transform (KHR_texture_transform): uv' = offset + R(rotation)·(scale ⊙ uv).
+struct TextureTransform {
+    Vec2 offset{0.f};
+    float rotation = 0.f;
+    Vec2 scale{1.f};
+    int texCoord = 0;
+    bool identity() const { return offset == Vec2(0.f) && rotation == 0.f && scale == Vec2(1.f); }
+};
+
+struct Material {
+    std::string name;
+    Color color{0.8f};          ///< base colour (linear); checker: the first colour
+    Color color2{0.2f};         ///< checker: the second colour
+    float checkerScale = 0.f;   ///< > 0 turns on a 3D checker with cells of this size
+    float ambient = 0.1f;       ///< k_amb
+    float diffuse = 0.9f;       ///< k_dif
+    float specular = 0.f;       ///< k_spec
+    float shininess = 32.f;     ///< Phong exponent n
+    float reflection = 0.f;     ///< mirror weight
+    float transmission = 0.f;   ///< weight of the refracted ray (before Fresnel)
+    float ior = 1.5f;           ///< index of refraction for transmission
+    Color emission{0.f};
+    bool doubleSided = true;
+    AlphaMode alphaMode = AlphaMode::Opaque;
+    float alpha = 1.f;          ///< base colour alpha factor
+    float alphaCutoff = 0.5f;
+    int baseColorTexture = -1;  ///< index into Scene::textures
+    TextureTransform baseColorTransform;
+    int normalTexture = -1;
+    float normalScale = 1.f;
+    TextureTransform normalTransform;
+};
+
+}  // namespace rf

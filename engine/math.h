@@ -1,0 +1,51 @@
+#pragma once
+/// Shared math vocabulary: GLM vectors, float error bounds and small helpers.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+namespace rf {
+
+using Vec2 = glm::vec2;
+using Vec3 = glm::vec3;
+using Vec4 = glm::vec4;
+using DVec3 = glm::dvec3;
+using DMat4 = glm::dmat4;
+using DQuat = glm::dquat;
+using Color = glm::vec3;
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr float kPi = 3.14159265358979323846f;
+constexpr float kMachineEps = std::numeric_limits<float>::epsilon() * 0.5f;
+
+/// pbrt's gamma(n): bound on the relative error of n chained float operations.
+constexpr float gamma(int n) { return (n * kMachineEps) / (1 - n * kMachineEps); }
+
+inline float maxComponent(const Vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+inline float luminanceMax(const Color& c) { return maxComponent(c); }
+inline bool isFinite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+inline float nextFloatUp(float v) {
+    if (std::isinf(v) && v > 0.f) return v;
+    return std::nextafter(v == -0.f ? 0.f : v, kInf);
+}
+inline float nextFloatDown(float v) {
+    if (std::isinf(v) && v < 0.f) return v;
+    return std::nextafter(v == 0.f ? -0.f : v, -kInf);
+}
+
+/// Orthonormal basis around a unit vector (Duff et al. 2017, branchless).
+inline void orthonormalBasis(const Vec3& n, Vec3& t, Vec3& b) {
+    const float sign = std::copysign(1.0f, n.z);
+    const float a = -1.0f / (sign + n.z);
+    const float c = n.x * n.y * a;
+    t = Vec3(1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x);
+    b = Vec3(c, sign + n.y * n.y * a, -n.y);
+}
+
+}  // namespace rf

@@ -1,0 +1,35 @@
+#pragma once
+/// Indexed triangle mesh in render space, with optional per-vertex normals, UVs and tangents.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "math.h"
+
+namespace rf {
+
+struct TriangleMesh {
+    std::string name;
+    std::vector<Vec3> positions;
+    std::vector<Vec3> normals;   ///< empty, or one per position (Phong shading)
+    std::vector<Vec2> uvs;       ///< empty, or one per position (TEXCOORD_0)
+    std::vector<Vec2> uvs1;      ///< empty, or one per position (TEXCOORD_1)
+    std::vector<Vec4> tangents;  ///< empty, or one per position (xyz, handedness w)
+    std::vector<uint32_t> indices;  ///< three per triangle
+    int material = 0;
+
+    /// Animated meshes: the node (in Scene::models[model]) that carries the mesh, and the
+    /// model-space data re-transformed each frame. node < 0: static, positions are final.
+    int model = -1;
+    int node = -1;
+    std::vector<Vec3> objectPositions;
+    std::vector<Vec3> objectNormals;
+    std::vector<Vec4> objectTangents;
+    /// Morph targets (position deltas per target) and default weights.
+    std::vector<std::vector<Vec3>> morphPositions;
+    std::vector<std::vector<Vec3>> morphNormals;
+
+    size_t triangleCount() const { return indices.size() / 3; }
+};
+
+}  // namespace rf

@@ -1,0 +1,108 @@
+#include "render.h"
+
+#include <atomic>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include "sampler.h"
+#include "whitted.h"
+
+namespace rf {
+
+void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, const RenderSettings& settings,
+                int frame, float* out, RayStats& stats) {
+    const CameraRays rays(camera, settings.width, settings.height);
+    const WhittedTracer tracer(scene, settings);
+    const int n = std::max(1, static_cast<int>(std::lround(std::sqrt(static_cast<double>(std::max(1, settings.spp))))));
+    const float invN = 1.f / n;
+    const float invSpp = 1.f / (n * n);
+    for (int y = rect.y0; y < rect.y1; ++y) {
+        for (int x = rect.x0; x < rect.x1; ++x) {
+            const uint64_t pixel = uint64_t(y) * uint64_t(settings.width) + uint64_t(x);
+            Color sum(0.f);
+            for (int sy = 0; sy < n; ++sy) {
+                for (int sx = 0; sx < n; ++sx) {
+                    float jx = 0.5f, jy = 0.5f;
+                    if (n > 1) {  // one sample sits at the pixel centre; more are jittered per stratum
+                        SampleRng rng(frame, pixel, uint64_t(sy * n + sx));
+                        jx = rng.next();
+                        jy = rng.next();
+                    }
+                    const Ray r = rays.generate(x + (sx + jx) * invN, y + (sy + jy) * invN);
+                    Color c = tracer.tracePrimary(r, stats);
+                    if (!isFinite(c)) {
+                        c = Color(0.f);
+                        ++stats.nonFinite;
+                    }
+                    sum += c;
+                }
+            }
+            sum *= invSpp;
+            float* o = out + 3 * (size_t(y - rect.y0) * rect.width() + (x - rect.x0));
+            o[0] = sum.r;
+            o[1] = sum.g;
+            o[2] = sum.b;
+        }
+    }
+}
+
+std::vector<TileRect> makeTiles(int width, int height, int tileSize) {
+    std::vector<TileRect> tiles;
+    tileSize = std::max(1, tileSize);
+    for (int y = 0; y < height; y += tileSize)
+        for (int x = 0; x < width; x += tileSize)
+            tiles.push_back({x, y, std::min(width, x + tileSize), std::min(height, y + tileSize)});
+    return tiles;
+}
+
+int hardwareThreads() { return std::max(1u, std::thread::hardware_concurrency()); }
+
+void parallelFor(int n, int threads, const std::function<void(int, int)>& job) {
+    if (threads <= 0) threads = hardwareThreads();
+    threads = std::max(1, std::min(threads, n));
+    std::atomic<int> next{0};
+    std::exception_ptr error;
+    std::mutex errorMutex;
+    auto worker = [&](int t) {
+        for (;;) {
+            const int i = next.fetch_add(1);
+            if (i >= n) return;
+            try {
+                job(i, t);
+            } catch (...) {
+                std::lock_guard<std::mutex> lock(errorMutex);
+                if (!error) error = std::current_exception();
+                next = n;
+                return;
+            }
+        }
+    };
+    if (threads == 1) {
+        worker(0);
+    } else {
+        std::vector<std::thread> pool;
+        for (int t = 1; t < threads; ++t) pool.emplace_back(worker, t);
+        worker(0);
+        for (auto& th : pool) th.join();
+    }
+    if (error) std::rethrow_exception(error);
+}
+
+Image renderFrame(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame, int threads,
+                  RayStats& stats) {
+    Image img(settings.width, settings.height);
+    const std::vector<TileRect> tiles = makeTiles(settings.width, settings.height, settings.tileSize);
+    if (threads <= 0) threads = hardwareThreads();
+    std::vector<RayStats> perThread(std::max(1, threads));
+    parallelFor(static_cast<int>(tiles.size()), threads, [&](int i, int t) {
+        const TileRect& r = tiles[i];
+        std::vector<float> buf(size_t(r.pixels()) * 3);
+        renderTile(scene, camera, r, settings, frame, buf.data(), perThread[t]);
+        img.setTile(r.x0, r.y0, r.width(), r.height(), buf.data());
+    });
+    for (const RayStats& s : perThread) stats += s;
+    return img;
+}
+
+}  // namespace rf

@@ -1,0 +1,41 @@
+#pragma once
+/// The one entry point for splitting work: render a rectangle of one frame. Local threads, the
+/// farm's pixel mode and its frame mode are all schedulers over renderTile.
+#include <functional>
+#include <vector>
+
+#include "image.h"
+#include "scene.h"
+#include "stats.h"
+
+namespace rf {
+
+/// Half-open pixel rectangle [x0, x1) × [y0, y1).
+struct TileRect {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    int width() const { return x1 - x0; }
+    int height() const { return y1 - y0; }
+    int pixels() const { return width() * height(); }
+};
+
+/// Renders rect of frame `frame` into out (rect.pixels() × 3 linear floats, row-major). The
+/// result depends only on (scene, camera, settings, frame, pixel): never on thread or rank.
+/// Non-finite sample values are replaced by black and counted in stats.nonFinite.
+void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, const RenderSettings& settings,
+                int frame, float* out, RayStats& stats);
+
+/// Splits a width × height image into tiles of tileSize, row by row.
+std::vector<TileRect> makeTiles(int width, int height, int tileSize);
+
+/// Renders a whole frame with `threads` worker threads (0: all cores) pulling tiles.
+Image renderFrame(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame, int threads,
+                  RayStats& stats);
+
+/// Runs job(i) for i in [0, n) on `threads` threads (0: all cores), handing out indices
+/// dynamically. job must be thread-safe; exceptions are rethrown on the calling thread.
+void parallelFor(int n, int threads, const std::function<void(int index, int thread)>& job);
+
+/// Number of hardware threads (at least 1).
+int hardwareThreads();
+
+}  // namespace rf

@@ -1,0 +1,236 @@
+#include "scene.h"
+
+namespace rf {
+
+namespace {
+Aabb triangleBox(const Vec3& a, const Vec3& b, const Vec3& c) {
+    Aabb box;
+    box.grow(a);
+    box.grow(b);
+    box.grow(c);
+    return box;
+}
+Aabb sphereBox(const Sphere& s) {
+    Aabb box;
+    box.lo = s.center - Vec3(s.radius);
+    box.hi = s.center + Vec3(s.radius);
+    return box;
+}
+}  // namespace
+
+void Scene::build() {
+    triVerts_.clear();
+    triMesh_.clear();
+    triLocal_.clear();
+    meshMasked_.assign(meshes.size(), 0);
+    for (size_t m = 0; m < meshes.size(); ++m) {
+        const TriangleMesh& mesh = meshes[m];
+        const int mat = mesh.material;
+        if (mat >= 0 && mat < static_cast<int>(materials.size()) && materials[mat].alphaMode == AlphaMode::Mask)
+            meshMasked_[m] = 1;
+        for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+            for (int k = 0; k < 3; ++k) triVerts_.push_back(mesh.positions[mesh.indices[3 * t + k]]);
+            triMesh_.push_back(static_cast<uint32_t>(m));
+            triLocal_.push_back(static_cast<uint32_t>(t));
+        }
+    }
+    const size_t nPrims = triMesh_.size() + spheres.size();
+    useBvh_ = nPrims >= kBvhThreshold;
+    if (!useBvh_) {
+        bvh_ = Bvh{};
+        return;
+    }
+    std::vector<Aabb> boxes;
+    boxes.reserve(nPrims);
+    for (size_t t = 0; t < triMesh_.size(); ++t) boxes.push_back(triangleBox(triVerts_[3 * t], triVerts_[3 * t + 1], triVerts_[3 * t + 2]));
+    for (const Sphere& s : spheres) boxes.push_back(sphereBox(s));
+    bvh_.build(boxes);
+}
+
+void Scene::refit() {
+    size_t t = 0;
+    for (const TriangleMesh& mesh : meshes)
+        for (size_t i = 0; i < mesh.indices.size(); ++i) triVerts_[t++] = mesh.positions[mesh.indices[i]];
+    if (!useBvh_) return;
+    std::vector<Aabb> boxes;
+    boxes.reserve(triMesh_.size() + spheres.size());
+    for (size_t k = 0; k < triMesh_.size(); ++k) boxes.push_back(triangleBox(triVerts_[3 * k], triVerts_[3 * k + 1], triVerts_[3 * k + 2]));
+    for (const Sphere& s : spheres) boxes.push_back(sphereBox(s));
+    bvh_.refit(boxes);
+}
+
+void Scene::applyNodeTransforms(int model, const std::vector<DMat4>& renderFromNode,
+                                const std::vector<std::vector<double>>& morphWeights) {
+    bool changed = false;
+    for (TriangleMesh& mesh : meshes) {
+        if (mesh.model != model || mesh.node < 0 || mesh.node >= static_cast<int>(renderFromNode.size())) continue;
+        const DMat4& m = renderFromNode[mesh.node];
+        const glm::dmat3 nm = glm::transpose(glm::inverse(glm::dmat3(m)));
+        const std::vector<double>* w = (mesh.node < static_cast<int>(morphWeights.size())) ? &morphWeights[mesh.node] : nullptr;
+        for (size_t i = 0; i < mesh.objectPositions.size(); ++i) {
+            glm::dvec3 p(mesh.objectPositions[i]);
+            glm::dvec3 n = mesh.objectNormals.empty() ? glm::dvec3(0.0) : glm::dvec3(mesh.objectNormals[i]);
+            if (w) {
+                for (size_t k = 0; k < w->size() && k < mesh.morphPositions.size(); ++k) {
+                    p += (*w)[k] * glm::dvec3(mesh.morphPositions[k][i]);
+                    if (!mesh.objectNormals.empty() && k < mesh.morphNormals.size() && !mesh.morphNormals[k].empty())
+                        n += (*w)[k] * glm::dvec3(mesh.morphNormals[k][i]);
+                }
+            }
+            mesh.positions[i] = Vec3(glm::dvec3(m * glm::dvec4(p, 1.0)));
+            if (!mesh.objectNormals.empty()) {
+                const glm::dvec3 tn = nm * n;
+                const double len = glm::length(tn);
+                mesh.normals[i] = len > 0.0 ? Vec3(tn / len) : Vec3(0.f);
+            }
+        }
+        changed = true;
+    }
+    if (changed) refit();
+}
+
+bool Scene::triangleAlphaPasses(uint32_t tri, const TriangleHit& h) const {
+    const TriangleMesh& mesh = meshes[triMesh_[tri]];
+    const Material& mat = materials[mesh.material];
+    float alpha = mat.alpha;
+    if (mat.baseColorTexture >= 0 && !mesh.uvs.empty()) {
+        const uint32_t* idx = &mesh.indices[3 * triLocal_[tri]];
+        const Vec2 uv = h.b0 * mesh.uvs[idx[0]] + h.b1 * mesh.uvs[idx[1]] + h.b2 * mesh.uvs[idx[2]];
+        alpha *= sampleTexture(textures[mat.baseColorTexture], uv).a;
+    }
+    return alpha >= mat.alphaCutoff;
+}
+
+bool Scene::intersectPrim(uint32_t prim, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit) const {
+    const uint32_t nTri = static_cast<uint32_t>(triMesh_.size());
+    if (prim < nTri) {
+        TriangleHit th;
+        if (!intersectTriangleWatertight(wr, triVerts_[3 * prim], triVerts_[3 * prim + 1], triVerts_[3 * prim + 2], tMax, th))
+            return false;
+        if (meshMasked_[triMesh_[prim]] && !triangleAlphaPasses(prim, th)) return false;
+        tMax = th.t;
+        hit.t = th.t;
+        hit.prim = prim;
+        hit.tri = th;
+        return true;
+    }
+    float t;
+    Vec3 rel;
+    if (!intersectSphere(spheres[prim - nTri], r, 0.f, tMax, t, &rel)) return false;
+    tMax = t;
+    hit.t = t;
+    hit.prim = prim;
+    hit.sphereRel = rel;
+    return true;
+}
+
+bool Scene::intersect(const Ray& r, Hit& hit) const {
+    float tMax = r.tMax;
+    bool found = false;
+    const WatertightRay wr(r);
+    if (useBvh_) {
+        found = bvh_.traverse(r, tMax, false, [&](uint32_t prim, float& tm) {
+            if (!intersectPrim(prim, r, wr, tm, hit)) return false;
+            tMax = tm;
+            return true;
+        });
+    } else {
+        const uint32_t n = static_cast<uint32_t>(triMesh_.size() + spheres.size());
+        for (uint32_t p = 0; p < n; ++p) found |= intersectPrim(p, r, wr, tMax, hit);
+    }
+    const uint32_t base = static_cast<uint32_t>(triMesh_.size() + spheres.size());
+    for (size_t i = 0; i < planes.size(); ++i) {
+        float t;
+        if (intersectPlane(planes[i], r, 0.f, tMax, t)) {
+            tMax = t;
+            hit.t = t;
+            hit.prim = base + static_cast<uint32_t>(i);
+            found = true;
+        }
+    }
+    return found;
+}
+
+bool Scene::occluded(const Ray& r, float tMax) const {
+    for (const Plane& pl : planes) {
+        float t;
+        if (intersectPlane(pl, r, 0.f, tMax, t)) return true;
+    }
+    const WatertightRay wr(r);
+    Hit scratch;
+    if (useBvh_) {
+        return bvh_.traverse(r, tMax, true, [&](uint32_t prim, float& tm) { return intersectPrim(prim, r, wr, tm, scratch); });
+    }
+    float tm = tMax;
+    const uint32_t n = static_cast<uint32_t>(triMesh_.size() + spheres.size());
+    for (uint32_t p = 0; p < n; ++p)
+        if (intersectPrim(p, r, wr, tm, scratch)) return true;
+    return false;
+}
+
+SurfaceInteraction Scene::interaction(const Ray& r, const Hit& hit) const {
+    SurfaceInteraction si;
+    const uint32_t nTri = static_cast<uint32_t>(triMesh_.size());
+    const uint32_t nSph = static_cast<uint32_t>(spheres.size());
+    if (hit.prim < nTri) {
+        const Vec3& p0 = triVerts_[3 * hit.prim];
+        const Vec3& p1 = triVerts_[3 * hit.prim + 1];
+        const Vec3& p2 = triVerts_[3 * hit.prim + 2];
+        si.p = triangleHitPoint(p0, p1, p2, hit.tri, si.pError);
+        const Vec3 n = glm::cross(p1 - p0, p2 - p0);
+        const float len = glm::length(n);
+        si.ng = len > 0.f ? n / len : -r.d;
+        const TriangleMesh& mesh = meshes[triMesh_[hit.prim]];
+        const uint32_t* idx = &mesh.indices[3 * triLocal_[hit.prim]];
+        const float b0 = hit.tri.b0, b1 = hit.tri.b1, b2 = hit.tri.b2;
+        si.ns = si.ng;
+        if (!mesh.normals.empty()) {
+            const Vec3 ns = b0 * mesh.normals[idx[0]] + b1 * mesh.normals[idx[1]] + b2 * mesh.normals[idx[2]];
+            const float nl = glm::length(ns);
+            // Zero or non-finite interpolated normals (cone apex, bad data) fall back on ng.
+            if (nl > 1e-12f && std::isfinite(nl)) si.ns = ns / nl;
+        }
+        if (!mesh.uvs.empty()) si.uv = b0 * mesh.uvs[idx[0]] + b1 * mesh.uvs[idx[1]] + b2 * mesh.uvs[idx[2]];
+        if (!mesh.uvs1.empty()) si.uv1 = b0 * mesh.uvs1[idx[0]] + b1 * mesh.uvs1[idx[1]] + b2 * mesh.uvs1[idx[2]];
+        if (!mesh.tangents.empty())
+            si.tangent = b0 * mesh.tangents[idx[0]] + b1 * mesh.tangents[idx[1]] + b2 * mesh.tangents[idx[2]];
+        si.material = mesh.material;
+        si.mesh = static_cast<int>(triMesh_[hit.prim]);
+        si.tri = triLocal_[hit.prim];
+        si.bary = hit.tri;
+    } else if (hit.prim < nTri + nSph) {
+        const Sphere& s = spheres[hit.prim - nTri];
+        si.p = s.center + hit.sphereRel;
+        si.pError = gamma(5) * glm::abs(hit.sphereRel) + gamma(2) * glm::abs(si.p);
+        si.ng = si.ns = hit.sphereRel / s.radius;
+        si.material = s.material;
+    } else {
+        const Plane& pl = planes[hit.prim - nTri - nSph];
+        si.p = planeHitPoint(pl, r, hit.t, si.pError);
+        si.ng = si.ns = pl.n;
+        si.material = pl.material;
+    }
+    return si;
+}
+
+Aabb Scene::bounds() const {
+    Aabb b;
+    for (const Sphere& s : spheres) b.grow(sphereBox(s));
+    for (const TriangleMesh& m : meshes)
+        for (const Vec3& p : m.positions) b.grow(p);
+    return b;
+}
+
+SceneFeatures Scene::features() const {
+    SceneFeatures f;
+    for (const Material& m : materials) {
+        f.reflection |= m.reflection > 0.f;
+        f.transmission |= m.transmission > 0.f;
+        f.textures |= m.baseColorTexture >= 0 || m.normalTexture >= 0;
+    }
+    for (const Light& l : lights) f.shadows |= l.castShadows;
+    for (const TriangleMesh& m : meshes) f.animated |= m.node >= 0;
+    return f;
+}
+
+}  // namespace rf

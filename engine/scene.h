@@ -1,0 +1,104 @@
+#pragma once
+/// The scene in render space: geometry, materials, lights, camera and the acceleration
+/// structure over them. World position = render position + renderOrigin (kept in double, so a
+/// model far from the world origin keeps its float precision).
+#include <string>
+#include <vector>
+
+#include "bvh.h"
+#include "camera.h"
+#include "light.h"
+#include "material.h"
+#include "mesh.h"
+#include "scene_graph.h"
+#include "settings.h"
+#include "shapes.h"
+#include "texture.h"
+#include "triangle.h"
+
+namespace rf {
+
+/// Closest hit found by traversal; resolved into a SurfaceInteraction only for shading.
+struct Hit {
+    float t = kInf;
+    uint32_t prim = 0;  ///< see Scene::PrimKind for the id ranges
+    TriangleHit tri;
+    Vec3 sphereRel{0.f};
+};
+
+struct SurfaceInteraction {
+    Vec3 p{0.f};       ///< hit point
+    Vec3 pError{0.f};  ///< per-axis absolute error bound of p
+    Vec3 ng{0.f};      ///< geometric normal (unit, as the surface defines it)
+    Vec3 ns{0.f};      ///< shading normal (unit; interpolated, or ng)
+    Vec2 uv{0.f};
+    Vec2 uv1{0.f};
+    Vec4 tangent{0.f};
+    int material = 0;
+    int mesh = -1;
+    uint32_t tri = 0;
+    TriangleHit bary;
+};
+
+/// What a scene uses, so the renderer can leave out what it does not need.
+struct SceneFeatures {
+    bool reflection = false;    ///< some material reflects
+    bool transmission = false;  ///< some material refracts
+    bool shadows = false;       ///< some light casts shadows
+    bool textures = false;      ///< some material samples a texture
+    bool animated = false;      ///< some mesh hangs on an animated node
+};
+
+class Scene {
+public:
+    Camera camera;
+    std::vector<Light> lights;
+    std::vector<Material> materials;
+    std::vector<Sphere> spheres;
+    std::vector<Plane> planes;
+    std::vector<TriangleMesh> meshes;
+    std::vector<Texture> textures;
+    std::vector<SceneGraph> models;
+    Color background{0.f};
+    Color ambientLight{1.f};  ///< I_amb of the seed's model
+    RenderSettings settings;  ///< defaults from the scene file; the CLI may override
+    DVec3 renderOrigin{0.0};
+    std::string sourcePath;
+    std::string timelineJson;        ///< raw "timeline" section, parsed by anim/
+    std::vector<std::string> notes;  ///< warnings met while loading
+
+    /// Builds the acceleration structure; call after loading or after geometry changed.
+    void build();
+    /// Updates BVH boxes after mesh positions moved (topology unchanged).
+    void refit();
+    /// Rewrites the positions of meshes on nodes from world matrices (render space), then refits.
+    void applyNodeTransforms(int model, const std::vector<DMat4>& renderFromNode,
+                             const std::vector<std::vector<double>>& morphWeights = {});
+
+    bool intersect(const Ray& r, Hit& hit) const;
+    /// Any hit in (0, tMax): the shadow-ray query.
+    bool occluded(const Ray& r, float tMax) const;
+    SurfaceInteraction interaction(const Ray& r, const Hit& hit) const;
+
+    Aabb bounds() const;  ///< bounds of spheres and meshes (planes are infinite)
+    SceneFeatures features() const;
+    size_t triangleCount() const { return triVerts_.size() / 3; }
+    bool usesBvh() const { return useBvh_; }
+    const Bvh& bvh() const { return bvh_; }
+
+    /// Below this many bounded primitives, brute force beats building a BVH.
+    static constexpr size_t kBvhThreshold = 8;
+
+private:
+    bool intersectPrim(uint32_t prim, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit) const;
+    bool triangleAlphaPasses(uint32_t tri, const TriangleHit& h) const;
+
+    Bvh bvh_;
+    bool useBvh_ = false;
+    std::vector<Vec3> triVerts_;     ///< three per triangle, in BVH-independent order
+    std::vector<uint32_t> triMesh_;  ///< mesh of each triangle
+    std::vector<uint32_t> triLocal_; ///< triangle index within its mesh
+    std::vector<uint8_t> meshMasked_; ///< mesh needs an alpha test during traversal
+};
+
+}  // namespace rf

@@ -1,0 +1,189 @@
+#include "whitted.h"
+
+#include "optics.h"
+
+namespace rf {
+
+namespace {
+
+/// Hanika 2021, "Hacking the shadow terminator": move the shadow-ray origin of a smooth-shaded
+/// triangle towards the surface its vertex normals describe, so faces turned to the light are
+/// not shadowed by their own flat neighbours.
+Vec3 terminatorSafeOrigin(const Scene& scene, const SurfaceInteraction& si) {
+    if (si.mesh < 0) return si.p;
+    const TriangleMesh& mesh = scene.meshes[si.mesh];
+    if (mesh.normals.empty()) return si.p;
+    const uint32_t* idx = &mesh.indices[3 * si.tri];
+    const float b[3] = {si.bary.b0, si.bary.b1, si.bary.b2};
+    Vec3 shifted = si.p;
+    for (int k = 0; k < 3; ++k) {
+        const Vec3& v = mesh.positions[idx[k]];
+        const Vec3& n = mesh.normals[idx[k]];
+        Vec3 tmp = si.p - v;
+        const float dn = std::min(0.f, glm::dot(tmp, n));
+        tmp -= dn * n;
+        shifted += b[k] * (tmp - (si.p - v));
+    }
+    return isFinite(shifted) ? shifted : si.p;
+}
+
+}  // namespace
+
+WhittedTracer::WhittedTracer(const Scene& scene, const RenderSettings& settings)
+    : scene_(scene), settings_(settings), features_(scene.features()) {}
+
+Color WhittedTracer::baseColor(const SurfaceInteraction& si, float* alphaOut) const {
+    const Material& m = scene_.materials[si.material];
+    Color c = m.color;
+    float alpha = m.alpha;
+    if (m.checkerScale > 0.f) {
+        // World coordinates in double: the render-space point plus the rebasing origin. The
+        // small scale-relative bias keeps points lying exactly on a cell face (a floor at y = 0)
+        // on one side, as POV-Ray's checker does.
+        const DVec3 w = (DVec3(si.p) + scene_.renderOrigin) / double(m.checkerScale) + DVec3(1e-4);
+        const long long cell = static_cast<long long>(std::floor(w.x)) + static_cast<long long>(std::floor(w.y)) +
+                               static_cast<long long>(std::floor(w.z));
+        c = (cell & 1) ? m.color2 : m.color;
+    }
+    if (m.baseColorTexture >= 0) {
+        const Vec2 uv = applyTextureTransform(m.baseColorTransform, m.baseColorTransform.texCoord == 1 ? si.uv1 : si.uv);
+        const Vec4 t = sampleTexture(scene_.textures[m.baseColorTexture], uv);
+        c *= Color(t);
+        alpha *= t.a;
+    }
+    if (alphaOut) *alphaOut = alpha;
+    return c;
+}
+
+Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats& stats) const {
+    const Material& m = scene_.materials[si.material];
+    const Vec3 V = -d;
+    const Color base = baseColor(si);
+    Vec3 ng = si.ng, ns = si.ns;
+    if (glm::dot(ng, V) < 0.f) {  // seen from behind: light the side the viewer sees
+        ng = -ng;
+        ns = -ns;
+    }
+    if (m.normalTexture >= 0 && si.tangent != Vec4(0.f)) {
+        const Vec2 uv = applyTextureTransform(m.normalTransform, m.normalTransform.texCoord == 1 ? si.uv1 : si.uv);
+        Vec3 tn = Vec3(sampleTexture(scene_.textures[m.normalTexture], uv)) * 2.f - 1.f;
+        tn.x *= m.normalScale;
+        tn.y *= m.normalScale;
+        Vec3 t = Vec3(si.tangent) - ns * glm::dot(ns, Vec3(si.tangent));
+        const float tl = glm::length(t);
+        if (tl > 0.f) {
+            t /= tl;
+            const Vec3 b = glm::cross(ns, t) * (si.tangent.w < 0.f ? -1.f : 1.f);
+            const Vec3 n = t * tn.x + b * tn.y + ns * tn.z;
+            const float nl = glm::length(n);
+            if (nl > 0.f && std::isfinite(nl)) ns = n / nl;
+        }
+    }
+    // An interpolated normal turned away from the viewer on a visible face would draw a black
+    // contour: fall back on the geometric normal.
+    if (glm::dot(ns, V) <= 0.f) ns = ng;
+
+    Color c = m.emission + scene_.ambientLight * m.ambient * base;
+    if (m.diffuse <= 0.f && m.specular <= 0.f) return c;
+    bool terminatorDone = false;
+    Vec3 shadowBase = si.p;
+    for (const Light& L : scene_.lights) {
+        Vec3 Ldir;
+        float dist = kInf;
+        float att = 1.f;
+        if (L.type == LightType::Directional) {
+            Ldir = -L.direction;
+        } else {
+            const Vec3 toL = L.position - si.p;
+            dist = glm::length(toL);
+            if (!(dist > 0.f)) continue;
+            Ldir = toL / dist;
+            att = attenuationFactor(L.attenuation, dist);
+            if (L.range > 0.f) {
+                const float r = dist / L.range;
+                const float w = std::clamp(1.f - r * r * r * r, 0.f, 1.f);
+                att *= w * w;
+            }
+            if (L.type == LightType::Spot) att *= spotFactor(L, -Ldir);
+        }
+        const float nl = glm::dot(ns, Ldir);
+        if (nl <= 0.f || glm::dot(ng, Ldir) <= 0.f || att <= 0.f) continue;
+        if (L.castShadows) {
+            if (!terminatorDone) {
+                shadowBase = terminatorSafeOrigin(scene_, si);
+                terminatorDone = true;
+            }
+            Ray sr;
+            sr.o = offsetRayOrigin(shadowBase, si.pError, ng, Ldir);
+            sr.d = Ldir;
+            // Shorten the far end relatively, so a light lying on a surface still lights it.
+            const float tMax = std::isinf(dist) ? kInf : glm::length(L.position - sr.o) * (1.f - 1e-4f);
+            ++stats.shadow;
+            if (scene_.occluded(sr, tMax)) continue;
+        }
+        float spec = 0.f;
+        if (m.specular > 0.f) {
+            const float x = settings_.shading == ShadingModel::BlinnPhong
+                                ? glm::dot(ns, glm::normalize(Ldir + V))
+                                : glm::dot(reflect(-Ldir, ns), V);
+            if (x > 0.f) spec = m.specular * std::pow(x, m.shininess);
+        }
+        c += att * L.intensity * L.color * (m.diffuse * nl * base + Color(spec));
+    }
+    return c;
+}
+
+Color WhittedTracer::tracePrimary(const Ray& r, RayStats& stats) const {
+    ++stats.primary;
+    return trace(r, 1, Color(1.f), stats);
+}
+
+Color WhittedTracer::trace(const Ray& r, int depth, const Color& weight, RayStats& stats) const {
+    Hit hit;
+    if (!scene_.intersect(r, hit)) return scene_.background;
+    const SurfaceInteraction si = scene_.interaction(r, hit);
+    Color c = shade(si, r.d, stats);
+    if (depth >= settings_.maxDepth) return c;
+
+    const Material& m = scene_.materials[si.material];
+    float kr = m.reflection;
+    float kt = 0.f;
+    Vec3 ng = si.ng;
+    const bool entering = glm::dot(r.d, ng) < 0.f;
+    if (!entering) ng = -ng;  // ng now faces the incoming ray
+    Vec3 refrDir(0.f);
+    if (m.transmission > 0.f) {
+        const float etaI = entering ? 1.f : m.ior, etaT = entering ? m.ior : 1.f;
+        const float F = fresnelDielectric(-glm::dot(r.d, ng), etaT / etaI);
+        kr += m.transmission * F;
+        if (F < 1.f && refract(r.d, ng, etaI / etaT, refrDir)) kt = m.transmission * (1.f - F);
+    }
+    if (kr > 0.f) {
+        const Color w = weight * kr;
+        if (maxComponent(w) > settings_.minWeight) {
+            Vec3 ns = si.ns;
+            if (glm::dot(ns, ng) < 0.f) ns = -ns;
+            Vec3 dir = reflect(r.d, ns);
+            if (glm::dot(dir, ng) <= 0.f) dir = reflect(r.d, ng);  // below the surface: use ng
+            Ray rr;
+            rr.o = offsetRayOrigin(si.p, si.pError, ng, dir);
+            rr.d = dir;
+            ++stats.reflection;
+            c += kr * trace(rr, depth + 1, w, stats);
+        }
+    }
+    if (kt > 0.f) {
+        const Color filter = baseColor(si);
+        const Color w = weight * kt * filter;
+        if (maxComponent(w) > settings_.minWeight) {
+            Ray tr;
+            tr.o = offsetRayOrigin(si.p, si.pError, ng, refrDir);
+            tr.d = refrDir;
+            ++stats.refraction;
+            c += kt * filter * trace(tr, depth + 1, w, stats);
+        }
+    }
+    return c;
+}
+
+}  // namespace rf

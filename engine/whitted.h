@@ -1,0 +1,31 @@
+#pragma once
+/// The seed's recursive (Whitted) tracer: ambient + Lambert + Phong per light with distance
+/// attenuation, hard shadows, mirror reflection and Snell refraction, a depth limit and the
+/// rule that prunes secondary rays whose weight would not show.
+#include "scene.h"
+#include "stats.h"
+
+namespace rf {
+
+class WhittedTracer {
+public:
+    WhittedTracer(const Scene& scene, const RenderSettings& settings);
+
+    /// Radiance along a primary ray (counted as primary).
+    Color tracePrimary(const Ray& r, RayStats& stats) const;
+
+    /// Local illumination at a surface point seen along direction d (the seed's Phong formula).
+    Color shade(const SurfaceInteraction& si, const Vec3& d, RayStats& stats) const;
+
+    /// Base colour of the material at the surface point (checker, texture, factor).
+    Color baseColor(const SurfaceInteraction& si, float* alpha = nullptr) const;
+
+private:
+    Color trace(const Ray& r, int depth, const Color& weight, RayStats& stats) const;
+
+    const Scene& scene_;
+    RenderSettings settings_;
+    SceneFeatures features_;
+};
+
+}  // namespace rf

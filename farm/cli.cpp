@@ -1,0 +1,80 @@
+#include "cli.h"
+
+#include <cctype>
+#include <charconv>
+#include <cmath>
+
+namespace rf::cli {
+
+void ArgParser::parse(const std::vector<std::string>& args) {
+    for (size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
+        if (a.size() > 1 && a[0] == '-' && !(a.size() > 1 && (std::isdigit(static_cast<unsigned char>(a[1])) || a[1] == '.'))) {
+            std::string name = a, val;
+            bool inlineVal = false;
+            if (auto eq = a.find('='); eq != std::string::npos && a.rfind("--", 0) == 0) {
+                name = a.substr(0, eq);
+                val = a.substr(eq + 1);
+                inlineVal = true;
+            }
+            auto it = takesValue_.find(name);
+            if (it == takesValue_.end()) throw UsageError(command_ + ": unknown option " + name + " (see rayfarm " + command_ + " --help)");
+            if (it->second) {
+                if (!inlineVal) {
+                    if (i + 1 >= args.size()) throw UsageError(name + ": expected a value");
+                    val = args[++i];
+                }
+                values_[name] = val;
+            } else {
+                if (inlineVal) throw UsageError(name + ": takes no value");
+                values_[name] = "";
+            }
+        } else {
+            positional_.push_back(a);
+        }
+    }
+}
+
+std::optional<std::string> ArgParser::value(const std::string& name) const {
+    auto it = values_.find(name);
+    if (it == values_.end()) return std::nullopt;
+    return it->second;
+}
+
+int ArgParser::intValue(const std::string& name, int def, int lo, int hi) const {
+    auto v = value(name);
+    if (!v) return def;
+    int out = 0;
+    auto [p, ec] = std::from_chars(v->data(), v->data() + v->size(), out);
+    if (ec != std::errc() || p != v->data() + v->size() || out < lo || out > hi)
+        throw UsageError(name + ": expected an integer from " + std::to_string(lo) + " to " + std::to_string(hi) + ", got \"" + *v + "\"");
+    return out;
+}
+
+double ArgParser::doubleValue(const std::string& name, double def) const {
+    auto v = value(name);
+    if (!v) return def;
+    try {
+        size_t used = 0;
+        const double d = std::stod(*v, &used);
+        if (used != v->size() || !std::isfinite(d)) throw std::invalid_argument("");
+        return d;
+    } catch (const std::exception&) {
+        throw UsageError(name + ": expected a number, got \"" + *v + "\"");
+    }
+}
+
+bool ArgParser::sizeValue(const std::string& name, int& w, int& h) const {
+    auto v = value(name);
+    if (!v) return false;
+    const auto x = v->find_first_of("xX");
+    auto parse = [&](const std::string& s, int& out) {
+        auto [p, ec] = std::from_chars(s.data(), s.data() + s.size(), out);
+        return ec == std::errc() && p == s.data() + s.size() && out >= 1 && out <= 16384;
+    };
+    if (x == std::string::npos || !parse(v->substr(0, x), w) || !parse(v->substr(x + 1), h))
+        throw UsageError(name + ": expected WIDTHxHEIGHT (1 to 16384 each), got \"" + *v + "\"");
+    return true;
+}
+
+}  // namespace rf::cli

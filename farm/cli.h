@@ -1,0 +1,50 @@
+#pragma once
+/// Command-line parsing shared by the subcommands, and the subcommands' entry points.
+#include <map>
+#include <optional>
+#include <string>
+#include <stdexcept>
+#include <vector>
+
+#include "settings.h"
+
+namespace rf::cli {
+
+/// Bad usage: the CLI prints "rayfarm: error: <what()>" and exits with status 2.
+class UsageError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// Declares options first, then parses; unknown options are usage errors.
+class ArgParser {
+public:
+    explicit ArgParser(std::string command) : command_(std::move(command)) {}
+    void option(const std::string& name) { takesValue_[name] = true; }
+    void flag(const std::string& name) { takesValue_[name] = false; }
+    void parse(const std::vector<std::string>& args);
+
+    bool has(const std::string& name) const { return values_.count(name) > 0; }
+    std::optional<std::string> value(const std::string& name) const;
+    const std::vector<std::string>& positional() const { return positional_; }
+
+    int intValue(const std::string& name, int def, int lo, int hi) const;
+    double doubleValue(const std::string& name, double def) const;
+    /// "WxH", both from 1 to 16384.
+    bool sizeValue(const std::string& name, int& w, int& h) const;
+
+private:
+    std::string command_;
+    std::map<std::string, bool> takesValue_;
+    std::map<std::string, std::string> values_;
+    std::vector<std::string> positional_;
+};
+
+/// Applies --size, --spp, --depth, --min-weight and --tonemap to settings (declare them first).
+void applyQualityOptions(const ArgParser& p, RenderSettings& s);
+
+int runStill(const std::vector<std::string>& args);
+int runRender(const std::vector<std::string>& args);
+int runReport(const std::vector<std::string>& args);
+
+}  // namespace rf::cli

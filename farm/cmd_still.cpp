@@ -1,0 +1,106 @@
+// rayfarm still: one frame to a PNG, on all local cores.
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "cli.h"
+#include "image.h"
+#include "output_check.h"
+#include "render.h"
+#include "run_stats.h"
+#include "scene_loader.h"
+
+namespace rf::cli {
+
+namespace {
+const char* kStillHelp =
+    "usage: rayfarm still SCENE|MODEL [options]\n"
+    "\n"
+    "Renders one frame of a scene file (.json) or glTF model (.gltf/.glb) to a PNG.\n"
+    "\n"
+    "  -o FILE           output PNG (default: the scene's name with .png, here)\n"
+    "  --size WxH        image size (default: the scene's render.width/height)\n"
+    "  --spp N           samples per pixel, a square: 1, 4, 9, 16, ... (stratified)\n"
+    "  --depth N         maximum ray depth; the primary ray counts as 1\n"
+    "  --min-weight W    do not trace secondary rays weighing less than W (0: never prune)\n"
+    "  --tonemap T       clamp or reinhard\n"
+    "  --threads N       worker threads (default: all cores)\n"
+    "  --stats FILE      write run statistics as JSON\n";
+}  // namespace
+
+/// Applies the quality options shared by still, render and report to settings.
+void applyQualityOptions(const ArgParser& p, RenderSettings& s) {
+    p.sizeValue("--size", s.width, s.height);
+    s.spp = p.intValue("--spp", s.spp, 1, 4096);
+    const int n = static_cast<int>(std::lround(std::sqrt(double(s.spp))));
+    if (n * n != s.spp) throw UsageError("--spp: expected a square number of samples (1, 4, 9, 16, ...), got " + std::to_string(s.spp));
+    s.maxDepth = p.intValue("--depth", s.maxDepth, 1, 64);
+    const double w = p.doubleValue("--min-weight", s.minWeight);
+    if (w < 0.0) throw UsageError("--min-weight: expected a number ≥ 0");
+    s.minWeight = static_cast<float>(w);
+    if (auto t = p.value("--tonemap")) {
+        if (*t == "clamp") s.toneMap = ToneMap::Clamp;
+        else if (*t == "reinhard") s.toneMap = ToneMap::Reinhard;
+        else throw UsageError("--tonemap: expected clamp or reinhard, got \"" + *t + "\"");
+    }
+}
+
+int runStill(const std::vector<std::string>& args) {
+    ArgParser p("still");
+    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats"}) p.option(o);
+    p.flag("--help");
+    p.flag("-h");
+    p.parse(args);
+    if (p.has("--help") || p.has("-h")) {
+        std::fputs(kStillHelp, stdout);
+        return 0;
+    }
+    if (p.positional().size() != 1) throw UsageError("still: expected one SCENE or MODEL (see rayfarm still --help)");
+    const std::string scenePath = p.positional()[0];
+    const std::string out = p.value("-o").value_or(std::filesystem::path(scenePath).stem().string() + ".png");
+    const int threads = p.intValue("--threads", 0, 0, 4096);
+    checkWritableFile(out);
+    if (auto st = p.value("--stats")) checkWritableFile(*st);
+
+    const auto t0 = std::chrono::steady_clock::now();
+    DiskFileSource fs;
+    Scene scene = loadScene(scenePath, fs);
+    for (const std::string& note : scene.notes) std::cerr << "rayfarm: note: " << note << "\n";
+    RenderSettings settings = scene.settings;
+    applyQualityOptions(p, settings);
+
+    RayStats rays;
+    const auto t1 = std::chrono::steady_clock::now();
+    const Image img = renderFrame(scene, scene.camera, settings, 0, threads, rays);
+    const auto t2 = std::chrono::steady_clock::now();
+    writePng(out, img.width(), img.height(), toRgb8(img, settings.toneMap));
+    const auto t3 = std::chrono::steady_clock::now();
+
+    const double renderS = std::chrono::duration<double>(t2 - t1).count();
+    const double wallS = std::chrono::duration<double>(t3 - t0).count();
+    std::fprintf(stderr, "rayfarm: wrote %s (%dx%d, %d spp, depth %d) in %.3f s render, %.2f Mrays/s\n", out.c_str(),
+                 settings.width, settings.height, settings.spp, settings.maxDepth, renderS,
+                 rays.total() / std::max(renderS, 1e-9) * 1e-6);
+    if (rays.nonFinite) std::fprintf(stderr, "rayfarm: note: %llu non-finite samples replaced by black\n", (unsigned long long)rays.nonFinite);
+    if (auto st = p.value("--stats")) {
+        RunStats s;
+        s.frames = 1;
+        s.width = settings.width;
+        s.height = settings.height;
+        s.mode = "still";
+        s.threadsPerRank = threads > 0 ? threads : hardwareThreads();
+        s.wallSeconds = wallS;
+        s.renderSeconds = renderS;
+        s.sustainedFps = 1.0 / std::max(renderS, 1e-9);
+        s.rays = rays;
+        s.perRank.push_back({0, renderS, 1, 0});
+        s.extra["load_s"] = std::chrono::duration<double>(t1 - t0).count();
+        s.extra["triangles"] = static_cast<double>(scene.triangleCount());
+        s.extraText["bvh"] = scene.usesBvh() ? "yes" : "no (scene too small to profit)";
+        writeStatsJson(*st, s);
+    }
+    return 0;
+}
+
+}  // namespace rf::cli

@@ -1,0 +1,40 @@
+#include "run_stats.h"
+
+#include <fstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+namespace rf {
+
+void writeStatsJson(const std::string& path, const RunStats& s) {
+    nlohmann::ordered_json j;
+    j["frames"] = s.frames;
+    j["width"] = s.width;
+    j["height"] = s.height;
+    j["mode"] = s.mode;
+    j["ranks"] = s.ranks;
+    j["threads_per_rank"] = s.threadsPerRank;
+    j["wall_s"] = s.wallSeconds;
+    j["sustained_fps"] = s.sustainedFps;
+    j["render_s"] = s.renderSeconds;
+    j["encode_s"] = s.encodeSeconds;
+    j["rays"] = {{"primary", s.rays.primary},
+                 {"shadow", s.rays.shadow},
+                 {"reflection", s.rays.reflection},
+                 {"refraction", s.rays.refraction},
+                 {"total", s.rays.total()},
+                 {"non_finite_samples", s.rays.nonFinite}};
+    nlohmann::ordered_json ranks = nlohmann::ordered_json::array();
+    for (const RankStats& r : s.perRank)
+        ranks.push_back({{"rank", r.rank}, {"busy_s", r.busySeconds}, {"frames", r.frames}, {"tiles", r.tiles}});
+    j["per_rank"] = ranks;
+    for (const auto& [k, v] : s.extra) j[k] = v;
+    for (const auto& [k, v] : s.extraText) j[k] = v;
+    std::ofstream f(path);
+    if (!f) throw std::runtime_error(path + ": cannot write stats file");
+    f << j.dump(2) << "\n";
+    if (!f) throw std::runtime_error(path + ": write failed");
+}
+
+}  // namespace rf

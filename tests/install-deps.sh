@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Installs the Debian packages rayfarm needs to build, test and run, if any are missing.
+# Idempotent; uses apt-get as root, sudo otherwise. Extra package names may be passed.
+set -euo pipefail
+
+packages=(
+  build-essential cmake pkg-config
+  libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev   # engine/
+  libopenmpi-dev openmpi-bin                                  # farm/: MPI
+  libavcodec-dev libavformat-dev libavutil-dev libswscale-dev # farm/: H.264 MP4 through FFmpeg
+  libgtest-dev libbenchmark-dev                               # tests and benchmarks
+  assimp-testmodels                                           # real glTF files the tests render
+  ffmpeg                                                      # ffprobe, to check videos independently
+  gnuplot-nox                                                 # plots in rayfarm report
+  "$@"
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+echo "rayfarm: installing missing packages: ${missing[*]}" >&2
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
