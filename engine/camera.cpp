@@ -36,6 +36,7 @@ CameraRays::CameraRays(const Camera& cam, int w, int h) : origin(cam.eye), width
         tanHalfY = std::tan(half);
         tanHalfX = tanHalfY * aspect;
     }
+    if (cam.leftHanded) tanHalfX = -tanHalfX;  // mirror the image's x axis
 }
 
 Ray CameraRays::generate(float x, float y) const {

@@ -10,6 +10,9 @@ struct Camera {
     Vec3 up{0.f, 1.f, 0.f};
     float fovDeg = 45.f;         ///< full field of view along fovHorizontal ? x : y
     bool fovHorizontal = false;
+    /// POV-Ray's convention: image x runs along up × forward, not forward × up. Lets a scene
+    /// keep a left-handed modeller's coordinates and still render unmirrored.
+    bool leftHanded = false;
 };
 
 /// World-from-camera basis: right, up and forward, orthonormal and right-handed.
@@ -27,7 +30,7 @@ CameraBasis lookAt(const Vec3& eye, const Vec3& target, const Vec3& up);
 struct CameraRays {
     Vec3 origin;
     CameraBasis basis;
-    float tanHalfX = 1.f, tanHalfY = 1.f;
+    float tanHalfX = 1.f, tanHalfY = 1.f;  ///< tanHalfX < 0 for a left-handed camera
     int width = 1, height = 1;
 
     CameraRays(const Camera& cam, int width, int height);

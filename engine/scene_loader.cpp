@@ -28,7 +28,7 @@ public:
     explicit Reader(std::string file) : file_(std::move(file)) {}
 
     [[noreturn]] void fail(const std::string& where, const std::string& what) const {
-        throw InputError(file_, where + ": " + what);
+        throw InputError(file_, where.empty() ? what : where + ": " + what);
     }
 
     void allowKeys(const json& j, const std::string& where, std::initializer_list<const char*> keys) const {
@@ -109,7 +109,7 @@ DVec3 unitOrFail(const Reader& rd, const DVec3& v, const std::string& where) {
 
 void readCamera(const Reader& rd, const json& j, Camera& cam, DVec3& eye, DVec3& target) {
     const std::string w = "camera";
-    rd.allowKeys(j, w, {"eye", "position", "target", "up", "fov", "fov_axis"});
+    rd.allowKeys(j, w, {"eye", "position", "target", "up", "fov", "fov_axis", "handedness"});
     eye = j.contains("eye") ? rd.dvec3(j["eye"], "camera.eye") : rd.dvec3(j, "position", w, DVec3(0, 0, 5));
     target = rd.dvec3(j, "target", w, DVec3(0.0));
     if (eye == target) rd.fail("camera.target", "eye and target coincide, so the view direction is undefined");
@@ -122,6 +122,9 @@ void readCamera(const Reader& rd, const json& j, Camera& cam, DVec3& eye, DVec3&
     const std::string axis = rd.string(j, "fov_axis", w, "vertical");
     if (axis != "vertical" && axis != "horizontal") rd.fail("camera.fov_axis", "expected \"vertical\" or \"horizontal\"");
     cam.fovHorizontal = axis == "horizontal";
+    const std::string hand = rd.string(j, "handedness", w, "right");
+    if (hand != "right" && hand != "left") rd.fail("camera.handedness", "expected \"right\" or \"left\"");
+    cam.leftHanded = hand == "left";
 }
 
 void readRender(const Reader& rd, const json& j, RenderSettings& s) {
