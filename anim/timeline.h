@@ -1,16 +1,20 @@
 #pragma once
 /// The timeline: for any frame index, the camera, the lights and the model's animated nodes, as
 /// a pure function of the index. Any rank can render any frame with no state carried over.
+#include <memory>
 #include <string>
 
 #include "scene.h"
 
 namespace rf::anim {
 
+struct TimelineSpec;
+
 class Timeline {
 public:
-    /// Parses scene.timelineJson ("timeline" / "turntable" sections). A scene without one is a
-    /// single still frame. Throws InputError naming the scene file and the key on bad input.
+    /// Parses scene.timelineJson ("timeline" / "turntable" sections). A JSON scene without one
+    /// is a single still frame; a bare glTF model (.gltf/.glb) gets the default turntable (4 s
+    /// at 30 fps = 120 frames). Throws InputError naming the scene file and the key on bad input.
     static Timeline fromScene(const Scene& scene);
 
     int frameCount() const { return frames_; }
@@ -22,10 +26,16 @@ public:
     void apply(Scene& scene, double t) const;
     void applyFrame(Scene& scene, int frame) const { apply(scene, frameTime(frame)); }
 
+    /// True when some model animation plays (meshes move and the BVH is refit per frame).
+    bool animatesGeometry() const;
+    /// True when nothing changes from frame to frame.
+    bool isStill() const { return !spec_; }
+
 private:
     int frames_ = 1;
     double fps_ = 30.0;
     double t0_ = 0.0;
+    std::shared_ptr<const TimelineSpec> spec_;  ///< null: a still frame, apply() does nothing
 };
 
 }  // namespace rf::anim

@@ -278,7 +278,21 @@ public:
             for (size_t i = 0; i < os.size(); ++i) readObject(os[i], Reader::index("objects", i), s);
         }
         json anim = json::object();
-        if (root.contains("timeline")) anim["timeline"] = root["timeline"];
+        if (root.contains("timeline") && root["timeline"].is_string()) {
+            // A timeline in its own file: read through the FileSource (so farm workers get it in
+            // the bundle) and inline it; anim/ names "timeline_file" in its errors.
+            const std::string rel = root["timeline"].get<std::string>();
+            const std::filesystem::path base = std::filesystem::path(path_).parent_path();
+            const std::string full = (std::filesystem::path(rel).is_absolute() ? std::filesystem::path(rel) : base / rel).lexically_normal().string();
+            try {
+                anim["timeline"] = json::parse(fs_.read(full, 1ull << 28));
+            } catch (const json::parse_error& e) {
+                throw InputError(full, std::string("not valid JSON: ") + e.what());
+            }
+            anim["timeline_file"] = full;
+        } else if (root.contains("timeline")) {
+            anim["timeline"] = root["timeline"];
+        }
         if (root.contains("turntable")) anim["turntable"] = root["turntable"];
         if (!anim.empty()) s.timelineJson = anim.dump();
         s.build();

@@ -1,0 +1,146 @@
+#include "gltf_animation.h"
+
+#include <cmath>
+#include <functional>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "errors.h"
+
+namespace rf::anim {
+
+KeyTrack trackFromSampler(const AnimSampler& s, AnimPath path) {
+    const bool rotation = path == AnimPath::Rotation;
+    const int dim = path == AnimPath::Weights ? s.components : (rotation ? 4 : 3);
+    if (dim < 1) throw std::invalid_argument("sampler has no components");
+    const bool cubic = s.interpolation == KeyInterpolation::CubicSpline;
+    const size_t per = static_cast<size_t>(dim) * (cubic ? 3 : 1);
+    if (s.times.empty()) throw std::invalid_argument("sampler has no keys");
+    if (s.values.size() != s.times.size() * per)
+        throw std::invalid_argument("sampler output has " + std::to_string(s.values.size()) + " numbers, expected " +
+                                    std::to_string(s.times.size() * per) + " for " + std::to_string(s.times.size()) +
+                                    " keys");
+    const Interp how = cubic ? Interp::Hermite : (s.interpolation == KeyInterpolation::Step ? Interp::Step : Interp::Linear);
+    KeyTrack track(dim, rotation);
+    std::vector<double> in(dim), v(dim), out(dim);
+    for (size_t k = 0; k < s.times.size(); ++k) {
+        const float* base = &s.values[k * per];
+        for (int c = 0; c < dim; ++c) {
+            if (cubic) {  // glTF layout per key: in-tangent, value, out-tangent
+                in[c] = base[c];
+                v[c] = base[dim + c];
+                out[c] = base[2 * dim + c];
+            } else {
+                v[c] = base[c];
+            }
+        }
+        track.addKey(double(s.times[k]), v.data(), how, cubic ? in.data() : nullptr, cubic ? out.data() : nullptr);
+    }
+    return track;
+}
+
+DMat4 nodeLocalMatrix(const SceneNode& n) {
+    if (n.useMatrix) return n.matrix;
+    DMat4 m = glm::translate(DMat4(1.0), n.translation);
+    m = m * glm::mat4_cast(n.rotation);
+    return glm::scale(m, n.scale);
+}
+
+std::vector<DMat4> modelFromNode(const SceneGraph& g, const std::vector<DMat4>& local) {
+    const size_t n = g.nodes.size();
+    std::vector<DMat4> world(n);
+    std::vector<char> state(n, 0);  // 0 todo, 1 in progress (cycle guard), 2 done
+    std::function<const DMat4&(size_t)> solve = [&](size_t i) -> const DMat4& {
+        if (state[i] == 2) return world[i];
+        const int p = g.nodes[i].parent;
+        if (p >= 0 && static_cast<size_t>(p) < n && state[p] != 1) {
+            state[i] = 1;
+            world[i] = solve(static_cast<size_t>(p)) * local[i];
+        } else {
+            world[i] = local[i];
+        }
+        state[i] = 2;
+        return world[i];
+    };
+    for (size_t i = 0; i < n; ++i) solve(i);
+    return world;
+}
+
+GltfAnimationPlayer::GltfAnimationPlayer(const SceneGraph& g, int model, int animation, bool loop, double speed,
+                                         double offset)
+    : model_(model), loop_(loop), speed_(speed), offset_(offset) {
+    if (animation < 0 || animation >= static_cast<int>(g.animations.size()))
+        throw InputError(g.source, "no animation " + std::to_string(animation) + " (the model has " +
+                                       std::to_string(g.animations.size()) + ")");
+    const Animation& a = g.animations[animation];
+    const std::string where = "animations[" + std::to_string(animation) + "]";
+    for (size_t c = 0; c < a.channels.size(); ++c) {
+        const AnimChannel& ch = a.channels[c];
+        const std::string cw = where + ".channels[" + std::to_string(c) + "]";
+        if (ch.node < 0 || ch.node >= static_cast<int>(g.nodes.size())) throw InputError(g.source, cw + ": no target node " + std::to_string(ch.node));
+        if (ch.sampler < 0 || ch.sampler >= static_cast<int>(a.samplers.size()))
+            throw InputError(g.source, cw + ": no sampler " + std::to_string(ch.sampler));
+        if (g.nodes[ch.node].useMatrix && ch.path != AnimPath::Weights)
+            throw InputError(g.source, cw + ": animates node " + std::to_string(ch.node) + ", which has a matrix (glTF allows only TRS on animated nodes)");
+        const std::string sw = where + ".samplers[" + std::to_string(ch.sampler) + "]";
+        try {
+            channels_.push_back({ch.node, ch.path, trackFromSampler(a.samplers[ch.sampler], ch.path)});
+        } catch (const KeyError& e) {
+            throw InputError(g.source, sw + ".input[" + std::to_string(e.key()) + "]: " + e.what());
+        } catch (const std::invalid_argument& e) {
+            throw InputError(g.source, sw + ": " + e.what());
+        }
+        duration_ = std::max(duration_, channels_.back().track.endTime());
+    }
+}
+
+double GltfAnimationPlayer::localTime(double t) const {
+    double a = t * speed_ + offset_;
+    if (!std::isfinite(a)) return 0.0;
+    if (loop_ && duration_ > 0.0) {
+        a = std::fmod(a, duration_);
+        if (a < 0.0) a += duration_;
+    }
+    return a;
+}
+
+void GltfAnimationPlayer::pose(const SceneGraph& g, double t, std::vector<DMat4>& renderFromNode,
+                               std::vector<std::vector<double>>& weights) const {
+    const double at = localTime(t);
+    std::vector<SceneNode> nodes = g.nodes;  // defaults, overridden by channels
+    weights.assign(nodes.size(), {});
+    for (size_t i = 0; i < nodes.size(); ++i) weights[i] = nodes[i].weights;
+    for (const Channel& c : channels_) {
+        SceneNode& n = nodes[c.node];
+        switch (c.path) {
+            case AnimPath::Translation: n.translation = c.track.evaluateVec3(at); break;
+            case AnimPath::Rotation: n.rotation = c.track.evaluateQuat(at); break;
+            case AnimPath::Scale: n.scale = c.track.evaluateVec3(at); break;
+            case AnimPath::Weights:
+                weights[c.node].assign(static_cast<size_t>(c.track.dim()), 0.0);
+                c.track.evaluate(at, weights[c.node].data());
+                break;
+        }
+    }
+    std::vector<DMat4> local(nodes.size());
+    for (size_t i = 0; i < nodes.size(); ++i) local[i] = nodeLocalMatrix(nodes[i]);
+    renderFromNode = modelFromNode(g, local);
+    for (DMat4& m : renderFromNode) m = g.renderFromModel * m;
+}
+
+void GltfAnimationPlayer::apply(Scene& scene, double t) const {
+    if (model_ < 0 || model_ >= static_cast<int>(scene.models.size())) return;
+    std::vector<DMat4> renderFromNode;
+    std::vector<std::vector<double>> weights;
+    pose(scene.models[model_], t, renderFromNode, weights);
+    scene.applyNodeTransforms(model_, renderFromNode, weights);
+}
+
+int findAnimation(const SceneGraph& g, const std::string& name) {
+    for (size_t i = 0; i < g.animations.size(); ++i)
+        if (g.animations[i].name == name) return static_cast<int>(i);
+    return -1;
+}
+
+}  // namespace rf::anim

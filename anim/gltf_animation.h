@@ -1,0 +1,59 @@
+#pragma once
+/// Plays a model's own glTF animation: samplers evaluated with the glTF rules (LINEAR with slerp
+/// for rotations, STEP, CUBICSPLINE with tangents scaled by the key interval), node TRS and
+/// morph weights, node world matrices, and the meshes moved through Scene::applyNodeTransforms.
+#include <string>
+#include <vector>
+
+#include "keyframes.h"
+#include "scene.h"
+
+namespace rf::anim {
+
+/// A glTF sampler as a key track (CUBICSPLINE becomes Hermite with its in/out tangents; the
+/// per-second tangents are scaled by the key interval on evaluation). Throws KeyError for times
+/// that do not increase; std::invalid_argument if the value count does not match the keys.
+KeyTrack trackFromSampler(const AnimSampler& sampler, AnimPath path);
+
+/// Local transform of a node from its TRS (or matrix).
+DMat4 nodeLocalMatrix(const SceneNode& node);
+
+/// Model-from-node matrices of every node, parents first, from local matrices.
+std::vector<DMat4> modelFromNode(const SceneGraph& graph, const std::vector<DMat4>& local);
+
+/// One animation of one model, ready to evaluate at any time.
+class GltfAnimationPlayer {
+public:
+    /// Compiles graph.animations[animation]. Throws InputError naming graph.source and the
+    /// sampler on invalid keys or channel targets.
+    GltfAnimationPlayer(const SceneGraph& graph, int model, int animation, bool loop, double speed = 1.0,
+                        double offset = 0.0);
+
+    int model() const { return model_; }
+    double duration() const { return duration_; }
+    /// Animation-local time for timeline time t: (t·speed + offset), wrapped into [0, duration)
+    /// when looping, else clamped by the samplers.
+    double localTime(double t) const;
+    /// Render-from-node matrices and morph weights of every node at timeline time t.
+    void pose(const SceneGraph& graph, double t, std::vector<DMat4>& renderFromNode,
+              std::vector<std::vector<double>>& weights) const;
+    /// Poses the model at t and moves its meshes (re-transform and BVH refit).
+    void apply(Scene& scene, double t) const;
+
+private:
+    struct Channel {
+        int node;
+        AnimPath path;
+        KeyTrack track;
+    };
+    int model_ = 0;
+    bool loop_ = true;
+    double speed_ = 1.0, offset_ = 0.0;
+    double duration_ = 0.0;
+    std::vector<Channel> channels_;
+};
+
+/// Index of the animation called `name` in graph, or -1.
+int findAnimation(const SceneGraph& graph, const std::string& name);
+
+}  // namespace rf::anim

@@ -1,0 +1,383 @@
+// The timeline format (scene.timelineJson = {"timeline": {...}} or {"turntable": {...}}):
+//
+//   "timeline": {
+//     "fps": 30, "duration": 4, "start": 0,   // seconds; duration defaults to the last key
+//     "frames": 121,                          // optional; default round(duration·fps) + 1,
+//     "loop": false,                          //   or round(duration·fps) when looping
+//     "camera": { "position": TRACK, "target": TRACK | "orientation": TRACK, "up": TRACK,
+//                 "fov": TRACK, "orbit": {"center", "radius", "height", "period", "phase"} },
+//     "lights": [ { "light": 0 | "name", "position", "direction", "color", "intensity",
+//                   "inner_angle", "outer_angle": TRACK } ],
+//     "animation": false | {"model", "name" | "index", "mode": "loop" | "clamp", "speed", "offset"}
+//                  | [ ...one per model... ]
+//   }
+//   TRACK = { "interpolation": "linear", "keys": [ {"time", "value", "interpolation", "in", "out"} ] }
+//           or just the keys array.
+//
+// Positions are world space (render space = world − renderOrigin). Angles in degrees.
+#include <filesystem>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "errors.h"
+#include "frame_time.h"
+#include "timeline_spec.h"
+
+namespace rf::anim {
+
+namespace {
+
+using nlohmann::json;
+
+class Parser {
+public:
+    Parser(std::string file, std::string prefix, const Scene& scene)
+        : file_(std::move(file)), prefix_(std::move(prefix)), scene_(scene) {}
+
+    [[noreturn]] void fail(const std::string& where, const std::string& what) const {
+        throw InputError(file_, prefix_ + where + ": " + what);
+    }
+    static std::string join(const std::string& w, const std::string& k) { return w.empty() ? k : w + "." + k; }
+    static std::string index(const std::string& w, size_t i) { return w + "[" + std::to_string(i) + "]"; }
+
+    void allowKeys(const json& j, const std::string& w, std::initializer_list<const char*> keys) const {
+        if (!j.is_object()) fail(w, "expected an object");
+        const std::set<std::string> ok(keys.begin(), keys.end());
+        for (auto it = j.begin(); it != j.end(); ++it)
+            if (!ok.count(it.key())) fail(join(w, it.key()), "unknown key");
+    }
+    double number(const json& j, const std::string& w) const {
+        if (!j.is_number()) fail(w, "expected a number");
+        const double v = j.get<double>();
+        if (!std::isfinite(v)) fail(w, "expected a finite number");
+        return v;
+    }
+    double number(const json& o, const char* k, const std::string& w, double def) const {
+        return o.contains(k) ? number(o[k], join(w, k)) : def;
+    }
+    double positive(const json& o, const char* k, const std::string& w, double def) const {
+        const double v = number(o, k, w, def);
+        if (!(v > 0.0)) fail(join(w, k), "expected a positive number");
+        return v;
+    }
+    DVec3 vec3(const json& j, const std::string& w) const {
+        if (!j.is_array() || j.size() != 3) fail(w, "expected 3 numbers");
+        return DVec3(number(j[0], w), number(j[1], w), number(j[2], w));
+    }
+    /// A key's value (or tangent) with dim components; a colour may be one grey number.
+    std::vector<double> values(const json& j, const std::string& w, int dim, bool greyOk) const {
+        if (j.is_number() && (dim == 1 || greyOk)) return std::vector<double>(dim, number(j, w));
+        if (!j.is_array() || static_cast<int>(j.size()) != dim) fail(w, "expected " + std::to_string(dim) + (dim == 1 ? " number" : " numbers"));
+        std::vector<double> v(dim);
+        for (int c = 0; c < dim; ++c) v[c] = number(j[c], w);
+        return v;
+    }
+
+    /// kind: what the track animates, for value checks.
+    enum class Kind { Point, Direction, Up, Color, NonNegative, Fov, Angle, Rotation };
+
+    KeyTrack track(const json& j, const std::string& w, Kind kind) const {
+        const int dim = kind == Kind::Rotation ? 4 : (kind == Kind::NonNegative || kind == Kind::Fov || kind == Kind::Angle ? 1 : 3);
+        Interp def = Interp::Linear;
+        const json* keys = &j;
+        std::string kw = w;
+        if (j.is_object()) {
+            allowKeys(j, w, {"interpolation", "keys"});
+            if (j.contains("interpolation")) def = interp(j["interpolation"], join(w, "interpolation"), kind);
+            if (!j.contains("keys")) fail(w, "a track needs \"keys\"");
+            keys = &j["keys"];
+            kw = join(w, "keys");
+        }
+        if (!keys->is_array() || keys->empty()) fail(kw, "expected an array of at least one key");
+        KeyTrack t(dim, kind == Kind::Rotation);
+        for (size_t k = 0; k < keys->size(); ++k) {
+            const json& key = (*keys)[k];
+            const std::string w2 = index(kw, k);
+            allowKeys(key, w2, {"time", "value", "interpolation", "in", "out"});
+            if (!key.contains("time")) fail(w2, "a key needs a \"time\" in seconds");
+            if (!key.contains("value")) fail(w2, "a key needs a \"value\"");
+            const double time = number(key["time"], join(w2, "time"));
+            std::vector<double> v = values(key["value"], join(w2, "value"), dim, kind == Kind::Color);
+            checkValue(v, join(w2, "value"), kind);
+            if (kind == Kind::Point)  // file positions are world space; the scene is rebased
+                for (int c = 0; c < 3; ++c) v[c] -= scene_.renderOrigin[c];
+            const Interp how = key.contains("interpolation") ? interp(key["interpolation"], join(w2, "interpolation"), kind) : def;
+            std::vector<double> in, out;
+            if (key.contains("in")) in = values(key["in"], join(w2, "in"), dim, false);
+            if (key.contains("out")) out = values(key["out"], join(w2, "out"), dim, false);
+            try {
+                t.addKey(time, v.data(), how, in.empty() ? nullptr : in.data(), out.empty() ? nullptr : out.data());
+            } catch (const KeyError& e) {
+                fail(join(index(kw, static_cast<size_t>(e.key())), e.field()), e.what());
+            }
+        }
+        return t;
+    }
+
+    Interp interp(const json& j, const std::string& w, Kind kind) const {
+        if (!j.is_string()) fail(w, "expected an interpolation name");
+        Interp i;
+        const std::string name = j.get<std::string>();
+        if (!parseInterp(name, i))
+            fail(w, "unknown interpolation \"" + name + "\" (expected step, linear, slerp, hermite, catmull-rom, ease, ease-in or ease-out)");
+        if (kind == Kind::Rotation && i == Interp::CatmullRom) fail(w, "catmull-rom is not defined for orientations; use slerp");
+        if (kind != Kind::Rotation && name == "slerp") fail(w, "slerp is for orientation tracks; use linear");
+        return i;
+    }
+
+    void checkValue(const std::vector<double>& v, const std::string& w, Kind kind) const {
+        switch (kind) {
+            case Kind::Direction:
+            case Kind::Up:
+                if (v[0] == 0 && v[1] == 0 && v[2] == 0) fail(w, "expected a non-zero vector");
+                break;
+            case Kind::Color:
+                for (double x : v)
+                    if (x < 0) fail(w, "colour components must be ≥ 0");
+                break;
+            case Kind::NonNegative:
+                if (v[0] < 0) fail(w, "expected a number ≥ 0");
+                break;
+            case Kind::Fov:
+                if (!(v[0] > 0 && v[0] < 180)) fail(w, "expected degrees in (0, 180)");
+                break;
+            case Kind::Angle:
+                if (!(v[0] >= 0 && v[0] <= 90)) fail(w, "expected degrees from 0 to 90");
+                break;
+            default: break;
+        }
+    }
+
+    std::optional<KeyTrack> optTrack(const json& o, const char* k, const std::string& w, Kind kind) const {
+        if (!o.contains(k)) return std::nullopt;
+        return track(o[k], join(w, k), kind);
+    }
+
+    CameraTracks camera(const json& j, const std::string& w) const {
+        allowKeys(j, w, {"position", "target", "orientation", "up", "fov", "orbit"});
+        CameraTracks c;
+        if (j.contains("orbit") && j.contains("position")) fail(join(w, "orbit"), "give either an orbit or a position track");
+        if (j.contains("orientation") && (j.contains("target") || j.contains("up")))
+            fail(join(w, "orientation"), "an orientation replaces target and up; give one or the other");
+        c.position = optTrack(j, "position", w, Kind::Point);
+        c.target = optTrack(j, "target", w, Kind::Point);
+        c.orientation = optTrack(j, "orientation", w, Kind::Rotation);
+        c.up = optTrack(j, "up", w, Kind::Up);
+        c.fov = optTrack(j, "fov", w, Kind::Fov);
+        if (j.contains("orbit")) {
+            const json& o = j["orbit"];
+            const std::string ow = join(w, "orbit");
+            allowKeys(o, ow, {"center", "radius", "height", "period", "phase"});
+            Orbit orb;
+            if (o.contains("center")) orb.center = vec3(o["center"], join(ow, "center"));
+            orb.radius = positive(o, "radius", ow, 1.0);
+            orb.height = number(o, "height", ow, 0.0);
+            orb.period = positive(o, "period", ow, 1.0);
+            orb.phase = number(o, "phase", ow, 0.0);
+            c.orbit = orb;
+        }
+        return c;
+    }
+
+    int lightIndex(const json& j, const std::string& w) const {
+        const int n = static_cast<int>(scene_.lights.size());
+        if (j.is_number_integer()) {
+            const long long i = j.get<long long>();
+            if (i < 0 || i >= n) fail(w, "no light " + std::to_string(i) + " (the scene has " + std::to_string(n) + ")");
+            return static_cast<int>(i);
+        }
+        if (j.is_string()) {
+            const std::string name = j.get<std::string>();
+            for (int i = 0; i < n; ++i)
+                if (scene_.lights[i].name == name) return i;
+            fail(w, "no light named \"" + name + "\"");
+        }
+        fail(w, "expected a light index or name");
+    }
+
+    LightTracks light(const json& j, const std::string& w) const {
+        allowKeys(j, w, {"light", "position", "direction", "color", "intensity", "inner_angle", "outer_angle"});
+        if (!j.contains("light")) fail(w, "say which light: \"light\": index or name");
+        LightTracks l;
+        l.light = lightIndex(j["light"], join(w, "light"));
+        l.position = optTrack(j, "position", w, Kind::Point);
+        l.direction = optTrack(j, "direction", w, Kind::Direction);
+        l.color = optTrack(j, "color", w, Kind::Color);
+        l.intensity = optTrack(j, "intensity", w, Kind::NonNegative);
+        l.innerDeg = optTrack(j, "inner_angle", w, Kind::Angle);
+        l.outerDeg = optTrack(j, "outer_angle", w, Kind::Angle);
+        return l;
+    }
+
+    /// "animation": absent → every animated model plays its first animation, looped.
+    std::vector<GltfAnimationPlayer> animations(const json& o, const std::string& w) const {
+        if (!o.contains("animation")) return defaultPlayers(scene_);
+        const json& a = o["animation"];
+        const std::string aw = join(w, "animation");
+        std::vector<GltfAnimationPlayer> players;
+        if (a.is_boolean() && !a.get<bool>()) return players;
+        if (a.is_string() && a.get<std::string>() == "none") return players;
+        if (a.is_object()) {
+            players.push_back(player(a, aw));
+        } else if (a.is_array()) {
+            for (size_t i = 0; i < a.size(); ++i) players.push_back(player(a[i], index(aw, i)));
+        } else {
+            fail(aw, "expected false, \"none\", an object or an array of objects");
+        }
+        return players;
+    }
+
+    GltfAnimationPlayer player(const json& j, const std::string& w) const {
+        allowKeys(j, w, {"model", "name", "index", "mode", "speed", "offset"});
+        const int nModels = static_cast<int>(scene_.models.size());
+        int model = 0;
+        if (j.contains("model")) {
+            if (!j["model"].is_number_integer()) fail(join(w, "model"), "expected a model index");
+            model = j["model"].get<int>();
+        }
+        if (model < 0 || model >= nModels) fail(join(w, "model"), "no model " + std::to_string(model) + " (the scene has " + std::to_string(nModels) + ")");
+        const SceneGraph& g = scene_.models[model];
+        if (g.animations.empty()) fail(w, "model " + std::to_string(model) + " (" + g.source + ") has no animations");
+        if (j.contains("name") && j.contains("index")) fail(w, "give either a name or an index");
+        int anim = 0;
+        if (j.contains("name")) {
+            if (!j["name"].is_string()) fail(join(w, "name"), "expected a string");
+            anim = findAnimation(g, j["name"].get<std::string>());
+            if (anim < 0) fail(join(w, "name"), "the model has no animation named \"" + j["name"].get<std::string>() + "\"");
+        } else if (j.contains("index")) {
+            if (!j["index"].is_number_integer()) fail(join(w, "index"), "expected an integer");
+            anim = j["index"].get<int>();
+            if (anim < 0 || anim >= static_cast<int>(g.animations.size()))
+                fail(join(w, "index"), "no animation " + std::to_string(anim) + " (the model has " + std::to_string(g.animations.size()) + ")");
+        }
+        bool loop = true;
+        if (j.contains("mode")) {
+            const std::string m = j["mode"].is_string() ? j["mode"].get<std::string>() : "";
+            if (m == "loop") loop = true;
+            else if (m == "clamp") loop = false;
+            else fail(join(w, "mode"), "expected \"loop\" or \"clamp\"");
+        }
+        return GltfAnimationPlayer(g, model, anim, loop, number(j, "speed", w, 1.0), number(j, "offset", w, 0.0));
+    }
+
+    TurntableSettings turntable(const json& j, const std::string& w) const {
+        allowKeys(j, w, {"seconds", "fps", "elevation", "distance", "lights", "center", "start_yaw", "fov", "animation", "comment"});
+        TurntableSettings s;
+        s.seconds = positive(j, "seconds", w, s.seconds);
+        s.fps = positive(j, "fps", w, s.fps);
+        s.elevationDeg = number(j, "elevation", w, s.elevationDeg);
+        if (s.elevationDeg < -90 || s.elevationDeg > 90) fail(join(w, "elevation"), "expected degrees from −90 to 90");
+        if (j.contains("distance") && !(j["distance"].is_string() && j["distance"].get<std::string>() == "auto"))
+            s.distance = positive(j, "distance", w, 1.0);
+        if (j.contains("lights")) {
+            const std::string m = j["lights"].is_string() ? j["lights"].get<std::string>() : "";
+            if (m == "fixed") s.lightsFollow = false;
+            else if (m == "follow-camera") s.lightsFollow = true;
+            else fail(join(w, "lights"), "expected \"fixed\" or \"follow-camera\"");
+        }
+        if (j.contains("center")) s.center = vec3(j["center"], join(w, "center"));
+        s.startYawDeg = number(j, "start_yaw", w, 0.0);
+        if (j.contains("fov")) {
+            const double f = number(j["fov"], join(w, "fov"));
+            if (!(f > 0 && f < 180)) fail(join(w, "fov"), "expected degrees in (0, 180)");
+            s.fovDeg = f;
+        }
+        if (anim::frameCount(s.seconds, s.fps) < 1 || s.seconds * s.fps > 1e9) fail(w, "seconds × fps is out of range");
+        return s;
+    }
+
+private:
+    std::string file_;
+    std::string prefix_;
+    const Scene& scene_;
+};
+
+double maxEnd(const std::optional<KeyTrack>& t, double d) { return t ? std::max(d, t->endTime()) : d; }
+
+}  // namespace
+
+TurntableSettings defaultModelTurntable() {
+    TurntableSettings s;
+    s.seconds = 4.0;
+    s.fps = 30.0;
+    s.elevationDeg = 20.0;
+    s.lightsFollow = true;
+    return s;
+}
+
+std::vector<GltfAnimationPlayer> defaultPlayers(const Scene& scene) {
+    std::vector<GltfAnimationPlayer> players;
+    for (size_t m = 0; m < scene.models.size(); ++m)
+        if (!scene.models[m].animations.empty()) players.emplace_back(scene.models[m], static_cast<int>(m), 0, true);
+    return players;
+}
+
+ParsedTimeline parseTimeline(const Scene& scene) {
+    ParsedTimeline out;
+    out.spec.restLights = scene.lights;
+    json root;
+    try {
+        root = json::parse(scene.timelineJson);
+    } catch (const json::parse_error& e) {
+        throw InputError(scene.sourcePath, std::string("timeline: not valid JSON: ") + e.what());
+    }
+    if (!root.is_object()) throw InputError(scene.sourcePath, "timeline: expected an object");
+    if (root.contains("timeline") && root.contains("turntable"))
+        throw InputError(scene.sourcePath, "turntable: give either a timeline or a turntable, not both");
+
+    if (root.contains("turntable")) {
+        const Parser p(scene.sourcePath, "", scene);
+        const TurntableSettings s = p.turntable(root["turntable"], "turntable");
+        out.spec.turntable = Turntable::framed(s, scene);
+        out.spec.players = p.animations(root["turntable"], "turntable");
+        out.frames = out.spec.turntable->frameCount();
+        out.fps = s.fps;
+        return out;
+    }
+    if (!root.contains("timeline")) return out;
+    // A timeline in its own file was inlined by the scene loader, which names the file.
+    const bool external = root.contains("timeline_file") && root["timeline_file"].is_string();
+    const std::string file = external ? root["timeline_file"].get<std::string>() : scene.sourcePath;
+    const Parser p(file, external ? "" : "timeline.", scene);
+    const json& j = root["timeline"];
+    p.allowKeys(j, "", {"fps", "duration", "frames", "start", "loop", "camera", "lights", "animation", "comment"});
+    out.fps = p.positive(j, "fps", "", 30.0);
+    out.t0 = p.number(j, "start", "", 0.0);
+    TimelineSpec& s = out.spec;
+    if (j.contains("camera")) s.camera = p.camera(j["camera"], "camera");
+    if (j.contains("lights")) {
+        const json& ls = j["lights"];
+        if (!ls.is_array()) p.fail("lights", "expected an array");
+        for (size_t i = 0; i < ls.size(); ++i) s.lights.push_back(p.light(ls[i], Parser::index("lights", i)));
+    }
+    s.players = p.animations(j, "");
+
+    double end = 0.0;
+    const CameraTracks& c = s.camera;
+    for (const auto* t : {&c.position, &c.target, &c.orientation, &c.up, &c.fov}) end = maxEnd(*t, end);
+    for (const LightTracks& l : s.lights)
+        for (const auto* t : {&l.position, &l.direction, &l.color, &l.intensity, &l.innerDeg, &l.outerDeg}) end = maxEnd(*t, end);
+    if (c.orbit) end = std::max(end, c.orbit->period);
+    for (const GltfAnimationPlayer& pl : s.players) end = std::max(end, pl.duration());
+    const double duration = j.contains("duration") ? p.number(j["duration"], "duration") : std::max(0.0, end - out.t0);
+    if (duration < 0.0) p.fail("duration", "expected a number ≥ 0");
+    if (duration * out.fps > 1e9) p.fail("duration", "duration × fps exceeds 10⁹ frames");
+    bool loop = false;
+    if (j.contains("loop")) {
+        if (!j["loop"].is_boolean()) p.fail("loop", "expected true or false");
+        loop = j["loop"].get<bool>();
+    }
+    if (j.contains("frames")) {
+        if (!j["frames"].is_number_integer() || j["frames"].get<long long>() < 1 || j["frames"].get<long long>() > 1000000000)
+            p.fail("frames", "expected an integer from 1 to 10⁹");
+        out.frames = j["frames"].get<int>();
+    } else if (duration > 0.0) {
+        // A film includes both ends (its last key is rendered); a loop leaves out the frame
+        // that would repeat the first.
+        out.frames = anim::frameCount(duration, out.fps) + (loop ? 0 : 1);
+    }
+    return out;
+}
+
+}  // namespace rf::anim

@@ -1,0 +1,61 @@
+#pragma once
+/// What a parsed timeline holds: key tracks for the camera and lights, a turntable, and the
+/// model animations to play. Internal to anim/ (Timeline keeps one, shared and immutable).
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "gltf_animation.h"
+#include "keyframes.h"
+#include "turntable.h"
+
+namespace rf::anim {
+
+/// POV-Ray style orbit: eye = center + (r·sin 2πc, height, −r·cos 2πc), c = phase + t/period.
+struct Orbit {
+    DVec3 center{0.0};  ///< world space
+    double radius = 1.0;
+    double height = 0.0;
+    double period = 1.0;  ///< seconds per turn
+    double phase = 0.0;   ///< turns at t = 0
+};
+
+struct CameraTracks {
+    std::optional<KeyTrack> position, target, orientation, up, fov;
+    std::optional<Orbit> orbit;
+    bool any() const { return position || target || orientation || up || fov || orbit; }
+};
+
+struct LightTracks {
+    int light = 0;
+    std::optional<KeyTrack> position, direction, color, intensity, innerDeg, outerDeg;
+};
+
+struct TimelineSpec {
+    CameraTracks camera;
+    std::vector<LightTracks> lights;
+    std::optional<Turntable> turntable;
+    std::vector<Light> restLights;  ///< lights as loaded, for follow-camera turntables
+    std::vector<GltfAnimationPlayer> players;
+};
+
+/// Frame range and content of a timeline.
+struct ParsedTimeline {
+    TimelineSpec spec;
+    int frames = 1;
+    double fps = 30.0;
+    double t0 = 0.0;
+};
+
+/// Default turntable of a bare glTF model: 4 s at 30 fps (120 frames), 20° elevation, distance
+/// auto, lights following the camera.
+TurntableSettings defaultModelTurntable();
+
+/// Parses scene.timelineJson (see timeline_parse.cpp for the format). Throws InputError naming
+/// the file and the key.
+ParsedTimeline parseTimeline(const Scene& scene);
+
+/// Every model with animations plays its first one, looped.
+std::vector<GltfAnimationPlayer> defaultPlayers(const Scene& scene);
+
+}  // namespace rf::anim

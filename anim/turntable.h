@@ -1,0 +1,55 @@
+#pragma once
+/// The turntable preset: the camera orbits the scene's bounds once per loop, yaw built as
+/// 2π·f/N from the frame so the loop closes without a duplicated frame (never a slerp between
+/// 0° and 360° keys, which are the same rotation).
+#include <optional>
+#include <vector>
+
+#include "scene.h"
+
+namespace rf::anim {
+
+struct TurntableSettings {
+    double seconds = 4.0;
+    double fps = 30.0;
+    double elevationDeg = 20.0;  ///< above the horizontal plane through the centre; ±90 = poles
+    double distance = 0.0;       ///< from the centre; 0 = auto (bounding sphere fills the view)
+    double startYawDeg = 0.0;    ///< yaw of frame 0; 0 puts the camera on +z looking towards −z
+    bool lightsFollow = false;   ///< lights orbit with the camera (the object seems to turn)
+    std::optional<DVec3> center; ///< world space; default: centre of the scene's bounds
+    std::optional<double> fovDeg;
+};
+
+class Turntable {
+public:
+    Turntable() = default;
+    /// Frames the orbit on scene.bounds() (render space) with the scene camera's field of view
+    /// and the render settings' aspect ratio. Falls back to the camera's target and distance
+    /// when the scene has no bounded geometry.
+    static Turntable framed(const TurntableSettings& s, const Scene& scene);
+
+    int frameCount() const { return frames_; }
+    double fps() const { return fps_; }
+    /// 2π·frame/N.
+    double yawAtFrame(int frame) const;
+    /// Yaw at time t: 2π·(t·fps)/N, so frame f (t = f/fps) gets 2π·f/N.
+    double yawAt(double t) const;
+    /// Camera (and, following, lights rotated from restLights) at time t. Absolute: depends on
+    /// t and the rest state alone.
+    void apply(Scene& scene, double t, const std::vector<Light>& restLights) const;
+
+    DVec3 centerRender() const { return center_; }
+    double distance() const { return distance_; }
+
+private:
+    int frames_ = 1;
+    double fps_ = 30.0;
+    double elevation_ = 0.0;  ///< radians
+    double startYaw_ = 0.0;   ///< radians
+    double distance_ = 1.0;
+    DVec3 center_{0.0};       ///< render space
+    bool lightsFollow_ = false;
+    std::optional<float> fov_;
+};
+
+}  // namespace rf::anim
