@@ -1,18 +1,461 @@
 #include "gltf_loader.h"
 
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <set>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include "default_rig.h"
 #include "errors.h"
+#include "gltf_accessors.h"
+#include "gltf_geometry.h"
+#include "gltf_materials.h"
+#include "gltf_safety.h"
+#include "scene_loader.h"
 
 namespace rf {
 
-// Placeholder until the glTF issue lands: refuse clearly rather than crash.
-void loadGltfModel(Scene&, const std::string& path, const DMat4&, FileSource&) {
-    throw InputError(path, "glTF models are not supported by this build yet");
+namespace {
+
+using namespace gltf;
+
+std::string firstLine(const std::string& s) {
+    size_t b = s.find_first_not_of(" \n\r\t");
+    if (b == std::string::npos) return "tinygltf could not parse the file";
+    const size_t e = s.find('\n', b);
+    return s.substr(b, e == std::string::npos ? std::string::npos : e - b);
+}
+
+bool finiteMat(const DMat4& m) {
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r)
+            if (!std::isfinite(m[c][r])) return false;
+    return true;
+}
+
+/// A glTF file parsed and checked, with its node hierarchy resolved; turned into scene content
+/// by addTo().
+class GltfModel {
+public:
+    GltfModel(const std::string& path, FileSource& fs) : path_(path) {
+        const std::string bytes = fs.read(path, Limits::kMaxFileBytes);
+        const PreflightResult pf = preflight(path, bytes);
+        std::string folder = std::filesystem::path(path).parent_path().string();
+        ConfinedFs cfs(fs, folder.empty() ? "." : folder);
+        tinygltf::TinyGLTF loader;
+        loader.SetFsCallbacks(cfs.callbacks());
+        loader.SetImageLoader(&keepEncodedImage, nullptr);
+        std::string err, warn;
+        bool ok = false;
+        try {
+            ok = pf.binary ? loader.LoadBinaryFromMemory(&model_, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
+                                                         static_cast<unsigned>(bytes.size()), cfs.folder())
+                           : loader.LoadASCIIFromString(&model_, &err, &warn, bytes.data(), static_cast<unsigned>(bytes.size()),
+                                                        cfs.folder());
+        } catch (const std::exception& e) {
+            throw InputError(path, std::string("glTF parse error: ") + e.what());
+        }
+        if (!cfs.violation().empty())
+            throw InputError(path, "URI \"" + cfs.violation() + "\" would leave the model's folder; refused");
+        if (!ok) throw InputError(path, firstLine(err));
+        if (!warn.empty()) notes_.push_back(firstLine(warn));
+        for (const std::string& n : pf.notes) notes_.push_back(n);
+        resolveHierarchy();
+        readAnimations();
+    }
+
+    /// World-space bounds of the drawn triangles; false if there are none.
+    bool bounds(const DMat4& worldFromModel, glm::dvec3& lo, glm::dvec3& hi) {
+        lo = glm::dvec3(std::numeric_limits<double>::infinity());
+        hi = -lo;
+        bool any = false;
+        for (int node : order_) {
+            const tinygltf::Node& n = model_.nodes[size_t(node)];
+            if (n.mesh < 0) continue;
+            const DMat4 m = worldFromModel * modelFromNode_[size_t(node)];
+            for (size_t p = 0; p < model_.meshes[size_t(n.mesh)].primitives.size(); ++p) {
+                const PrimitiveGeometry* g = primitive(n.mesh, int(p));
+                if (!g) continue;
+                const std::vector<Vec3> pos = morphedPositions(g->mesh, defaultWeights(node));
+                for (uint32_t i : g->mesh.indices) {
+                    const glm::dvec3 q(m * glm::dvec4(glm::dvec3(pos[i]), 1.0));
+                    lo = glm::min(lo, q);
+                    hi = glm::max(hi, q);
+                    any = true;
+                }
+            }
+        }
+        return any && std::isfinite(lo.x + lo.y + lo.z + hi.x + hi.y + hi.z);
+    }
+
+    void addTo(Scene& scene, const DMat4& worldFromModel);
+
+    /// Why bounds() found nothing to draw, for the error message.
+    std::string emptyReason() const {
+        size_t nonFinite = 0, degenerate = 0;
+        for (const auto& [key, g] : prims_)
+            if (g) nonFinite += g->droppedNonFinite, degenerate += g->droppedDegenerate;
+        if (nonFinite) return "the model has no triangles to render (" + std::to_string(nonFinite) + " have non-finite positions)";
+        if (degenerate) return "the model has no triangles to render (" + std::to_string(degenerate) + " are degenerate)";
+        if (skippedPointsLines_) return "the model has no triangles to render (points and lines are not rendered)";
+        if (order_.empty()) return "the model's scene has no nodes, so there is nothing to render";
+        return "the model has no triangles to render";
+    }
+
+private:
+    const PrimitiveGeometry* primitive(int mesh, int prim) {
+        const auto key = std::make_pair(mesh, prim);
+        auto it = prims_.find(key);
+        if (it == prims_.end()) {
+            PrimitiveGeometry g;
+            const bool triangles = buildPrimitive(model_, mesh, prim, path_, g);
+            it = prims_.emplace(key, triangles ? std::optional<PrimitiveGeometry>(std::move(g)) : std::nullopt).first;
+            if (!triangles) skippedPointsLines_ = true;
+        }
+        return it->second ? &*it->second : nullptr;
+    }
+
+    std::vector<double> defaultWeights(int node) const {
+        const tinygltf::Node& n = model_.nodes[size_t(node)];
+        if (!n.weights.empty()) return n.weights;
+        return n.mesh >= 0 ? model_.meshes[size_t(n.mesh)].weights : std::vector<double>{};
+    }
+
+    DMat4 localTransform(int i) const {
+        const tinygltf::Node& n = model_.nodes[size_t(i)];
+        const std::string w = "nodes[" + std::to_string(i) + "]";
+        DMat4 m(1.0);
+        if (n.matrix.size() == 16) {
+            m = glm::make_mat4(n.matrix.data());  // both column-major
+        } else {
+            if (!n.matrix.empty()) throw InputError(path_, w + ".matrix: expected 16 numbers");
+            DMat4 t(1.0), r(1.0), s(1.0);
+            if (n.translation.size() == 3) t = glm::translate(DMat4(1.0), glm::dvec3(n.translation[0], n.translation[1], n.translation[2]));
+            if (n.rotation.size() == 4) {
+                DQuat q(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);  // glTF xyzw → glm wxyz
+                const double len = glm::length(q);
+                if (!(len > 0.0) || !std::isfinite(len)) throw InputError(path_, w + ".rotation: not a usable quaternion");
+                r = glm::mat4_cast(q / len);
+            }
+            if (n.scale.size() == 3) s = glm::scale(DMat4(1.0), glm::dvec3(n.scale[0], n.scale[1], n.scale[2]));
+            m = t * r * s;
+        }
+        if (!finiteMat(m)) throw InputError(path_, w + ": non-finite transform");
+        return m;
+    }
+
+    void resolveHierarchy() {
+        const size_t n = model_.nodes.size();
+        parent_.assign(n, -1);
+        for (size_t i = 0; i < n; ++i)
+            for (int c : model_.nodes[i].children) {
+                if (c < 0 || size_t(c) >= n)
+                    throw InputError(path_, "nodes[" + std::to_string(i) + "].children: no node " + std::to_string(c));
+                if (size_t(c) == i || parent_[size_t(c)] != -1)
+                    throw InputError(path_, "nodes[" + std::to_string(c) + "] has more than one parent (the node graph must be a tree)");
+                parent_[size_t(c)] = int(i);
+            }
+        for (size_t i = 0; i < n; ++i) {
+            size_t steps = 0;
+            for (int p = parent_[i]; p >= 0; p = parent_[size_t(p)])
+                if (++steps > n) throw InputError(path_, "nodes[" + std::to_string(i) + "]: the node hierarchy has a cycle");
+        }
+        std::vector<int> roots;
+        const int sceneIndex = (model_.defaultScene >= 0 && size_t(model_.defaultScene) < model_.scenes.size()) ? model_.defaultScene
+                               : model_.scenes.empty() ? -1 : 0;
+        if (sceneIndex < 0) {
+            for (size_t i = 0; i < n; ++i)
+                if (parent_[i] < 0) roots.push_back(int(i));
+            if (n > 0) notes_.push_back("no scene defined: drawing every root node");
+        } else {
+            for (int r : model_.scenes[size_t(sceneIndex)].nodes) {
+                if (r < 0 || size_t(r) >= n)
+                    throw InputError(path_, "scenes[" + std::to_string(sceneIndex) + "].nodes: no node " + std::to_string(r));
+                if (parent_[size_t(r)] >= 0) {
+                    notes_.push_back("scene lists non-root nodes[" + std::to_string(r) + "]; drawn once, under its parent");
+                    continue;
+                }
+                roots.push_back(r);
+            }
+        }
+        modelFromNode_.assign(n, DMat4(1.0));
+        std::vector<uint8_t> seen(n, 0);
+        std::vector<int> stack(roots.rbegin(), roots.rend());
+        while (!stack.empty()) {
+            const int i = stack.back();
+            stack.pop_back();
+            if (seen[size_t(i)]) continue;
+            seen[size_t(i)] = 1;
+            const DMat4 local = localTransform(i);
+            modelFromNode_[size_t(i)] = parent_[size_t(i)] >= 0 ? modelFromNode_[size_t(parent_[size_t(i)])] * local : local;
+            if (!finiteMat(modelFromNode_[size_t(i)])) throw InputError(path_, "nodes[" + std::to_string(i) + "]: transform overflows");
+            order_.push_back(i);
+            const auto& ch = model_.nodes[size_t(i)].children;
+            for (auto it = ch.rbegin(); it != ch.rend(); ++it) stack.push_back(*it);
+            const int mesh = model_.nodes[size_t(i)].mesh;
+            if (mesh >= 0 && size_t(mesh) >= model_.meshes.size())
+                throw InputError(path_, "nodes[" + std::to_string(i) + "].mesh: no mesh " + std::to_string(mesh));
+        }
+    }
+
+    void readAnimations() {
+        animatedNode_.assign(model_.nodes.size(), 0);
+        for (size_t a = 0; a < model_.animations.size(); ++a) {
+            const tinygltf::Animation& ga = model_.animations[a];
+            const std::string wa = "animations[" + std::to_string(a) + "]";
+            Animation anim;
+            anim.name = ga.name;
+            // Sampler components depend on the channel's path; find them first.
+            std::vector<int> comps(ga.samplers.size(), 0);
+            for (size_t c = 0; c < ga.channels.size(); ++c) {
+                const tinygltf::AnimationChannel& ch = ga.channels[c];
+                const std::string wc = wa + ".channels[" + std::to_string(c) + "]";
+                if (ch.target_node < 0) continue;  // targets something else (extension): nothing to move
+                if (size_t(ch.target_node) >= model_.nodes.size()) throw InputError(path_, wc + ".target.node: no such node");
+                if (ch.sampler < 0 || size_t(ch.sampler) >= ga.samplers.size()) throw InputError(path_, wc + ".sampler: no such sampler");
+                AnimChannel out;
+                out.sampler = ch.sampler;
+                out.node = ch.target_node;
+                int k = 0;
+                if (ch.target_path == "translation") out.path = AnimPath::Translation, k = 3;
+                else if (ch.target_path == "rotation") out.path = AnimPath::Rotation, k = 4;
+                else if (ch.target_path == "scale") out.path = AnimPath::Scale, k = 3;
+                else if (ch.target_path == "weights") out.path = AnimPath::Weights, k = -1;
+                else throw InputError(path_, wc + ".target.path: \"" + ch.target_path + "\" is not a glTF path");
+                comps[size_t(ch.sampler)] = k;
+                anim.channels.push_back(out);
+                animatedNode_[size_t(ch.target_node)] = 1;
+            }
+            for (size_t s = 0; s < ga.samplers.size(); ++s) {
+                const tinygltf::AnimationSampler& gs = ga.samplers[s];
+                const std::string ws = wa + ".samplers[" + std::to_string(s) + "]";
+                AnimSampler out;
+                if (gs.interpolation == "STEP") out.interpolation = KeyInterpolation::Step;
+                else if (gs.interpolation == "CUBICSPLINE") out.interpolation = KeyInterpolation::CubicSpline;
+                else out.interpolation = KeyInterpolation::Linear;
+                const AccessorData in = readAccessor(model_, gs.input, path_, {TINYGLTF_TYPE_SCALAR});
+                const AccessorData val = readAccessor(model_, gs.output, path_, {TINYGLTF_TYPE_SCALAR, TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4});
+                out.times = in.values;
+                out.values = val.values;
+                for (float x : out.times)
+                    if (!std::isfinite(x)) throw InputError(path_, ws + ".input: non-finite key time");
+                for (float x : out.values)
+                    if (!std::isfinite(x)) throw InputError(path_, ws + ".output: non-finite key value");
+                const size_t perKey = out.interpolation == KeyInterpolation::CubicSpline ? 3 : 1;
+                int k = comps[s];
+                if (k < 0 && !out.times.empty()) k = int(out.values.size() / (out.times.size() * perKey));  // weights
+                if (k == 0) k = val.components;  // sampler no channel uses
+                out.components = k;
+                if (k <= 0 || out.values.size() != out.times.size() * perKey * size_t(k))
+                    throw InputError(path_, ws + ": " + std::to_string(out.values.size()) + " output values do not match " +
+                                                std::to_string(out.times.size()) + " keys");
+                anim.samplers.push_back(std::move(out));
+            }
+            animations_.push_back(std::move(anim));
+        }
+    }
+
+    std::string path_;
+    tinygltf::Model model_;
+    std::vector<std::string> notes_;
+    std::vector<int> parent_;
+    std::vector<DMat4> modelFromNode_;
+    std::vector<int> order_;  ///< drawn nodes, parents before children
+    std::vector<uint8_t> animatedNode_;
+    std::vector<Animation> animations_;
+    std::map<std::pair<int, int>, std::optional<PrimitiveGeometry>> prims_;
+    bool skippedPointsLines_ = false;
+};
+
+/// Moves one primitive's triangles into render space; returns false if nothing is left.
+bool placeMesh(TriangleMesh& m, const DMat4& renderFromNode, const std::vector<double>& weights) {
+    const glm::dmat3 l(renderFromNode);
+    const double det = glm::determinant(l);
+    if (!(std::abs(det) > 0.0) || !std::isfinite(det)) return false;  // zero scale: nothing visible
+    const glm::dmat3 nm = glm::transpose(glm::inverse(l));
+    const std::vector<Vec3> pos = morphedPositions(m, weights);
+    const std::vector<Vec3> nor = morphedNormals(m, weights);
+    m.positions.resize(pos.size());
+    m.normals.resize(nor.size());
+    for (size_t i = 0; i < pos.size(); ++i) {
+        m.positions[i] = Vec3(glm::dvec3(renderFromNode * glm::dvec4(glm::dvec3(pos[i]), 1.0)));
+        if (!isFinite(m.positions[i])) return false;
+    }
+    for (size_t i = 0; i < nor.size(); ++i) {
+        const glm::dvec3 n = nm * glm::dvec3(nor[i]);
+        const double len = glm::length(n);
+        m.normals[i] = len > 0.0 && std::isfinite(len) ? Vec3(n / len) : Vec3(0.f);
+    }
+    for (Vec4& t : m.tangents) {
+        const glm::dvec3 v = l * glm::dvec3(Vec3(t));
+        const double len = glm::length(v);
+        t = Vec4(len > 0.0 && std::isfinite(len) ? Vec3(v / len) : Vec3(0.f), det < 0.0 ? -t.w : t.w);
+    }
+    // A mirroring transform turns counter-clockwise triangles clockwise: swap two corners so the
+    // front face stays where glTF put it.
+    if (det < 0.0)
+        for (size_t t = 0; t + 2 < m.indices.size(); t += 3) std::swap(m.indices[t + 1], m.indices[t + 2]);
+    return !m.indices.empty();
+}
+
+void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel) {
+    const DMat4 renderFromModel = glm::translate(DMat4(1.0), -scene.renderOrigin) * worldFromModel;
+    const int modelIndex = int(scene.models.size());
+    SceneGraph graph;
+    graph.source = path_;
+    graph.renderFromModel = renderFromModel;
+    for (size_t i = 0; i < model_.nodes.size(); ++i) {
+        const tinygltf::Node& n = model_.nodes[i];
+        SceneNode sn;
+        sn.name = n.name;
+        sn.parent = parent_[i];
+        if (n.matrix.size() == 16) {
+            sn.useMatrix = true;
+            sn.matrix = glm::make_mat4(n.matrix.data());
+        }
+        if (n.translation.size() == 3) sn.translation = glm::dvec3(n.translation[0], n.translation[1], n.translation[2]);
+        if (n.rotation.size() == 4) sn.rotation = glm::normalize(DQuat(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]));
+        if (n.scale.size() == 3) sn.scale = glm::dvec3(n.scale[0], n.scale[1], n.scale[2]);
+        sn.weights = defaultWeights(int(i));
+        graph.nodes.push_back(std::move(sn));
+    }
+    graph.animations = animations_;
+    scene.models.push_back(std::move(graph));
+
+    // A node moves if it, or any ancestor, is animated (order_ lists parents first).
+    std::vector<uint8_t> dynamic(model_.nodes.size(), 0);
+    for (int i : order_) dynamic[size_t(i)] = animatedNode_[size_t(i)] || (parent_[size_t(i)] >= 0 && dynamic[size_t(parent_[size_t(i)])]);
+
+    MaterialBuilder materials(scene, model_, path_);
+    size_t degenerate = 0, nonFinite = 0, generated = 0, unplaced = 0;
+    for (int node : order_) {
+        const tinygltf::Node& n = model_.nodes[size_t(node)];
+        const DMat4 renderFromNode = renderFromModel * modelFromNode_[size_t(node)];
+        if (n.mesh >= 0) {
+            const tinygltf::Mesh& gm = model_.meshes[size_t(n.mesh)];
+            for (size_t p = 0; p < gm.primitives.size(); ++p) {
+                const PrimitiveGeometry* g = primitive(n.mesh, int(p));
+                if (!g) continue;
+                degenerate += g->droppedDegenerate;
+                nonFinite += g->droppedNonFinite;
+                generated += g->generatedNormals;
+                if (g->mesh.indices.empty()) continue;
+                TriangleMesh m = g->mesh;
+                m.name = gm.name;
+                if (dynamic[size_t(node)]) {
+                    m.model = modelIndex;
+                    m.node = node;
+                    m.objectPositions = m.positions;
+                    m.objectNormals = m.normals;
+                    m.objectTangents = m.tangents;
+                }
+                if (!placeMesh(m, renderFromNode, defaultWeights(node))) {
+                    ++unplaced;
+                    continue;
+                }
+                if (!dynamic[size_t(node)]) {
+                    m.morphPositions.clear();
+                    m.morphNormals.clear();
+                }
+                m.material = materials.materialFor(g->gltfMaterial);
+                scene.meshes.push_back(std::move(m));
+            }
+        }
+        const glm::dmat3 l(renderFromNode);
+        const Vec3 origin = Vec3(glm::dvec3(renderFromNode[3]));
+        auto axis = [&](const glm::dvec3& a) {
+            const glm::dvec3 v = l * a;
+            const double len = glm::length(v);
+            return len > 0.0 && std::isfinite(len) ? Vec3(v / len) : Vec3(a);
+        };
+        if (auto it = n.extensions.find("KHR_lights_punctual"); it != n.extensions.end() && it->second.Has("light")) {
+            const tinygltf::Value& li = it->second.Get("light");
+            const int idx = li.IsInt() ? li.Get<int>() : -1;
+            if (idx < 0 || size_t(idx) >= model_.lights.size()) throw InputError(path_, "nodes[" + std::to_string(node) + "]: no light " + std::to_string(idx));
+            const tinygltf::Light& gl = model_.lights[size_t(idx)];
+            Light L;
+            L.name = gl.name;
+            L.position = origin;
+            L.direction = axis(glm::dvec3(0, 0, -1));
+            if (gl.color.size() == 3) L.color = Color(float(gl.color[0]), float(gl.color[1]), float(gl.color[2]));
+            L.intensity = float(std::max(0.0, std::isfinite(gl.intensity) ? gl.intensity : 1.0) / kPi);
+            L.range = gl.range > 0.0 && std::isfinite(gl.range) ? float(gl.range) : 0.f;
+            if (gl.type == "directional") {
+                L.type = LightType::Directional;
+            } else {
+                L.type = gl.type == "spot" ? LightType::Spot : LightType::Point;
+                L.attenuation = Vec3(0.f, 0.f, 1.f);  // inverse square, as glTF specifies
+                if (L.type == LightType::Spot) {
+                    L.innerCone = float(std::clamp(gl.spot.innerConeAngle, 0.0, double(kPi) / 2));
+                    L.outerCone = float(std::clamp(gl.spot.outerConeAngle, double(L.innerCone), double(kPi) / 2));
+                }
+            }
+            if (!isFinite(L.color) || !isFinite(L.position)) throw InputError(path_, "lights[" + std::to_string(idx) + "]: non-finite values");
+            scene.lights.push_back(L);
+        }
+        if (n.camera >= 0) {
+            if (size_t(n.camera) >= model_.cameras.size()) throw InputError(path_, "nodes[" + std::to_string(node) + "].camera: no such camera");
+            const tinygltf::Camera& gc = model_.cameras[size_t(n.camera)];
+            if (gc.type == "perspective") {
+                Camera c;
+                c.eye = origin;
+                c.target = origin + axis(glm::dvec3(0, 0, -1));
+                c.up = axis(glm::dvec3(0, 1, 0));
+                const double fov = glm::degrees(gc.perspective.yfov);
+                c.fovDeg = float(fov > 0.0 && fov < 180.0 ? fov : 45.0);
+                c.fovHorizontal = false;
+                scene.gltfCameras.push_back(c);
+            } else {
+                notes_.push_back("cameras[" + std::to_string(n.camera) + "]: " + gc.type + " cameras are not supported; skipped");
+            }
+        }
+    }
+    if (degenerate) notes_.push_back(std::to_string(degenerate) + " degenerate triangles dropped");
+    if (nonFinite) notes_.push_back(std::to_string(nonFinite) + " triangles with non-finite positions dropped");
+    if (generated) notes_.push_back("normals generated for " + std::to_string(generated) + " primitives");
+    if (unplaced) notes_.push_back(std::to_string(unplaced) + " primitives dropped: their node scales them to nothing or to infinity");
+    if (skippedPointsLines_) notes_.push_back("points and lines are not rendered; skipped");
+    if (!model_.skins.empty()) notes_.push_back("skins are not supported: skinned meshes drawn in their bind pose");
+    static const std::set<std::string> known = {"KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_transmission",
+                                                "KHR_materials_ior", "KHR_lights_punctual", "KHR_mesh_quantization"};
+    for (const std::string& e : model_.extensionsUsed)
+        if (!known.count(e) && e.rfind("KHR_materials_", 0) != 0) notes_.push_back("extension " + e + " ignored");
+    for (const std::string& n : notes_) scene.notes.push_back(path_ + ": " + n);
+}
+
+}  // namespace
+
+void loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFromModel, FileSource& fs) {
+    GltfModel model(path, fs);
+    model.addTo(scene, worldFromModel);
 }
 
 Scene loadGltfScene(const std::string& path, FileSource& fs) {
     Scene s;
-    loadGltfModel(s, path, DMat4(1.0), fs);
+    s.sourcePath = path;
+    GltfModel model(path, fs);
+    glm::dvec3 lo, hi;
+    if (!model.bounds(DMat4(1.0), lo, hi)) throw InputError(path, model.emptyReason());
+    const glm::dvec3 center = 0.5 * (lo + hi);
+    s.renderOrigin = chooseRenderOrigin(center);
+    model.addTo(s, DMat4(1.0));
+    const float radius = float(0.5 * glm::length(hi - lo));
+    const float aspect = float(s.settings.width) / float(s.settings.height);
+    s.camera = frameBoundingSphere(Vec3(center - s.renderOrigin), radius > 0.f ? radius : 1.f, aspect);
+    if (s.lights.empty()) addDefaultLightRig(s, s.camera);
+    s.background = Color(0.05f);
+    s.build();
     return s;
+}
+
+void useGltfCamera(Scene& scene, int index) {
+    if (index < 0 || size_t(index) >= scene.gltfCameras.size())
+        throw InputError(scene.sourcePath, "no glTF camera " + std::to_string(index) + " (the scene has " +
+                                               std::to_string(scene.gltfCameras.size()) + ")");
+    scene.camera = scene.gltfCameras[size_t(index)];
 }
 
 }  // namespace rf

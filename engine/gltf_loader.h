@@ -1,6 +1,15 @@
 #pragma once
 /// glTF 2.0 models (.gltf, .glb) through tinygltf, turned into engine geometry, materials,
 /// textures, lights and cameras.
+///
+/// Mapping choices (see also gltf_materials.h):
+/// - Render space = world − scene.renderOrigin; node transforms are composed in double.
+/// - Meshes on nodes that an animation targets (or below one) keep model-space data and a
+///   (model, node) link for Scene::applyNodeTransforms; all others are baked.
+/// - KHR_lights_punctual: point/spot intensity in candela becomes intensity/π with inverse-square
+///   attenuation (1/d² of a Lambertian surface's radiance, exposure 1); directional lux/π.
+/// - alphaMode BLEND: see-through without bending (transmission 1 − alpha at ior 1).
+/// - glTF perspective cameras go to Scene::gltfCameras; useGltfCamera() picks one.
 #include <string>
 
 #include "file_source.h"
@@ -15,5 +24,8 @@ void loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFrom
 /// A bare model as a whole scene: the model, a camera framed on its bounding sphere with a
 /// margin, and a default key/fill/rim rig when the model brings no lights.
 Scene loadGltfScene(const std::string& path, FileSource& fs);
+
+/// Makes scene.gltfCameras[index] the render camera; throws InputError if there is none.
+void useGltfCamera(Scene& scene, int index);
 
 }  // namespace rf

@@ -60,6 +60,7 @@ public:
     std::vector<Texture> textures;
     std::vector<SceneGraph> models;
     Color background{0.f};
+    std::vector<Camera> gltfCameras;  ///< perspective cameras of glTF models, selectable as the render camera
     Color ambientLight{1.f};  ///< I_amb of the seed's model
     RenderSettings settings;  ///< defaults from the scene file; the CLI may override
     DVec3 renderOrigin{0.0};

@@ -1,0 +1,182 @@
+#include "gltf_geometry.h"
+
+#include "errors.h"
+#include "gltf_accessors.h"
+
+namespace rf::gltf {
+
+namespace {
+
+template <typename V>
+std::vector<V> toVectors(const AccessorData& d) {
+    std::vector<V> out(d.count);
+    constexpr int n = V::length();
+    for (size_t i = 0; i < d.count; ++i)
+        for (int c = 0; c < n; ++c) {
+            const float x = c < d.components ? d.at(i, c) : 0.f;
+            out[i][c] = std::isfinite(x) ? x : 0.f;
+        }
+    return out;
+}
+
+int attribute(const tinygltf::Primitive& p, const char* name) {
+    auto it = p.attributes.find(name);
+    return it == p.attributes.end() ? -1 : it->second;
+}
+
+/// Triangle list from TRIANGLES, TRIANGLE_STRIP or TRIANGLE_FAN vertex order.
+std::vector<uint32_t> unroll(const std::vector<uint32_t>& v, int mode) {
+    std::vector<uint32_t> t;
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+        t.assign(v.begin(), v.begin() + (v.size() / 3) * 3);
+    } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+        for (size_t i = 0; i + 2 < v.size(); ++i) {
+            // Every other triangle is reversed so all keep the strip's winding.
+            const bool odd = i & 1;
+            t.insert(t.end(), {v[i], v[i + 1 + odd], v[i + 2 - odd]});
+        }
+    } else {  // fan
+        for (size_t i = 1; i + 1 < v.size(); ++i) t.insert(t.end(), {v[i], v[i + 1], v[0]});
+    }
+    return t;
+}
+
+}  // namespace
+
+std::vector<Vec3> generateNormals(const std::vector<Vec3>& pos, const std::vector<uint32_t>& idx) {
+    std::vector<glm::dvec3> acc(pos.size(), glm::dvec3(0.0));
+    for (size_t t = 0; t + 2 < idx.size(); t += 3) {
+        const glm::dvec3 a(pos[idx[t]]), b(pos[idx[t + 1]]), c(pos[idx[t + 2]]);
+        const glm::dvec3 n = glm::cross(b - a, c - a);  // length = twice the area: area weighting
+        for (int k = 0; k < 3; ++k) acc[idx[t + k]] += n;
+    }
+    std::vector<Vec3> out(pos.size(), Vec3(0.f));
+    for (size_t i = 0; i < pos.size(); ++i) {
+        const double l = glm::length(acc[i]);
+        if (l > 0.0 && std::isfinite(l)) out[i] = Vec3(acc[i] / l);
+    }
+    return out;
+}
+
+std::vector<Vec3> morphedPositions(const TriangleMesh& m, const std::vector<double>& w) {
+    std::vector<Vec3> p = m.objectPositions.empty() ? m.positions : m.objectPositions;
+    for (size_t k = 0; k < m.morphPositions.size() && k < w.size(); ++k) {
+        if (w[k] == 0.0 || m.morphPositions[k].empty()) continue;
+        for (size_t i = 0; i < p.size(); ++i) p[i] += float(w[k]) * m.morphPositions[k][i];
+    }
+    return p;
+}
+
+std::vector<Vec3> morphedNormals(const TriangleMesh& m, const std::vector<double>& w) {
+    std::vector<Vec3> n = m.objectNormals.empty() ? m.normals : m.objectNormals;
+    for (size_t k = 0; k < m.morphNormals.size() && k < w.size(); ++k) {
+        if (w[k] == 0.0 || m.morphNormals[k].empty()) continue;
+        for (size_t i = 0; i < n.size(); ++i) n[i] += float(w[k]) * m.morphNormals[k][i];
+    }
+    return n;
+}
+
+bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int primIndex, const std::string& file, PrimitiveGeometry& out) {
+    const tinygltf::Primitive& p = model.meshes[size_t(meshIndex)].primitives[size_t(primIndex)];
+    const std::string w = "meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(primIndex) + "]";
+    const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+        if (mode >= 0 && mode <= 3) return false;  // points and lines
+        throw InputError(file, w + ".mode: " + std::to_string(mode) + " is not a glTF primitive mode");
+    }
+    const int posAcc = attribute(p, "POSITION");
+    if (posAcc < 0) throw InputError(file, w + ": no POSITION attribute");
+    const AccessorData pos = readAccessor(model, posAcc, file, {TINYGLTF_TYPE_VEC3});
+    TriangleMesh& m = out.mesh;
+    m.positions.resize(pos.count);
+    std::vector<uint8_t> finite(pos.count, 1);
+    for (size_t i = 0; i < pos.count; ++i) {
+        m.positions[i] = Vec3(pos.at(i, 0), pos.at(i, 1), pos.at(i, 2));
+        if (!isFinite(m.positions[i])) {
+            finite[i] = 0;
+            m.positions[i] = Vec3(0.f);
+        }
+    }
+    const size_t nv = pos.count;
+    auto sameCount = [&](const AccessorData& d, const char* what) {
+        if (d.count != nv)
+            throw InputError(file, w + ": " + what + " has " + std::to_string(d.count) + " elements, POSITION has " + std::to_string(nv));
+    };
+    if (int a = attribute(p, "NORMAL"); a >= 0) {
+        const AccessorData d = readAccessor(model, a, file, {TINYGLTF_TYPE_VEC3});
+        sameCount(d, "NORMAL");
+        m.normals = toVectors<Vec3>(d);
+    }
+    if (int a = attribute(p, "TEXCOORD_0"); a >= 0) {
+        const AccessorData d = readAccessor(model, a, file, {TINYGLTF_TYPE_VEC2});
+        sameCount(d, "TEXCOORD_0");
+        m.uvs = toVectors<Vec2>(d);
+    }
+    if (int a = attribute(p, "TEXCOORD_1"); a >= 0) {
+        const AccessorData d = readAccessor(model, a, file, {TINYGLTF_TYPE_VEC2});
+        sameCount(d, "TEXCOORD_1");
+        m.uvs1 = toVectors<Vec2>(d);
+    }
+    if (int a = attribute(p, "TANGENT"); a >= 0) {
+        const AccessorData d = readAccessor(model, a, file, {TINYGLTF_TYPE_VEC4});
+        sameCount(d, "TANGENT");
+        m.tangents = toVectors<Vec4>(d);
+    }
+
+    std::vector<uint32_t> order;
+    if (p.indices >= 0) {
+        order = readIndices(model, p.indices, file);
+        for (size_t i = 0; i < order.size(); ++i)
+            if (order[i] >= nv)
+                throw InputError(file, w + ".indices: index " + std::to_string(order[i]) + " at position " + std::to_string(i) +
+                                           " is out of range (" + std::to_string(nv) + " vertices)");
+    } else {
+        order.resize(nv);
+        for (uint32_t i = 0; i < nv; ++i) order[i] = i;
+    }
+    const std::vector<uint32_t> tris = unroll(order, mode);
+
+    for (size_t k = 0; k < p.targets.size(); ++k) {
+        const auto& target = p.targets[k];
+        std::vector<Vec3> dp, dn;
+        if (auto it = target.find("POSITION"); it != target.end()) {
+            const AccessorData d = readAccessor(model, it->second, file, {TINYGLTF_TYPE_VEC3});
+            sameCount(d, "a morph target POSITION");
+            dp = toVectors<Vec3>(d);
+        }
+        if (auto it = target.find("NORMAL"); it != target.end()) {
+            const AccessorData d = readAccessor(model, it->second, file, {TINYGLTF_TYPE_VEC3});
+            sameCount(d, "a morph target NORMAL");
+            dn = toVectors<Vec3>(d);
+        }
+        if (dp.empty()) dp.assign(nv, Vec3(0.f));
+        m.morphPositions.push_back(std::move(dp));
+        m.morphNormals.push_back(std::move(dn));
+    }
+
+    // Drop triangles with a non-finite corner, repeated corners or zero area (in double).
+    m.indices.reserve(tris.size());
+    for (size_t t = 0; t + 2 < tris.size(); t += 3) {
+        const uint32_t a = tris[t], b = tris[t + 1], c = tris[t + 2];
+        if (!finite[a] || !finite[b] || !finite[c]) {
+            ++out.droppedNonFinite;
+            continue;
+        }
+        const glm::dvec3 pa(m.positions[a]), pb(m.positions[b]), pc(m.positions[c]);
+        if (a == b || b == c || a == c || glm::length(glm::cross(pb - pa, pc - pa)) == 0.0) {
+            ++out.droppedDegenerate;
+            continue;
+        }
+        m.indices.insert(m.indices.end(), {a, b, c});
+    }
+    if (m.normals.empty()) {
+        // Indexed: smooth, area-weighted per vertex. Non-indexed: every triangle owns its
+        // vertices, so the same sum gives flat normals.
+        m.normals = generateNormals(m.positions, m.indices);
+        out.generatedNormals = true;
+    }
+    out.gltfMaterial = p.material;
+    return true;
+}
+
+}  // namespace rf::gltf

@@ -1,0 +1,34 @@
+#pragma once
+/// One glTF mesh primitive as engine triangles in the mesh's own (node-local) space: strips and
+/// fans unrolled, degenerate and non-finite triangles dropped and counted, missing normals
+/// generated, morph targets read.
+#include <string>
+#include <vector>
+
+#include <tiny_gltf.h>
+
+#include "mesh.h"
+
+namespace rf::gltf {
+
+struct PrimitiveGeometry {
+    TriangleMesh mesh;           ///< positions without morph offsets; normals always present
+    bool generatedNormals = false;
+    size_t droppedDegenerate = 0;
+    size_t droppedNonFinite = 0;
+    int gltfMaterial = -1;
+};
+
+/// Builds primitive `prim` of mesh `meshIndex`. Returns false (and builds nothing) for points
+/// and lines. Throws InputError naming the element on inconsistent data.
+bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int prim, const std::string& file, PrimitiveGeometry& out);
+
+/// Positions with the morph targets applied at `weights` (missing weights count as 0).
+std::vector<Vec3> morphedPositions(const TriangleMesh& mesh, const std::vector<double>& weights);
+/// Normals with the morph targets applied at `weights` (not renormalized).
+std::vector<Vec3> morphedNormals(const TriangleMesh& mesh, const std::vector<double>& weights);
+
+/// Area-weighted vertex normals from the triangles (zero where no triangle touches a vertex).
+std::vector<Vec3> generateNormals(const std::vector<Vec3>& positions, const std::vector<uint32_t>& indices);
+
+}  // namespace rf::gltf

@@ -1,0 +1,231 @@
+#include "gltf_materials.h"
+
+#include <stb_image.h>
+
+#include "gltf_accessors.h"
+#include "gltf_safety.h"
+#include "image.h"
+
+namespace rf::gltf {
+
+namespace {
+
+/// Extensions whose effect the mapping below includes.
+bool knownMaterialExtension(const std::string& name) {
+    return name == "KHR_materials_emissive_strength" || name == "KHR_materials_transmission" ||
+           name == "KHR_materials_ior" || name == "KHR_texture_transform";
+}
+
+double number(const tinygltf::Value& v, const char* key, double fallback) {
+    if (!v.IsObject() || !v.Has(key)) return fallback;
+    const tinygltf::Value& x = v.Get(key);
+    if (!x.IsNumber()) return fallback;
+    const double d = x.GetNumberAsDouble();
+    return std::isfinite(d) ? d : fallback;
+}
+
+double element(const tinygltf::Value& arr, int i, double fallback) {
+    const tinygltf::Value& x = arr.Get(i);
+    if (!x.IsNumber()) return fallback;
+    const double d = x.GetNumberAsDouble();
+    return std::isfinite(d) ? d : fallback;
+}
+
+float clamp01(double x) { return float(std::clamp(std::isfinite(x) ? x : 0.0, 0.0, 1.0)); }
+
+Wrap wrapOf(int glWrap) {
+    switch (glWrap) {
+        case TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE: return Wrap::ClampToEdge;
+        case TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT: return Wrap::MirroredRepeat;
+        default: return Wrap::Repeat;
+    }
+}
+
+}  // namespace
+
+float shininessFromRoughness(float roughness) {
+    const float a = std::max(roughness * roughness, 1e-3f);
+    return std::clamp(2.f / (a * a) - 2.f, 1.f, 4096.f);
+}
+
+MaterialBuilder::MaterialBuilder(Scene& scene, const tinygltf::Model& model, std::string file)
+    : scene_(scene), model_(model), file_(std::move(file)) {}
+
+void MaterialBuilder::note(const std::string& text) {
+    if (noted_.insert(text).second) scene_.notes.push_back(file_ + ": " + text);
+}
+
+int MaterialBuilder::materialFor(int index) {
+    if (index >= int(model_.materials.size())) index = -1;  // tinygltf does not check; use the default
+    if (auto it = materials_.find(index); it != materials_.end()) return it->second;
+    Material m;
+    if (index < 0) {
+        // glTF's default material: white, metallic 1, roughness 1. A black-background Whitted
+        // world would show a fully metallic surface as black, so use the dielectric reading.
+        m = convert(tinygltf::Material{}, "default material");
+        m.name = "glTF default";
+    } else {
+        m = convert(model_.materials[size_t(index)], "materials[" + std::to_string(index) + "]");
+    }
+    const int id = int(scene_.materials.size());
+    scene_.materials.push_back(m);
+    materials_[index] = id;
+    return id;
+}
+
+void MaterialBuilder::readTransform(const tinygltf::ExtensionMap& ext, int texCoord, TextureTransform& t) {
+    t.texCoord = texCoord;
+    auto it = ext.find("KHR_texture_transform");
+    if (it == ext.end()) return;
+    const tinygltf::Value& v = it->second;
+    auto pair = [&](const char* key, Vec2 fallback) {
+        if (!v.Has(key) || !v.Get(key).IsArray() || v.Get(key).ArrayLen() != 2) return fallback;
+        return Vec2(float(element(v.Get(key), 0, fallback.x)), float(element(v.Get(key), 1, fallback.y)));
+    };
+    t.offset = pair("offset", Vec2(0.f));
+    t.scale = pair("scale", Vec2(1.f));
+    t.rotation = float(number(v, "rotation", 0.0));
+    t.texCoord = int(number(v, "texCoord", texCoord));  // the extension's texCoord overrides
+}
+
+Material MaterialBuilder::convert(const tinygltf::Material& gm, const std::string& where) {
+    Material m;
+    m.name = gm.name;
+    const auto& pbr = gm.pbrMetallicRoughness;
+    if (pbr.baseColorFactor.size() == 4) {
+        m.color = Color(clamp01(pbr.baseColorFactor[0]), clamp01(pbr.baseColorFactor[1]), clamp01(pbr.baseColorFactor[2]));
+        m.alpha = clamp01(pbr.baseColorFactor[3]);
+    }
+    const float metallic = clamp01(pbr.metallicFactor), roughness = clamp01(pbr.roughnessFactor);
+    if (pbr.metallicRoughnessTexture.index >= 0) note("metallicRoughnessTexture not used (factors only)");
+    // Phong reading of metallic-roughness (documented in the loader's header note):
+    //   diffuse   = 0.9·(1 − 0.5·metallic)   metals keep some diffuse: the world has no environment
+    //   specular  = mix(0.04, 1, metallic)·(1 − roughness)
+    //   shininess = Beckmann-equivalent exponent of the roughness
+    //   reflection= metallic·(1 − roughness)²   mirror only for smooth metals
+    m.diffuse = 0.9f * (1.f - 0.5f * metallic);
+    m.specular = (0.04f + 0.96f * metallic) * (1.f - roughness);
+    m.shininess = shininessFromRoughness(roughness);
+    m.reflection = metallic * (1.f - roughness) * (1.f - roughness);
+    if (m.reflection < 0.05f) m.reflection = 0.f;  // too weak to see, not worth a ray
+    m.doubleSided = gm.doubleSided;
+
+    if (pbr.baseColorTexture.index >= 0) {
+        m.baseColorTexture = textureFor(pbr.baseColorTexture.index, true, where + ".baseColorTexture");
+        readTransform(pbr.baseColorTexture.extensions, pbr.baseColorTexture.texCoord, m.baseColorTransform);
+    }
+    if (gm.normalTexture.index >= 0) {
+        m.normalTexture = textureFor(gm.normalTexture.index, false, where + ".normalTexture");
+        m.normalScale = float(std::isfinite(gm.normalTexture.scale) ? gm.normalTexture.scale : 1.0);
+        readTransform(gm.normalTexture.extensions, gm.normalTexture.texCoord, m.normalTransform);
+    }
+    if (gm.emissiveTexture.index >= 0) note("emissiveTexture not used (emissiveFactor only)");
+    if (gm.occlusionTexture.index >= 0) note("occlusionTexture not used");
+
+    float emissiveStrength = 1.f;
+    float transmission = 0.f;
+    for (const auto& [name, value] : gm.extensions) {
+        if (name == "KHR_materials_emissive_strength") emissiveStrength = float(std::max(0.0, number(value, "emissiveStrength", 1.0)));
+        else if (name == "KHR_materials_transmission") transmission = clamp01(number(value, "transmissionFactor", 0.0));
+        else if (name == "KHR_materials_ior") m.ior = float(std::clamp(number(value, "ior", 1.5), 1.0, 10.0));
+        else if (!knownMaterialExtension(name)) note("material extension " + name + " ignored");
+    }
+    if (gm.emissiveFactor.size() == 3)
+        m.emission = emissiveStrength * Color(clamp01(gm.emissiveFactor[0]), clamp01(gm.emissiveFactor[1]), clamp01(gm.emissiveFactor[2]));
+
+    if (transmission > 0.f) {
+        // Refraction through the base colour; the surface's own shading fades accordingly.
+        m.transmission = transmission;
+        m.diffuse *= 1.f - transmission;
+    }
+    if (gm.alphaMode == "MASK") {
+        m.alphaMode = AlphaMode::Mask;
+        m.alphaCutoff = float(std::isfinite(gm.alphaCutoff) ? gm.alphaCutoff : 0.5);
+    } else if (gm.alphaMode == "BLEND") {
+        // BLEND as see-through without bending: a transmission of (1 − alpha) at ior 1, with
+        // the surface's own light scaled by alpha. Per-texel alpha does not change the weight.
+        m.alphaMode = AlphaMode::Blend;
+        const float a = m.alpha;
+        m.ambient *= a;
+        m.diffuse *= a;
+        m.specular *= a;
+        if (a < 1.f && m.transmission == 0.f) {
+            m.transmission = 1.f - a;
+            m.ior = 1.f;
+        }
+    }
+    return m;
+}
+
+int MaterialBuilder::textureFor(int index, bool srgb, const std::string& where) {
+    if (index < 0 || size_t(index) >= model_.textures.size()) {
+        note(where + ": no texture " + std::to_string(index) + ", ignored");
+        return -1;
+    }
+    const tinygltf::Texture& gt = model_.textures[size_t(index)];
+    const int image = gt.source;
+    const int sampler = (gt.sampler >= 0 && size_t(gt.sampler) < model_.samplers.size()) ? gt.sampler : -1;
+    if (image < 0 || size_t(image) >= model_.images.size()) {
+        note(where + ": texture without a usable image, ignored");
+        return -1;
+    }
+    const auto key = std::make_tuple(image, sampler, srgb);
+    if (auto it = textures_.find(key); it != textures_.end()) return it->second;
+    textures_[key] = -1;
+
+    const tinygltf::Image& gi = model_.images[size_t(image)];
+    const std::string wi = "images[" + std::to_string(image) + "]";
+    const unsigned char* bytes = nullptr;
+    size_t size = 0;
+    try {
+        if (gi.bufferView >= 0) {
+            const ByteSpan span = bufferViewSpan(model_, gi.bufferView, file_);
+            bytes = span.data;
+            size = span.size;
+        } else if (gi.width == -1) {
+            bytes = gi.image.data();
+            size = gi.image.size();
+        }
+    } catch (const std::exception& e) {
+        note(wi + ": " + e.what() + "; texture ignored");
+        return -1;
+    }
+    int w = 0, h = 0, comp = 0;
+    if (!bytes || size == 0 || size > Limits::kMaxImageBytes ||
+        !stbi_info_from_memory(bytes, int(size), &w, &h, &comp)) {
+        note(wi + (gi.uri.empty() ? std::string() : " \"" + gi.uri + "\"") + ": image missing or not decodable; texture ignored");
+        return -1;
+    }
+    if (w <= 0 || h <= 0 || w > Limits::kMaxImageSide || h > Limits::kMaxImageSide) {
+        note(wi + ": image of " + std::to_string(w) + "x" + std::to_string(h) + " is over the size limit; texture ignored");
+        return -1;
+    }
+    unsigned char* px = stbi_load_from_memory(bytes, int(size), &w, &h, &comp, 4);
+    if (!px) {
+        note(wi + ": cannot decode image (" + std::string(stbi_failure_reason()) + "); texture ignored");
+        return -1;
+    }
+    Texture t;
+    t.width = w;
+    t.height = h;
+    t.texels.resize(size_t(w) * h);
+    // Base colour is sRGB-encoded; normal maps are linear data. Alpha is always linear.
+    float lut[256];
+    for (int i = 0; i < 256; ++i) lut[i] = srgb ? srgbDecode(i / 255.f) : i / 255.f;
+    for (size_t i = 0; i < t.texels.size(); ++i)
+        t.texels[i] = Vec4(lut[px[4 * i]], lut[px[4 * i + 1]], lut[px[4 * i + 2]], px[4 * i + 3] / 255.f);
+    stbi_image_free(px);
+    ++decodedImages_;
+    if (sampler >= 0) {
+        const tinygltf::Sampler& s = model_.samplers[size_t(sampler)];
+        t.wrapS = wrapOf(s.wrapS);
+        t.wrapT = wrapOf(s.wrapT);
+        t.filter = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ? Filter::Nearest : Filter::Linear;
+    }
+    const int id = int(scene_.textures.size());
+    scene_.textures.push_back(std::move(t));
+    textures_[key] = id;
+    return id;
+}
+
+}  // namespace rf::gltf

@@ -1,0 +1,46 @@
+#pragma once
+/// glTF metallic-roughness materials mapped onto the engine's Phong/Whitted material, and
+/// textures decoded lazily: only images that a material some drawn primitive uses are decoded.
+#include <map>
+#include <set>
+#include <string>
+#include <tuple>
+
+#include <tiny_gltf.h>
+
+#include "scene.h"
+
+namespace rf::gltf {
+
+/// Converts glTF materials on first use and appends them (and their textures) to a scene.
+class MaterialBuilder {
+public:
+    MaterialBuilder(Scene& scene, const tinygltf::Model& model, std::string file);
+
+    /// Scene material index for glTF material `index` (−1: the glTF default material).
+    int materialFor(int index);
+
+    /// Number of images decoded so far (for tests: untextured models decode none).
+    int decodedImages() const { return decodedImages_; }
+
+private:
+    Material convert(const tinygltf::Material& gm, const std::string& where);
+    /// Scene texture for glTF texture `index`, decoded on first use; −1 if it cannot be used.
+    int textureFor(int index, bool srgb, const std::string& where);
+    void readTransform(const tinygltf::ExtensionMap& ext, int texCoord, TextureTransform& t);
+    void note(const std::string& text);
+
+    Scene& scene_;
+    const tinygltf::Model& model_;
+    std::string file_;
+    std::map<int, int> materials_;
+    std::map<std::tuple<int, int, bool>, int> textures_;  ///< (image, sampler, sRGB) → scene texture
+    std::set<std::string> noted_;
+    int decodedImages_ = 0;
+};
+
+/// Phong exponent that gives roughly the highlight of a GGX lobe with this perceptual roughness
+/// (Blinn-Phong ↔ Beckmann: n = 2/α² − 2, α = roughness²), clamped to [1, 4096].
+float shininessFromRoughness(float roughness);
+
+}  // namespace rf::gltf

@@ -1,0 +1,236 @@
+#include "gltf_safety.h"
+
+#include <cstring>
+#include <filesystem>
+#include <set>
+
+#include <nlohmann/json.hpp>
+
+#include "errors.h"
+
+namespace rf::gltf {
+
+namespace {
+
+using json = nlohmann::json;
+
+/// Extensions the loader understands; a file that requires anything else is refused.
+const std::set<std::string>& supportedRequired() {
+    static const std::set<std::string> s = {"KHR_texture_transform", "KHR_materials_emissive_strength",
+                                            "KHR_materials_transmission", "KHR_materials_ior",
+                                            "KHR_lights_punctual", "KHR_mesh_quantization"};
+    return s;
+}
+
+uint32_t readU32(const std::string& b, size_t at) {
+    uint32_t v;
+    std::memcpy(&v, b.data() + at, 4);
+    return v;  // GLB is little-endian, as every host rayfarm targets
+}
+
+bool isDataUri(const std::string& uri) { return uri.rfind("data:", 0) == 0; }
+
+void checkUri(const std::string& path, const json& obj, const std::string& where) {
+    if (!obj.is_object() || !obj.contains("uri")) return;
+    const json& u = obj["uri"];
+    if (!u.is_string()) throw InputError(path, where + ".uri: expected a string");
+    const std::string uri = u.get<std::string>();
+    if (isDataUri(uri)) {
+        if (uri.size() > Limits::kMaxDataUriChars)
+            throw InputError(path, where + ".uri: data URI of " + std::to_string(uri.size()) +
+                                       " characters is over the limit of " + std::to_string(Limits::kMaxDataUriChars));
+        return;
+    }
+    const std::string problem = uriProblem(decodeUri(uri));
+    if (!problem.empty()) throw InputError(path, where + ".uri \"" + uri + "\": " + problem);
+}
+
+[[noreturn]] void refuseGltf1(const std::string& path, const std::string& why) {
+    throw InputError(path, "this is a glTF 1.0 file (" + why + "); rayfarm reads glTF 2.0 only — convert it, e.g. with the glTF 1.0→2.0 converter or Blender");
+}
+
+}  // namespace
+
+std::string decodeUri(const std::string& uri) {
+    std::string out;
+    out.reserve(uri.size());
+    auto hex = [](char c) -> int {
+        if (c >= '0' && c <= '9') return c - '0';
+        if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+        if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+        return -1;
+    };
+    for (size_t i = 0; i < uri.size(); ++i) {
+        if (uri[i] == '%' && i + 2 < uri.size() && hex(uri[i + 1]) >= 0 && hex(uri[i + 2]) >= 0) {
+            out += static_cast<char>(hex(uri[i + 1]) * 16 + hex(uri[i + 2]));
+            i += 2;
+        } else if (uri[i] == '+') {
+            out += ' ';  // as tinygltf's urldecode does
+        } else {
+            out += uri[i];
+        }
+    }
+    return out;
+}
+
+std::string uriProblem(const std::string& uri) {
+    if (uri.empty()) return "empty URI";
+    for (unsigned char c : uri) {
+        if (c < 0x20 || c == 0x7f) return "control character in the URI";
+        if (c == '`' || c == '$' || c == '\\' || c == '|' || c == ';' || c == '&' || c == '<' || c == '>' || c == '*' ||
+            c == '?' || c == '{' || c == '}')
+            return std::string("character '") + char(c) + "' is not allowed in a file URI (no shell syntax)";
+    }
+    if (uri[0] == '/') return "absolute paths are not allowed; URIs must stay inside the model's folder";
+    if (uri[0] == '~') return "'~' is not expanded; URIs must be relative to the model's folder";
+    // A scheme ("file:", "http:", "C:") means something other than a file in the folder.
+    const size_t colon = uri.find(':');
+    if (colon != std::string::npos && uri.find('/') > colon) return "URI schemes other than data: are not supported";
+    size_t start = 0;
+    while (start <= uri.size()) {
+        const size_t end = std::min(uri.find('/', start), uri.size());
+        if (uri.compare(start, end - start, "..") == 0) return "\"..\" would leave the model's folder";
+        start = end + 1;
+    }
+    return "";
+}
+
+PreflightResult preflight(const std::string& path, const std::string& bytes) {
+    PreflightResult r;
+    std::string jsonText;
+    if (bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0) {
+        r.binary = true;
+        if (bytes.size() < 20) throw InputError(path, "truncated GLB header");
+        const uint32_t version = readU32(bytes, 4);
+        if (version == 1) refuseGltf1(path, "GLB container version 1");
+        if (version != 2) throw InputError(path, "unsupported GLB container version " + std::to_string(version));
+        const uint32_t length = readU32(bytes, 8);
+        if (length > bytes.size()) throw InputError(path, "GLB header says " + std::to_string(length) + " bytes, file has " + std::to_string(bytes.size()));
+        const uint32_t chunkLen = readU32(bytes, 12), chunkType = readU32(bytes, 16);
+        if (chunkType != 0x4E4F534Au) throw InputError(path, "first GLB chunk is not JSON");
+        if (uint64_t(chunkLen) + 20 > length) throw InputError(path, "GLB JSON chunk runs past the end of the file");
+        jsonText.assign(bytes, 20, chunkLen);
+        const uint64_t next = 20 + uint64_t(chunkLen);
+        if (next < length) {
+            if (next + 8 > length) throw InputError(path, "truncated GLB BIN chunk header");
+            const uint32_t binLen = readU32(bytes, size_t(next));
+            if (next + 8 + binLen > length) throw InputError(path, "GLB BIN chunk runs past the end of the file");
+        }
+    } else {
+        jsonText = bytes;
+    }
+
+    json doc;
+    try {
+        doc = json::parse(jsonText);
+    } catch (const json::exception& e) {
+        throw InputError(path, std::string("not valid glTF JSON: ") + e.what());
+    }
+    if (!doc.is_object()) throw InputError(path, "not valid glTF: the top level is not a JSON object");
+
+    // glTF 1.0 keeps its arrays as dictionaries and often says version "1.0" (or a number).
+    if (doc.contains("asset") && doc["asset"].is_object() && doc["asset"].contains("version")) {
+        const json& v = doc["asset"]["version"];
+        const std::string vs = v.is_string() ? v.get<std::string>() : v.dump();
+        if (vs.rfind("1", 0) == 0) refuseGltf1(path, "asset.version " + vs);
+        if (vs.rfind("2.", 0) != 0) throw InputError(path, "asset.version " + vs + ": rayfarm reads glTF 2.0 only");
+    } else {
+        for (const char* key : {"accessors", "meshes", "nodes", "buffers"})
+            if (doc.contains(key) && doc[key].is_object()) refuseGltf1(path, std::string("\"") + key + "\" is a dictionary");
+        throw InputError(path, "asset.version is missing (required by glTF 2.0)");
+    }
+
+    if (doc.contains("extensionsRequired") && doc["extensionsRequired"].is_array()) {
+        for (const json& e : doc["extensionsRequired"]) {
+            if (!e.is_string()) continue;
+            const std::string name = e.get<std::string>();
+            if (!supportedRequired().count(name))
+                throw InputError(path, "requires extension " + name + ", which rayfarm does not support");
+        }
+    }
+    if (doc.contains("buffers") && doc["buffers"].is_array()) {
+        const json& bs = doc["buffers"];
+        for (size_t i = 0; i < bs.size(); ++i) {
+            const std::string w = "buffers[" + std::to_string(i) + "]";
+            if (bs[i].is_object() && bs[i].contains("byteLength") && bs[i]["byteLength"].is_number()) {
+                const double n = bs[i]["byteLength"].get<double>();
+                if (!(n >= 0.0) || n > double(Limits::kMaxBufferBytes))
+                    throw InputError(path, w + ".byteLength: " + bs[i]["byteLength"].dump() + " is over the limit of " +
+                                               std::to_string(Limits::kMaxBufferBytes) + " bytes");
+            }
+            checkUri(path, bs[i], w);
+        }
+    }
+    if (doc.contains("images") && doc["images"].is_array()) {
+        const json& is = doc["images"];
+        for (size_t i = 0; i < is.size(); ++i) checkUri(path, is[i], "images[" + std::to_string(i) + "]");
+    }
+    return r;
+}
+
+ConfinedFs::ConfinedFs(FileSource& fs, std::string folder) : fs_(fs), folder_(std::move(folder)) {
+    if (folder_.empty()) folder_ = ".";
+}
+
+tinygltf::FsCallbacks ConfinedFs::callbacks() {
+    tinygltf::FsCallbacks cb{};
+    cb.FileExists = &ConfinedFs::fileExists;
+    cb.ExpandFilePath = &ConfinedFs::expandFilePath;
+    cb.ReadWholeFile = &ConfinedFs::readWholeFile;
+    cb.WriteWholeFile = &ConfinedFs::writeWholeFile;
+    cb.user_data = this;
+    return cb;
+}
+
+bool ConfinedFs::fileExists(const std::string& path, void* self) {
+    auto* me = static_cast<ConfinedFs*>(self);
+    return !path.empty() && me->fs_.exists(path);
+}
+
+// tinygltf joins its base dir (which we set to the model's folder) with the decoded URI, and
+// also tries "./" + URI against the process's working directory. Only the first is allowed; the
+// URI part is re-checked here so nothing the preflight missed can leave the folder. Unlike
+// tinygltf's default this never calls wordexp(), so no shell expansion takes place.
+std::string ConfinedFs::expandFilePath(const std::string& path, void* self) {
+    auto* me = static_cast<ConfinedFs*>(self);
+    const std::string prefix = me->folder_ + "/";
+    if (path.compare(0, prefix.size(), prefix) != 0) return "";
+    const std::string rel = path.substr(prefix.size());
+    if (!uriProblem(rel).empty()) {
+        if (me->violation_.empty()) me->violation_ = rel;
+        return "";
+    }
+    return (std::filesystem::path(me->folder_) / rel).lexically_normal().string();
+}
+
+bool ConfinedFs::readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* self) {
+    auto* me = static_cast<ConfinedFs*>(self);
+    if (path.empty()) return false;
+    try {
+        const std::string data = me->fs_.read(path, Limits::kMaxBufferBytes);
+        out->assign(data.begin(), data.end());
+        return true;
+    } catch (const std::exception& e) {
+        if (err) *err += e.what();
+        return false;
+    }
+}
+
+bool ConfinedFs::writeWholeFile(std::string* err, const std::string&, const std::vector<unsigned char>&, void*) {
+    if (err) *err += "rayfarm never writes glTF files";
+    return false;
+}
+
+bool keepEncodedImage(tinygltf::Image* image, const int, std::string* err, std::string*, int, int,
+                      const unsigned char* bytes, int size, void*) {
+    if (image->bufferView >= 0) return true;  // extracted with bounds checks when decoded
+    if (size < 0 || uint64_t(size) > Limits::kMaxImageBytes) {
+        if (err) *err += "image over the size limit\n";
+        return false;
+    }
+    image->image.assign(bytes, bytes + size);
+    image->width = image->height = -1;  // still encoded
+    return true;
+}
+
+}  // namespace rf::gltf
