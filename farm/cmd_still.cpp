@@ -1,5 +1,7 @@
 // rayfarm still: one frame to a PNG, on all local cores.
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -10,6 +12,7 @@
 #include "render.h"
 #include "run_stats.h"
 #include "scene_loader.h"
+#include "timeline.h"
 
 namespace rf::cli {
 
@@ -26,7 +29,9 @@ const char* kStillHelp =
     "  --min-weight W    do not trace secondary rays weighing less than W (0: never prune)\n"
     "  --tonemap T       clamp or reinhard\n"
     "  --threads N       worker threads (default: all cores)\n"
-    "  --stats FILE      write run statistics as JSON\n";
+    "  --stats FILE      write run statistics as JSON\n"
+    "  --frame N         render frame N of the scene's timeline (default 0)\n"
+    "  --time T          render the timeline at T seconds (noise seed of the nearest frame)\n";
 }  // namespace
 
 /// Applies the quality options shared by still, render and report to settings.
@@ -48,7 +53,7 @@ void applyQualityOptions(const ArgParser& p, RenderSettings& s) {
 
 int runStill(const std::vector<std::string>& args) {
     ArgParser p("still");
-    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats"}) p.option(o);
+    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats", "--frame", "--time"}) p.option(o);
     p.flag("--help");
     p.flag("-h");
     p.parse(args);
@@ -67,12 +72,24 @@ int runStill(const std::vector<std::string>& args) {
     DiskFileSource fs;
     Scene scene = loadScene(scenePath, fs);
     for (const std::string& note : scene.notes) std::cerr << "rayfarm: note: " << note << "\n";
+    // The still is one frame of the scene's film: frame 0 unless --frame or --time says otherwise.
+    const anim::Timeline timeline = anim::Timeline::fromScene(scene);
+    if (p.has("--frame") && p.has("--time")) throw UsageError("still: give --frame or --time, not both");
+    int frame = p.intValue("--frame", 0, 0, timeline.frameCount() - 1);
+    if (p.has("--time")) {
+        const double t = p.doubleValue("--time", 0.0);
+        const double f = std::round((t - timeline.frameTime(0)) * timeline.fps());
+        frame = f > 0.0 ? static_cast<int>(std::min(f, 2e9)) : 0;
+        timeline.apply(scene, t);
+    } else {
+        timeline.applyFrame(scene, frame);
+    }
     RenderSettings settings = scene.settings;
     applyQualityOptions(p, settings);
 
     RayStats rays;
     const auto t1 = std::chrono::steady_clock::now();
-    const Image img = renderFrame(scene, scene.camera, settings, 0, threads, rays);
+    const Image img = renderFrame(scene, scene.camera, settings, frame, threads, rays);
     const auto t2 = std::chrono::steady_clock::now();
     writePng(out, img.width(), img.height(), toRgb8(img, settings.toneMap));
     const auto t3 = std::chrono::steady_clock::now();
