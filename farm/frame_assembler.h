@@ -1,0 +1,50 @@
+#pragma once
+/// Rank 0's reorder buffer: tiles and frames arrive in any order; frames leave complete and in
+/// output order. Frames already on disk (--resume) take their turn in the order too.
+#include <map>
+#include <set>
+#include <vector>
+
+#include "messages.h"
+
+namespace rf::farm {
+
+/// A frame ready to be written, in output order.
+struct ReadyFrame {
+    int frame = 0;
+    bool onDisk = false;        ///< kept from an earlier run: the caller reads it back
+    std::vector<uint8_t> rgb;   ///< width × height × 3 bytes unless onDisk
+};
+
+class FrameAssembler {
+public:
+    /// order: every frame of the output in order; onDisk: those kept from an earlier run.
+    FrameAssembler(int width, int height, std::vector<int> order, std::set<int> onDisk);
+
+    /// Copies a result into its frame. Throws std::runtime_error if it does not belong to a frame
+    /// being rendered, lies outside the image or covers pixels twice.
+    void add(const TileResult& r);
+    /// The next frame in order if it is complete (or on disk).
+    bool popReady(ReadyFrame& out);
+    /// All frames have been popped.
+    bool finished() const { return next_ >= order_.size(); }
+    /// Frames being assembled or waiting for their turn.
+    int held() const { return int(partial_.size()); }
+    /// Frames popped so far.
+    int popped() const { return int(next_); }
+
+private:
+    struct Partial {
+        std::vector<uint8_t> rgb;
+        std::vector<uint8_t> covered;  ///< one byte per pixel, to refuse overlapping tiles
+        long long remaining = 0;
+    };
+    int width_, height_;
+    std::vector<int> order_;
+    std::set<int> onDisk_;
+    std::set<int> wanted_;
+    std::map<int, Partial> partial_;
+    size_t next_ = 0;
+};
+
+}  // namespace rf::farm

@@ -1,0 +1,107 @@
+#include "frame_sink.h"
+
+namespace rf::farm {
+
+AsyncSink::AsyncSink(std::unique_ptr<FrameSink> inner, int capacity)
+    : inner_(std::move(inner)), capacity_(std::max(1, capacity)) {
+    thread_ = std::thread([this] { loop(); });
+}
+
+AsyncSink::~AsyncSink() {
+    try {
+        close();
+    } catch (...) {
+        // The owner saw (or chose to ignore) the error through close(); a destructor must not throw.
+    }
+}
+
+void AsyncSink::rethrowIfFailed() {
+    if (error_) {
+        std::exception_ptr e = error_;
+        error_ = nullptr;
+        std::rethrow_exception(e);
+    }
+}
+
+void AsyncSink::write(int frame, const std::vector<uint8_t>& rgb) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    cv_.wait(lock, [&] { return int(queue_.size()) < capacity_ || error_ || closing_; });
+    rethrowIfFailed();
+    if (closing_) return;
+    queue_.push_back({frame, rgb});
+    cv_.notify_all();
+}
+
+void AsyncSink::close() {
+    {
+        std::unique_lock<std::mutex> lock(mutex_);
+        if (!closing_) {
+            closing_ = true;
+            cv_.notify_all();
+        }
+    }
+    if (thread_.joinable()) thread_.join();
+    std::lock_guard<std::mutex> lock(mutex_);
+    rethrowIfFailed();
+}
+
+void AsyncSink::loop() {
+    for (;;) {
+        Item item;
+        {
+            std::unique_lock<std::mutex> lock(mutex_);
+            cv_.wait(lock, [&] { return !queue_.empty() || closing_; });
+            if (queue_.empty()) break;  // closing and drained
+            item = std::move(queue_.front());
+            queue_.pop_front();
+            cv_.notify_all();
+        }
+        const auto t0 = std::chrono::steady_clock::now();
+        try {
+            inner_->write(item.frame, item.rgb);
+        } catch (...) {
+            std::lock_guard<std::mutex> lock(mutex_);
+            error_ = std::current_exception();
+            queue_.clear();
+            cv_.notify_all();
+            break;
+        }
+        const auto t1 = std::chrono::steady_clock::now();
+        std::lock_guard<std::mutex> lock(mutex_);
+        busy_ += std::chrono::duration<double>(t1 - t0).count();
+        ++done_;
+        lastDone_ = t1;
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    try {
+        inner_->close();
+    } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!error_) error_ = std::current_exception();
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    busy_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    closed_ = true;
+}
+
+double AsyncSink::busySeconds() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return busy_;
+}
+
+int AsyncSink::framesDone() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return done_;
+}
+
+std::chrono::steady_clock::time_point AsyncSink::lastDone() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return lastDone_;
+}
+
+int AsyncSink::queued() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return int(queue_.size());
+}
+
+}  // namespace rf::farm

@@ -1,0 +1,66 @@
+#pragma once
+/// Where finished frames go: the MP4 encoder, the PNG frames directory. Each is a FrameSink;
+/// AsyncSink runs one on its own thread behind a bounded queue, so rank 0 keeps handing out work
+/// while frames are encoded, and memory stays bounded if the encoder falls behind.
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <exception>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace rf::farm {
+
+class FrameSink {
+public:
+    virtual ~FrameSink() = default;
+    /// Writes one frame (timeline index `frame`): width × height × 3 bytes of sRGB 8-bit RGB.
+    virtual void write(int frame, const std::vector<uint8_t>& rgb) = 0;
+    /// Completes the output so it is valid (MP4 trailer). Safe to call twice.
+    virtual void close() = 0;
+};
+
+/// Runs a sink on its own thread. write() returns at once unless `capacity` frames are already
+/// waiting; an error on the thread is rethrown by the next write() or by close().
+class AsyncSink : public FrameSink {
+public:
+    AsyncSink(std::unique_ptr<FrameSink> inner, int capacity);
+    ~AsyncSink() override;
+    void write(int frame, const std::vector<uint8_t>& rgb) override;
+    void close() override;
+
+    /// Seconds the thread spent inside the inner sink (write and close).
+    double busySeconds() const;
+    /// Frames the inner sink has completed.
+    int framesDone() const;
+    /// When the inner sink last completed a frame (the last frame "muxed").
+    std::chrono::steady_clock::time_point lastDone() const;
+    /// Frames waiting in the queue.
+    int queued() const;
+
+private:
+    struct Item {
+        int frame;
+        std::vector<uint8_t> rgb;
+    };
+    void loop();
+    void rethrowIfFailed();
+
+    std::unique_ptr<FrameSink> inner_;
+    int capacity_;
+    mutable std::mutex mutex_;
+    std::condition_variable cv_;
+    std::deque<Item> queue_;
+    bool closing_ = false, closed_ = false;
+    std::exception_ptr error_;
+    double busy_ = 0.0;
+    int done_ = 0;
+    std::chrono::steady_clock::time_point lastDone_{};
+    std::thread thread_;
+};
+
+}  // namespace rf::farm

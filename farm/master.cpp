@@ -1,0 +1,209 @@
+#include "master.h"
+
+#include <algorithm>
+#include <thread>
+
+#include "interrupt.h"
+#include "progress.h"
+
+namespace rf::farm {
+
+using Clock = std::chrono::steady_clock;
+
+Master::Master(Transport& t, Scheduler& s, FrameAssembler& a, RenderEngine* local, std::function<void(ReadyFrame&)> emit,
+               MasterConfig cfg)
+    : t_(t), sched_(s), asm_(a), local_(local), emit_(std::move(emit)), cfg_(cfg) {
+    workers_.resize(size_t(t.size()));
+    out_.perRank.resize(size_t(t.size()));
+    const auto now = Clock::now();
+    for (int r = 0; r < t.size(); ++r) {
+        workers_[size_t(r)].rank = r;
+        workers_[size_t(r)].lastHeard = now;
+        out_.perRank[size_t(r)].rank = r;
+    }
+}
+
+std::string Master::describeBusy(const WorkerState& w) const {
+    if (w.outstanding.empty()) return "while idle";
+    std::vector<int> frames;
+    for (const WorkItem& i : w.outstanding)
+        if (std::find(frames.begin(), frames.end(), i.frame) == frames.end()) frames.push_back(i.frame);
+    std::string s = frames.size() == 1 ? "while rendering frame " : "while rendering frames ";
+    for (size_t i = 0; i < frames.size(); ++i) s += (i ? ", " : "") + std::to_string(frames[i]);
+    return s;
+}
+
+void Master::accept(int rank, const TileResult& r) {
+    WorkerState& w = workers_[size_t(rank)];
+    auto it = std::find_if(w.outstanding.begin(), w.outstanding.end(), [&](const WorkItem& i) {
+        return i.frame == r.item.frame && i.rect.x0 == r.item.rect.x0 && i.rect.y0 == r.item.rect.y0 &&
+               i.rect.x1 == r.item.rect.x1 && i.rect.y1 == r.item.rect.y1;
+    });
+    if (it == w.outstanding.end()) {
+        failure_ = "rank " + std::to_string(rank) + " returned frame " + std::to_string(r.item.frame) +
+                   " work it was not given";
+        return;
+    }
+    w.outstanding.erase(it);
+    asm_.add(r);
+    out_.rays += r.rays;
+    RankStats& st = out_.perRank[size_t(rank)];
+    st.busySeconds += r.busySeconds;
+    if (sched_.mode() == Mode::Frame) ++st.frames;
+    else ++st.tiles;
+}
+
+void Master::handle(const Message& m) {
+    if (m.source <= 0 || m.source >= int(workers_.size())) return;
+    WorkerState& w = workers_[size_t(m.source)];
+    w.lastHeard = Clock::now();
+    w.answeredAfterInterrupt = true;
+    switch (m.tag) {
+    case kTagResult:
+        accept(m.source, decodeTileResult(m.bytes));
+        break;
+    case kTagHeartbeat:
+        w.reportedFrame = decodeHeartbeat(m.bytes).currentFrame;
+        break;
+    case kTagError:
+        failure_ = "rank " + std::to_string(m.source) + ": " + m.bytes;
+        break;
+    default:
+        break;
+    }
+}
+
+bool Master::handOut() {
+    bool any = false;
+    // Round-robin by rank, one item per pass, so credits fill evenly.
+    for (bool more = true; more;) {
+        more = false;
+        for (WorkerState& w : workers_) {
+            if (w.rank == 0 && !local_) continue;
+            if (int(w.outstanding.size()) >= cfg_.credits) continue;
+            std::optional<WorkItem> item = sched_.next();
+            if (!item) return any;
+            if (!dispatched_) {
+                dispatched_ = true;
+                out_.firstDispatch = Clock::now();
+            }
+            w.outstanding.push_back(*item);
+            if (w.rank == 0) local_->submit(*item);
+            else t_.send(w.rank, kTagWork, encodeWorkItem(*item));
+            any = more = true;
+        }
+    }
+    return any;
+}
+
+MasterOutcome Master::run() {
+    Progress progress(cfg_.totalFrames, cfg_.liveProgress);
+    std::vector<int> rankFrames;
+    auto finish = [&](RunEnd end, std::string msg) {
+        if (!cfg_.quiet) progress.finish();
+        out_.end = end;
+        out_.message = std::move(msg);
+        return out_;
+    };
+    for (;;) {
+        if (interruptSignal()) {
+            for (WorkerState& w : workers_) w.answeredAfterInterrupt = false;
+            if (local_) local_->cancelQueued();
+            return finish(RunEnd::Interrupted, "");
+        }
+        bool progressed = handOut();
+        try {
+            Message m;
+            while (t_.poll(m)) {
+                handle(m);
+                progressed = true;
+            }
+            if (local_) {
+                while (auto r = local_->takeResult()) {
+                    accept(0, *r);
+                    progressed = true;
+                }
+                if (const std::string err = local_->error(); !err.empty()) failure_ = "rank 0: " + err;
+            }
+        } catch (const std::exception& e) {
+            if (failure_.empty()) failure_ = e.what();
+        }
+        if (!failure_.empty()) return finish(RunEnd::Failed, failure_);
+
+        ReadyFrame rf;
+        while (asm_.popReady(rf)) {
+            const bool rendered = !rf.onDisk;
+            emit_(rf);
+            if (rendered) sched_.frameReleased();
+            ++out_.framesPassed;
+            out_.lastFramePassed = rf.frame;
+            progressed = true;
+        }
+        if (sched_.exhausted() && asm_.finished()) return finish(RunEnd::Done, "");
+
+        // Heartbeats are read above before this check, so time spent blocked in emit (a full
+        // encoder queue) never counts against a worker.
+        const auto now = Clock::now();
+        for (WorkerState& w : workers_) {
+            if (w.rank == 0) continue;
+            const double silent = std::chrono::duration<double>(now - w.lastHeard).count();
+            if (silent > cfg_.workerTimeout) {
+                char buf[64];
+                std::snprintf(buf, sizeof buf, "%.1f", silent);
+                return finish(RunEnd::WorkerLost, "rank " + std::to_string(w.rank) + " stopped answering (silent for " +
+                                                      buf + " s) " + describeBusy(w));
+            }
+        }
+        if (!cfg_.quiet) {
+            rankFrames.assign(workers_.size(), -1);
+            for (const WorkerState& w : workers_)
+                if (!w.outstanding.empty()) rankFrames[size_t(w.rank)] = w.outstanding.front().frame;
+            if (!local_ && !rankFrames.empty()) rankFrames.erase(rankFrames.begin());
+            progress.update(asm_.popped(), rankFrames);
+        }
+        if (!progressed) {
+            if (local_) {
+                if (auto r = local_->takeResult(0.0005)) accept(0, *r);
+            } else {
+                std::this_thread::sleep_for(std::chrono::microseconds(300));
+            }
+        }
+    }
+}
+
+std::string Master::findSilentWorker(double seconds) {
+    const auto end = Clock::now() + std::chrono::duration<double>(seconds);
+    for (;;) {
+        Message m;
+        try {
+            while (t_.poll(m))
+                if (m.source > 0 && m.source < int(workers_.size())) workers_[size_t(m.source)].answeredAfterInterrupt = true;
+        } catch (const std::exception&) {
+            // A failing receive says as much as silence.
+        }
+        const WorkerState* silent = nullptr;
+        for (const WorkerState& w : workers_)
+            if (w.rank > 0 && !w.answeredAfterInterrupt) {
+                silent = &w;
+                break;
+            }
+        if (!silent) return "";
+        if (Clock::now() > end)
+            return "rank " + std::to_string(silent->rank) + " stopped answering " + describeBusy(*silent) +
+                   " (it probably died: mpirun stops the whole job when a rank does)";
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+}
+
+void Master::stopWorkers() {
+    for (int r = 1; r < t_.size(); ++r) {
+        try {
+            t_.send(r, kTagStop, "");
+        } catch (const TransportError&) {
+            // That worker is gone; the others still need the word.
+        }
+    }
+    t_.flush(2.0);
+}
+
+}  // namespace rf::farm

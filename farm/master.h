@@ -1,0 +1,79 @@
+#pragma once
+/// The master loop on rank 0: hands out work from a scheduler to the workers (and to rank 0's
+/// own render engine when it renders too), gathers results into the frame assembler, passes
+/// finished frames on in order, and watches every worker's heartbeat.
+#include <chrono>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "frame_assembler.h"
+#include "render_engine.h"
+#include "run_stats.h"
+#include "scheduler.h"
+#include "transport.h"
+
+namespace rf::farm {
+
+struct MasterConfig {
+    double workerTimeout = 10.0;  ///< seconds without a word from a busy worker before it counts as lost
+    int credits = 2;              ///< items a worker holds at once: one rendering, one waiting
+    bool liveProgress = false;
+    bool quiet = false;           ///< no progress lines (tests)
+    int totalFrames = 0;          ///< frames in the output, for progress
+};
+
+enum class RunEnd { Done, Interrupted, WorkerLost, Failed };
+
+struct MasterOutcome {
+    RunEnd end = RunEnd::Done;
+    std::string message;  ///< what went wrong, naming the rank and frame
+    int framesPassed = 0; ///< frames handed to `emit`, in order
+    int lastFramePassed = -1;
+    RayStats rays;
+    std::vector<RankStats> perRank;  ///< index = rank
+    std::chrono::steady_clock::time_point firstDispatch{};
+};
+
+class Master {
+public:
+    /// local: rank 0's own engine, or nullptr when rank 0 only coordinates. emit receives every
+    /// frame in output order (kept frames with onDisk set).
+    Master(Transport& t, Scheduler& s, FrameAssembler& a, RenderEngine* local,
+           std::function<void(ReadyFrame&)> emit, MasterConfig cfg);
+
+    /// Runs until every frame is passed on, an interrupt, a lost worker or an error.
+    MasterOutcome run();
+    /// After an interrupt: waits up to `seconds` for every busy worker to speak; returns the
+    /// message for the first that does not (it probably died, which is why mpirun signalled us),
+    /// or "" if all answered.
+    std::string findSilentWorker(double seconds);
+    /// Tells every worker to stop.
+    void stopWorkers();
+
+private:
+    struct WorkerState {
+        int rank = 0;
+        std::vector<WorkItem> outstanding;
+        std::chrono::steady_clock::time_point lastHeard{};
+        int reportedFrame = -1;
+        bool answeredAfterInterrupt = false;
+    };
+    void handle(const Message& m);
+    void accept(int rank, const TileResult& r);
+    bool handOut();
+    std::string describeBusy(const WorkerState& w) const;
+
+    Transport& t_;
+    Scheduler& sched_;
+    FrameAssembler& asm_;
+    RenderEngine* local_;
+    std::function<void(ReadyFrame&)> emit_;
+    MasterConfig cfg_;
+    std::vector<WorkerState> workers_;  ///< index = rank; rank 0 is the local engine if any
+    MasterOutcome out_;
+    bool dispatched_ = false;
+    std::string failure_;
+};
+
+}  // namespace rf::farm

@@ -1,0 +1,81 @@
+#include "messages.h"
+
+#include <cstring>
+#include <stdexcept>
+#include <type_traits>
+
+namespace rf::farm {
+
+namespace {
+
+// Payloads are plain structs copied byte for byte: every rank runs the same build of rayfarm
+// (mpirun starts one executable), so layout and endianness agree.
+struct ResultHeader {
+    int32_t frame, x0, y0, x1, y1;
+    int32_t pad = 0;
+    double busySeconds;
+    uint64_t primary, shadow, reflection, refraction, nonFinite;
+};
+static_assert(std::is_trivially_copyable_v<ResultHeader>);
+static_assert(std::is_trivially_copyable_v<Heartbeat>);
+
+template <class T>
+std::string bytesOf(const T& v) {
+    return std::string(reinterpret_cast<const char*>(&v), sizeof(T));
+}
+
+template <class T>
+T fromBytes(const std::string& b, const char* what) {
+    if (b.size() != sizeof(T)) throw std::runtime_error(std::string("malformed ") + what + " message");
+    T v;
+    std::memcpy(&v, b.data(), sizeof(T));
+    return v;
+}
+
+struct WireRect {
+    int32_t frame, x0, y0, x1, y1;
+};
+
+}  // namespace
+
+std::string encodeWorkItem(const WorkItem& w) {
+    return bytesOf(WireRect{w.frame, w.rect.x0, w.rect.y0, w.rect.x1, w.rect.y1});
+}
+
+WorkItem decodeWorkItem(const std::string& bytes) {
+    const WireRect r = fromBytes<WireRect>(bytes, "work");
+    return {r.frame, {r.x0, r.y0, r.x1, r.y1}};
+}
+
+std::string encodeTileResult(const TileResult& r) {
+    ResultHeader h{r.item.frame, r.item.rect.x0, r.item.rect.y0, r.item.rect.x1, r.item.rect.y1, 0, r.busySeconds,
+                   r.rays.primary, r.rays.shadow, r.rays.reflection, r.rays.refraction, r.rays.nonFinite};
+    std::string out = bytesOf(h);
+    out.append(reinterpret_cast<const char*>(r.rgb.data()), r.rgb.size());
+    return out;
+}
+
+TileResult decodeTileResult(const std::string& bytes) {
+    if (bytes.size() < sizeof(ResultHeader)) throw std::runtime_error("malformed result message");
+    ResultHeader h;
+    std::memcpy(&h, bytes.data(), sizeof h);
+    TileResult r;
+    r.item = {h.frame, {h.x0, h.y0, h.x1, h.y1}};
+    const size_t expect = size_t(std::max(0, r.item.rect.pixels())) * 3;
+    if (r.item.rect.width() <= 0 || r.item.rect.height() <= 0 || bytes.size() - sizeof h != expect)
+        throw std::runtime_error("malformed result message: pixel count does not match its rectangle");
+    r.busySeconds = h.busySeconds;
+    r.rays.primary = h.primary;
+    r.rays.shadow = h.shadow;
+    r.rays.reflection = h.reflection;
+    r.rays.refraction = h.refraction;
+    r.rays.nonFinite = h.nonFinite;
+    r.rgb.assign(bytes.begin() + sizeof h, bytes.end());
+    return r;
+}
+
+std::string encodeHeartbeat(const Heartbeat& h) { return bytesOf(h); }
+
+Heartbeat decodeHeartbeat(const std::string& bytes) { return fromBytes<Heartbeat>(bytes, "heartbeat"); }
+
+}  // namespace rf::farm

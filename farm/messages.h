@@ -1,0 +1,58 @@
+#pragma once
+/// Every message between rank 0 (the master) and the workers: the tags, the payloads and their
+/// byte encoding. Per frame only work items (frame index, tile rectangle) go out and 8-bit
+/// pixels come back; the scene itself travels once, by broadcast (scene_broadcast.h).
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "render.h"
+#include "stats.h"
+
+namespace rf::farm {
+
+/// MPI tags. Workers only ever talk to rank 0.
+enum Tag : int {
+    kTagWork = 11,       ///< master → worker: WorkItem
+    kTagResult = 12,     ///< worker → master: TileResult (header, then RGB8 pixels)
+    kTagHeartbeat = 13,  ///< worker → master: Heartbeat, every kHeartbeatSeconds and on a signal
+    kTagError = 14,      ///< worker → master: text; the worker stops after sending it
+    kTagStop = 15,       ///< master → worker: no more work, leave (no payload)
+};
+
+/// How often a worker says it is alive, even while its threads render a long frame.
+inline constexpr double kHeartbeatSeconds = 0.1;
+
+/// One unit of work: a rectangle of one frame (the whole frame in frame mode).
+struct WorkItem {
+    int32_t frame = 0;
+    TileRect rect;
+};
+
+/// A rendered work item: tone-mapped, sRGB-encoded 8-bit RGB, rect.pixels() × 3 bytes.
+struct TileResult {
+    WorkItem item;
+    double busySeconds = 0.0;  ///< wall time the worker's threads spent on it
+    RayStats rays;
+    std::vector<uint8_t> rgb;
+};
+
+/// A worker's sign of life. signalled: the worker received SIGINT/SIGTERM (mpirun forwards
+/// Ctrl-C as SIGTERM to every rank) and renders nothing more.
+struct Heartbeat {
+    int32_t currentFrame = -1;  ///< frame being rendered, -1 when idle
+    int32_t signalled = 0;
+};
+
+std::string encodeWorkItem(const WorkItem& w);
+/// Throws std::runtime_error on a payload of the wrong size.
+WorkItem decodeWorkItem(const std::string& bytes);
+
+std::string encodeTileResult(const TileResult& r);
+/// Throws std::runtime_error on a malformed payload (wrong pixel count).
+TileResult decodeTileResult(const std::string& bytes);
+
+std::string encodeHeartbeat(const Heartbeat& h);
+Heartbeat decodeHeartbeat(const std::string& bytes);
+
+}  // namespace rf::farm

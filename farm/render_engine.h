@@ -1,0 +1,63 @@
+#pragma once
+/// One rank's renderer: a thread that takes work items in order, sets the scene to the item's
+/// frame through the timeline, and renders the item's rectangle with all the rank's threads
+/// (the rectangle split into sub-tiles). The rank's main thread stays free for messages.
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "messages.h"
+#include "scene.h"
+#include "timeline.h"
+
+namespace rf::farm {
+
+class RenderEngine {
+public:
+    /// threads: render threads for this rank (≥ 1).
+    RenderEngine(Scene scene, anim::Timeline timeline, RenderSettings settings, int threads);
+    ~RenderEngine();
+    RenderEngine(const RenderEngine&) = delete;
+    RenderEngine& operator=(const RenderEngine&) = delete;
+
+    void submit(const WorkItem& item);
+    /// A finished item, if any; waits up to waitSeconds for one.
+    std::optional<TileResult> takeResult(double waitSeconds = 0.0);
+    /// Items submitted and not yet taken back.
+    int outstanding() const;
+    /// Frame being rendered now, or -1.
+    int currentFrame() const;
+    /// The error that stopped the render thread, empty while all is well.
+    std::string error() const;
+    /// Drops queued items; the item in progress finishes.
+    void cancelQueued();
+
+    /// Renders item synchronously on the calling thread's pool (no queue): the pure function
+    /// every mode reduces to. Public for tests.
+    static TileResult render(Scene& scene, const anim::Timeline& tl, const RenderSettings& s, int threads,
+                             const WorkItem& item, int& appliedFrame);
+
+private:
+    void loop();
+
+    Scene scene_;
+    anim::Timeline timeline_;
+    RenderSettings settings_;
+    int threads_;
+    int appliedFrame_ = -1;
+
+    mutable std::mutex mutex_;
+    std::condition_variable workCv_, resultCv_;
+    std::deque<WorkItem> queue_;
+    std::deque<TileResult> results_;
+    int outstanding_ = 0;
+    int current_ = -1;
+    bool stop_ = false;
+    std::string error_;
+    std::thread thread_;
+};
+
+}  // namespace rf::farm

@@ -1,0 +1,146 @@
+#include "render_job.h"
+
+#include <cstring>
+#include <filesystem>
+#include <type_traits>
+
+#include <nlohmann/json.hpp>
+
+namespace rf::farm {
+
+const char* kRenderHelp =
+    "usage: rayfarm render SCENE|MODEL -o out.mp4 [options]\n"
+    "       mpirun -np N rayfarm render SCENE|MODEL -o out.mp4 [options]\n"
+    "\n"
+    "Renders the scene's timeline (a bare glTF model: the default turntable) to an H.264 MP4.\n"
+    "Without mpirun it runs as one process on all cores; under mpirun rank 0 hands out work.\n"
+    "\n"
+    "  -o FILE           output MP4 (required)\n"
+    "  --mode M          pixel (tiles of every frame), frame (whole frames) or auto (default)\n"
+    "  --frames A:B      frames A to B of the timeline, inclusive (default: all); A: or :B too\n"
+    "  --fps N           video frame rate (default: the timeline's); frames are still sampled at\n"
+    "                    the timeline's rate, so this changes playback speed only\n"
+    "  --size WxH        image size (odd sizes: the video repeats the last row/column to even)\n"
+    "  --spp N           samples per pixel, a square: 1, 4, 9, ...\n"
+    "  --depth N         maximum ray depth; --min-weight W, --tonemap clamp|reinhard as for still\n"
+    "  --frames-dir DIR  keep a PNG per frame here as frames complete (default: OUT.frames next\n"
+    "                    to the output, e.g. out.frames/ for out.mp4)\n"
+    "  --no-frames       keep no PNG frames (then nothing can be resumed)\n"
+    "  --resume          render only the frames missing from the frames directory, then encode\n"
+    "                    the whole video again (the same settings are required)\n"
+    "  --crf N           x264 quality, 0-51 (default 18; lower is better)\n"
+    "  --preset P        x264 preset, ultrafast ... placebo (default veryfast)\n"
+    "  --lossless        RGB H.264 at qp 0: decodes to the PNG frames bit for bit (not every\n"
+    "                    player plays it; for reference comparisons)\n"
+    "  --threads N       render threads per rank (default: the node's cores shared by its ranks)\n"
+    "  --timeout S       seconds a worker may stay silent before the run stops (default 10)\n"
+    "  --stats FILE      write run statistics as JSON (sustained_fps, per-rank busy time, ...)\n"
+    "\n"
+    "Ctrl-C stops cleanly: the MP4 holds the frames done so far and the command to resume is\n"
+    "printed.\n";
+
+void declareRenderOptions(cli::ArgParser& p) {
+    for (const char* o : {"-o", "--mode", "--frames", "--fps", "--size", "--spp", "--depth", "--min-weight", "--tonemap",
+                          "--frames-dir", "--crf", "--preset", "--stats", "--threads", "--timeout"})
+        p.option(o);
+    for (const char* f : {"--resume", "--lossless", "--no-frames", "--help", "-h"}) p.flag(f);
+}
+
+RenderJob jobFromOptions(const cli::ArgParser& p) {
+    using cli::UsageError;
+    RenderJob j;
+    if (p.positional().size() != 1) throw UsageError("render: expected one SCENE or MODEL (see rayfarm render --help)");
+    j.scenePath = p.positional()[0];
+    if (!p.value("-o")) throw UsageError("render: -o out.mp4 is required");
+    j.output = *p.value("-o");
+    const std::string ext = std::filesystem::path(j.output).extension().string();
+    if (ext != ".mp4" && ext != ".MP4") throw UsageError(j.output + ": the output must be an .mp4 file");
+    if (p.has("--no-frames") && p.has("--frames-dir")) throw UsageError("--no-frames and --frames-dir contradict each other");
+    if (p.has("--no-frames") && p.has("--resume")) throw UsageError("--resume needs the frames directory (drop --no-frames)");
+    if (!p.has("--no-frames"))
+        j.framesDir = p.value("--frames-dir").value_or(std::filesystem::path(j.output).replace_extension(".frames").string());
+    j.statsPath = p.value("--stats").value_or("");
+    j.modeOption = p.value("--mode").value_or("auto");
+    if (j.modeOption != "auto" && j.modeOption != "pixel" && j.modeOption != "frame")
+        throw UsageError("--mode: expected pixel, frame or auto, got \"" + j.modeOption + "\"");
+    j.resume = p.has("--resume");
+    j.mp4.crf = p.intValue("--crf", 18, 0, 51);
+    j.mp4.preset = p.value("--preset").value_or("veryfast");
+    j.mp4.lossless = p.has("--lossless");
+    if (j.mp4.lossless && p.has("--crf")) throw UsageError("--lossless and --crf contradict each other");
+    j.threads = p.intValue("--threads", 0, 0, 4096);
+    j.workerTimeout = p.doubleValue("--timeout", 10.0);
+    if (!(j.workerTimeout >= 0.5 && j.workerTimeout <= 86400)) throw UsageError("--timeout: expected seconds from 0.5 to 86400");
+    if (p.has("--fps")) {
+        j.mp4.fps = p.doubleValue("--fps", 30.0);
+        if (!(j.mp4.fps > 0.0 && j.mp4.fps <= 1000.0)) throw UsageError("--fps: expected a rate above 0 and up to 1000");
+    } else {
+        j.mp4.fps = 0.0;  // the timeline's, once the scene is loaded
+    }
+    return j;
+}
+
+void parseFrameRange(const std::string& text, int n, int& first, int& last) {
+    auto bad = [&] {
+        return cli::UsageError("--frames: expected A:B with 0 ≤ A ≤ B ≤ " + std::to_string(n - 1) +
+                               " (the timeline has " + std::to_string(n) + " frames), got \"" + text + "\"");
+    };
+    auto num = [&](const std::string& s, int def) {
+        if (s.empty()) return def;
+        size_t used = 0;
+        int v = 0;
+        try {
+            v = std::stoi(s, &used);
+        } catch (const std::exception&) {
+            throw bad();
+        }
+        if (used != s.size()) throw bad();
+        return v;
+    };
+    const size_t colon = text.find(':');
+    if (colon == std::string::npos) {
+        first = last = num(text, -1);
+    } else {
+        first = num(text.substr(0, colon), 0);
+        last = num(text.substr(colon + 1), n - 1);
+    }
+    if (first < 0 || last < first || last >= n) throw bad();
+}
+
+std::vector<int> RenderJob::frames() const {
+    std::vector<int> f;
+    for (int i = first; i <= last; ++i) f.push_back(i);
+    return f;
+}
+
+std::string RenderJob::identity() const {
+    nlohmann::ordered_json j;
+    std::error_code ec;
+    const auto abs = std::filesystem::weakly_canonical(scenePath, ec);
+    j["scene"] = ec ? scenePath : abs.string();
+    j["width"] = settings.width;
+    j["height"] = settings.height;
+    j["spp"] = settings.spp;
+    j["depth"] = settings.maxDepth;
+    j["min_weight"] = settings.minWeight;
+    j["tonemap"] = settings.toneMap == ToneMap::Clamp ? "clamp" : "reinhard";
+    j["timeline_frames"] = timelineFrames;
+    j["timeline_fps"] = timelineFps;
+    return j.dump();
+}
+
+std::string encodeWorkerJob(const RenderJob& j) {
+    // Byte copy: every rank runs the same executable, and a field added to RenderSettings
+    // later travels without anyone remembering to add it here.
+    static_assert(std::is_trivially_copyable_v<RenderSettings>);
+    return std::string(reinterpret_cast<const char*>(&j.settings), sizeof(RenderSettings));
+}
+
+RenderSettings decodeWorkerJob(const std::string& bytes) {
+    if (bytes.size() != sizeof(RenderSettings)) throw std::runtime_error("malformed job broadcast");
+    RenderSettings s;
+    std::memcpy(&s, bytes.data(), sizeof s);
+    return s;
+}
+
+}  // namespace rf::farm

@@ -1,0 +1,50 @@
+#pragma once
+/// A render job as rank 0 decides it from the command line and the scene: quality settings,
+/// frame range, mode, outputs. Rank 0 sends the part the workers need along with the scene.
+#include <string>
+#include <vector>
+
+#include "cli.h"
+#include "mp4_sink.h"
+#include "scheduler.h"
+#include "settings.h"
+
+namespace rf::farm {
+
+struct RenderJob {
+    std::string scenePath;
+    std::string output;          ///< the MP4
+    std::string framesDir;       ///< "" with --no-frames
+    std::string statsPath;
+    RenderSettings settings;
+    int first = 0, last = 0;     ///< frame range, inclusive
+    int timelineFrames = 1;
+    double timelineFps = 30.0;
+    std::string modeOption = "auto";
+    Mode mode = Mode::Frame;
+    std::string modeWhy;
+    bool resume = false;
+    Mp4Options mp4;
+    int threads = 0;             ///< --threads (0: share the node's cores among its ranks)
+    double workerTimeout = 10.0;
+    int tileSize = 64;           ///< pixel mode's work-item size
+
+    std::vector<int> frames() const;
+    /// Identifies what a frames directory holds, for --resume.
+    std::string identity() const;
+};
+
+/// Declares render's options on p.
+void declareRenderOptions(cli::ArgParser& p);
+extern const char* kRenderHelp;
+
+/// The options that do not need the scene (paths, mode, encoder); throws cli::UsageError.
+RenderJob jobFromOptions(const cli::ArgParser& p);
+/// Parses "A:B", "A:", ":B" or "A" against a timeline of n frames (inclusive, 0-based).
+void parseFrameRange(const std::string& text, int n, int& first, int& last);
+
+/// What the workers need (settings), as bytes for the scene broadcast, and back.
+std::string encodeWorkerJob(const RenderJob& j);
+RenderSettings decodeWorkerJob(const std::string& bytes);
+
+}  // namespace rf::farm

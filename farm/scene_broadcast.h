@@ -1,0 +1,37 @@
+#pragma once
+/// The scene travels once: rank 0 reads the scene file and every file it references, the bytes
+/// are broadcast (in chunks, so scenes beyond 2 GiB work) and every rank loads the same scene
+/// from memory and builds its own BVH. Workers never open the scene files.
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+#include "scene.h"
+#include "transport.h"
+
+namespace rf::farm {
+
+/// Thrown on a worker when rank 0 failed before the broadcast (rank 0 reports the error).
+class PeerFailed : public std::runtime_error {
+public:
+    explicit PeerFailed(int code) : std::runtime_error("rank 0 failed"), code_(code) {}
+    int code() const { return code_; }
+
+private:
+    int code_;
+};
+
+struct SharedScene {
+    Scene scene;
+    std::string job;          ///< rank 0's job description, opaque here
+    size_t bundleBytes = 0;   ///< size of the broadcast file bundle
+    double loadSeconds = 0.0; ///< reading, broadcast and loading on this rank
+};
+
+/// Collective over all ranks. On rank 0: runs preLoad (output checks), loads path from disk,
+/// then makeJob(scene). If any of those throws, the other ranks are told (they throw PeerFailed
+/// with exit code 2 for input errors, 1 otherwise) and rank 0 rethrows.
+SharedScene shareScene(Transport& t, const std::string& path, const std::function<void()>& preLoad,
+                       const std::function<std::string(Scene&)>& makeJob);
+
+}  // namespace rf::farm

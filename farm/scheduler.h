@@ -1,0 +1,66 @@
+#pragma once
+/// What to hand out next. Both modes hand out work dynamically, as workers ask, and keep a
+/// bounded window of open frames (started but not yet written out), so memory on rank 0 does not
+/// grow with the frame count and frames can be written in order.
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "messages.h"
+
+namespace rf::farm {
+
+enum class Mode { Pixel, Frame };
+
+class Scheduler {
+public:
+    /// frames: the frames to render, in output order.
+    Scheduler(std::vector<int> frames, int window) : frames_(std::move(frames)), window_(std::max(1, window)) {}
+    virtual ~Scheduler() = default;
+
+    /// The next item to hand out, or nullopt if none may go out now: everything is handed out,
+    /// or starting another frame would exceed the window.
+    virtual std::optional<WorkItem> next() = 0;
+    /// Work items one frame is split into.
+    virtual int itemsPerFrame() const = 0;
+    virtual Mode mode() const = 0;
+
+    /// Frame was written out: its place in the window is free.
+    void frameReleased() { --open_; }
+    /// Everything has been handed out.
+    bool exhausted() const { return nextFrame_ >= frames_.size() && !midFrame(); }
+    int openFrames() const { return open_; }
+    int window() const { return window_; }
+
+protected:
+    /// True while the current frame still has items to hand out (pixel mode).
+    virtual bool midFrame() const { return false; }
+    /// Opens the next frame if the window allows; returns its index or nullopt.
+    std::optional<int> openNextFrame() {
+        if (nextFrame_ >= frames_.size() || open_ >= window_) return std::nullopt;
+        ++open_;
+        return frames_[nextFrame_++];
+    }
+
+private:
+    std::vector<int> frames_;
+    size_t nextFrame_ = 0;
+    int window_;
+    int open_ = 0;
+};
+
+/// Pixel mode: every frame split into tiles of tileSize; the next frame's tiles go out as soon as
+/// the current frame's are all handed out, before it is complete, so no rank idles at frame ends.
+std::unique_ptr<Scheduler> makePixelScheduler(std::vector<int> frames, int width, int height, int tileSize,
+                                              int window);
+
+/// Frame mode: whole frames, one per item.
+std::unique_ptr<Scheduler> makeFrameScheduler(std::vector<int> frames, int width, int height, int window);
+
+/// mode "auto": pixel mode when frames are few compared with the rendering ranks (frame mode
+/// would leave ranks idle) or frames are large; frame mode otherwise (fewer, bigger messages).
+/// why receives a one-line reason.
+Mode chooseMode(int frames, int renderers, int width, int height, std::string& why);
+
+}  // namespace rf::farm

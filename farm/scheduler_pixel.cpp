@@ -1,0 +1,62 @@
+#include "render.h"
+#include "scheduler.h"
+
+namespace rf::farm {
+
+namespace {
+
+class PixelScheduler : public Scheduler {
+public:
+    PixelScheduler(std::vector<int> frames, int width, int height, int tileSize, int window)
+        : Scheduler(std::move(frames), window), tiles_(makeTiles(width, height, tileSize)) {}
+
+    std::optional<WorkItem> next() override {
+        if (tile_ >= tiles_.size()) {
+            const std::optional<int> f = openNextFrame();
+            if (!f) return std::nullopt;
+            frame_ = *f;
+            tile_ = 0;
+        }
+        return WorkItem{frame_, tiles_[tile_++]};
+    }
+    int itemsPerFrame() const override { return int(tiles_.size()); }
+    Mode mode() const override { return Mode::Pixel; }
+
+protected:
+    bool midFrame() const override { return tile_ < tiles_.size(); }
+
+private:
+    std::vector<TileRect> tiles_;
+    size_t tile_ = SIZE_MAX;  // no frame open yet
+    int frame_ = -1;
+};
+
+}  // namespace
+
+std::unique_ptr<Scheduler> makePixelScheduler(std::vector<int> frames, int width, int height, int tileSize,
+                                              int window) {
+    return std::make_unique<PixelScheduler>(std::move(frames), width, height, tileSize, window);
+}
+
+Mode chooseMode(int frames, int renderers, int width, int height, std::string& why) {
+    const long long pixels = 1LL * width * height;
+    if (renderers <= 1) {
+        why = "one rendering rank: whole frames, no tile traffic";
+        return Mode::Frame;
+    }
+    if (frames < 4 * renderers) {
+        why = std::to_string(frames) + " frame(s) for " + std::to_string(renderers) +
+              " rendering ranks: too few frames to keep every rank busy with whole frames";
+        return Mode::Pixel;
+    }
+    if (pixels >= 3840LL * 2160) {
+        why = "frames of " + std::to_string(width) + "x" + std::to_string(height) +
+              " are large: tiles keep the reorder window small";
+        return Mode::Pixel;
+    }
+    why = std::to_string(frames) + " frames for " + std::to_string(renderers) +
+          " rendering ranks: whole frames balance well with the least traffic";
+    return Mode::Frame;
+}
+
+}  // namespace rf::farm

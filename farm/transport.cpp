@@ -1,0 +1,129 @@
+#include "transport.h"
+
+#include <chrono>
+#include <climits>
+#include <thread>
+
+#include <mpi.h>
+
+namespace rf::farm {
+
+namespace {
+
+int64_t gBroadcastChunk = int64_t(1) << 30;  // 1 GiB, well below MPI's int count limit
+
+void check(int rc, const std::string& what) {
+    if (rc == MPI_SUCCESS) return;
+    char msg[MPI_MAX_ERROR_STRING];
+    int len = 0;
+    MPI_Error_string(rc, msg, &len);
+    throw TransportError(what + ": " + std::string(msg, len));
+}
+
+}  // namespace
+
+struct MpiTransport::Pending {
+    std::string bytes;
+    MPI_Request request = MPI_REQUEST_NULL;
+    int dest = 0;
+};
+
+MpiTransport::MpiTransport() {
+    int initialized = 0;
+    MPI_Initialized(&initialized);
+    if (!initialized) {
+        int provided = 0;
+        // Only the main thread of each rank calls MPI; render and encoder threads never do.
+        MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+    }
+    MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+    MPI_Comm_size(MPI_COMM_WORLD, &size_);
+    MPI_Comm node;
+    if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node) == MPI_SUCCESS) {
+        MPI_Comm_size(node, &localRanks_);
+        MPI_Comm_free(&node);
+    }
+}
+
+MpiTransport::~MpiTransport() { finalize(); }
+
+void MpiTransport::finalize() {
+    if (finalized_) return;
+    finalized_ = true;
+    flush(2.0);
+    for (auto& p : pending_) MPI_Request_free(&p->request);
+    pending_.clear();
+    int fin = 0;
+    MPI_Finalized(&fin);
+    if (!fin) MPI_Finalize();
+}
+
+void MpiTransport::abort(int code) {
+    MPI_Abort(MPI_COMM_WORLD, code);
+    std::_Exit(code);
+}
+
+void MpiTransport::setBroadcastChunk(int64_t bytes) { gBroadcastChunk = std::max<int64_t>(1, bytes); }
+
+void MpiTransport::send(int dest, int tag, std::string bytes) {
+    if (bytes.size() > size_t(INT_MAX)) throw TransportError("message to rank " + std::to_string(dest) + " exceeds 2 GiB");
+    auto p = std::make_unique<Pending>();
+    p->bytes = std::move(bytes);
+    p->dest = dest;
+    check(MPI_Isend(p->bytes.data(), int(p->bytes.size()), MPI_BYTE, dest, tag, MPI_COMM_WORLD, &p->request),
+          "send to rank " + std::to_string(dest));
+    pending_.push_back(std::move(p));
+    progressSends();
+}
+
+void MpiTransport::progressSends() {
+    for (auto it = pending_.begin(); it != pending_.end();) {
+        int done = 0;
+        check(MPI_Test(&(*it)->request, &done, MPI_STATUS_IGNORE), "send to rank " + std::to_string((*it)->dest));
+        it = done ? pending_.erase(it) : it + 1;
+    }
+}
+
+bool MpiTransport::poll(Message& out) {
+    progressSends();
+    int flag = 0;
+    MPI_Status st;
+    check(MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st), "probe");
+    if (!flag) return false;
+    int count = 0;
+    check(MPI_Get_count(&st, MPI_BYTE, &count), "message size");
+    out.source = st.MPI_SOURCE;
+    out.tag = st.MPI_TAG;
+    out.bytes.resize(size_t(count));
+    check(MPI_Recv(out.bytes.data(), count, MPI_BYTE, st.MPI_SOURCE, st.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
+          "receive from rank " + std::to_string(st.MPI_SOURCE));
+    return true;
+}
+
+bool MpiTransport::flush(double timeoutSeconds) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeoutSeconds);
+    for (;;) {
+        try {
+            progressSends();
+        } catch (const TransportError&) {
+            return false;
+        }
+        if (pending_.empty()) return true;
+        if (std::chrono::steady_clock::now() > end) return false;
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+    }
+}
+
+void MpiTransport::broadcast(std::string& bytes, int root) {
+    uint64_t n = bytes.size();
+    check(MPI_Bcast(&n, 1, MPI_UINT64_T, root, MPI_COMM_WORLD), "broadcast");
+    if (rank_ != root) bytes.resize(n);
+    for (uint64_t off = 0; off < n;) {
+        const int chunk = int(std::min<uint64_t>(n - off, uint64_t(gBroadcastChunk)));
+        check(MPI_Bcast(bytes.data() + off, chunk, MPI_BYTE, root, MPI_COMM_WORLD), "broadcast");
+        off += uint64_t(chunk);
+    }
+}
+
+}  // namespace rf::farm

@@ -1,0 +1,70 @@
+#pragma once
+/// A thin interface over MPI point-to-point and broadcast, so the master and worker loops can be
+/// unit-tested in one process (LoopbackHub) and run for real under mpirun (MpiTransport).
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+namespace rf::farm {
+
+/// A message as received: who sent it, its tag (messages.h) and its payload.
+struct Message {
+    int source = -1;
+    int tag = 0;
+    std::string bytes;
+};
+
+/// Communication failed (a peer is gone, MPI reported an error).
+class TransportError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+class Transport {
+public:
+    virtual ~Transport() = default;
+    virtual int rank() const = 0;
+    virtual int size() const = 0;
+    /// Queues bytes for dest and returns without waiting for the receiver.
+    virtual void send(int dest, int tag, std::string bytes) = 0;
+    /// Takes one waiting message from any rank, if there is one; never blocks.
+    virtual bool poll(Message& out) = 0;
+    /// Waits up to timeoutSeconds for queued sends to complete; false if some did not.
+    virtual bool flush(double timeoutSeconds) = 0;
+    /// Collective: every rank ends with root's bytes (any size; sent in chunks below 2 GiB).
+    virtual void broadcast(std::string& bytes, int root) = 0;
+};
+
+/// MPI_COMM_WORLD, with MPI_ERRORS_RETURN so a failing peer becomes a TransportError rather than
+/// an abort deep inside MPI. Only the thread that created it may use it (MPI_THREAD_FUNNELED).
+class MpiTransport : public Transport {
+public:
+    MpiTransport();
+    ~MpiTransport() override;
+    int rank() const override { return rank_; }
+    int size() const override { return size_; }
+    void send(int dest, int tag, std::string bytes) override;
+    bool poll(Message& out) override;
+    bool flush(double timeoutSeconds) override;
+    void broadcast(std::string& bytes, int root) override;
+
+    /// Ranks sharing this rank's node (for sharing its cores among them).
+    int ranksOnThisNode() const { return localRanks_; }
+    /// Largest chunk one MPI_Bcast carries; tests lower it to exercise chunking.
+    static void setBroadcastChunk(int64_t bytes);
+    /// Ends every rank at once (a worker is lost, nothing better left to do).
+    [[noreturn]] void abort(int code);
+    /// Ends MPI normally (also done by the destructor).
+    void finalize();
+
+private:
+    struct Pending;
+    void progressSends();
+    int rank_ = 0, size_ = 1, localRanks_ = 1;
+    bool finalized_ = false;
+    std::deque<std::unique_ptr<Pending>> pending_;
+};
+
+}  // namespace rf::farm

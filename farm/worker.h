@@ -1,0 +1,16 @@
+#pragma once
+/// The worker loop (ranks 1…N−1): take work items from rank 0, render them on the rank's
+/// threads, send pixels back, and say it is alive every kHeartbeatSeconds meanwhile.
+#include "render_engine.h"
+#include "transport.h"
+
+namespace rf::farm {
+
+/// Runs until rank 0 says stop (returns 0), the render fails (the error goes to rank 0 first;
+/// returns 1) or a signal arrives and rank 0 does not say stop within a few seconds (returns 130).
+int runWorker(Transport& t, RenderEngine& engine);
+
+/// Tells rank 0 this worker failed (before it could render anything, e.g. while loading).
+void reportWorkerError(Transport& t, const std::string& message);
+
+}  // namespace rf::farm
