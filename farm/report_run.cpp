@@ -1,0 +1,83 @@
+#include "report_run.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+#include "image.h"
+#include "image_metrics.h"
+#include "render.h"
+#include "report_csv.h"
+#include "report_plot.h"
+#include "report_summary.h"
+
+namespace rf::report {
+
+QualityReport runQualityReport(const Scene& scene, const RenderSettings& settings, const QualityReportOptions& o) {
+    namespace fs = std::filesystem;
+    const fs::path dir(o.outDir);
+    QualityReport rep;
+    rep.csvPath = (dir / "report.csv").string();
+    rep.plotPath = (dir / "error_vs_time.png").string();
+    rep.summaryPath = (dir / "summary.md").string();
+    rep.errorImagePath = (dir / "error_default.png").string();
+    rep.referencePath = (dir / "reference.png").string();
+    const int w = settings.width, h = settings.height;
+
+    if (o.progress)
+        std::fprintf(stderr, "rayfarm: report: reference %s at %dx%d ...\n", describe(o.reference).c_str(), w, h);
+    const RenderSettings refSettings = withQuality(settings, o.reference);
+    // One run: the reference is the slowest render by far, and its time is only for orientation.
+    const TimedRender ref = renderTimed(scene, refSettings, o.frame, o.threads, 0.0, 1);
+    const std::vector<uint8_t> ref8 = toRgb8(ref.image, settings.toneMap);
+    writePng(rep.referencePath, w, h, ref8);
+    rep.reference.q = o.reference;
+    rep.reference.factor = "reference";
+    rep.reference.seconds = ref.seconds;
+    rep.reference.repeats = ref.repeats;
+    rep.reference.rays = ref.rays;
+    rep.reference.error = compareRgb8(ref8, ref8, w, h);
+    if (o.progress) std::fprintf(stderr, "rayfarm: report: reference took %.2f s\n", ref.seconds);
+
+    rep.rows = runSweep(scene, settings, o.sweep, ref8, o.frame, o.threads, [&](int i, int n, const SweepRow& r) {
+        if (o.progress)
+            std::fprintf(stderr, "rayfarm: report: [%d/%d] %s: %.4g s, PSNR %.2f dB, SSIM %.4f\n", i, n,
+                         describe(r.q).c_str(), r.seconds, r.error.psnr, r.error.ssim);
+    });
+    writeReportCsv(rep.csvPath, rep.reference, rep.rows);
+
+    // The default setting's picture and where it differs from the reference.
+    const RenderSettings defSettings = withQuality(settings, o.sweep.base);
+    RayStats rays;
+    const Image def = renderFrame(scene, scene.camera, defSettings, o.frame, o.threads, rays);
+    const std::vector<uint8_t> def8 = toRgb8(def, settings.toneMap);
+    writePng((dir / "default.png").string(), w, h, def8);
+    const double scale = std::max(maxAbsErrorRgb8(def8, ref8, w, h), 1.0 / 255.0);
+    writePng(rep.errorImagePath, w, h, falseColorErrorRgb8(def8, ref8, w, h, scale));
+
+    if (o.plot)
+        plotErrorVsTime(rep.rows, o.sceneName + ": error against run time, " + std::to_string(w) + "x" +
+                                      std::to_string(h) + ", frame " + std::to_string(o.frame),
+                        (dir / "error_vs_time.gp").string(), rep.plotPath);
+
+    rep.rayNotes = missingRayKinds(ref.rays, scene);
+    SummaryInfo info;
+    info.sceneName = o.sceneName;
+    info.frame = o.frame;
+    info.width = w;
+    info.height = h;
+    info.threads = o.threads > 0 ? o.threads : hardwareThreads();
+    info.kind = o.sweep.kind;
+    info.reference = rep.reference;
+    info.targetPsnr = o.targetPsnr;
+    info.csvFile = "report.csv";
+    info.plotFile = o.plot ? "error_vs_time.png" : "(not drawn)";
+    info.errorImageFile = "error_default.png";
+    info.referenceImageFile = "reference.png";
+    info.errorScale = scale;
+    info.rayNotes = rep.rayNotes;
+    writeSummary(rep.summaryPath, info, rep.rows);
+    return rep;
+}
+
+}  // namespace rf::report

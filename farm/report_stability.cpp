@@ -1,0 +1,89 @@
+#include "report_stability.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+namespace rf::report {
+
+namespace {
+
+std::string num(double v) {
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    if (std::isnan(v)) return "nan";
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", v);
+    return buf;
+}
+
+std::string csvField(const std::string& s) {
+    if (s.find_first_of(",\"\n") == std::string::npos) return s;
+    std::string q = "\"";
+    for (char c : s) {
+        if (c == '"') q += '"';
+        q += c;
+    }
+    return q + "\"";
+}
+
+std::string verdict(const StabilityCase& c) { return c.informative ? "info" : c.pass ? "pass" : "FAIL"; }
+
+void writeFile(const std::string& path, const std::string& text) {
+    std::ofstream f(path);
+    if (!f) throw std::runtime_error(path + ": cannot write");
+    f << text;
+    if (!f.flush()) throw std::runtime_error(path + ": write failed");
+}
+
+}  // namespace
+
+int StabilityReport::passed() const {
+    int n = 0;
+    for (const StabilityCase& c : cases) n += !c.informative && c.pass;
+    return n;
+}
+
+int StabilityReport::counted() const {
+    int n = 0;
+    for (const StabilityCase& c : cases) n += !c.informative;
+    return n;
+}
+
+std::string stabilityMarkdown(const std::vector<StabilityCase>& cases) {
+    int pass = 0, counted = 0;
+    for (const StabilityCase& c : cases) {
+        counted += !c.informative;
+        pass += !c.informative && c.pass;
+    }
+    std::string s = "# Stiff and extreme cases\n\nCases of the stability catalogue (`shared/stability.md`, "
+                    "numbered as there) that the engine's API can render or measure. " +
+                    std::to_string(pass) + " of " + std::to_string(counted) +
+                    " pass. Rows marked *info* show what a naive method does and are not counted.\n\n"
+                    "| # | case | measured | error | tolerance | result |\n|---|---|---|---:|---:|---|\n";
+    for (const StabilityCase& c : cases)
+        s += "| " + c.id + " | " + c.name + " | " + c.measured + " | " + num(c.error) + " " + c.unit + " | " +
+             (c.informative ? "–" : "≤ " + num(c.tolerance) + " " + c.unit) + " | " + verdict(c) + " |\n";
+    return s;
+}
+
+std::string stabilityCsv(const std::vector<StabilityCase>& cases) {
+    std::string s = "id,case,measured,error,tolerance,unit,result\n";
+    for (const StabilityCase& c : cases)
+        s += csvField(c.id) + "," + csvField(c.name) + "," + csvField(c.measured) + "," + num(c.error) + "," +
+             num(c.tolerance) + "," + csvField(c.unit) + "," + verdict(c) + "\n";
+    return s;
+}
+
+StabilityReport runStabilityReport(const std::string& outDir, int threads) {
+    StabilityReport rep;
+    rep.cases = runStabilityCases(threads);
+    rep.markdownPath = (std::filesystem::path(outDir) / "stability.md").string();
+    rep.csvPath = (std::filesystem::path(outDir) / "stability.csv").string();
+    writeFile(rep.markdownPath, stabilityMarkdown(rep.cases));
+    writeFile(rep.csvPath, stabilityCsv(rep.cases));
+    return rep;
+}
+
+}  // namespace rf::report

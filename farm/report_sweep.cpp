@@ -1,0 +1,104 @@
+#include "report_sweep.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "render.h"
+
+namespace rf::report {
+
+std::string describe(const QualitySetting& q) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "spp %d, depth %d, min weight %g", q.spp, q.maxDepth, double(q.minWeight));
+    return buf;
+}
+
+std::vector<SweepPoint> makeSweep(const SweepSpec& spec) {
+    std::vector<SweepPoint> out;
+    auto add = [&](const QualitySetting& q, const std::string& factor) {
+        for (const SweepPoint& p : out)
+            if (p.q == q) return;
+        out.push_back({q, factor});
+    };
+    add(spec.base, "default");
+    if (spec.kind == SweepKind::FullGrid) {
+        for (int s : spec.spp)
+            for (int d : spec.depth)
+                for (float w : spec.minWeight) add({s, d, w}, "grid");
+        return out;
+    }
+    for (int s : spec.spp) add({s, spec.base.maxDepth, spec.base.minWeight}, "spp");
+    for (int d : spec.depth) add({spec.base.spp, d, spec.base.minWeight}, "depth");
+    for (float w : spec.minWeight) add({spec.base.spp, spec.base.maxDepth, w}, "min_weight");
+    return out;
+}
+
+RenderSettings withQuality(RenderSettings base, const QualitySetting& q) {
+    base.spp = q.spp;
+    base.maxDepth = q.maxDepth;
+    base.minWeight = q.minWeight;
+    return base;
+}
+
+TimedRender renderTimed(const Scene& scene, const RenderSettings& settings, int frame, int threads,
+                        double minTotalSeconds, int maxRepeats) {
+    TimedRender r;
+    double total = 0.0;
+    r.seconds = 1e300;
+    while (r.repeats < std::max(1, maxRepeats) && (r.repeats == 0 || total < minTotalSeconds)) {
+        RayStats rays;
+        const auto t0 = std::chrono::steady_clock::now();
+        Image img = renderFrame(scene, scene.camera, settings, frame, threads, rays);
+        const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        total += s;
+        r.seconds = std::min(r.seconds, s);
+        if (r.repeats == 0) {
+            r.image = std::move(img);
+            r.rays = rays;
+        }
+        ++r.repeats;
+    }
+    return r;
+}
+
+std::vector<SweepRow> runSweep(const Scene& scene, const RenderSettings& settings, const SweepSpec& spec,
+                               const std::vector<uint8_t>& reference, int frame, int threads,
+                               const std::function<void(int, int, const SweepRow&)>& progress) {
+    const std::vector<SweepPoint> points = makeSweep(spec);
+    std::vector<SweepRow> rows;
+    rows.reserve(points.size());
+    for (size_t i = 0; i < points.size(); ++i) {
+        const RenderSettings s = withQuality(settings, points[i].q);
+        const TimedRender r = renderTimed(scene, s, frame, threads);
+        SweepRow row;
+        row.q = points[i].q;
+        row.factor = points[i].factor;
+        row.isDefault = points[i].q == spec.base;
+        row.seconds = r.seconds;
+        row.repeats = r.repeats;
+        row.rays = r.rays;
+        row.error = compareRgb8(toRgb8(r.image, s.toneMap), reference, s.width, s.height);
+        rows.push_back(row);
+        if (progress) progress(int(i) + 1, int(points.size()), rows.back());
+    }
+    markPareto(rows);
+    return rows;
+}
+
+void markPareto(std::vector<SweepRow>& rows) {
+    for (SweepRow& a : rows) {
+        a.pareto = true;
+        for (const SweepRow& b : rows) {
+            if (&a == &b) continue;
+            const bool noWorse = b.seconds <= a.seconds && b.error.rmse <= a.error.rmse;
+            const bool better = b.seconds < a.seconds || b.error.rmse < a.error.rmse;
+            if (noWorse && better) {
+                a.pareto = false;
+                break;
+            }
+        }
+    }
+}
+
+}  // namespace rf::report

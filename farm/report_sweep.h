@@ -1,0 +1,87 @@
+#pragma once
+/// The quality sweep of `rayfarm report`: which settings to render, timing each render, and its
+/// error against a high-quality reference of the same frame.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "image.h"
+#include "image_metrics.h"
+#include "scene.h"
+#include "settings.h"
+#include "stats.h"
+
+namespace rf::report {
+
+/// The three knobs the report turns.
+struct QualitySetting {
+    int spp = 1;
+    int maxDepth = 5;
+    float minWeight = 1e-3f;
+    bool operator==(const QualitySetting&) const = default;
+};
+
+/// "spp 4, depth 5, min weight 0.001".
+std::string describe(const QualitySetting& q);
+
+/// One factor at a time around the base (cheap: about the cost of the spp line alone), or every
+/// combination (the full grid: |spp| × |depth| × |minWeight| renders).
+enum class SweepKind { OneFactor, FullGrid };
+
+struct SweepSpec {
+    std::vector<int> spp{1, 4, 16, 64};
+    std::vector<int> depth{1, 2, 3, 4, 5, 6, 7, 8};
+    std::vector<float> minWeight{0.f, 1e-3f, 1e-2f, 0.1f};
+    QualitySetting base;  ///< the default setting; always part of the sweep
+    SweepKind kind = SweepKind::OneFactor;
+};
+
+/// A setting to render and the sweep line it belongs to ("spp", "depth", "min_weight", "grid").
+struct SweepPoint {
+    QualitySetting q;
+    std::string factor;
+};
+
+/// The settings to render, without duplicates, the base first.
+std::vector<SweepPoint> makeSweep(const SweepSpec& spec);
+
+/// A render with its time: the fastest of a few repeats, since other work on the machine only
+/// ever adds time.
+struct TimedRender {
+    Image image;
+    double seconds = 0.0;
+    int repeats = 0;
+    RayStats rays;  ///< of one render
+};
+
+/// Renders frame `frame` with settings; repeats while the total stays under minTotalSeconds
+/// (at most maxRepeats times) and keeps the fastest time.
+TimedRender renderTimed(const Scene& scene, const RenderSettings& settings, int frame, int threads,
+                        double minTotalSeconds = 0.3, int maxRepeats = 5);
+
+/// One row of the report.
+struct SweepRow {
+    QualitySetting q;
+    std::string factor;  ///< sweep line, "reference" for the reference itself
+    bool isDefault = false;
+    double seconds = 0.0;
+    int repeats = 0;
+    RayStats rays;
+    ImageErrorMetrics error;
+    bool pareto = false;  ///< no other row is at least as fast and at least as accurate
+};
+
+/// Renders every point, scores it against reference (8-bit sRGB, width × height of settings).
+/// progress(i, n, row) is called after each render.
+std::vector<SweepRow> runSweep(const Scene& scene, const RenderSettings& settings, const SweepSpec& spec,
+                               const std::vector<uint8_t>& reference, int frame, int threads,
+                               const std::function<void(int, int, const SweepRow&)>& progress = {});
+
+/// Sets SweepRow::pareto over (seconds, rmse): a row is on the front if no other row has
+/// seconds ≤ and rmse ≤ with one of them strictly smaller.
+void markPareto(std::vector<SweepRow>& rows);
+
+/// Settings with q applied over base.
+RenderSettings withQuality(RenderSettings base, const QualitySetting& q);
+
+}  // namespace rf::report

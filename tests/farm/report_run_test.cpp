@@ -1,0 +1,145 @@
+// The whole quality report on a tiny scene: every file written, every row in the CSV, a plot
+// that decodes, a summary that names what the scene left out; and the CLI's refusals.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "cli.h"
+#include "image.h"
+#include "report_csv.h"
+#include "report_run.h"
+#include "report_test_scene.h"
+
+namespace rf::report {
+namespace {
+
+std::vector<std::vector<std::string>> readCsv(const std::string& path) {
+    std::ifstream f(path);
+    std::vector<std::vector<std::string>> rows;
+    std::string line;
+    while (std::getline(f, line)) {
+        std::vector<std::string> cells;
+        std::istringstream in(line);
+        std::string c;
+        while (std::getline(in, c, ',')) cells.push_back(c);
+        rows.push_back(cells);
+    }
+    return rows;
+}
+
+std::string readText(const std::string& path) {
+    std::ifstream f(path);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+QualityReportOptions tinyOptions(const std::string& dir) {
+    QualityReportOptions o;
+    o.outDir = dir;
+    o.sceneName = "tiny";
+    o.threads = 2;
+    o.progress = false;
+    o.sweep.spp = {1, 4, 16};
+    o.sweep.depth = {1, 2, 5};
+    o.sweep.minWeight = {0.f, 0.1f};
+    o.sweep.base = {1, 5, 1e-3f};
+    o.reference = {64, 8, 0.f};
+    o.targetPsnr = 20.0;
+    return o;
+}
+
+TEST(ReportRun, WritesEveryRowAPlotThatDecodesAndASummary) {
+    const Scene sc = testing::edgeScene(false);
+    const QualityReportOptions o = tinyOptions(testing::freshDir("report_run_tiny"));
+    const QualityReport rep = runQualityReport(sc, sc.settings, o);
+
+    const size_t expectRows = makeSweep(o.sweep).size();
+    EXPECT_EQ(expectRows, 1u + 2 + 2 + 2);  // the base, then each list less the base's own value
+    const auto csv = readCsv(rep.csvPath);
+    ASSERT_EQ(csv.size(), 1 + 1 + expectRows);  // header, reference, sweep
+    const std::string header = csvHeader();
+    const size_t columns = std::count(header.begin(), header.end(), ',') + 1;
+    for (const auto& r : csv) EXPECT_EQ(r.size(), columns);
+    EXPECT_EQ(csv[1][0], "reference");
+    EXPECT_EQ(csv[1][15], "inf");  // psnr_db of the reference against itself
+    EXPECT_EQ(csv[1][14], "0");    // rmse
+    int defaults = 0;
+    for (size_t i = 2; i < csv.size(); ++i) {
+        defaults += csv[i][4] == "1";
+        EXPECT_TRUE(std::isfinite(std::stod(csv[i][15]))) << i;  // nothing else matches exactly
+        EXPECT_GT(std::stod(csv[i][6]), 0.0);                   // seconds
+    }
+    EXPECT_EQ(defaults, 1);
+
+    int w = 0, h = 0;
+    const auto plot = readImageRgb8(rep.plotPath, w, h);
+    EXPECT_EQ(w, 960);
+    EXPECT_EQ(h, 640);
+    EXPECT_EQ(plot.size(), size_t(w) * h * 3);
+    const auto err = readImageRgb8(rep.errorImagePath, w, h);
+    EXPECT_EQ(w, 48);
+    EXPECT_EQ(h, 32);
+
+    const std::string md = readText(rep.summaryPath);
+    EXPECT_NE(md.find("No refraction rays: no material transmits light (no glass)."), std::string::npos) << md;
+    EXPECT_EQ(md.find("No shadow rays"), std::string::npos) << md;
+    EXPECT_NE(md.find("## Cheapest setting within 20 dB PSNR"), std::string::npos) << md;
+    EXPECT_EQ(rep.reference.rays.refraction, 0u);
+}
+
+TEST(ReportRun, SceneWithGlassAndLightsUsesEveryRayKind) {
+    const Scene sc = testing::edgeScene(true);
+    QualityReportOptions o = tinyOptions(testing::freshDir("report_run_glass"));
+    o.plot = false;
+    o.sweep.spp = {1};
+    o.sweep.depth = {5};
+    o.sweep.minWeight = {1e-3f};
+    const QualityReport rep = runQualityReport(sc, sc.settings, o);
+    EXPECT_TRUE(rep.rayNotes.empty());
+    EXPECT_GT(rep.reference.rays.refraction, 0u);
+    EXPECT_NE(readText(rep.summaryPath).find("The scene uses every ray kind."), std::string::npos);
+}
+
+std::string writeScene(const std::string& dir) {
+    const std::string path = dir + "/tiny.json";
+    std::ofstream(path) << R"({"camera": {"eye": [0, 2, -5], "target": [0, 0.5, 0]},
+      "render": {"width": 24, "height": 16},
+      "materials": {"m": {"color": [0.8, 0.3, 0.2]}},
+      "objects": [{"type": "sphere", "center": [0, 0.5, 0], "radius": 0.5, "material": "m"}]})";
+    return path;
+}
+
+TEST(ReportCli, RefusesBadOptionsBeforeRendering) {
+    const std::string dir = testing::freshDir("report_cli");
+    const std::string scene = writeScene(dir);
+    using cli::UsageError;
+    EXPECT_THROW(cli::runReport({scene}), UsageError);  // no --out
+    EXPECT_THROW(cli::runReport({scene, "--out", dir, "--sweep-spp", "1,3"}), UsageError);
+    EXPECT_THROW(cli::runReport({scene, "--out", dir, "--sweep-depth", "0"}), UsageError);
+    EXPECT_THROW(cli::runReport({scene, "--out", dir, "--sweep-min-weight", "x"}), UsageError);
+    EXPECT_THROW(cli::runReport({scene, "--out", dir, "--grid", "half"}), UsageError);
+    EXPECT_THROW(cli::runReport({scene, "--out", dir, "--ref-spp", "10"}), UsageError);
+    EXPECT_THROW(cli::runReport({scene, "--out", dir, "--frame", "1"}), UsageError);  // one frame only
+    EXPECT_THROW(cli::runReport({scene, "--out", dir, "--target-psnr", "nan"}), UsageError);
+    EXPECT_THROW(cli::runReport({"--stability", scene, "--out", dir}), UsageError);
+    EXPECT_FALSE(std::filesystem::exists(dir + "/report.csv"));
+}
+
+TEST(ReportCli, RunsEndToEndOnASceneFile) {
+    const std::string dir = testing::freshDir("report_cli_run");
+    const std::string scene = writeScene(dir);
+    const std::string out = dir + "/out";
+    EXPECT_EQ(cli::runReport({scene, "--out", out, "--sweep-spp", "1,4", "--sweep-depth", "1,2", "--sweep-min-weight",
+                              "0", "--ref-spp", "16", "--threads", "1"}),
+              0);
+    const auto csv = readCsv(out + "/report.csv");
+    // Base (scene default 1 spp, depth 5, 1e-3) + 2 + 2 + 1 − 1 (base on the spp line).
+    EXPECT_EQ(csv.size(), 2u + 5u);
+    const std::string md = readText(out + "/summary.md");
+    EXPECT_NE(md.find("No shadow rays: the scene has no lights"), std::string::npos) << md;
+    EXPECT_NE(md.find("No reflection rays: no material reflects"), std::string::npos) << md;
+}
+
+}  // namespace
+}  // namespace rf::report

@@ -1,0 +1,109 @@
+// The quality sweep: which settings, Pareto marking, and error against a real reference render.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "image.h"
+#include "report_sweep.h"
+#include "report_test_scene.h"
+
+namespace rf::report {
+namespace {
+
+TEST(ReportSweep, OneFactorAtATimeHasEachValueOnceAroundTheBase) {
+    SweepSpec spec;  // spp 1,4,16,64; depth 1..8; min weight 0,1e-3,1e-2,0.1
+    spec.base = {1, 5, 1e-3f};
+    const auto pts = makeSweep(spec);
+    // The base lies on all three lines, so it is shared: 4 + 8 + 4 − 2.
+    EXPECT_EQ(pts.size(), 14u);
+    EXPECT_EQ(pts[0].q, spec.base);
+    for (size_t i = 0; i < pts.size(); ++i)
+        for (size_t j = i + 1; j < pts.size(); ++j) EXPECT_FALSE(pts[i].q == pts[j].q) << i << " " << j;
+    // Every non-base point differs from the base in exactly one knob.
+    for (const SweepPoint& p : pts) {
+        const int diff = (p.q.spp != 1) + (p.q.maxDepth != 5) + (p.q.minWeight != 1e-3f);
+        EXPECT_LE(diff, 1) << describe(p.q);
+    }
+}
+
+TEST(ReportSweep, BaseOutsideTheListsIsAddedOnce) {
+    SweepSpec spec;
+    spec.base = {9, 12, 0.5f};
+    EXPECT_EQ(makeSweep(spec).size(), 1u + 4 + 8 + 4);
+}
+
+TEST(ReportSweep, FullGridHasEveryCombination) {
+    SweepSpec spec;
+    spec.kind = SweepKind::FullGrid;
+    spec.base = {1, 5, 1e-3f};
+    EXPECT_EQ(makeSweep(spec).size(), 4u * 8 * 4);
+}
+
+SweepRow row(double s, double rmse) {
+    SweepRow r;
+    r.seconds = s;
+    r.error.rmse = rmse;
+    return r;
+}
+
+TEST(ReportSweep, ParetoFrontKeepsOnlyUndominatedRows) {
+    std::vector<SweepRow> rows = {row(1, 0.1), row(2, 0.05), row(2, 0.2), row(3, 0.05), row(4, 0.01), row(0.5, 0.3)};
+    markPareto(rows);
+    const bool expect[] = {true, true, false, false, true, true};
+    for (size_t i = 0; i < rows.size(); ++i) EXPECT_EQ(rows[i].pareto, expect[i]) << i;
+}
+
+TEST(ReportSweep, EqualRowsAreBothOnTheFront) {
+    std::vector<SweepRow> rows = {row(1, 0.1), row(1, 0.1)};
+    markPareto(rows);
+    EXPECT_TRUE(rows[0].pareto && rows[1].pareto);
+}
+
+TEST(ReportSweep, ErrorShrinksAsSamplesGrowOnASceneWithEdges) {
+    const Scene sc = testing::edgeScene(false);
+    RenderSettings s = sc.settings;
+    const TimedRender ref = renderTimed(sc, withQuality(s, {256, 8, 0.f}), 0, 2, 0.0, 1);
+    const auto ref8 = toRgb8(ref.image, s.toneMap);
+    SweepSpec spec;
+    spec.spp = {1, 4, 16, 64};
+    spec.depth = {8};
+    spec.minWeight = {0.f};
+    spec.base = {1, 8, 0.f};
+    const auto rows = runSweep(sc, s, spec, ref8, 0, 2);
+    ASSERT_EQ(rows.size(), 4u);
+    for (size_t i = 0; i + 1 < rows.size(); ++i) {
+        EXPECT_LT(rows[i + 1].error.rmse, rows[i].error.rmse) << describe(rows[i + 1].q);
+        EXPECT_GT(rows[i + 1].error.ssim, rows[i].error.ssim) << describe(rows[i + 1].q);
+        EXPECT_EQ(rows[i + 1].rays.primary, 4 * rows[i].rays.primary);
+    }
+    EXPECT_GT(rows[0].error.rmse, 0.0);  // edges exist: one sample per pixel is not the reference
+}
+
+TEST(ReportSweep, TheReferenceSettingScoresInfinitePsnrAgainstTheReference) {
+    const Scene sc = testing::edgeScene(true);
+    RenderSettings s = sc.settings;
+    const QualitySetting refQ{16, 8, 0.f};
+    const TimedRender ref = renderTimed(sc, withQuality(s, refQ), 0, 2, 0.0, 1);
+    SweepSpec spec;
+    spec.spp = {16};
+    spec.depth = {8};
+    spec.minWeight = {0.f};
+    spec.base = refQ;
+    const auto rows = runSweep(sc, s, spec, toRgb8(ref.image, s.toneMap), 0, 2);
+    ASSERT_EQ(rows.size(), 1u);
+    EXPECT_EQ(rows[0].error.rmse, 0.0);
+    EXPECT_TRUE(std::isinf(rows[0].error.psnr));
+    EXPECT_DOUBLE_EQ(rows[0].error.ssim, 1.0);
+}
+
+TEST(ReportSweep, DepthOneTracesNoSecondaryRays) {
+    const Scene sc = testing::edgeScene(true);
+    const TimedRender r = renderTimed(sc, withQuality(sc.settings, {1, 1, 0.f}), 0, 1, 0.0, 1);
+    EXPECT_EQ(r.rays.primary, 48u * 32u);
+    EXPECT_EQ(r.rays.reflection, 0u);
+    EXPECT_EQ(r.rays.refraction, 0u);
+    EXPECT_EQ(r.repeats, 1);
+}
+
+}  // namespace
+}  // namespace rf::report
