@@ -30,7 +30,14 @@ public:
     /// Visits leaves front to back. leaf(prim, tMax) tests one primitive, lowers tMax on a hit
     /// and returns true if it hit. With anyHit the walk stops at the first hit.
     template <typename LeafFn>
-    bool traverse(const Ray& ray, float tMax, bool anyHit, LeafFn&& leaf) const;
+    bool traverse(const Ray& ray, float tMax, bool anyHit, LeafFn&& leaf) const {
+        return traverseSlots(ray, tMax, anyHit, [&](uint32_t slot, float& tm) { return leaf(primIndex_[slot], tm); });
+    }
+
+    /// As traverse, but leaf gets the slot (position in primIndex()) so callers can keep
+    /// primitive data in leaf order and read it without an indirection.
+    template <typename LeafFn>
+    bool traverseSlots(const Ray& ray, float tMax, bool anyHit, LeafFn&& leaf) const;
 
 private:
     struct BuildItem {
@@ -44,40 +51,60 @@ private:
 };
 
 template <typename LeafFn>
-bool Bvh::traverse(const Ray& ray, float tMax, bool anyHit, LeafFn&& leaf) const {
+bool Bvh::traverseSlots(const Ray& ray, float tMax, bool anyHit, LeafFn&& leaf) const {
     if (nodes_.empty()) return false;
     const RayBoxPrecomp pre(ray);
-    const bool dirNeg[3] = {ray.d.x < 0.f, ray.d.y < 0.f, ray.d.z < 0.f};
-    uint32_t stack[64];
+    float tRoot;
+    if (!intersectAabb(nodes_[0].box, pre, 0.f, tMax, tRoot)) return false;
+    // Both children are tested at their parent: the nearer is visited first, the farther waits
+    // on the stack with its entry distance and is dropped if a closer hit arrives meanwhile.
+    struct Entry {
+        uint32_t node;
+        float tEntry;
+    } stack[64];
     int sp = 0;
     uint32_t node = 0;
     bool hitAny = false;
     for (;;) {
         const BvhNode& n = nodes_[node];
-        float tEntry;
-        if (intersectAabb(n.box, pre, 0.f, tMax, tEntry)) {
-            if (n.count > 0) {
-                for (uint32_t i = 0; i < n.count; ++i) {
-                    if (leaf(primIndex_[n.offset + i], tMax)) {
-                        hitAny = true;
-                        if (anyHit) return true;
-                    }
+        if (n.count > 0) {
+            const uint32_t end = n.offset + n.count;
+            for (uint32_t i = n.offset; i < end; ++i) {
+                if (leaf(i, tMax)) {
+                    hitAny = true;
+                    if (anyHit) return true;
                 }
-                if (sp == 0) break;
-                node = stack[--sp];
-            } else if (dirNeg[n.axis]) {
-                stack[sp++] = node + 1;
-                node = n.offset;
-            } else {
-                stack[sp++] = n.offset;
-                node = node + 1;
             }
         } else {
-            if (sp == 0) break;
-            node = stack[--sp];
+            const uint32_t c0 = node + 1, c1 = n.offset;
+            float t0, t1;
+            const bool h0 = intersectAabb(nodes_[c0].box, pre, 0.f, tMax, t0);
+            const bool h1 = intersectAabb(nodes_[c1].box, pre, 0.f, tMax, t1);
+            if (h0 && h1) {
+                if (t1 < t0) {
+                    stack[sp++] = {c0, t0};
+                    node = c1;
+                } else {
+                    stack[sp++] = {c1, t1};
+                    node = c0;
+                }
+                continue;
+            }
+            if (h0 || h1) {
+                node = h0 ? c0 : c1;
+                continue;
+            }
+        }
+        // Pop the next subtree that can still hold a hit closer than tMax.
+        for (;;) {
+            if (sp == 0) return hitAny;
+            const Entry e = stack[--sp];
+            if (e.tEntry <= tMax * (1.f + 2.f * gamma(3))) {  // entry carries rounding too
+                node = e.node;
+                break;
+            }
         }
     }
-    return hitAny;
 }
 
 }  // namespace rf

@@ -30,13 +30,25 @@ inline float maxComponent(const Vec3& v) { return std::max(v.x, std::max(v.y, v.
 inline float luminanceMax(const Color& c) { return maxComponent(c); }
 inline bool isFinite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+/// The next float towards +inf (pbrt-v4's NextFloatUp: bit arithmetic, no libm call).
 inline float nextFloatUp(float v) {
     if (std::isinf(v) && v > 0.f) return v;
-    return std::nextafter(v == -0.f ? 0.f : v, kInf);
+    if (v == -0.f) v = 0.f;
+    uint32_t u;
+    std::memcpy(&u, &v, sizeof u);
+    u = (v >= 0.f) ? u + 1 : u - 1;
+    std::memcpy(&v, &u, sizeof u);
+    return v;
 }
+/// The next float towards −inf.
 inline float nextFloatDown(float v) {
     if (std::isinf(v) && v < 0.f) return v;
-    return std::nextafter(v == 0.f ? -0.f : v, -kInf);
+    if (v == 0.f) v = -0.f;
+    uint32_t u;
+    std::memcpy(&u, &v, sizeof u);
+    u = (v > 0.f) ? u - 1 : u + 1;
+    std::memcpy(&v, &u, sizeof u);
+    return v;
 }
 
 /// Orthonormal basis around a unit vector (Duff et al. 2017, branchless).

@@ -1,5 +1,7 @@
 #include "scene.h"
 
+#include <cstring>
+
 namespace rf {
 
 namespace {
@@ -23,11 +25,14 @@ void Scene::build() {
     triMesh_.clear();
     triLocal_.clear();
     meshMasked_.assign(meshes.size(), 0);
+    anyMasked_ = false;
     for (size_t m = 0; m < meshes.size(); ++m) {
         const TriangleMesh& mesh = meshes[m];
         const int mat = mesh.material;
-        if (mat >= 0 && mat < static_cast<int>(materials.size()) && materials[mat].alphaMode == AlphaMode::Mask)
+        if (mat >= 0 && mat < static_cast<int>(materials.size()) && materials[mat].alphaMode == AlphaMode::Mask) {
             meshMasked_[m] = 1;
+            anyMasked_ = true;
+        }
         for (size_t t = 0; t < mesh.triangleCount(); ++t) {
             for (int k = 0; k < 3; ++k) triVerts_.push_back(mesh.positions[mesh.indices[3 * t + k]]);
             triMesh_.push_back(static_cast<uint32_t>(m));
@@ -36,21 +41,46 @@ void Scene::build() {
     }
     const size_t nPrims = triMesh_.size() + spheres.size();
     useBvh_ = nPrims >= kBvhThreshold;
-    if (!useBvh_) {
+    if (useBvh_) {
+        std::vector<Aabb> boxes;
+        boxes.reserve(nPrims);
+        for (size_t t = 0; t < triMesh_.size(); ++t)
+            boxes.push_back(triangleBox(triVerts_[3 * t], triVerts_[3 * t + 1], triVerts_[3 * t + 2]));
+        for (const Sphere& s : spheres) boxes.push_back(sphereBox(s));
+        bvh_.build(boxes);
+        slotPrim_ = bvh_.primIndex();
+    } else {
         bvh_ = Bvh{};
-        return;
+        slotPrim_.resize(nPrims);
+        for (uint32_t i = 0; i < nPrims; ++i) slotPrim_[i] = i;
+        // Spare lanes get a negative reach: they never pass the pre-test.
+        for (size_t i = 0; i < kBvhThreshold; ++i) {
+            const bool used = i < spheres.size();
+            const Sphere s = used ? spheres[i] : Sphere{};
+            sphX_[i] = s.center.x;
+            sphY_[i] = s.center.y;
+            sphZ_[i] = s.center.z;
+            sphReach_[i] = used ? s.radius + 32.f * kMachineEps * (maxComponent(glm::abs(s.center)) + s.radius) : -kInf;
+        }
     }
-    std::vector<Aabb> boxes;
-    boxes.reserve(nPrims);
-    for (size_t t = 0; t < triMesh_.size(); ++t) boxes.push_back(triangleBox(triVerts_[3 * t], triVerts_[3 * t + 1], triVerts_[3 * t + 2]));
-    for (const Sphere& s : spheres) boxes.push_back(sphereBox(s));
-    bvh_.build(boxes);
+    fillSlotData();
+}
+
+void Scene::fillSlotData() {
+    const uint32_t nTri = static_cast<uint32_t>(triMesh_.size());
+    slotVerts_.assign(3 * slotPrim_.size(), Vec3(0.f));
+    for (size_t i = 0; i < slotPrim_.size(); ++i) {
+        const uint32_t p = slotPrim_[i];
+        if (p >= nTri) continue;
+        for (int k = 0; k < 3; ++k) slotVerts_[3 * i + k] = triVerts_[3 * p + k];
+    }
 }
 
 void Scene::refit() {
     size_t t = 0;
     for (const TriangleMesh& mesh : meshes)
         for (size_t i = 0; i < mesh.indices.size(); ++i) triVerts_[t++] = mesh.positions[mesh.indices[i]];
+    fillSlotData();
     if (!useBvh_) return;
     std::vector<Aabb> boxes;
     boxes.reserve(triMesh_.size() + spheres.size());
@@ -101,13 +131,13 @@ bool Scene::triangleAlphaPasses(uint32_t tri, const TriangleHit& h) const {
     return alpha >= mat.alphaCutoff;
 }
 
-bool Scene::intersectPrim(uint32_t prim, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit) const {
-    const uint32_t nTri = static_cast<uint32_t>(triMesh_.size());
-    if (prim < nTri) {
+bool Scene::intersectSlot(uint32_t slot, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit) const {
+    const uint32_t prim = slotPrim_[slot];
+    if (prim < triMesh_.size()) {
         TriangleHit th;
-        if (!intersectTriangleWatertight(wr, triVerts_[3 * prim], triVerts_[3 * prim + 1], triVerts_[3 * prim + 2], tMax, th))
-            return false;
-        if (meshMasked_[triMesh_[prim]] && !triangleAlphaPasses(prim, th)) return false;
+        const Vec3* v = &slotVerts_[3 * slot];
+        if (!intersectTriangleWatertight(wr, v[0], v[1], v[2], tMax, th)) return false;
+        if (anyMasked_ && meshMasked_[triMesh_[prim]] && !triangleAlphaPasses(prim, th)) return false;
         tMax = th.t;
         hit.t = th.t;
         hit.prim = prim;
@@ -116,7 +146,7 @@ bool Scene::intersectPrim(uint32_t prim, const Ray& r, const WatertightRay& wr, 
     }
     float t;
     Vec3 rel;
-    if (!intersectSphere(spheres[prim - nTri], r, 0.f, tMax, t, &rel)) return false;
+    if (!intersectSphere(spheres[prim - triMesh_.size()], r, 0.f, tMax, t, &rel)) return false;
     tMax = t;
     hit.t = t;
     hit.prim = prim;
@@ -124,52 +154,119 @@ bool Scene::intersectPrim(uint32_t prim, const Ray& r, const WatertightRay& wr, 
     return true;
 }
 
-bool Scene::intersect(const Ray& r, Hit& hit) const {
+uint32_t Scene::sphereCandidates(const Ray& r, float tMax) const {
+    // The float test of sphereMayHit for all lanes at once, without branches or divisions
+    // (a·v = a·f − b·d). GCC/Clang vector extensions: SSE2 on any x86-64, NEON elsewhere.
+    typedef float F4 __attribute__((vector_size(16)));
+    typedef int I4 __attribute__((vector_size(16)));
+    static_assert(kBvhThreshold == 8, "two lanes of four");
+    const float a = glm::dot(r.d, r.d);
+    const float oErr = 32.f * kMachineEps * maxComponent(glm::abs(r.o));
+    const F4 ox = {r.o.x, r.o.x, r.o.x, r.o.x}, oy = {r.o.y, r.o.y, r.o.y, r.o.y}, oz = {r.o.z, r.o.z, r.o.z, r.o.z};
+    const F4 dx = {r.d.x, r.d.x, r.d.x, r.d.x}, dy = {r.d.y, r.d.y, r.d.y, r.d.y}, dz = {r.d.z, r.d.z, r.d.z, r.d.z};
+    const F4 av = {a, a, a, a}, errv = {oErr, oErr, oErr, oErr}, zero = {0.f, 0.f, 0.f, 0.f};
+    // Entry no earlier than (|f| − reach)/|d|: |f| > reach + tMax·|d| cannot hit before tMax.
+    const float far = tMax * std::sqrt(a) * (1.f + 1e-5f);
+    const F4 farv = {far, far, far, far};
+    uint32_t mask = 0;
+    for (int h = 0; h < 2; ++h) {
+        F4 cx, cy, cz, rr;
+        std::memcpy(&cx, sphX_ + 4 * h, sizeof cx);
+        std::memcpy(&cy, sphY_ + 4 * h, sizeof cy);
+        std::memcpy(&cz, sphZ_ + 4 * h, sizeof cz);
+        std::memcpy(&rr, sphReach_ + 4 * h, sizeof rr);
+        const F4 fx = ox - cx, fy = oy - cy, fz = oz - cz;
+        const F4 b = fx * dx + fy * dy + fz * dz;
+        const F4 vx = av * fx - b * dx, vy = av * fy - b * dy, vz = av * fz - b * dz;
+        const F4 reach = rr + errv;
+        const F4 reach2 = reach * reach;
+        const F4 f2 = fx * fx + fy * fy + fz * fz;
+        const I4 beside = (vx * vx + vy * vy + vz * vz) > av * av * reach2;
+        const F4 farReach = reach + farv;
+        const I4 away = ((f2 > reach2) & (b > zero)) | (f2 > farReach * farReach);
+        const I4 pass = ~(beside | away) & (reach > zero);
+        for (int i = 0; i < 4; ++i) mask |= uint32_t(pass[i] & 1) << (4 * h + i);
+    }
+    return mask;
+}
+
+bool Scene::intersect(const Ray& r, Hit& hit, uint32_t skip) const {
     float tMax = r.tMax;
     bool found = false;
-    const WatertightRay wr(r);
-    if (useBvh_) {
-        found = bvh_.traverse(r, tMax, false, [&](uint32_t prim, float& tm) {
-            if (!intersectPrim(prim, r, wr, tm, hit)) return false;
-            tMax = tm;
-            return true;
-        });
-    } else {
-        const uint32_t n = static_cast<uint32_t>(triMesh_.size() + spheres.size());
-        for (uint32_t p = 0; p < n; ++p) found |= intersectPrim(p, r, wr, tMax, hit);
-    }
+    const uint32_t nTri = static_cast<uint32_t>(triMesh_.size());
     const uint32_t base = static_cast<uint32_t>(triMesh_.size() + spheres.size());
+    // Planes first: their hit bounds tMax cheaply for the sphere pre-test.
     for (size_t i = 0; i < planes.size(); ++i) {
         float t;
-        if (intersectPlane(planes[i], r, 0.f, tMax, t)) {
+        const uint32_t id = base + static_cast<uint32_t>(i);
+        if (id != skip && intersectPlane(planes[i], r, 0.f, tMax, t)) {
             tMax = t;
             hit.t = t;
-            hit.prim = base + static_cast<uint32_t>(i);
+            hit.prim = id;
+            found = true;
+        }
+    }
+    const WatertightRay wr = nTri ? WatertightRay(r) : WatertightRay();
+    if (useBvh_) {
+        found |= bvh_.traverseSlots(r, tMax, false, [&](uint32_t slot, float& tm) {
+            return slotPrim_[slot] != skip && intersectSlot(slot, r, wr, tm, hit);
+        });
+    } else {
+        for (uint32_t p = 0; p < nTri; ++p) found |= intersectSlot(p, r, wr, tMax, hit);
+        uint32_t m = spheres.empty() ? 0 : sphereCandidates(r, tMax);
+        if (skip >= nTri && skip < base) m &= ~(1u << (skip - nTri));
+        for (; m; m &= m - 1) {
+            const uint32_t i = static_cast<uint32_t>(__builtin_ctz(m));
+            float t;
+            Vec3 rel;
+            if (!intersectSphereExact(spheres[i], r, 0.f, tMax, t, &rel)) continue;
+            tMax = t;
+            hit.t = t;
+            hit.prim = nTri + i;
+            hit.sphereRel = rel;
             found = true;
         }
     }
     return found;
 }
 
-bool Scene::occluded(const Ray& r, float tMax) const {
-    for (const Plane& pl : planes) {
+bool Scene::occluded(const Ray& r, float tMax, uint32_t skip) const {
+    const uint32_t nTri = static_cast<uint32_t>(triMesh_.size());
+    const uint32_t base = static_cast<uint32_t>(triMesh_.size() + spheres.size());
+    for (size_t i = 0; i < planes.size(); ++i) {
         float t;
-        if (intersectPlane(pl, r, 0.f, tMax, t)) return true;
+        if (base + i != skip && intersectPlane(planes[i], r, 0.f, tMax, t)) return true;
     }
-    const WatertightRay wr(r);
+    const WatertightRay wr = nTri ? WatertightRay(r) : WatertightRay();
     Hit scratch;
-    if (useBvh_) {
-        return bvh_.traverse(r, tMax, true, [&](uint32_t prim, float& tm) { return intersectPrim(prim, r, wr, tm, scratch); });
-    }
+    if (useBvh_)
+        return bvh_.traverseSlots(r, tMax, true, [&](uint32_t slot, float& tm) {
+            return slotPrim_[slot] != skip && intersectSlot(slot, r, wr, tm, scratch);
+        });
     float tm = tMax;
-    const uint32_t n = static_cast<uint32_t>(triMesh_.size() + spheres.size());
-    for (uint32_t p = 0; p < n; ++p)
-        if (intersectPrim(p, r, wr, tm, scratch)) return true;
+    for (uint32_t p = 0; p < nTri; ++p)
+        if (intersectSlot(p, r, wr, tm, scratch)) return true;
+    uint32_t m = spheres.empty() ? 0 : sphereCandidates(r, tMax);
+    if (skip >= nTri && skip < base) m &= ~(1u << (skip - nTri));
+    for (; m; m &= m - 1) {
+        float t;
+        if (intersectSphereExact(spheres[__builtin_ctz(m)], r, 0.f, tMax, t)) return true;
+    }
     return false;
+}
+
+uint32_t Scene::skipFor(const SurfaceInteraction& si, const Vec3& dir) const {
+    const uint32_t nTri = static_cast<uint32_t>(triMesh_.size());
+    const uint32_t base = nTri + static_cast<uint32_t>(spheres.size());
+    if (si.prim >= base && si.prim < base + planes.size()) return si.prim;
+    // si.ng of a sphere is its outward normal: a ray leaving outwards cannot come back.
+    if (si.prim >= nTri && si.prim < base && glm::dot(dir, si.ng) > 0.f) return si.prim;
+    return kNoPrim;
 }
 
 SurfaceInteraction Scene::interaction(const Ray& r, const Hit& hit) const {
     SurfaceInteraction si;
+    si.prim = hit.prim;
     const uint32_t nTri = static_cast<uint32_t>(triMesh_.size());
     const uint32_t nSph = static_cast<uint32_t>(spheres.size());
     if (hit.prim < nTri) {

@@ -37,6 +37,7 @@ struct SurfaceInteraction {
     int material = 0;
     int mesh = -1;
     uint32_t tri = 0;
+    uint32_t prim = ~0u;  ///< primitive id (Hit::prim)
     TriangleHit bary;
 };
 
@@ -59,8 +60,8 @@ public:
     std::vector<TriangleMesh> meshes;
     std::vector<Texture> textures;
     std::vector<SceneGraph> models;
-    Color background{0.f};
     std::vector<Camera> gltfCameras;  ///< perspective cameras of glTF models, selectable as the render camera
+    Color background{0.f};
     Color ambientLight{1.f};  ///< I_amb of the seed's model
     RenderSettings settings;  ///< defaults from the scene file; the CLI may override
     DVec3 renderOrigin{0.0};
@@ -76,9 +77,14 @@ public:
     void applyNodeTransforms(int model, const std::vector<DMat4>& renderFromNode,
                              const std::vector<std::vector<double>>& morphWeights = {});
 
-    bool intersect(const Ray& r, Hit& hit) const;
+    /// Closest hit in (0, r.tMax). skip: a convex primitive (sphere, plane) the ray leaves on
+    /// its outer side, which it cannot meet again and so is not tested (see skipFor).
+    bool intersect(const Ray& r, Hit& hit, uint32_t skip = kNoPrim) const;
     /// Any hit in (0, tMax): the shadow-ray query.
-    bool occluded(const Ray& r, float tMax) const;
+    bool occluded(const Ray& r, float tMax, uint32_t skip = kNoPrim) const;
+    /// The primitive a ray spawned at si in direction dir may skip: si's own sphere when dir
+    /// points out of it, si's plane always; kNoPrim otherwise (triangles, rays entering).
+    uint32_t skipFor(const SurfaceInteraction& si, const Vec3& dir) const;
     SurfaceInteraction interaction(const Ray& r, const Hit& hit) const;
 
     Aabb bounds() const;  ///< bounds of spheres and meshes (planes are infinite)
@@ -89,10 +95,14 @@ public:
 
     /// Below this many bounded primitives, brute force beats building a BVH.
     static constexpr size_t kBvhThreshold = 8;
+    static constexpr uint32_t kNoPrim = ~0u;
 
 private:
-    bool intersectPrim(uint32_t prim, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit) const;
+    bool intersectSlot(uint32_t slot, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit) const;
     bool triangleAlphaPasses(uint32_t tri, const TriangleHit& h) const;
+    /// Brute-force mode: bit i set if sphere i may be hit (a branch-free, vectorisable pre-test).
+    uint32_t sphereCandidates(const Ray& r, float tMax) const;
+    void fillSlotData();
 
     Bvh bvh_;
     bool useBvh_ = false;
@@ -100,6 +110,14 @@ private:
     std::vector<uint32_t> triMesh_;  ///< mesh of each triangle
     std::vector<uint32_t> triLocal_; ///< triangle index within its mesh
     std::vector<uint8_t> meshMasked_; ///< mesh needs an alpha test during traversal
+    bool anyMasked_ = false;
+    /// Primitive data in BVH leaf order (identity order without a BVH), so traversal reads
+    /// leaves contiguously: the primitive id and, for triangles, the three vertices.
+    std::vector<uint32_t> slotPrim_;
+    std::vector<Vec3> slotVerts_;
+    /// Brute-force sphere pre-test, structure of arrays padded to kBvhThreshold lanes.
+    float sphX_[kBvhThreshold] = {}, sphY_[kBvhThreshold] = {}, sphZ_[kBvhThreshold] = {};
+    float sphReach_[kBvhThreshold] = {};  ///< radius plus its centre's share of the float error
 };
 
 }  // namespace rf

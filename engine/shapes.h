@@ -22,6 +22,12 @@ struct Plane {
 /// the origin is far away (Haines et al., Ray Tracing Gems ch. 7).
 bool intersectSphere(const Sphere& s, const Ray& r, float tMin, float tMax, float& t, Vec3* pRel = nullptr);
 
+/// intersectSphere without the float pre-test, for callers that have filtered already.
+bool intersectSphereExact(const Sphere& s, const Ray& r, float tMin, float tMax, float& t, Vec3* pRel = nullptr);
+
+/// Conservative float pre-test: false only if the ray certainly misses in (0, tMax).
+bool sphereMayHit(const Sphere& s, const Ray& r, float tMax);
+
 /// Textbook quadratic (the seed's form), kept to show what the stable version fixes.
 bool intersectSphereNaive(const Sphere& s, const Ray& r, float tMin, float tMax, float& t);
 

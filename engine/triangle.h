@@ -24,6 +24,7 @@ struct WatertightRay {
     Vec3 o;
     int kx = 0, ky = 1, kz = 2;
     float sx = 0.f, sy = 0.f, sz = 1.f;
+    WatertightRay() = default;
     explicit WatertightRay(const Ray& r);
 };
 

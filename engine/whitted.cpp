@@ -119,7 +119,7 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
             // Shorten the far end relatively, so a light lying on a surface still lights it.
             const float tMax = std::isinf(dist) ? kInf : glm::length(L.position - sr.o) * (1.f - 1e-4f);
             ++stats.shadow;
-            if (scene_.occluded(sr, tMax)) continue;
+            if (scene_.occluded(sr, tMax, scene_.skipFor(si, Ldir))) continue;
         }
         float spec = 0.f;
         if (m.specular > 0.f) {
@@ -138,9 +138,9 @@ Color WhittedTracer::tracePrimary(const Ray& r, RayStats& stats) const {
     return trace(r, 1, Color(1.f), stats);
 }
 
-Color WhittedTracer::trace(const Ray& r, int depth, const Color& weight, RayStats& stats) const {
+Color WhittedTracer::trace(const Ray& r, int depth, const Color& weight, RayStats& stats, uint32_t skip) const {
     Hit hit;
-    if (!scene_.intersect(r, hit)) return scene_.background;
+    if (!scene_.intersect(r, hit, skip)) return scene_.background;
     const SurfaceInteraction si = scene_.interaction(r, hit);
     Color c = shade(si, r.d, stats);
     if (depth >= settings_.maxDepth) return c;
@@ -169,7 +169,7 @@ Color WhittedTracer::trace(const Ray& r, int depth, const Color& weight, RayStat
             rr.o = offsetRayOrigin(si.p, si.pError, ng, dir);
             rr.d = dir;
             ++stats.reflection;
-            c += kr * trace(rr, depth + 1, w, stats);
+            c += kr * trace(rr, depth + 1, w, stats, scene_.skipFor(si, dir));
         }
     }
     if (kt > 0.f) {
@@ -180,7 +180,7 @@ Color WhittedTracer::trace(const Ray& r, int depth, const Color& weight, RayStat
             tr.o = offsetRayOrigin(si.p, si.pError, ng, refrDir);
             tr.d = refrDir;
             ++stats.refraction;
-            c += kt * filter * trace(tr, depth + 1, w, stats);
+            c += kt * filter * trace(tr, depth + 1, w, stats, scene_.skipFor(si, refrDir));
         }
     }
     return c;

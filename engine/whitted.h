@@ -21,7 +21,7 @@ public:
     Color baseColor(const SurfaceInteraction& si, float* alpha = nullptr) const;
 
 private:
-    Color trace(const Ray& r, int depth, const Color& weight, RayStats& stats) const;
+    Color trace(const Ray& r, int depth, const Color& weight, RayStats& stats, uint32_t skip = Scene::kNoPrim) const;
 
     const Scene& scene_;
     RenderSettings settings_;
