@@ -137,6 +137,25 @@ void GltfAnimationPlayer::apply(Scene& scene, double t) const {
     scene.applyNodeTransforms(model_, renderFromNode, weights);
 }
 
+void GltfAnimationPlayer::growPosedBounds(const Scene& scene, double t, Aabb& b) const {
+    if (model_ < 0 || model_ >= static_cast<int>(scene.models.size())) return;
+    std::vector<DMat4> renderFromNode;
+    std::vector<std::vector<double>> weights;
+    pose(scene.models[model_], t, renderFromNode, weights);
+    for (const TriangleMesh& mesh : scene.meshes) {
+        if (mesh.model != model_ || mesh.node < 0 || mesh.node >= static_cast<int>(renderFromNode.size())) continue;
+        const DMat4& m = renderFromNode[mesh.node];
+        const std::vector<double>& w = weights[mesh.node];
+        for (size_t i = 0; i < mesh.objectPositions.size(); ++i) {
+            DVec3 p(mesh.objectPositions[i]);
+            for (size_t k = 0; k < w.size() && k < mesh.morphPositions.size(); ++k)
+                if (!mesh.morphPositions[k].empty()) p += w[k] * DVec3(mesh.morphPositions[k][i]);
+            const Vec3 q(DVec3(m * glm::dvec4(p, 1.0)));
+            if (isFinite(q)) b.grow(q);
+        }
+    }
+}
+
 int findAnimation(const SceneGraph& g, const std::string& name) {
     for (size_t i = 0; i < g.animations.size(); ++i)
         if (g.animations[i].name == name) return static_cast<int>(i);

@@ -39,6 +39,9 @@ public:
               std::vector<std::vector<double>>& weights) const;
     /// Poses the model at t and moves its meshes (re-transform and BVH refit).
     void apply(Scene& scene, double t) const;
+    /// Grows b (render space) by the model's animated meshes as posed at t, leaving the scene
+    /// untouched: for framing a film on where the model goes, not only where it rests.
+    void growPosedBounds(const Scene& scene, double t, Aabb& b) const;
 
 private:
     struct Channel {

@@ -70,8 +70,8 @@ Timeline Timeline::fromScene(const Scene& scene) {
     } else if (isGltfPath(scene.sourcePath)) {
         p.spec.restLights = scene.lights;
         const TurntableSettings s = defaultModelTurntable();
-        p.spec.turntable = Turntable::framed(s, scene);
         p.spec.players = defaultPlayers(scene);
+        p.spec.turntable = Turntable::framed(s, scene, filmBounds(scene, p.spec.players, anim::frameCount(s.seconds, s.fps), s.fps));
         p.frames = p.spec.turntable->frameCount();
         p.fps = s.fps;
     } else {

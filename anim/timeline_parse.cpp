@@ -313,6 +313,17 @@ std::vector<GltfAnimationPlayer> defaultPlayers(const Scene& scene) {
     return players;
 }
 
+Aabb filmBounds(const Scene& scene, const std::vector<GltfAnimationPlayer>& players, int frames, double fps) {
+    Aabb b = scene.bounds();
+    if (players.empty()) return b;
+    const int samples = std::min(frames, 256);
+    for (int i = 0; i < samples; ++i) {
+        const long long f = samples == frames ? i : static_cast<long long>(double(i) * (frames - 1) / (samples - 1));
+        for (const GltfAnimationPlayer& p : players) p.growPosedBounds(scene, anim::frameTime(0.0, fps, f), b);
+    }
+    return b;
+}
+
 ParsedTimeline parseTimeline(const Scene& scene) {
     ParsedTimeline out;
     out.spec.restLights = scene.lights;
@@ -329,8 +340,8 @@ ParsedTimeline parseTimeline(const Scene& scene) {
     if (root.contains("turntable")) {
         const Parser p(scene.sourcePath, "", scene);
         const TurntableSettings s = p.turntable(root["turntable"], "turntable");
-        out.spec.turntable = Turntable::framed(s, scene);
         out.spec.players = p.animations(root["turntable"], "turntable");
+        out.spec.turntable = Turntable::framed(s, scene, filmBounds(scene, out.spec.players, anim::frameCount(s.seconds, s.fps), s.fps));
         out.frames = out.spec.turntable->frameCount();
         out.fps = s.fps;
         return out;

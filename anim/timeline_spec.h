@@ -55,6 +55,10 @@ TurntableSettings defaultModelTurntable();
 /// the file and the key.
 ParsedTimeline parseTimeline(const Scene& scene);
 
+/// The scene's bounds grown by where the players move the animated meshes over a film of
+/// `frames` frames at `fps` (sampled at up to 256 of its frames).
+Aabb filmBounds(const Scene& scene, const std::vector<GltfAnimationPlayer>& players, int frames, double fps);
+
 /// Every model with animations plays its first one, looped.
 std::vector<GltfAnimationPlayer> defaultPlayers(const Scene& scene);
 

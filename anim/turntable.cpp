@@ -17,7 +17,7 @@ DVec3 yawAbout(const DVec3& p, const DVec3& c, double yaw) {
 }
 }  // namespace
 
-Turntable Turntable::framed(const TurntableSettings& s, const Scene& scene) {
+Turntable Turntable::framed(const TurntableSettings& s, const Scene& scene, const Aabb& b) {
     Turntable t;
     t.fps_ = s.fps;
     t.frames_ = anim::frameCount(s.seconds, s.fps);
@@ -26,7 +26,6 @@ Turntable Turntable::framed(const TurntableSettings& s, const Scene& scene) {
     t.lightsFollow_ = s.lightsFollow;
     if (s.fovDeg) t.fov_ = static_cast<float>(*s.fovDeg);
 
-    const Aabb b = scene.bounds();
     const DVec3 camTarget(scene.camera.target), camEye(scene.camera.eye);
     double radius;
     if (!b.empty()) {

@@ -26,7 +26,9 @@ public:
     /// Frames the orbit on scene.bounds() (render space) with the scene camera's field of view
     /// and the render settings' aspect ratio. Falls back to the camera's target and distance
     /// when the scene has no bounded geometry.
-    static Turntable framed(const TurntableSettings& s, const Scene& scene);
+    static Turntable framed(const TurntableSettings& s, const Scene& scene) { return framed(s, scene, scene.bounds()); }
+    /// The same, framed on the given bounds (render space), e.g. those an animation sweeps.
+    static Turntable framed(const TurntableSettings& s, const Scene& scene, const Aabb& bounds);
 
     int frameCount() const { return frames_; }
     double fps() const { return fps_; }

@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
+#include "camera.h"
 #include "errors.h"
 #include "file_source.h"
 #include "gltf_animation.h"
@@ -178,6 +179,25 @@ TEST(AnimatedNodeGltf, NodeTransformsMatchTheHandComputedPoses) {
     EXPECT_NEAR(glm::length(DVec3(m[1][0])), 1.0, 1e-6);
     p.pose(s.models[0], 1.0, m, w);
     EXPECT_NEAR(glm::length(DVec3(m[1][0])), 2.0, 1e-6);
+}
+
+// The default turntable frames the bounds the animation sweeps, not only the rest pose: the
+// cube stays in the picture while it travels to x = 4 and back.
+TEST(AnimatedNodeGltf, DefaultTurntableKeepsTheMovingModelInView) {
+    LOAD_OR_SKIP(s, sourceFile("scenes/animated_node.gltf"));
+    const Timeline tl = Timeline::fromScene(s);
+    for (int f = 0; f < tl.frameCount(); f += 5) {
+        tl.applyFrame(s, f);
+        const CameraRays cam(s.camera, s.settings.width, s.settings.height);
+        for (const TriangleMesh& m : s.meshes)
+            for (const Vec3& p : m.positions) {
+                const Vec3 d = p - cam.origin;
+                const float z = glm::dot(d, cam.basis.forward);
+                ASSERT_GT(z, 0.f) << "frame " << f << ": a vertex is behind the camera";
+                EXPECT_LE(std::abs(glm::dot(d, cam.basis.right) / z), std::abs(cam.tanHalfX)) << "frame " << f;
+                EXPECT_LE(std::abs(glm::dot(d, cam.basis.up) / z), std::abs(cam.tanHalfY)) << "frame " << f;
+            }
+    }
 }
 
 TEST(AnimatedNodeGltf, AnimationSelectedByNameClampsAndRefitsTheBvh) {
