@@ -11,12 +11,6 @@ namespace rf::anim {
 
 namespace {
 
-bool isGltfPath(const std::string& path) {
-    std::string e = std::filesystem::path(path).extension().string();
-    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return e == ".gltf" || e == ".glb";
-}
-
 void applyCamera(const CameraTracks& c, Scene& scene, double t) {
     if (!c.any()) return;
     Camera& cam = scene.camera;
@@ -62,12 +56,18 @@ void applyLight(const LightTracks& lt, const Light& rest, Light& l, double t) {
 
 }  // namespace
 
+bool isModelPath(const std::string& path) {
+    std::string e = std::filesystem::path(path).extension().string();
+    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return e == ".gltf" || e == ".glb";
+}
+
 Timeline Timeline::fromScene(const Scene& scene) {
     Timeline tl;
     ParsedTimeline p;
     if (!scene.timelineJson.empty()) {
         p = parseTimeline(scene);
-    } else if (isGltfPath(scene.sourcePath)) {
+    } else if (isModelPath(scene.sourcePath)) {
         p.spec.restLights = scene.lights;
         const TurntableSettings s = defaultModelTurntable();
         p.spec.players = defaultPlayers(scene);

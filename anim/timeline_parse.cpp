@@ -263,7 +263,8 @@ public:
 
     TurntableSettings turntable(const json& j, const std::string& w) const {
         allowKeys(j, w, {"seconds", "fps", "elevation", "distance", "lights", "center", "start_yaw", "fov", "animation", "comment"});
-        TurntableSettings s;
+        // A bare model's rig is placed for its camera, so there lights follow it by default.
+        TurntableSettings s = isModelPath(scene_.sourcePath) ? defaultModelTurntable() : TurntableSettings{};
         s.seconds = positive(j, "seconds", w, s.seconds);
         s.fps = positive(j, "fps", w, s.fps);
         s.elevationDeg = number(j, "elevation", w, s.elevationDeg);

@@ -200,6 +200,23 @@ TEST(AnimatedNodeGltf, DefaultTurntableKeepsTheMovingModelInView) {
     }
 }
 
+// `rayfarm render --fps` writes {"turntable": {"fps": N}} into a bare model's timeline: that
+// must be the default turntable at another rate, not a different preset.
+TEST(AnimatedNodeGltf, ExplicitTurntableOnABareModelKeepsTheModelDefaults) {
+    LOAD_OR_SKIP(s, sourceFile("scenes/animated_node.gltf"));
+    ASSERT_FALSE(s.lights.empty());
+    Scene a = s, b = s;
+    b.timelineJson = R"({"turntable": {"fps": 30}})";
+    const Timeline ta = Timeline::fromScene(a), tb = Timeline::fromScene(b);
+    ASSERT_EQ(ta.frameCount(), tb.frameCount());
+    ta.applyFrame(a, 10);
+    tb.applyFrame(b, 10);
+    EXPECT_EQ(a.camera.eye, b.camera.eye);
+    for (size_t i = 0; i < a.lights.size(); ++i) EXPECT_EQ(a.lights[i].position, b.lights[i].position) << "light " << i;
+    // And the lights did follow the camera (they moved from their loaded place).
+    EXPECT_NE(a.lights[0].position, s.lights[0].position);
+}
+
 TEST(AnimatedNodeGltf, AnimationSelectedByNameClampsAndRefitsTheBvh) {
     const std::string dir = std::string(RAYFARM_TEST_OUT) + "/anim";
     std::filesystem::create_directories(dir);
