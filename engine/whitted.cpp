@@ -9,7 +9,9 @@ namespace {
 /// Hanika 2021, "Hacking the shadow terminator": move the shadow-ray origin of a smooth-shaded
 /// triangle towards the surface its vertex normals describe, so faces turned to the light are
 /// not shadowed by their own flat neighbours.
-Vec3 terminatorSafeOrigin(const Scene& scene, const SurfaceInteraction& si) {
+/// side = −1 when the surface is seen from behind: the vertex normals are flipped with it, so the
+/// point moves towards the viewer's side, never through the surface.
+Vec3 terminatorSafeOrigin(const Scene& scene, const SurfaceInteraction& si, float side) {
     if (si.mesh < 0) return si.p;
     const TriangleMesh& mesh = scene.meshes[si.mesh];
     if (mesh.normals.empty()) return si.p;
@@ -18,13 +20,16 @@ Vec3 terminatorSafeOrigin(const Scene& scene, const SurfaceInteraction& si) {
     Vec3 shifted = si.p;
     for (int k = 0; k < 3; ++k) {
         const Vec3& v = mesh.positions[idx[k]];
-        const Vec3& n = mesh.normals[idx[k]];
+        const Vec3 n = side * mesh.normals[idx[k]];
         Vec3 tmp = si.p - v;
         const float dn = std::min(0.f, glm::dot(tmp, n));
         tmp -= dn * n;
         shifted += b[k] * (tmp - (si.p - v));
     }
-    return isFinite(shifted) ? shifted : si.p;
+    // Vertex normals that disagree with the facet (turned away from it) would push the point
+    // through the surface; Hanika's shift only ever lifts it to the viewer's side.
+    if (!isFinite(shifted) || glm::dot(shifted - si.p, side * si.ng) < 0.f) return si.p;
+    return shifted;
 }
 
 }  // namespace
@@ -60,9 +65,11 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
     const Vec3 V = -d;
     const Color base = baseColor(si);
     Vec3 ng = si.ng, ns = si.ns;
+    float side = 1.f;
     if (glm::dot(ng, V) < 0.f) {  // seen from behind: light the side the viewer sees
         ng = -ng;
         ns = -ns;
+        side = -1.f;
     }
     if (m.normalTexture >= 0 && si.tangent != Vec4(0.f)) {
         const Vec2 uv = applyTextureTransform(m.normalTransform, m.normalTransform.texCoord == 1 ? si.uv1 : si.uv);
@@ -107,14 +114,19 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
             if (L.type == LightType::Spot) att *= spotFactor(L, -Ldir);
         }
         const float nl = glm::dot(ns, Ldir);
-        if (nl <= 0.f || glm::dot(ng, Ldir) <= 0.f || att <= 0.f) continue;
+        if (nl <= 0.f || att <= 0.f) continue;
+        // The light is behind the flat facet but in front of the smooth (interpolated) surface:
+        // Hanika's shadow-terminator case. Lit only if a shadow ray from the shifted point,
+        // leaving on the viewer's side of the facet, clears the facet and its neighbours.
+        const bool behindFacet = glm::dot(ng, Ldir) <= 0.f;
+        if (behindFacet && (si.mesh < 0 || !L.castShadows)) continue;
         if (L.castShadows) {
             if (!terminatorDone) {
-                shadowBase = terminatorSafeOrigin(scene_, si);
+                shadowBase = terminatorSafeOrigin(scene_, si, side);
                 terminatorDone = true;
             }
             Ray sr;
-            sr.o = offsetRayOrigin(shadowBase, si.pError, ng, Ldir);
+            sr.o = offsetRayOrigin(shadowBase, si.pError, ng, behindFacet ? ng : Ldir);
             sr.d = Ldir;
             // Shorten the far end relatively, so a light lying on a surface still lights it.
             const float tMax = std::isinf(dist) ? kInf : glm::length(L.position - sr.o) * (1.f - 1e-4f);

@@ -1,0 +1,73 @@
+// sRGB encoding, float → byte conversion and tone mapping (catalogue 31–33), PNG round trip.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include "image.h"
+
+using namespace rf;
+
+TEST(Image, SrgbEncodeKnownValues) {
+    EXPECT_NEAR(srgbEncode(0.5f), 0.7354f, 1e-4f);
+    EXPECT_EQ(toByte(srgbEncode(0.5f)), 188);
+    EXPECT_NEAR(srgbEncode(0.18f), 0.4614f, 1e-4f);
+    EXPECT_EQ(toByte(srgbEncode(0.18f)), 118);
+    EXPECT_EQ(srgbEncode(0.f), 0.f);
+    EXPECT_EQ(srgbEncode(1.f), 1.f);
+    EXPECT_EQ(srgbEncode(std::nanf("")), 0.f);
+}
+
+TEST(Image, SrgbBranchesMeetAtTheThreshold) {
+    const float x = 0.0031308f;
+    const float lin = 12.92f * x, pw = 1.055f * std::pow(x, 1.f / 2.4f) - 0.055f;
+    EXPECT_NEAR(lin, 0.04045f, 1e-5f);
+    EXPECT_NEAR(pw, lin, 1e-5f);
+    EXPECT_NEAR(srgbEncode(std::nextafter(x, 0.f)), srgbEncode(std::nextafter(x, 1.f)), 1e-5f);
+    for (float v : {0.001f, 0.0031308f, 0.01f, 0.2f, 0.5f, 0.9f}) EXPECT_NEAR(srgbDecode(srgbEncode(v)), v, 1e-5f * std::max(1.f, v / 0.01f));
+}
+
+TEST(Image, ToByteHandlesOutOfRangeAndNonFinite) {
+    EXPECT_EQ(toByte(-300.f), 0);
+    EXPECT_EQ(toByte(-0.f), 0);
+    EXPECT_EQ(toByte(std::nanf("")), 0);
+    EXPECT_EQ(toByte(1.5f), 255);
+    EXPECT_EQ(toByte(std::numeric_limits<float>::infinity()), 255);
+    EXPECT_EQ(toByte(-std::numeric_limits<float>::infinity()), 0);
+    EXPECT_EQ(toByte(0.5f), 128);  // rounds, 127.5 + 0.5
+    EXPECT_EQ(toByte(1.f / 255.f), 1);
+}
+
+TEST(Image, ToneMapReinhardAndClamp) {
+    const float inf = std::numeric_limits<float>::infinity();
+    EXPECT_FLOAT_EQ(toneMap(1.f, ToneMap::Reinhard), 0.5f);
+    EXPECT_FLOAT_EQ(toneMap(3.f, ToneMap::Reinhard), 0.75f);
+    EXPECT_EQ(toneMap(inf, ToneMap::Reinhard), 1.f);
+    EXPECT_EQ(toneMap(std::nanf(""), ToneMap::Reinhard), 0.f);
+    EXPECT_EQ(toneMap(-2.f, ToneMap::Reinhard), 0.f);
+    EXPECT_EQ(toneMap(1e30f, ToneMap::Reinhard), 1.f);
+    EXPECT_EQ(toneMap(inf, ToneMap::Clamp), 1.f);
+    EXPECT_EQ(toneMap(std::nanf(""), ToneMap::Clamp), 0.f);
+    EXPECT_EQ(toneMap(0.25f, ToneMap::Clamp), 0.25f);
+    EXPECT_EQ(toneMap(7.f, ToneMap::Clamp), 1.f);
+}
+
+TEST(Image, PngRoundTripAndNonFinitePixels) {
+    Image img(3, 2);
+    const float vals[] = {0.f, 0.18f, 0.5f, 1.f, 2.f, std::nanf(""), -1.f, std::numeric_limits<float>::infinity(), 0.0031308f};
+    for (int i = 0; i < 18; ++i) img.data()[i] = vals[i % 9];
+    const std::vector<uint8_t> rgb = toRgb8(img, ToneMap::Clamp);
+    EXPECT_EQ(rgb[1], 118);
+    EXPECT_EQ(rgb[5], 0);    // NaN
+    EXPECT_EQ(rgb[7], 255);  // +inf
+    const std::string dir = RAYFARM_TEST_OUT;
+    std::filesystem::create_directories(dir);
+    const std::string path = dir + "/image_roundtrip.png";
+    writePng(path, 3, 2, rgb);
+    int w = 0, h = 0;
+    EXPECT_EQ(readImageRgb8(path, w, h), rgb);
+    EXPECT_EQ(w, 3);
+    EXPECT_EQ(h, 2);
+    EXPECT_THROW(readImageRgb8(dir + "/does-not-exist.png", w, h), std::runtime_error);
+}
