@@ -16,3 +16,10 @@ export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 exclude=()
 if [ "${RAYFARM_STRESS:-0}" != "1" ]; then exclude=(-LE stress); fi
 ctest --test-dir build --output-on-failure -j"$jobs" "${exclude[@]}"
+
+# glTF robustness under AddressSanitizer + UBSan: broken and glTF 1.0 files must be refused or
+# rendered without a memory error. Only that one small test executable is built with sanitizers.
+cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRAYFARM_SANITIZE=ON \
+  -DRAYFARM_BUILD_FARM=OFF -DRAYFARM_BUILD_BENCH=OFF
+cmake --build build-asan -j"$jobs" --target gltf_robustness_tests
+ctest --test-dir build-asan --output-on-failure -j"$jobs" -R '^GltfRobustness\.'

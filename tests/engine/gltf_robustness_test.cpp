@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
+#include <unistd.h>
 
 #include "errors.h"
 #include "gltf_loader.h"
@@ -104,4 +106,41 @@ TEST(GltfRobustness, OtherShippedGltf2FilesLoadOrAreRefused) {
             std::printf("%-80s %s %s\n", path.c_str() + kRoot.size(), o == Outcome::Refused ? "refused:" : "rendered", msg.c_str());
         }
     }
+}
+
+TEST(GltfRobustness, CorruptedBinaryModelsAreRefusedOrRendered) {
+    // Deterministic corruptions of a real .glb: truncations and byte flips anywhere in the JSON
+    // and BIN chunks (lengths, offsets, indices, floats). Each must end in one of the two
+    // allowed outcomes; under the sanitizers any out-of-bounds read fails the run.
+    const std::string src = kRoot + "glTF2/BoxTextured-glTF-Binary/BoxTextured.glb";
+    std::ifstream in(src, std::ios::binary);
+    const std::string original((std::istreambuf_iterator<char>(in)), {});
+    ASSERT_GT(original.size(), 1000u);
+    const fs::path dir = fs::temp_directory_path() / ("rayfarm-gltf-fuzz-" + std::to_string(::getpid()));
+    fs::create_directories(dir);
+    uint64_t state = 0x9E3779B97F4A7C15ull;
+    auto next = [&] {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        return state;
+    };
+    int rendered = 0, refused = 0;
+    for (int k = 0; k < 320; ++k) {
+        std::string bytes = original;
+        if (k % 4 == 0) {
+            bytes.resize(next() % bytes.size());
+        } else {
+            const int flips = 1 + int(next() % 4);
+            for (int f = 0; f < flips; ++f) bytes[next() % bytes.size()] = char(next());
+        }
+        const std::string path = (dir / ("m" + std::to_string(k) + ".glb")).string();
+        std::ofstream(path, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
+        std::string msg;
+        (loadAndRender(path, msg) == Outcome::Rendered ? rendered : refused)++;
+    }
+    fs::remove_all(dir);
+    std::printf("corrupted BoxTextured.glb: %d rendered, %d refused\n", rendered, refused);
+    EXPECT_EQ(rendered + refused, 320);
+    EXPECT_GT(refused, 40);  // truncations alone are a quarter of the cases
 }
