@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cli.h"
+#include "mp4_sink.h"
 #include "output_check.h"
 #include "report_plot.h"
 #include "report_run.h"
@@ -40,6 +41,16 @@ const char* kReportHelp =
     "  --sweep-min-weight LIST pruning thresholds to sweep (default 0,0.001,0.01,0.1)\n"
     "  --ref-spp N             reference samples per pixel, a square (default 256)\n"
     "  --ref-depth N           reference maximum depth (default 16)\n"
+    "\n"
+    "Then the video: the first --video-frames frames of the timeline, rendered at the default\n"
+    "setting, are encoded by the MP4 sink at each preset and CRF, decoded, and scored against the\n"
+    "lossless frames (PSNR, SSIM) next to the encoding speed: video.csv, video_psnr_vs_fps.png and a\n"
+    "section of summary.md.\n"
+    "\n"
+    "  --no-video              skip the video part\n"
+    "  --video-frames N        frames to encode (default 24, at most the timeline's)\n"
+    "  --video-crf LIST        x264 CRF values (default 12,18,23,28,35)\n"
+    "  --video-preset LIST     x264 presets (default ultrafast,veryfast,medium,slow)\n"
     "  --stability             instead: run the stiff and extreme cases of the stability catalogue and\n"
     "                          write stability.md and stability.csv (measured error, pass/fail)\n";
 
@@ -103,9 +114,10 @@ int runReport(const std::vector<std::string>& args) {
     ArgParser p("report");
     for (const char* o : {"--out", "--frame", "--size", "--target-psnr", "--threads", "--spp", "--depth",
                           "--min-weight", "--tonemap", "--grid", "--sweep-spp", "--sweep-depth", "--sweep-min-weight",
-                          "--ref-spp", "--ref-depth"})
+                          "--ref-spp", "--ref-depth", "--video-frames", "--video-crf", "--video-preset"})
         p.option(o);
     p.flag("--stability");
+    p.flag("--no-video");
     p.flag("--help");
     p.flag("-h");
     p.parse(args);
@@ -147,6 +159,12 @@ int runReport(const std::vector<std::string>& args) {
     if (!isSquare(o.reference.spp)) throw UsageError("--ref-spp: expected a square number of samples (64, 256, ...)");
     o.reference.maxDepth = p.intValue("--ref-depth", 16, 1, 64);
     o.reference.minWeight = 0.f;
+    report::VideoReportOptions vo;
+    vo.outDir = *out;
+    vo.threads = threads;
+    vo.frames = p.intValue("--video-frames", vo.frames, 1, 100000);
+    vo.sweep.crf = intList(p, "--video-crf", vo.sweep.crf, 0, 51, false);
+    if (auto v = p.value("--video-preset")) vo.sweep.presets = splitList("--video-preset", *v);
     // Fail before hours of rendering, not after.
     if (report::findOnPath("gnuplot").empty())
         throw std::runtime_error("report: gnuplot not found on PATH (install the Debian package gnuplot-nox)");
@@ -166,9 +184,28 @@ int runReport(const std::vector<std::string>& args) {
     applyQualityOptions(p, settings);
     o.sweep.base = {settings.spp, settings.maxDepth, settings.minWeight};
 
+    const bool video = !p.has("--no-video");
+    if (video)
+        for (const std::string& preset : vo.sweep.presets) {
+            farm::Mp4Options mo;
+            mo.preset = preset;
+            try {
+                const std::string note = checkMp4Options(settings.width, settings.height, mo);
+                if (!note.empty() && preset == vo.sweep.presets.front())
+                    std::fprintf(stderr, "rayfarm: note: video sweep: %s\n", note.c_str());
+            } catch (const std::invalid_argument& e) {
+                throw UsageError(std::string("--video-preset: ") + e.what());
+            }
+        }
+
     const report::QualityReport rep = report::runQualityReport(scene, settings, o);
     std::fprintf(stderr, "rayfarm: report: %d renders; wrote %s, %s, %s\n", int(rep.rows.size()) + 1,
                  rep.csvPath.c_str(), rep.plotPath.c_str(), rep.summaryPath.c_str());
+    if (video) {
+        const report::VideoReport vr = report::runVideoReport(scene, timeline, settings, vo, rep.summaryPath);
+        std::fprintf(stderr, "rayfarm: report: %d encodes of %d frames; wrote %s, %s\n", int(vr.rows.size()), vr.frames,
+                     vr.csvPath.c_str(), vr.plotPath.c_str());
+    }
     return 0;
 }
 

@@ -23,15 +23,6 @@ namespace {
 /// A log axis cannot show 0: an exact match is drawn at this floor (and said so in the key).
 constexpr double kRmseFloor = 1e-6;
 
-std::string quoted(const std::string& s) {
-    std::string q = "\"";
-    for (char c : s) {
-        if (c == '"' || c == '\\') q += '\\';
-        q += c;
-    }
-    return q + "\"";
-}
-
 std::string shortName(const QualitySetting& q) {
     char buf[64];
     std::snprintf(buf, sizeof buf, "%dspp d%d w%g", q.spp, q.maxDepth, double(q.minWeight));
@@ -46,6 +37,15 @@ void point(std::ostringstream& s, const SweepRow& r) {
 }
 
 }  // namespace
+
+std::string gnuplotQuote(const std::string& s) {
+    std::string q = "\"";
+    for (char c : s) {
+        if (c == '"' || c == '\\') q += '\\';
+        q += c;
+    }
+    return q + "\"";
+}
 
 std::string findOnPath(const std::string& name) {
     const char* path = std::getenv("PATH");
@@ -63,8 +63,8 @@ std::string gnuplotScript(const std::vector<SweepRow>& rows, const std::string& 
     std::ostringstream s;
     s << "# Error against run time, written by rayfarm report. Re-draw with: gnuplot THIS_FILE\n";
     s << "set terminal pngcairo size 960,640 enhanced font 'DejaVu Sans,10'\n";
-    s << "set output " << quoted(pngPath) << "\n";
-    s << "set title " << quoted(title) << " noenhanced\n";
+    s << "set output " << gnuplotQuote(pngPath) << "\n";
+    s << "set title " << gnuplotQuote(title) << " noenhanced\n";
     s << "set logscale xy\nset xlabel 'render time (s, fastest of repeats)'\n";
     s << "set ylabel 'RMSE against the reference (8-bit sRGB, 0..1)'\n";
     // gnuplot cannot link a log axis to another, so the PSNR axis is a second log axis over the
@@ -113,7 +113,7 @@ std::string gnuplotScript(const std::vector<SweepRow>& rows, const std::string& 
         for (const SweepRow* r : list) point(s, *r);
         s << "EOD\n";
         plots.push_back(block + " using 1:2 with points pt " + std::to_string(style++) + " ps 1.3 title " +
-                        quoted("sweep: " + factor));
+                        gnuplotQuote("sweep: " + factor));
     }
     s << "$front << EOD\n";
     for (const SweepRow* r : front) point(s, *r);
@@ -133,14 +133,13 @@ std::string gnuplotScript(const std::vector<SweepRow>& rows, const std::string& 
     return s.str();
 }
 
-void plotErrorVsTime(const std::vector<SweepRow>& rows, const std::string& title, const std::string& scriptPath,
-                     const std::string& pngPath) {
+void runGnuplot(const std::string& script, const std::string& scriptPath, const std::string& pngPath) {
     const std::string gnuplot = findOnPath("gnuplot");
     if (gnuplot.empty()) throw std::runtime_error("gnuplot not found on PATH (Debian package gnuplot-nox)");
     {
         std::ofstream f(scriptPath);
         if (!f) throw std::runtime_error(scriptPath + ": cannot write");
-        f << gnuplotScript(rows, title, pngPath);
+        f << script;
         if (!f.flush()) throw std::runtime_error(scriptPath + ": write failed");
     }
     std::remove(pngPath.c_str());
@@ -157,6 +156,11 @@ void plotErrorVsTime(const std::vector<SweepRow>& rows, const std::string& title
     std::ifstream png(pngPath, std::ios::binary);
     if (!png || png.peek() == std::ifstream::traits_type::eof())
         throw std::runtime_error("gnuplot wrote no plot to " + pngPath);
+}
+
+void plotErrorVsTime(const std::vector<SweepRow>& rows, const std::string& title, const std::string& scriptPath,
+                     const std::string& pngPath) {
+    runGnuplot(gnuplotScript(rows, title, pngPath), scriptPath, pngPath);
 }
 
 }  // namespace rf::report

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <stdexcept>
 
 #include "image.h"
 #include "image_metrics.h"
@@ -77,6 +79,43 @@ QualityReport runQualityReport(const Scene& scene, const RenderSettings& setting
     info.errorScale = scale;
     info.rayNotes = rep.rayNotes;
     writeSummary(rep.summaryPath, info, rep.rows);
+    return rep;
+}
+
+VideoReport runVideoReport(Scene& scene, const anim::Timeline& timeline, const RenderSettings& settings,
+                           const VideoReportOptions& o, const std::string& summaryPath) {
+    namespace fs = std::filesystem;
+    const fs::path dir(o.outDir);
+    VideoReport rep;
+    rep.frames = std::max(1, std::min(o.frames, timeline.frameCount()));
+    rep.csvPath = (dir / "video.csv").string();
+    rep.plotPath = (dir / "video_psnr_vs_fps.png").string();
+    const int w = settings.width, h = settings.height;
+    if (o.progress) std::fprintf(stderr, "rayfarm: report: rendering %d frames for the video sweep ...\n", rep.frames);
+    std::vector<std::vector<uint8_t>> frames;
+    for (int i = 0; i < rep.frames; ++i) {
+        timeline.applyFrame(scene, i);
+        RayStats rays;
+        frames.push_back(toRgb8(renderFrame(scene, scene.camera, settings, i, o.threads, rays), settings.toneMap));
+    }
+    VideoSweepSpec spec = o.sweep;
+    spec.fps = timeline.fps();
+    rep.rows = runVideoSweep(frames, w, h, spec, (dir / "video_scratch.mp4").string(), [&](int i, int n, const VideoRow& r) {
+        if (o.progress)
+            std::fprintf(stderr, "rayfarm: report: video [%d/%d] %s crf %d: %.1f fps, PSNR %.2f dB, SSIM %.4f\n", i, n,
+                         r.lossless ? "lossless" : r.preset.c_str(), r.crf, r.encodeFps, r.psnr, r.ssim);
+    });
+    writeVideoCsv(rep.csvPath, rep.rows);
+    if (o.plot)
+        runGnuplot(videoPlotScript(rep.rows, "encoded MP4 against lossless frames, " + std::to_string(rep.frames) +
+                                                 " frames " + std::to_string(w) + "x" + std::to_string(h),
+                                   rep.plotPath),
+                   (dir / "video_psnr_vs_fps.gp").string(), rep.plotPath);
+    if (!summaryPath.empty()) {
+        std::ofstream f(summaryPath, std::ios::app);
+        f << "\n" << videoMarkdown(rep.rows, rep.frames, w, h);
+        if (!f.flush()) throw std::runtime_error(summaryPath + ": write failed");
+    }
     return rep;
 }
 

@@ -5,7 +5,9 @@
 #include <vector>
 
 #include "report_sweep.h"
+#include "report_video.h"
 #include "scene.h"
+#include "timeline.h"
 
 namespace rf::report {
 
@@ -27,6 +29,27 @@ struct QualityReport {
     std::vector<std::string> rayNotes;
     std::string csvPath, plotPath, summaryPath, errorImagePath, referencePath;
 };
+
+struct VideoReportOptions {
+    std::string outDir;
+    int frames = 24;  ///< from frame 0 of the timeline, at most its frame count
+    int threads = 0;
+    VideoSweepSpec sweep;
+    bool plot = true;
+    bool progress = true;
+};
+
+struct VideoReport {
+    std::vector<VideoRow> rows;
+    int frames = 0;
+    std::string csvPath, plotPath;
+};
+
+/// Renders the first frames of the timeline at settings, runs the video sweep on them, writes
+/// video.csv and video_psnr_vs_fps.png, and appends its section to summaryPath (if not empty).
+/// Leaves the scene posed at the last frame rendered.
+VideoReport runVideoReport(Scene& scene, const anim::Timeline& timeline, const RenderSettings& settings,
+                           const VideoReportOptions& options, const std::string& summaryPath);
 
 /// Renders the reference and the sweep of `scene` (posed at options.frame, settings giving the
 /// image size and tone mapping) and writes every file. Throws std::runtime_error on I/O failure.

@@ -131,7 +131,8 @@ TEST(ReportCli, RunsEndToEndOnASceneFile) {
     const std::string scene = writeScene(dir);
     const std::string out = dir + "/out";
     EXPECT_EQ(cli::runReport({scene, "--out", out, "--sweep-spp", "1,4", "--sweep-depth", "1,2", "--sweep-min-weight",
-                              "0", "--ref-spp", "16", "--threads", "1"}),
+                              "0", "--ref-spp", "16", "--threads", "1", "--video-crf", "18,40", "--video-preset",
+                              "ultrafast"}),
               0);
     const auto csv = readCsv(out + "/report.csv");
     // Base (scene default 1 spp, depth 5, 1e-3) + 2 + 2 + 1 − 1 (base on the spp line).
@@ -139,6 +140,24 @@ TEST(ReportCli, RunsEndToEndOnASceneFile) {
     const std::string md = readText(out + "/summary.md");
     EXPECT_NE(md.find("No shadow rays: the scene has no lights"), std::string::npos) << md;
     EXPECT_NE(md.find("No reflection rays: no material reflects"), std::string::npos) << md;
+    // The video part: the lossless decode check and one row per CRF, all in one frame (a still scene).
+    const auto video = readCsv(out + "/video.csv");
+    ASSERT_EQ(video.size(), 1u + 1u + 2u);
+    EXPECT_EQ(video[1][2], "1");     // lossless
+    EXPECT_EQ(video[1][8], "inf");   // decodes bit for bit
+    EXPECT_EQ(video[2][3], "1");     // frames
+    EXPECT_GT(std::stod(video[2][8]), std::stod(video[3][8]));  // CRF 18 beats CRF 40
+    EXPECT_NE(md.find("Decode check: the lossless encode"), std::string::npos) << md;
+    int w = 0, h = 0;
+    readImageRgb8(out + "/video_psnr_vs_fps.png", w, h);
+    EXPECT_EQ(w, 960);
+}
+
+TEST(ReportCli, RefusesAnUnknownVideoPresetBeforeRendering) {
+    const std::string dir = testing::freshDir("report_cli_preset");
+    EXPECT_THROW(cli::runReport({writeScene(dir), "--out", dir, "--video-preset", "warp"}), cli::UsageError);
+    EXPECT_THROW(cli::runReport({writeScene(dir), "--out", dir, "--video-crf", "52"}), cli::UsageError);
+    EXPECT_FALSE(std::filesystem::exists(dir + "/report.csv"));
 }
 
 }  // namespace
