@@ -1,0 +1,159 @@
+// glTF materials and KHR_lights_punctual mapped onto the engine, checked against the mapping's
+// formulas and, end to end, against a hand-computed pixel of a lit floor.
+#include <gtest/gtest.h>
+
+#include "gltf_loader.h"
+#include "gltf_materials.h"
+#include "gltf_test_util.h"
+#include "render.h"
+
+using namespace rf;
+using namespace gltftest;
+
+namespace {
+
+/// A 20×20 floor at y = 0 facing +y, drawn with material 0; more nodes may be appended.
+json floorModel(json materials, json extraNodes = json::array()) {
+    std::string buf;
+    put<float>(buf, {-10, 0, -10, -10, 0, 10, 10, 0, 10, 10, 0, -10});
+    put<uint16_t>(buf, {0, 1, 2, 0, 2, 3});
+    json nodes = {{{"mesh", 0}}};
+    json roots = {0};
+    for (const json& n : extraNodes) {
+        roots.push_back(nodes.size());
+        nodes.push_back(n);
+    }
+    return json{{"asset", {{"version", "2.0"}}},
+                {"scene", 0},
+                {"scenes", {{{"nodes", roots}}}},
+                {"nodes", nodes},
+                {"materials", materials},
+                {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}, {"material", 0}}}}}}},
+                {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}},
+                               {{"bufferView", 1}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}}},
+                {"bufferViews", {{{"buffer", 0}, {"byteLength", 48}}, {{"buffer", 0}, {"byteOffset", 48}, {"byteLength", 12}}}},
+                {"buffers", {{{"uri", dataUri(buf)}, {"byteLength", buf.size()}}}}};
+}
+
+Scene loadScene(const json& g) {
+    TempDir dir;
+    writeFile(dir / "m.gltf", g.dump());
+    DiskFileSource files;
+    return loadGltfScene(dir / "m.gltf", files);
+}
+
+Material only(const json& material) {
+    const Scene s = loadScene(floorModel({material}));
+    EXPECT_EQ(s.materials.size(), 1u);
+    return s.materials.at(0);
+}
+
+}  // namespace
+
+TEST(GltfMaterials, MetallicRoughnessFollowsTheDocumentedMapping) {
+    // Smooth metal: full mirror, full highlight, the exponent at its cap.
+    Material m = only({{"pbrMetallicRoughness", {{"baseColorFactor", {0.9, 0.6, 0.2, 1}}, {"metallicFactor", 1}, {"roughnessFactor", 0}}}});
+    EXPECT_FLOAT_EQ(m.color.g, 0.6f);
+    EXPECT_FLOAT_EQ(m.reflection, 1.f);
+    EXPECT_FLOAT_EQ(m.specular, 1.f);
+    EXPECT_FLOAT_EQ(m.diffuse, 0.45f);
+    EXPECT_FLOAT_EQ(m.shininess, 4096.f);
+    // Half-rough dielectric: α = 0.25, n = 2/α² − 2 = 30; reflection 0 (below the 0.05 cut).
+    m = only({{"pbrMetallicRoughness", {{"metallicFactor", 0}, {"roughnessFactor", 0.5}}}});
+    EXPECT_FLOAT_EQ(m.shininess, 30.f);
+    EXPECT_FLOAT_EQ(m.specular, 0.02f);
+    EXPECT_FLOAT_EQ(m.reflection, 0.f);
+    EXPECT_FLOAT_EQ(m.diffuse, 0.9f);
+    EXPECT_FLOAT_EQ(gltf::shininessFromRoughness(1.f), 1.f);
+}
+
+TEST(GltfMaterials, TransmissionIorEmissionAndAlphaModes) {
+    Material m = only({{"pbrMetallicRoughness", {{"metallicFactor", 0}}},
+                       {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 0.8}}}, {"KHR_materials_ior", {{"ior", 1.33}}}}}});
+    EXPECT_FLOAT_EQ(m.transmission, 0.8f);
+    EXPECT_FLOAT_EQ(m.ior, 1.33f);
+    EXPECT_NEAR(m.diffuse, 0.9f * 0.2f, 1e-6f);
+
+    m = only({{"emissiveFactor", {1, 0.5, 0}}, {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}});
+    EXPECT_EQ(m.emission, Color(4.f, 2.f, 0.f));
+
+    m = only({{"alphaMode", "MASK"}, {"alphaCutoff", 0.3}, {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 0.2}}}}});
+    EXPECT_EQ(m.alphaMode, AlphaMode::Mask);
+    EXPECT_FLOAT_EQ(m.alphaCutoff, 0.3f);
+    EXPECT_FLOAT_EQ(m.alpha, 0.2f);
+
+    // BLEND: see-through without bending, the surface's own light scaled by alpha.
+    m = only({{"alphaMode", "BLEND"}, {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 0.25}}, {"metallicFactor", 0}}}});
+    EXPECT_EQ(m.alphaMode, AlphaMode::Blend);
+    EXPECT_FLOAT_EQ(m.transmission, 0.75f);
+    EXPECT_FLOAT_EQ(m.ior, 1.f);
+    EXPECT_FLOAT_EQ(m.diffuse, 0.9f * 0.25f);
+
+    m = only({{"doubleSided", true}});
+    EXPECT_TRUE(m.doubleSided);
+    m = only(json::object());
+    EXPECT_FALSE(m.doubleSided);
+}
+
+TEST(GltfMaterials, UnknownMaterialExtensionIsIgnoredWithOneNote) {
+    json g = floorModel({{{"extensions", {{"VENDOR_sparkle", {{"amount", 3}}}}}}});
+    const Scene s = loadScene(g);
+    int notes = 0;
+    for (const std::string& n : s.notes) notes += n.find("VENDOR_sparkle") != std::string::npos;
+    EXPECT_EQ(notes, 1);
+}
+
+TEST(GltfLights, PunctualLightsMapToEngineUnits) {
+    const double h = std::sqrt(0.5);
+    json g = floorModel({{{"pbrMetallicRoughness", {{"metallicFactor", 0}}}}},
+                        {{{"translation", {0, 5, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}},
+                         {{"translation", {1, 4, 2}}, {"rotation", {-h, 0, 0, h}}, {"extensions", {{"KHR_lights_punctual", {{"light", 1}}}}}},
+                         {{"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}}});
+    g["extensionsUsed"] = {"KHR_lights_punctual"};
+    g["extensions"] = {{"KHR_lights_punctual",
+                        {{"lights",
+                          {{{"type", "point"}, {"color", {1, 0.5, 0.25}}, {"intensity", 25 * M_PI}, {"range", 20}},
+                           {{"type", "spot"}, {"intensity", 2 * M_PI}, {"spot", {{"innerConeAngle", 0.2}, {"outerConeAngle", 0.5}}}},
+                           {{"type", "directional"}, {"intensity", M_PI}}}}}}};
+    const Scene s = loadScene(g);
+    ASSERT_EQ(s.lights.size(), 3u) << "a model with lights gets no default rig";
+    const Light& p = s.lights[0];
+    EXPECT_EQ(p.type, LightType::Point);
+    EXPECT_NEAR(p.intensity, 25.f, 1e-5f);  // candela / π
+    EXPECT_EQ(p.attenuation, Vec3(0, 0, 1));
+    EXPECT_EQ(p.color, Color(1.f, 0.5f, 0.25f));
+    EXPECT_FLOAT_EQ(p.range, 20.f);
+    const glm::dvec3 pw = glm::dvec3(p.position) + s.renderOrigin;
+    EXPECT_NEAR(pw.y, 5.0, 1e-6);
+    const Light& sp = s.lights[1];
+    EXPECT_EQ(sp.type, LightType::Spot);
+    EXPECT_NEAR(sp.direction.y, -1.f, 1e-6f);  // −90° about x turns −z into −y
+    EXPECT_FLOAT_EQ(sp.innerCone, 0.2f);
+    EXPECT_FLOAT_EQ(sp.outerCone, 0.5f);
+    EXPECT_EQ(s.lights[2].type, LightType::Directional);
+    EXPECT_NEAR(s.lights[2].intensity, 1.f, 1e-6f);
+    EXPECT_NEAR(s.lights[2].direction.z, -1.f, 1e-6f);
+}
+
+TEST(GltfLights, LitFloorPixelMatchesTheHandComputedValue) {
+    // Grey floor (0.5), dielectric, fully rough: ambient 0.1, diffuse 0.9, no highlight. Point
+    // light of 25π cd at 5 above the floor's centre: 25/π·π/5² = 1 with the range window
+    // (1 − (5/20)⁴)². A glTF camera 10 above looks straight down at the centre.
+    const double h = std::sqrt(0.5);
+    json g = floorModel({{{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.5, 0.5, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}}}},
+                        {{{"translation", {0, 5, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}},
+                         {{"translation", {0, 10, 0}}, {"rotation", {-h, 0, 0, h}}, {"camera", 0}}});
+    g["extensionsUsed"] = {"KHR_lights_punctual"};
+    g["extensions"] = {{"KHR_lights_punctual", {{"lights", {{{"type", "point"}, {"intensity", 25 * M_PI}, {"range", 20}}}}}}};
+    g["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}}};
+    Scene s = loadScene(g);
+    useGltfCamera(s, 0);
+    RenderSettings rs = s.settings;
+    rs.width = rs.height = 65;
+    RayStats stats;
+    const Image img = renderFrame(s, s.camera, rs, 0, 1, stats);
+    const double window = std::pow(1.0 - std::pow(5.0 / 20.0, 4), 2);
+    const double want = 0.5 * (0.1 + 0.9 * 1.0 * window);
+    EXPECT_NEAR(img.pixel(32, 32)[0], want, 1e-4);
+    EXPECT_NEAR(img.pixel(32, 32)[1], want, 1e-4);
+}
