@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <regex>
 #include <thread>
@@ -45,8 +46,16 @@ std::string shellQuote(const std::string& s) {
     return q + "'";
 }
 
+/// How this executable was invoked (argv[0]), for the resume hint.
+std::string invokedAs() {
+    std::ifstream f("/proc/self/cmdline", std::ios::binary);
+    std::string arg0;
+    std::getline(f, arg0, '\0');
+    return arg0.empty() ? "rayfarm" : arg0;
+}
+
 std::string resumeCommand(const std::vector<std::string>& args, int ranks) {
-    std::string cmd = ranks > 1 ? "mpirun -np " + std::to_string(ranks) + " rayfarm render" : "rayfarm render";
+    std::string cmd = (ranks > 1 ? "mpirun -np " + std::to_string(ranks) + " " : std::string()) + shellQuote(invokedAs()) + " render";
     bool hasResume = false;
     for (const std::string& a : args) {
         cmd += " " + shellQuote(a);
@@ -84,13 +93,18 @@ void prepareFramesDir(const std::string& dir) {
 void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, int ranks, const std::string& threadsNote) {
     job.settings = scene.settings;
     applyQualityOptions(p, job.settings);
+    if (job.fpsOption > 0.0) {
+        const std::string ext = std::filesystem::path(job.scenePath).extension().string();
+        const bool bareModel = ext == ".glb" || ext == ".gltf" || ext == ".GLB" || ext == ".GLTF";
+        scene.timelineJson = timelineWithFps(scene.timelineJson, bareModel, job.fpsOption);
+    }
     const anim::Timeline tl = anim::Timeline::fromScene(scene);
     job.timelineFrames = tl.frameCount();
     job.timelineFps = tl.fps();
     job.first = 0;
     job.last = job.timelineFrames - 1;
     if (auto f = p.value("--frames")) parseFrameRange(*f, job.timelineFrames, job.first, job.last);
-    if (job.mp4.fps <= 0.0) job.mp4.fps = tl.fps();
+    job.mp4.fps = tl.isStill() && job.fpsOption > 0.0 ? job.fpsOption : tl.fps();
     std::string note;
     try {
         note = checkMp4Options(job.settings.width, job.settings.height, job.mp4);
@@ -293,7 +307,7 @@ int runRank0(MpiTransport& t, RenderJob& job, SharedScene& shared, const std::ve
 
 int runWorkerRank(MpiTransport& t, const RenderJob& job, SharedScene& shared) {
     try {
-        const RenderSettings settings = decodeWorkerJob(shared.job);
+        const RenderSettings settings = decodeWorkerJob(shared.job, shared.scene.timelineJson);
         anim::Timeline timeline = anim::Timeline::fromScene(shared.scene);
         RenderEngine engine(std::move(shared.scene), timeline, settings, threadsForRank(job, t));
         return runWorker(t, engine);
@@ -338,7 +352,7 @@ int runRender(const std::vector<std::string>& args) {
             },
             [&](Scene& scene) {
                 decideJob(job, p, scene, t.size(), threadsNote);
-                return encodeWorkerJob(job);
+                return encodeWorkerJob(job, scene.timelineJson);
             });
     } catch (const PeerFailed& e) {
         return e.code();

@@ -18,8 +18,8 @@ const char* kRenderHelp =
     "  -o FILE           output MP4 (required)\n"
     "  --mode M          pixel (tiles of every frame), frame (whole frames) or auto (default)\n"
     "  --frames A:B      frames A to B of the timeline, inclusive (default: all); A: or :B too\n"
-    "  --fps N           video frame rate (default: the timeline's); frames are still sampled at\n"
-    "                    the timeline's rate, so this changes playback speed only\n"
+    "  --fps N           frame rate of the timeline and the video (default: the scene's; a\n"
+    "                    bare model's turntable: 30). A still scene: the video's rate only\n"
     "  --size WxH        image size (odd sizes: the video repeats the last row/column to even)\n"
     "  --spp N           samples per pixel, a square: 1, 4, 9, ...\n"
     "  --depth N         maximum ray depth; --min-weight W, --tonemap clamp|reinhard as for still\n"
@@ -72,10 +72,8 @@ RenderJob jobFromOptions(const cli::ArgParser& p) {
     j.workerTimeout = p.doubleValue("--timeout", 10.0);
     if (!(j.workerTimeout >= 0.5 && j.workerTimeout <= 86400)) throw UsageError("--timeout: expected seconds from 0.5 to 86400");
     if (p.has("--fps")) {
-        j.mp4.fps = p.doubleValue("--fps", 30.0);
-        if (!(j.mp4.fps > 0.0 && j.mp4.fps <= 1000.0)) throw UsageError("--fps: expected a rate above 0 and up to 1000");
-    } else {
-        j.mp4.fps = 0.0;  // the timeline's, once the scene is loaded
+        j.fpsOption = p.doubleValue("--fps", 30.0);
+        if (!(j.fpsOption > 0.0 && j.fpsOption <= 1000.0)) throw UsageError("--fps: expected a rate above 0 and up to 1000");
     }
     return j;
 }
@@ -129,18 +127,31 @@ std::string RenderJob::identity() const {
     return j.dump();
 }
 
-std::string encodeWorkerJob(const RenderJob& j) {
-    // Byte copy: every rank runs the same executable, and a field added to RenderSettings
-    // later travels without anyone remembering to add it here.
+std::string encodeWorkerJob(const RenderJob& j, const std::string& timelineJson) {
+    // Settings as a byte copy: every rank runs the same executable, and a field added to
+    // RenderSettings later travels without anyone remembering to add it here.
     static_assert(std::is_trivially_copyable_v<RenderSettings>);
-    return std::string(reinterpret_cast<const char*>(&j.settings), sizeof(RenderSettings));
+    return std::string(reinterpret_cast<const char*>(&j.settings), sizeof(RenderSettings)) + timelineJson;
 }
 
-RenderSettings decodeWorkerJob(const std::string& bytes) {
-    if (bytes.size() != sizeof(RenderSettings)) throw std::runtime_error("malformed job broadcast");
+RenderSettings decodeWorkerJob(const std::string& bytes, std::string& timelineJson) {
+    if (bytes.size() < sizeof(RenderSettings)) throw std::runtime_error("malformed job broadcast");
     RenderSettings s;
     std::memcpy(&s, bytes.data(), sizeof s);
+    timelineJson = bytes.substr(sizeof s);
     return s;
+}
+
+std::string timelineWithFps(const std::string& timelineJson, bool bareModel, double fps) {
+    nlohmann::json j = timelineJson.empty() ? nlohmann::json::object() : nlohmann::json::parse(timelineJson);
+    bool set = false;
+    for (const char* section : {"timeline", "turntable"})
+        if (j.contains(section) && j[section].is_object()) {
+            j[section]["fps"] = fps;
+            set = true;
+        }
+    if (!set && bareModel) j["turntable"] = {{"fps", fps}};  // the default turntable, at this rate
+    return j.empty() ? timelineJson : j.dump();
 }
 
 }  // namespace rf::farm

@@ -20,6 +20,7 @@ struct RenderJob {
     int first = 0, last = 0;     ///< frame range, inclusive
     int timelineFrames = 1;
     double timelineFps = 30.0;
+    double fpsOption = 0.0;      ///< --fps, 0 if not given
     std::string modeOption = "auto";
     Mode mode = Mode::Frame;
     std::string modeWhy;
@@ -43,8 +44,13 @@ RenderJob jobFromOptions(const cli::ArgParser& p);
 /// Parses "A:B", "A:", ":B" or "A" against a timeline of n frames (inclusive, 0-based).
 void parseFrameRange(const std::string& text, int n, int& first, int& last);
 
-/// What the workers need (settings), as bytes for the scene broadcast, and back.
-std::string encodeWorkerJob(const RenderJob& j);
-RenderSettings decodeWorkerJob(const std::string& bytes);
+/// What the workers need (settings, the timeline as rank 0 adjusted it), as bytes for the scene
+/// broadcast, and back.
+std::string encodeWorkerJob(const RenderJob& j, const std::string& timelineJson);
+RenderSettings decodeWorkerJob(const std::string& bytes, std::string& timelineJson);
+
+/// The scene's timeline section with its frame rate set to fps (--fps): frames are sampled at
+/// that rate. A bare model's default turntable gets {"turntable": {"fps": fps}}.
+std::string timelineWithFps(const std::string& timelineJson, bool bareModel, double fps);
 
 }  // namespace rf::farm

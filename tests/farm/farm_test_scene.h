@@ -1,0 +1,40 @@
+#pragma once
+// A small turntable scene for the farm tests, loaded from memory as the workers load theirs.
+#include <string>
+
+#include "file_source.h"
+#include "scene_loader.h"
+
+namespace rf::testing {
+
+/// Floor, mirror sphere, red sphere, one point light; a 6-frame turntable.
+inline const char* kFarmSceneJson = R"({
+  "camera": { "eye": [0, 2, -6], "target": [0, 0.8, 0], "up": [0, 1, 0], "fov": 50 },
+  "background": [0.1, 0.1, 0.2],
+  "render": { "width": 40, "height": 30, "spp": 1, "max_depth": 3 },
+  "materials": {
+    "floor":  { "color": [0.9, 0.9, 0.9], "checker": { "color2": [0.2, 0.2, 0.2], "scale": 1 }, "diffuse": 0.8 },
+    "red":    { "color": [0.8, 0.2, 0.1], "diffuse": 0.8, "specular": 0.5, "shininess": 30 },
+    "mirror": { "color": [0.9, 0.9, 0.9], "diffuse": 0.1, "reflection": 0.8 }
+  },
+  "lights": [ { "type": "point", "position": [4, 6, -4], "color": [1, 1, 1] } ],
+  "objects": [
+    { "type": "plane", "normal": [0, 1, 0], "point": [0, 0, 0], "material": "floor" },
+    { "type": "sphere", "center": [0, 0.8, 0], "radius": 0.8, "material": "mirror" },
+    { "type": "sphere", "center": [1.6, 0.5, 0.4], "radius": 0.5, "material": "red" }
+  ],
+  "turntable": { "seconds": 1, "fps": 6 }
+})";
+
+inline FileBundle farmSceneBundle() {
+    FileBundle b;
+    b.files["farm_test.json"] = kFarmSceneJson;
+    return b;
+}
+
+inline Scene loadFarmScene() {
+    BundleFileSource fs(farmSceneBundle());
+    return loadScene("farm_test.json", fs);
+}
+
+}  // namespace rf::testing

@@ -1,0 +1,220 @@
+// The master and worker loops over the in-process transport, with real render engines: every
+// mode and rank count gives the frames a single renderer gives, and a lost or failing worker
+// ends the run with a message naming it.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <thread>
+
+#include "farm_test_scene.h"
+#include "errors.h"
+#include "frame_assembler.h"
+#include "loopback_transport.h"
+#include "master.h"
+#include "messages.h"
+#include "scene_broadcast.h"
+#include "timeline.h"
+#include "worker.h"
+
+using namespace rf;
+using namespace rf::farm;
+
+namespace {
+
+struct FarmRun {
+    MasterOutcome outcome;
+    std::map<int, std::vector<uint8_t>> frames;
+    std::vector<int> order;
+};
+
+// ranks: 1 = rank 0 alone (renders locally); more: workers 1..n-1 on threads.
+FarmRun runFarm(int ranks, Mode mode, bool rank0Renders, int threads = 1) {
+    LoopbackHub hub(ranks);
+    Scene scene = rf::testing::loadFarmScene();
+    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    const RenderSettings settings = scene.settings;
+    std::vector<int> frames;
+    for (int i = 0; i < tl.frameCount(); ++i) frames.push_back(i);
+
+    std::vector<std::thread> workers;
+    for (int r = 1; r < ranks; ++r)
+        workers.emplace_back([&hub, r, threads] {
+            LoopbackTransport t(hub, r);
+            Scene s = rf::testing::loadFarmScene();
+            const anim::Timeline wtl = anim::Timeline::fromScene(s);
+            const RenderSettings st = s.settings;
+            RenderEngine engine(std::move(s), wtl, st, threads);
+            runWorker(t, engine);
+        });
+
+    LoopbackTransport t(hub, 0);
+    const int renderers = rank0Renders ? ranks : ranks - 1;
+    std::unique_ptr<Scheduler> sched = mode == Mode::Pixel
+                                           ? makePixelScheduler(frames, settings.width, settings.height, 16, 3)
+                                           : makeFrameScheduler(frames, settings.width, settings.height, 2 * renderers + 2);
+    FrameAssembler assembler(settings.width, settings.height, frames, {});
+    std::unique_ptr<RenderEngine> local;
+    if (rank0Renders) local = std::make_unique<RenderEngine>(std::move(scene), tl, settings, threads);
+    FarmRun run;
+    MasterConfig cfg;
+    cfg.quiet = true;
+    cfg.workerTimeout = 20.0;
+    Master master(t, *sched, assembler, local.get(),
+                  [&](ReadyFrame& f) {
+                      run.order.push_back(f.frame);
+                      run.frames[f.frame] = f.rgb;
+                  },
+                  cfg);
+    run.outcome = master.run();
+    master.stopWorkers();
+    for (auto& w : workers) w.join();
+    return run;
+}
+
+// The reference: each frame rendered whole, on one thread, by the function every mode reduces to.
+std::map<int, std::vector<uint8_t>> referenceFrames() {
+    Scene scene = rf::testing::loadFarmScene();
+    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    const RenderSettings s = scene.settings;
+    std::map<int, std::vector<uint8_t>> out;
+    int applied = -1;
+    for (int f = tl.frameCount() - 1; f >= 0; --f)  // backwards: order must not matter
+        out[f] = RenderEngine::render(scene, tl, s, 1, {f, {0, 0, s.width, s.height}}, applied).rgb;
+    return out;
+}
+
+}  // namespace
+
+TEST(Master, TestSceneIsAnAnimatedTimeline) {
+    Scene scene = rf::testing::loadFarmScene();
+    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    ASSERT_EQ(tl.frameCount(), 6);
+    const auto ref = referenceFrames();
+    EXPECT_NE(ref.at(0), ref.at(3));  // the camera moved: frames differ, so mix-ups would show
+}
+
+struct FarmCase {
+    int ranks;
+    Mode mode;
+    bool rank0Renders;
+    int threads;
+};
+
+class MasterModes : public ::testing::TestWithParam<FarmCase> {};
+
+TEST_P(MasterModes, FramesAreBitIdenticalToOneRendererAndInOrder) {
+    const FarmCase c = GetParam();
+    const FarmRun run = runFarm(c.ranks, c.mode, c.rank0Renders, c.threads);
+    ASSERT_EQ(run.outcome.end, RunEnd::Done) << run.outcome.message;
+    const auto ref = referenceFrames();
+    ASSERT_EQ(run.frames.size(), ref.size());
+    for (size_t i = 0; i < run.order.size(); ++i) EXPECT_EQ(run.order[i], int(i));
+    for (const auto& [f, rgb] : ref) EXPECT_TRUE(run.frames.at(f) == rgb) << "frame " << f << " differs";
+    // Every rendering rank did some of the work.
+    for (int r = c.rank0Renders ? 0 : 1; r < c.ranks; ++r)
+        EXPECT_GT(run.outcome.perRank[size_t(r)].frames + run.outcome.perRank[size_t(r)].tiles, 0) << "rank " << r;
+    EXPECT_GT(run.outcome.rays.primary, 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(Farm, MasterModes,
+                         ::testing::Values(FarmCase{1, Mode::Frame, true, 2}, FarmCase{1, Mode::Pixel, true, 2},
+                                           FarmCase{2, Mode::Frame, true, 1}, FarmCase{2, Mode::Pixel, true, 1},
+                                           FarmCase{3, Mode::Frame, false, 1}, FarmCase{3, Mode::Pixel, false, 2}));
+
+TEST(Master, SilentWorkerStopsTheRunNamingRankAndFrame) {
+    // Rank 2 takes work and never answers (a stopped process); rank 1 works normally.
+    LoopbackHub hub(3);
+    std::thread worker([&hub] {
+        LoopbackTransport t(hub, 1);
+        Scene s = rf::testing::loadFarmScene();
+        const anim::Timeline tl = anim::Timeline::fromScene(s);
+        const RenderSettings st = s.settings;
+        RenderEngine engine(std::move(s), tl, st, 1);
+        runWorker(t, engine);
+    });
+    Scene scene = rf::testing::loadFarmScene();
+    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    LoopbackTransport t(hub, 0);
+    auto sched = makeFrameScheduler({0, 1, 2, 3, 4, 5}, scene.settings.width, scene.settings.height, 8);
+    FrameAssembler assembler(scene.settings.width, scene.settings.height, {0, 1, 2, 3, 4, 5}, {});
+    MasterConfig cfg;
+    cfg.quiet = true;
+    cfg.workerTimeout = 0.5;
+    Master master(t, *sched, assembler, nullptr, [](ReadyFrame&) {}, cfg);
+    const auto t0 = std::chrono::steady_clock::now();
+    const MasterOutcome o = master.run();
+    const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    master.stopWorkers();
+    worker.join();
+    EXPECT_EQ(o.end, RunEnd::WorkerLost);
+    EXPECT_NE(o.message.find("rank 2 stopped answering"), std::string::npos) << o.message;
+    EXPECT_NE(o.message.find("frame"), std::string::npos) << o.message;
+    EXPECT_LT(took, 5.0);  // a bound on detection, not a speed measurement
+}
+
+TEST(Master, WorkerErrorEndsTheRunNamingTheRank) {
+    LoopbackHub hub(2);
+    LoopbackTransport t(hub, 0);
+    LoopbackTransport w(hub, 1);
+    reportWorkerError(w, "frame 3: out of memory");
+    auto sched = makeFrameScheduler({0, 1, 2, 3}, 8, 8, 4);
+    FrameAssembler assembler(8, 8, {0, 1, 2, 3}, {});
+    MasterConfig cfg;
+    cfg.quiet = true;
+    Master master(t, *sched, assembler, nullptr, [](ReadyFrame&) {}, cfg);
+    const MasterOutcome o = master.run();
+    EXPECT_EQ(o.end, RunEnd::Failed);
+    EXPECT_EQ(o.message, "rank 1: frame 3: out of memory");
+}
+
+TEST(SceneBroadcast, WorkersLoadTheSceneFromRankZerosBytesOnly) {
+    // Rank 0 reads a real file; after the broadcast the file is gone, so the others can only
+    // have used the bundle. All three must then render the same frame.
+    const std::string dir = std::string(RAYFARM_TEST_OUT) + "/farm_broadcast";
+    std::filesystem::create_directories(dir);
+    const std::string path = dir + "/scene.json";
+    { std::ofstream(path) << rf::testing::kFarmSceneJson; }
+    LoopbackHub hub(3);
+    std::vector<std::vector<uint8_t>> frames(3);
+    std::vector<std::string> jobs(3);
+    std::vector<std::thread> ranks;
+    for (int r = 0; r < 3; ++r)
+        ranks.emplace_back([&, r] {
+            LoopbackTransport t(hub, r);
+            SharedScene s = shareScene(t, path, nullptr, [&](Scene&) {
+                std::filesystem::remove(path);
+                return std::string("job-bytes");
+            });
+            jobs[size_t(r)] = s.job;
+            const anim::Timeline tl = anim::Timeline::fromScene(s.scene);
+            int applied = -1;
+            const RenderSettings st = s.scene.settings;
+            frames[size_t(r)] = RenderEngine::render(s.scene, tl, st, 1, {4, {0, 0, st.width, st.height}}, applied).rgb;
+        });
+    for (auto& th : ranks) th.join();
+    EXPECT_FALSE(std::filesystem::exists(path));
+    for (int r = 0; r < 3; ++r) {
+        EXPECT_EQ(jobs[size_t(r)], "job-bytes");
+        EXPECT_TRUE(frames[size_t(r)] == frames[0]) << "rank " << r;
+    }
+    EXPECT_FALSE(frames[0].empty());
+}
+
+TEST(SceneBroadcast, BadSceneOnRankZeroTellsTheOthers) {
+    LoopbackHub hub(2);
+    int workerCode = 0;
+    std::thread worker([&] {
+        LoopbackTransport t(hub, 1);
+        try {
+            shareScene(t, "/nonexistent/scene.json", nullptr, nullptr);
+        } catch (const PeerFailed& e) {
+            workerCode = e.code();
+        }
+    });
+    LoopbackTransport t(hub, 0);
+    EXPECT_THROW(shareScene(t, "/nonexistent/scene.json", nullptr, nullptr), InputError);
+    worker.join();
+    EXPECT_EQ(workerCode, 2);
+}

@@ -1,0 +1,90 @@
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "scheduler.h"
+
+using namespace rf;
+using namespace rf::farm;
+
+namespace {
+
+// Pixel coverage of the items of one frame: each pixel exactly once.
+void expectCoversOnce(const std::vector<WorkItem>& items, int frame, int w, int h) {
+    std::vector<int> hits(size_t(w) * h, 0);
+    for (const WorkItem& i : items) {
+        if (i.frame != frame) continue;
+        for (int y = i.rect.y0; y < i.rect.y1; ++y)
+            for (int x = i.rect.x0; x < i.rect.x1; ++x) ++hits[size_t(y) * w + x];
+    }
+    for (int v : hits) ASSERT_EQ(v, 1) << "frame " << frame;
+}
+
+}  // namespace
+
+TEST(PixelScheduler, HandsOutNextFramesTilesBeforeTheCurrentFrameCompletes) {
+    auto s = makePixelScheduler({3, 4, 5}, 50, 30, 16, 2);
+    std::vector<WorkItem> got;
+    while (auto i = s->next()) got.push_back(*i);
+    // Nothing was completed, yet frame 4's tiles went out after frame 3's: no idling at frame ends.
+    const int tiles = s->itemsPerFrame();
+    EXPECT_EQ(tiles, 4 * 2);  // ceil(50/16) × ceil(30/16)
+    ASSERT_EQ(int(got.size()), 2 * tiles);
+    EXPECT_EQ(got.front().frame, 3);
+    EXPECT_EQ(got.back().frame, 4);
+    expectCoversOnce(got, 3, 50, 30);
+    expectCoversOnce(got, 4, 50, 30);
+    EXPECT_FALSE(s->exhausted());
+    EXPECT_EQ(s->openFrames(), 2);
+}
+
+TEST(PixelScheduler, WindowBoundsOpenFramesAndReleaseOpensTheNext) {
+    auto s = makePixelScheduler({0, 1, 2}, 20, 20, 10, 2);
+    std::vector<WorkItem> got;
+    while (auto i = s->next()) got.push_back(*i);
+    EXPECT_EQ(int(got.size()), 8);
+    EXPECT_FALSE(s->next().has_value());
+    s->frameReleased();
+    std::vector<WorkItem> more;
+    while (auto i = s->next()) more.push_back(*i);
+    ASSERT_EQ(int(more.size()), 4);
+    expectCoversOnce(more, 2, 20, 20);
+    EXPECT_TRUE(s->exhausted());
+}
+
+TEST(FrameScheduler, HandsOutWholeFramesInOrderWithinTheWindow) {
+    auto s = makeFrameScheduler({0, 1, 2, 3, 4, 5, 6}, 64, 48, 3);
+    std::vector<int> frames;
+    for (int round = 0; round < 10 && !s->exhausted(); ++round) {
+        int handed = 0;
+        while (auto i = s->next()) {
+            EXPECT_EQ(i->rect.x0, 0);
+            EXPECT_EQ(i->rect.y0, 0);
+            EXPECT_EQ(i->rect.x1, 64);
+            EXPECT_EQ(i->rect.y1, 48);
+            frames.push_back(i->frame);
+            ++handed;
+        }
+        EXPECT_LE(s->openFrames(), 3);
+        s->frameReleased();
+    }
+    EXPECT_EQ(frames, (std::vector<int>{0, 1, 2, 3, 4, 5, 6}));
+}
+
+TEST(FrameScheduler, SparseFrameListFromResume) {
+    auto s = makeFrameScheduler({2, 7, 9}, 8, 8, 8);
+    std::vector<int> frames;
+    while (auto i = s->next()) frames.push_back(i->frame);
+    EXPECT_EQ(frames, (std::vector<int>{2, 7, 9}));
+    EXPECT_TRUE(s->exhausted());
+}
+
+TEST(ChooseMode, FewFramesGoPixelManyFramesGoFrame) {
+    std::string why;
+    EXPECT_EQ(chooseMode(1, 4, 640, 360, why), Mode::Pixel);
+    EXPECT_NE(why.find("1 frame"), std::string::npos);
+    EXPECT_EQ(chooseMode(120, 2, 640, 360, why), Mode::Frame);
+    EXPECT_EQ(chooseMode(120, 1, 640, 360, why), Mode::Frame);
+    EXPECT_EQ(chooseMode(120, 2, 7680, 4320, why), Mode::Pixel);
+    EXPECT_FALSE(why.empty());
+}
