@@ -251,7 +251,7 @@ public:
         json root;
         try {
             root = json::parse(text);
-        } catch (const json::parse_error& e) {
+        } catch (const json::exception& e) {  // parse errors, and numbers like 1e400 that overflow
             throw InputError(path_, std::string("not valid JSON: ") + e.what());
         }
         rd_.allowKeys(root, "", {"camera", "background", "ambient", "render", "materials", "lights", "objects", "timeline",
