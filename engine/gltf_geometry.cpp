@@ -76,6 +76,34 @@ std::vector<Vec3> morphedNormals(const TriangleMesh& m, const std::vector<double
     return n;
 }
 
+std::vector<Vec4> generateTangents(const std::vector<Vec3>& pos, const std::vector<Vec3>& nor, const std::vector<Vec2>& uv,
+                                   const std::vector<uint32_t>& idx) {
+    // Per-triangle tangent from the UV gradients (Lengyel), summed per vertex, then made
+    // orthogonal to the normal. glTF normal maps put +Y "up" in the image, towards v = 0, so
+    // the bitangent cross(n, t)·w must follow −∂p/∂v (three.js negates MikkTSpace's sign for
+    // glTF for the same reason).
+    std::vector<glm::dvec3> t(pos.size(), glm::dvec3(0.0)), b(pos.size(), glm::dvec3(0.0));
+    for (size_t k = 0; k + 2 < idx.size(); k += 3) {
+        const uint32_t i0 = idx[k], i1 = idx[k + 1], i2 = idx[k + 2];
+        const glm::dvec3 e1 = glm::dvec3(pos[i1] - pos[i0]), e2 = glm::dvec3(pos[i2] - pos[i0]);
+        const glm::dvec2 d1 = glm::dvec2(uv[i1] - uv[i0]), d2 = glm::dvec2(uv[i2] - uv[i0]);
+        const double det = d1.x * d2.y - d2.x * d1.y;
+        if (!(std::abs(det) > 1e-20)) continue;
+        const glm::dvec3 tt = (e1 * d2.y - e2 * d1.y) / det, bb = (e2 * d1.x - e1 * d2.x) / det;
+        for (uint32_t i : {i0, i1, i2}) t[i] += tt, b[i] += bb;
+    }
+    std::vector<Vec4> out(pos.size(), Vec4(0.f));
+    for (size_t i = 0; i < pos.size(); ++i) {
+        const glm::dvec3 n(nor[i]);
+        const glm::dvec3 o = t[i] - n * glm::dot(n, t[i]);
+        const double len = glm::length(o);
+        if (!(len > 0.0) || !std::isfinite(len)) continue;
+        const double w = glm::dot(glm::cross(n, o), -b[i]) < 0.0 ? -1.0 : 1.0;
+        out[i] = Vec4(Vec3(o / len), float(w));
+    }
+    return out;
+}
+
 bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int primIndex, const std::string& file, PrimitiveGeometry& out) {
     const tinygltf::Primitive& p = model.meshes[size_t(meshIndex)].primitives[size_t(primIndex)];
     const std::string w = "meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(primIndex) + "]";
@@ -175,6 +203,11 @@ bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int primIndex, 
         m.normals = generateNormals(m.positions, m.indices);
         out.generatedNormals = true;
     }
+    // Normal maps need tangents; glTF asks for generated ones when TANGENT is missing.
+    const bool normalMapped = p.material >= 0 && size_t(p.material) < model.materials.size() &&
+                              model.materials[size_t(p.material)].normalTexture.index >= 0;
+    if (normalMapped && m.tangents.empty() && !m.uvs.empty())
+        m.tangents = generateTangents(m.positions, m.normals, model.materials[size_t(p.material)].normalTexture.texCoord == 1 && !m.uvs1.empty() ? m.uvs1 : m.uvs, m.indices);
     out.gltfMaterial = p.material;
     return true;
 }

@@ -31,4 +31,9 @@ std::vector<Vec3> morphedNormals(const TriangleMesh& mesh, const std::vector<dou
 /// Area-weighted vertex normals from the triangles (zero where no triangle touches a vertex).
 std::vector<Vec3> generateNormals(const std::vector<Vec3>& positions, const std::vector<uint32_t>& indices);
 
+/// Per-vertex tangents (xyz, handedness w) from UV gradients, orthogonal to the normals; zero
+/// where the UVs give no direction.
+std::vector<Vec4> generateTangents(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,
+                                   const std::vector<Vec2>& uvs, const std::vector<uint32_t>& indices);
+
 }  // namespace rf::gltf

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "errors.h"
+#include "gltf_geometry.h"
 #include "gltf_loader.h"
 #include "gltf_test_util.h"
 
@@ -252,4 +253,24 @@ TEST(GltfGeometry, AnimatedNodesKeepModelSpaceDataForTheAnimator) {
     s.build();
     s.applyNodeTransforms(0, {n0, n1});
     expectNear(s.meshes[0].positions[1], Vec3(6, 0, 3));
+}
+
+TEST(GltfGeometry, GeneratedTangentsFollowTheUvGradient) {
+    // A quad in the xy plane with u along +x and v along −y, so the image's top (v = 0) is at
+    // y = 1. glTF normal maps mean +X = increasing u and +Y = up in the image: the tangent is
+    // +x and the bitangent cross(n, t)·w must be +y, so w = +1.
+    const std::vector<Vec3> p = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    const std::vector<Vec3> n(4, Vec3(0, 0, 1));
+    const std::vector<Vec2> uv = {{0, 1}, {1, 1}, {1, 0}, {0, 0}};
+    const std::vector<Vec4> t = gltf::generateTangents(p, n, uv, {0, 1, 2, 0, 2, 3});
+    for (const Vec4& v : t) {
+        expectNear(Vec3(v), Vec3(1, 0, 0));
+        EXPECT_EQ(v.w, 1.f);
+    }
+    // Mirroring the v direction flips the handedness only.
+    const std::vector<Vec2> flipped = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    for (const Vec4& v : gltf::generateTangents(p, n, flipped, {0, 1, 2, 0, 2, 3})) {
+        expectNear(Vec3(v), Vec3(1, 0, 0));
+        EXPECT_EQ(v.w, -1.f);
+    }
 }
