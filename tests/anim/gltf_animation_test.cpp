@@ -22,6 +22,13 @@ const std::string kAssimp = "/usr/share/assimp/models/glTF2/";
 
 std::string sourceFile(const std::string& rel) { return std::string(RAYFARM_SOURCE_DIR) + "/" + rel; }
 
+/// Scratch directory for scenes the tests write (created on first use: tests run in any order).
+std::string outDir() {
+    const std::string d = std::string(RAYFARM_TEST_OUT) + "/anim";
+    std::filesystem::create_directories(d);
+    return d;
+}
+
 Scene load(const std::string& path) {
     DiskFileSource fs;
     return loadScene(path, fs);
@@ -218,9 +225,7 @@ TEST(AnimatedNodeGltf, ExplicitTurntableOnABareModelKeepsTheModelDefaults) {
 }
 
 TEST(AnimatedNodeGltf, AnimationSelectedByNameClampsAndRefitsTheBvh) {
-    const std::string dir = std::string(RAYFARM_TEST_OUT) + "/anim";
-    std::filesystem::create_directories(dir);
-    const std::string path = dir + "/lift.json";
+    const std::string path = outDir() + "/lift.json";
     std::ofstream(path) << R"({"camera": {"eye": [0, 1, 10], "target": [0, 1, 0]},
       "objects": [{"type": "model", "path": ")" << sourceFile("scenes/animated_node.gltf") << R"("}],
       "timeline": {"fps": 10, "duration": 2, "animation": {"name": "lift", "mode": "clamp"}}})";
@@ -256,7 +261,7 @@ TEST(GltfAnimation, StaticModelsDoNotPayForAnimation) {
     EXPECT_FALSE(tl.animatesGeometry());
     EXPECT_EQ(tl.frameCount(), 120);  // still a turntable
     // An animated model told not to play does not pay either.
-    const std::string path = std::string(RAYFARM_TEST_OUT) + "/anim/still_model.json";
+    const std::string path = outDir() + "/still_model.json";
     std::ofstream(path) << R"({"objects": [{"type": "model", "path": ")" << sourceFile("scenes/animated_node.gltf") << R"("}],
       "timeline": {"animation": false}})";
     LOAD_OR_SKIP(a, path);
