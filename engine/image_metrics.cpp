@@ -84,6 +84,27 @@ double maxAbsErrorRgb8(const std::vector<uint8_t>& a, const std::vector<uint8_t>
     return m / 255.0;
 }
 
+double errorQuantileRgb8(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b, int width, int height,
+                         double q) {
+    checkSizes(a, b, width, height);
+    // Counting sort over the 256 possible differences: exact and linear in the pixel count.
+    size_t count[256] = {0};
+    const size_t n = size_t(width) * height;
+    for (size_t i = 0; i < n; ++i) {
+        int m = 0;
+        for (int c = 0; c < 3; ++c) m = std::max(m, std::abs(int(a[3 * i + c]) - int(b[3 * i + c])));
+        ++count[m];
+    }
+    const double qc = std::clamp(q, 0.0, 1.0);
+    const size_t rank = std::max<size_t>(1, static_cast<size_t>(std::ceil(qc * double(n))));
+    size_t seen = 0;
+    for (int v = 0; v < 256; ++v) {
+        seen += count[v];
+        if (seen >= rank) return v / 255.0;
+    }
+    return 1.0;
+}
+
 double ssimRgb8(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b, int width, int height) {
     checkSizes(a, b, width, height);
     const size_t n = size_t(width) * height;

@@ -26,6 +26,11 @@ double psnrFromRmse(double rmse);
 /// Largest |a − b| over all channels and pixels, in [0, 1].
 double maxAbsErrorRgb8(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b, int width, int height);
 
+/// The q-quantile (0..1, nearest rank) of the per-pixel largest channel difference, in [0, 1]:
+/// a scale for the false-colour image that a handful of extreme pixels cannot wash out.
+double errorQuantileRgb8(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b, int width, int height,
+                         double q);
+
 /// Mean structural similarity (Wang, Bovik, Sheikh, Simoncelli 2004) of the luma planes
 /// (Y = 0.299 R + 0.587 G + 0.114 B on the sRGB-encoded values, as MATLAB's rgb2gray), with the
 /// paper's circular Gaussian window of 11×11 and σ = 1.5, K1 = 0.01, K2 = 0.03, L = 1, over the

@@ -49,10 +49,11 @@ const char* kReportHelp =
     "\n"
     "  --no-video              skip the video part\n"
     "  --video-frames N        frames to encode (default 24, at most the timeline's)\n"
-    "  --video-crf LIST        x264 CRF values (default 12,18,23,28,35)\n"
+    "  --video-crf LIST        x264 CRF values (default 0,12,18,23,28,35)\n"
     "  --video-preset LIST     x264 presets (default ultrafast,veryfast,medium,slow)\n"
     "  --stability             instead: run the stiff and extreme cases of the stability catalogue and\n"
-    "                          write stability.md and stability.csv (measured error, pass/fail)\n";
+    "                          write stability.md and stability.csv (measured error, pass/fail);\n"
+    "                          exit status 1 if a case fails\n";
 
 bool isSquare(int n) {
     const int r = static_cast<int>(std::lround(std::sqrt(double(n))));
@@ -134,8 +135,8 @@ int runReport(const std::vector<std::string>& args) {
         ensureWritableDir(*out);
         const report::StabilityReport rep = report::runStabilityReport(*out, threads);
         std::fprintf(stderr, "rayfarm: report: %d of %d stability cases pass; wrote %s and %s\n", rep.passed(),
-                     int(rep.cases.size()), rep.markdownPath.c_str(), rep.csvPath.c_str());
-        return 0;
+                     rep.counted(), rep.markdownPath.c_str(), rep.csvPath.c_str());
+        return rep.passed() == rep.counted() ? 0 : 1;  // scripts and CI can act on a failing case
     }
 
     if (p.positional().size() != 1) throw UsageError("report: expected one SCENE or MODEL (see rayfarm report --help)");

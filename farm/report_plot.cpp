@@ -115,14 +115,24 @@ std::string gnuplotScript(const std::vector<SweepRow>& rows, const std::string& 
         plots.push_back(block + " using 1:2 with points pt " + std::to_string(style++) + " ps 1.3 title " +
                         gnuplotQuote("sweep: " + factor));
     }
-    s << "$front << EOD\n";
+    // Labels only where they do not pile up: a front point within 30% in both time and error of
+    // the last labelled one keeps its mark but not its name.
+    s << "$frontlabels << EOD\n";
+    const SweepRow* lastLabel = nullptr;
+    for (const SweepRow* r : front) {
+        const auto near = [](double a, double b) { return std::abs(std::log(std::max(a, kRmseFloor) / std::max(b, kRmseFloor))) < std::log(1.3); };
+        if (lastLabel && near(r->seconds, lastLabel->seconds) && near(r->error.rmse, lastLabel->error.rmse)) continue;
+        point(s, *r);
+        lastLabel = r;
+    }
+    s << "EOD\n$front << EOD\n";
     for (const SweepRow* r : front) point(s, *r);
     s << "EOD\n$default << EOD\n";
     for (const SweepRow& r : rows)
         if (r.isDefault) point(s, r);
     s << "EOD\n";
     plots.push_back("$front using 1:2 with linespoints lw 2 lc rgb '#d62728' pt 7 ps 0.8 title 'Pareto front'");
-    plots.push_back("$front using 1:2:3 with labels offset 0.8,0.8 left font ',8' tc rgb '#d62728' notitle");
+    plots.push_back("$frontlabels using 1:2:3 with labels offset 0.8,0.8 left font ',8' tc rgb '#d62728' notitle");
     plots.push_back("$default using 1:2 with points pt 6 ps 3.5 lw 2 lc rgb 'black' title 'default setting'");
     s << "plot ";
     for (size_t i = 0; i < plots.size(); ++i) s << (i ? ", \\\n     " : "") << plots[i];

@@ -54,7 +54,8 @@ QualityReport runQualityReport(const Scene& scene, const RenderSettings& setting
     const Image def = renderFrame(scene, scene.camera, defSettings, o.frame, o.threads, rays);
     const std::vector<uint8_t> def8 = toRgb8(def, settings.toneMap);
     writePng((dir / "default.png").string(), w, h, def8);
-    const double scale = std::max(maxAbsErrorRgb8(def8, ref8, w, h), 1.0 / 255.0);
+    // Scaled to the 99th percentile, so a few extreme pixels do not leave the rest black.
+    const double scale = std::max(errorQuantileRgb8(def8, ref8, w, h, 0.99), 1.0 / 255.0);
     writePng(rep.errorImagePath, w, h, falseColorErrorRgb8(def8, ref8, w, h, scale));
 
     if (o.plot)

@@ -89,7 +89,7 @@ std::string summaryMarkdown(const SummaryInfo& in, const std::vector<SweepRow>& 
           << ", RMSE " << fmt("%.4g", r.error.rmse) << ", PSNR " << psnrText(r.error.psnr) << ", max error "
           << fmt("%.3f", r.error.maxError) << ", SSIM " << fmt("%.4f", r.error.ssim) << ". Where its error is: `"
           << in.errorImageFile << "` (largest channel difference per pixel; black 0, then blue, cyan, green, "
-          << "yellow, red at " << fmt("%.3g", in.errorScale) << " and above).\n\n";
+          << "yellow, red at " << fmt("%.3g", in.errorScale) << " — the 99th percentile — and above).\n\n";
     }
 
     s << "## Ray kinds\n\nReference render: primary " << in.reference.rays.primary << ", shadow "

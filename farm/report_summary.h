@@ -26,7 +26,7 @@ struct SummaryInfo {
     SweepRow reference;
     double targetPsnr = 30.0;
     std::string csvFile, plotFile, errorImageFile, referenceImageFile;
-    double errorScale = 0.0;  ///< error shown as full red in the error image
+    double errorScale = 0.0;  ///< error shown as full red in the error image (99th percentile)
     std::vector<std::string> rayNotes;
 };
 

@@ -34,13 +34,20 @@ VideoRow encodeAndMeasure(const std::vector<std::vector<uint8_t>>& frames, int w
     row.crf = o.crf;
     row.lossless = o.lossless;
     row.frames = int(frames.size());
-    const auto t0 = std::chrono::steady_clock::now();
-    {
-        farm::Mp4Sink sink(path, w, h, o);
-        for (size_t i = 0; i < frames.size(); ++i) sink.write(int(i), frames[i]);
-        sink.close();
+    // Short encodes are timed as the fastest of a few repeats: other work on the machine only adds.
+    double total = 0.0;
+    row.encodeSeconds = 1e300;
+    for (int rep = 0; rep < 5 && (rep == 0 || total < 0.3); ++rep) {
+        const auto t0 = std::chrono::steady_clock::now();
+        {
+            farm::Mp4Sink sink(path, w, h, o);
+            for (size_t i = 0; i < frames.size(); ++i) sink.write(int(i), frames[i]);
+            sink.close();
+        }
+        const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        total += s;
+        row.encodeSeconds = std::min(row.encodeSeconds, s);
     }
-    row.encodeSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     row.encodeFps = row.frames / std::max(row.encodeSeconds, 1e-9);
     row.bytes = std::filesystem::file_size(path);
     row.kbps = double(row.bytes) * 8.0 / 1000.0 / (row.frames / o.fps);
@@ -166,7 +173,8 @@ std::string videoMarkdown(const std::vector<VideoRow>& rows, int frames, int wid
       << "for each preset and CRF, decoded again through libavcodec and scored against the 8-bit frames: PSNR from "
       << "the mean squared error over all frames, the worst frame's PSNR, mean SSIM. Encoding speed is frames over "
       << "the time from opening the sink to closing it (x264 on all cores). Every row: `video.csv`; plot: "
-      << "`video_psnr_vs_fps.png`.\n\n";
+      << "`video_psnr_vs_fps.png`. CRF 0 is lossless in YUV: what it loses is the conversion to yuv420p "
+      << "(colour at half resolution, 8-bit limited range), the ceiling for every other setting.\n\n";
     for (const VideoRow& r : rows)
         if (r.lossless)
             s << (std::isinf(r.psnr) ? "Decode check: the lossless encode (libx264rgb, qp 0) decodes bit for bit "

@@ -10,7 +10,7 @@
 namespace rf::report {
 
 struct VideoSweepSpec {
-    std::vector<int> crf{12, 18, 23, 28, 35};
+    std::vector<int> crf{0, 12, 18, 23, 28, 35};  ///< 0: lossless in YUV, the yuv420p ceiling
     std::vector<std::string> presets{"ultrafast", "veryfast", "medium", "slow"};
     double fps = 30.0;
     bool losslessCheck = true;  ///< also encode losslessly (libx264rgb, qp 0): must decode exactly
@@ -21,7 +21,7 @@ struct VideoRow {
     int crf = 0;
     bool lossless = false;
     int frames = 0;
-    double encodeSeconds = 0.0;  ///< sink opened to sink closed: the muxed file is complete
+    double encodeSeconds = 0.0;  ///< sink opened to sink closed (fastest of repeats)
     double encodeFps = 0.0;
     uint64_t bytes = 0;
     double kbps = 0.0;      ///< at the timeline's frame rate

@@ -133,6 +133,16 @@ TEST(ImageMetrics, MismatchedSizesThrow) {
     EXPECT_THROW(rmseRgb8(a, a, 0, 4), std::invalid_argument);
 }
 
+TEST(ImageMetrics, ErrorQuantileByNearestRank) {
+    // Ten pixels whose largest channel differences are 0, 10, 20, ..., 90 levels.
+    std::vector<uint8_t> a(10 * 3, 100), b = a;
+    for (int p = 0; p < 10; ++p) b[3 * p + (p % 3)] = static_cast<uint8_t>(100 + 10 * p);
+    EXPECT_NEAR(errorQuantileRgb8(a, b, 10, 1, 1.0), 90 / 255.0, 1e-12);
+    EXPECT_NEAR(errorQuantileRgb8(a, b, 10, 1, 0.9), 80 / 255.0, 1e-12);  // rank 9 of 10
+    EXPECT_NEAR(errorQuantileRgb8(a, b, 10, 1, 0.5), 40 / 255.0, 1e-12);  // rank 5
+    EXPECT_NEAR(errorQuantileRgb8(a, b, 10, 1, 0.0), 0.0, 1e-12);         // rank 1
+}
+
 TEST(ImageMetrics, ErrorColorRampEndsAndMiddle) {
     uint8_t c[3];
     errorColor(0.0, 0.5, c);

@@ -13,8 +13,11 @@ TEST(ReportStability, EveryCountedCasePassesAndTheTableHasEveryCase) {
     const std::string dir = testing::freshDir("report_stability");
     const StabilityReport rep = runStabilityReport(dir, 2);
     ASSERT_GE(rep.cases.size(), 10u);
-    for (const StabilityCase& c : rep.cases)
-        if (!c.informative) EXPECT_TRUE(c.pass) << "#" << c.id << " " << c.name << ": " << c.measured;
+    for (const StabilityCase& c : rep.cases) {
+        if (!c.informative) {
+            EXPECT_TRUE(c.pass) << "#" << c.id << " " << c.name << ": " << c.measured;
+        }
+    }
     EXPECT_EQ(rep.passed(), rep.counted());
 
     std::ifstream csv(rep.csvPath);
