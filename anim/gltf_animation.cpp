@@ -137,22 +137,57 @@ void GltfAnimationPlayer::apply(Scene& scene, double t) const {
     scene.applyNodeTransforms(model_, renderFromNode, weights);
 }
 
-void GltfAnimationPlayer::growPosedBounds(const Scene& scene, double t, Aabb& b) const {
+std::vector<MeshExtent> meshExtents(const Scene& scene, int model) {
+    std::vector<MeshExtent> out;
+    for (size_t i = 0; i < scene.meshes.size(); ++i) {
+        const TriangleMesh& m = scene.meshes[i];
+        if (m.model != model || m.node < 0) continue;
+        MeshExtent e;
+        e.mesh = i;
+        for (const Vec3& p : m.objectPositions) e.base.grow(p);
+        for (const std::vector<Vec3>& target : m.morphPositions) {
+            Aabb d;
+            for (const Vec3& v : target) d.grow(v);
+            e.morph.push_back(d);
+        }
+        out.push_back(std::move(e));
+    }
+    return out;
+}
+
+void GltfAnimationPlayer::growPosedBounds(const Scene& scene, double t, const std::vector<MeshExtent>& extents, Aabb& b) const {
     if (model_ < 0 || model_ >= static_cast<int>(scene.models.size())) return;
     std::vector<DMat4> renderFromNode;
     std::vector<std::vector<double>> weights;
     pose(scene.models[model_], t, renderFromNode, weights);
-    for (const TriangleMesh& mesh : scene.meshes) {
-        if (mesh.model != model_ || mesh.node < 0 || mesh.node >= static_cast<int>(renderFromNode.size())) continue;
+    for (const MeshExtent& e : extents) {
+        const TriangleMesh& mesh = scene.meshes[e.mesh];
+        if (mesh.model != model_ || mesh.node < 0 || mesh.node >= static_cast<int>(renderFromNode.size()) || e.base.empty()) continue;
         const DMat4& m = renderFromNode[mesh.node];
         const std::vector<double>& w = weights[mesh.node];
-        for (size_t i = 0; i < mesh.objectPositions.size(); ++i) {
-            DVec3 p(mesh.objectPositions[i]);
-            for (size_t k = 0; k < w.size() && k < mesh.morphPositions.size(); ++k)
-                if (!mesh.morphPositions[k].empty()) p += w[k] * DVec3(mesh.morphPositions[k][i]);
+        auto grow = [&](const DVec3& p) {
             const Vec3 q(DVec3(m * glm::dvec4(p, 1.0)));
             if (isFinite(q)) b.grow(q);
+        };
+        if (mesh.objectPositions.size() <= kExactBoundsVertices) {
+            for (size_t i = 0; i < mesh.objectPositions.size(); ++i) {
+                DVec3 p(mesh.objectPositions[i]);
+                for (size_t k = 0; k < w.size() && k < mesh.morphPositions.size(); ++k)
+                    if (!mesh.morphPositions[k].empty()) p += w[k] * DVec3(mesh.morphPositions[k][i]);
+                grow(p);
+            }
+            continue;
         }
+        // Box of base + Σ w·delta: each target adds w·[lo, hi] (ends swapped for negative w).
+        DVec3 lo(e.base.lo), hi(e.base.hi);
+        for (size_t k = 0; k < w.size() && k < e.morph.size(); ++k) {
+            if (e.morph[k].empty()) continue;
+            const DVec3 a = w[k] * DVec3(e.morph[k].lo), c = w[k] * DVec3(e.morph[k].hi);
+            lo += glm::min(a, c);
+            hi += glm::max(a, c);
+        }
+        for (int corner = 0; corner < 8; ++corner)
+            grow(DVec3(corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y, corner & 4 ? hi.z : lo.z));
     }
 }
 

@@ -21,6 +21,16 @@ DMat4 nodeLocalMatrix(const SceneNode& node);
 /// Model-from-node matrices of every node, parents first, from local matrices.
 std::vector<DMat4> modelFromNode(const SceneGraph& graph, const std::vector<DMat4>& local);
 
+/// Object-space box of an animated mesh and of each morph target's deltas.
+struct MeshExtent {
+    size_t mesh = 0;
+    Aabb base;
+    std::vector<Aabb> morph;
+};
+
+/// Extents of every animated mesh (node ≥ 0) of scene.models[model].
+std::vector<MeshExtent> meshExtents(const Scene& scene, int model);
+
 /// One animation of one model, ready to evaluate at any time.
 class GltfAnimationPlayer {
 public:
@@ -40,8 +50,11 @@ public:
     /// Poses the model at t and moves its meshes (re-transform and BVH refit).
     void apply(Scene& scene, double t) const;
     /// Grows b (render space) by the model's animated meshes as posed at t, leaving the scene
-    /// untouched: for framing a film on where the model goes, not only where it rests.
-    void growPosedBounds(const Scene& scene, double t, Aabb& b) const;
+    /// untouched: for framing a film on where the model goes, not only where it rests. Meshes
+    /// above kExactBoundsVertices are bounded by their transformed object-space box (looser,
+    /// but O(1) per pose instead of O(vertices)).
+    void growPosedBounds(const Scene& scene, double t, const std::vector<MeshExtent>& extents, Aabb& b) const;
+    static constexpr size_t kExactBoundsVertices = 4096;
 
 private:
     struct Channel {

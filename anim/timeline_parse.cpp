@@ -317,10 +317,12 @@ std::vector<GltfAnimationPlayer> defaultPlayers(const Scene& scene) {
 Aabb filmBounds(const Scene& scene, const std::vector<GltfAnimationPlayer>& players, int frames, double fps) {
     Aabb b = scene.bounds();
     if (players.empty()) return b;
+    std::vector<std::vector<MeshExtent>> extents;
+    for (const GltfAnimationPlayer& p : players) extents.push_back(meshExtents(scene, p.model()));
     const int samples = std::min(frames, 256);
     for (int i = 0; i < samples; ++i) {
         const long long f = samples == frames ? i : static_cast<long long>(double(i) * (frames - 1) / (samples - 1));
-        for (const GltfAnimationPlayer& p : players) p.growPosedBounds(scene, anim::frameTime(0.0, fps, f), b);
+        for (size_t k = 0; k < players.size(); ++k) players[k].growPosedBounds(scene, anim::frameTime(0.0, fps, f), extents[k], b);
     }
     return b;
 }
