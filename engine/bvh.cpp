@@ -24,6 +24,68 @@ void Bvh::build(const std::vector<Aabb>& primBounds, int maxLeafSize) {
     }
     nodes_.reserve(2 * primBounds.size());
     buildRecursive(items, 0, static_cast<uint32_t>(items.size()), maxLeafSize, 0);
+    collapse();
+}
+
+void Bvh::collapse() {
+    nodes4_.clear();
+    if (nodes_.empty()) return;
+    nodes4_.reserve(nodes_.size() / 2 + 1);
+    collapseNode(0);
+}
+
+uint32_t Bvh::collapseNode(uint32_t node2) {
+    // Gather up to four binary descendants: open the interior child with the largest area
+    // until four are reached or only leaves remain.
+    uint32_t kids[4];
+    int n = 0;
+    if (nodes_[node2].count > 0) {
+        kids[n++] = node2;  // a one-leaf tree
+    } else {
+        kids[n++] = node2 + 1;
+        kids[n++] = nodes_[node2].offset;
+        while (n < 4) {
+            int best = -1;
+            float bestArea = -1.f;
+            for (int i = 0; i < n; ++i) {
+                const BvhNode& c = nodes_[kids[i]];
+                if (c.count == 0 && c.box.area() > bestArea) {
+                    bestArea = c.box.area();
+                    best = i;
+                }
+            }
+            if (best < 0) break;
+            const uint32_t open = kids[best];
+            kids[best] = open + 1;
+            kids[n++] = nodes_[open].offset;
+        }
+    }
+    const uint32_t me = static_cast<uint32_t>(nodes4_.size());
+    nodes4_.emplace_back();
+    Bvh4Node out{};
+    for (int a = 0; a < 3; ++a)
+        for (int c = 0; c < 4; ++c) {
+            out.lo[a][c] = 0.f;
+            out.hi[a][c] = 0.f;
+        }
+    out.valid = 0;
+    for (int i = 0; i < n; ++i) {
+        const BvhNode& c = nodes_[kids[i]];
+        for (int a = 0; a < 3; ++a) {
+            out.lo[a][i] = c.box.lo[a];
+            out.hi[a][i] = c.box.hi[a];
+        }
+        out.valid |= 1u << i;
+        if (c.count > 0) {
+            out.child[i] = c.offset;
+            out.count[i] = c.count;
+        } else {
+            out.count[i] = 0;
+            out.child[i] = collapseNode(kids[i]);
+        }
+    }
+    nodes4_[me] = out;
+    return me;
 }
 
 void Bvh::refit(const std::vector<Aabb>& primBounds) {
@@ -39,6 +101,7 @@ void Bvh::refit(const std::vector<Aabb>& primBounds) {
         }
         n.box = b;
     }
+    collapse();
 }
 
 uint32_t Bvh::buildRecursive(std::vector<BuildItem>& items, uint32_t begin, uint32_t end, int maxLeaf, int depth) {
@@ -58,48 +121,54 @@ uint32_t Bvh::buildRecursive(std::vector<BuildItem>& items, uint32_t begin, uint
     };
     if (count <= 1) return makeLeaf();
 
-    // Binned SAH over the longest centroid axis.
-    const int axis = cbox.longestAxis();
-    const float lo = cbox.lo[axis], span = cbox.hi[axis] - lo;
+    // Binned SAH over all three centroid axes; the cheapest split wins.
+    int axis = cbox.longestAxis();
     uint32_t mid = begin;
-    if (span > 0.f && std::isfinite(span) && depth < kMaxDepth - 16) {
-        struct Bin {
-            Aabb box;
+    const float spanLongest = cbox.hi[axis] - cbox.lo[axis];
+    if (spanLongest > 0.f && std::isfinite(spanLongest) && depth < kMaxDepth - 16) {
+        float bestCost = kInf;
+        int bestSplit = -1;
+        for (int ax = 0; ax < 3; ++ax) {
+            const float lo = cbox.lo[ax], span = cbox.hi[ax] - lo;
+            if (!(span > 0.f) || !std::isfinite(span)) continue;
+            struct Bin {
+                Aabb box;
+                uint32_t n = 0;
+            } bins[kBins];
+            const float scale = kBins / span;
+            for (uint32_t i = begin; i < end; ++i) {
+                const int bi = std::min(kBins - 1, std::max(0, static_cast<int>((items[i].centroid[ax] - lo) * scale)));
+                bins[bi].box.grow(items[i].box);
+                ++bins[bi].n;
+            }
+            float rightArea[kBins];
+            uint32_t rightCount[kBins];
+            Aabb acc;
             uint32_t n = 0;
-        } bins[kBins];
-        const float scale = kBins / span;
+            for (int i = kBins - 1; i > 0; --i) {
+                acc.grow(bins[i].box);
+                n += bins[i].n;
+                rightArea[i] = acc.area();
+                rightCount[i] = n;
+            }
+            acc = Aabb{};
+            n = 0;
+            for (int i = 0; i < kBins - 1; ++i) {
+                acc.grow(bins[i].box);
+                n += bins[i].n;
+                if (n == 0 || rightCount[i + 1] == 0) continue;
+                const float cost = acc.area() * n + rightArea[i + 1] * rightCount[i + 1];
+                if (cost < bestCost) {  // strict: ties keep the earlier axis, so builds are deterministic
+                    bestCost = cost;
+                    bestSplit = i;
+                    axis = ax;
+                }
+            }
+        }
+        const float lo = cbox.lo[axis], scale = kBins / (cbox.hi[axis] - lo);
         auto binOf = [&](const BuildItem& it) {
             return std::min(kBins - 1, std::max(0, static_cast<int>((it.centroid[axis] - lo) * scale)));
         };
-        for (uint32_t i = begin; i < end; ++i) {
-            Bin& b = bins[binOf(items[i])];
-            b.box.grow(items[i].box);
-            ++b.n;
-        }
-        float rightArea[kBins];
-        uint32_t rightCount[kBins];
-        Aabb acc;
-        uint32_t n = 0;
-        for (int i = kBins - 1; i > 0; --i) {
-            acc.grow(bins[i].box);
-            n += bins[i].n;
-            rightArea[i] = acc.area();
-            rightCount[i] = n;
-        }
-        float bestCost = kInf;
-        int bestSplit = -1;
-        acc = Aabb{};
-        n = 0;
-        for (int i = 0; i < kBins - 1; ++i) {
-            acc.grow(bins[i].box);
-            n += bins[i].n;
-            if (n == 0 || rightCount[i + 1] == 0) continue;
-            const float cost = acc.area() * n + rightArea[i + 1] * rightCount[i + 1];
-            if (cost < bestCost) {
-                bestCost = cost;
-                bestSplit = i;
-            }
-        }
         const float leafCost = box.area() * count;
         const float splitCost = kTraversalCost * box.area() + bestCost;
         if (bestSplit >= 0 && (splitCost < leafCost || count > static_cast<uint32_t>(maxLeaf))) {
