@@ -8,6 +8,7 @@
 #include <fstream>
 #include <iostream>
 #include <regex>
+#include <sched.h>
 #include <thread>
 
 #include "cli.h"
@@ -68,9 +69,21 @@ std::string frameSpan(int first, int last) {
     return first == last ? std::to_string(first) : std::to_string(first) + "–" + std::to_string(last);
 }
 
-/// Threads this rank renders with: --threads, or the node's cores shared among its ranks.
+/// CPUs this process may run on: mpirun binds each rank to one core when it starts two or
+/// fewer, to a socket beyond that, and nothing when --bind-to none.
+int cpusAllowed() {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(0, sizeof set, &set) != 0) return hardwareThreads();
+    return std::max(1, CPU_COUNT(&set));
+}
+
+/// Threads this rank renders with: --threads; else the cores mpirun bound it to; else (not
+/// bound) the node's cores shared among the ranks on it.
 int threadsForRank(const RenderJob& job, const MpiTransport& t) {
     if (job.threads > 0) return job.threads;
+    const int allowed = cpusAllowed();
+    if (allowed < hardwareThreads()) return allowed;
     return std::max(1, hardwareThreads() / std::max(1, t.ranksOnThisNode()));
 }
 
@@ -117,6 +130,7 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, int ranks, cons
     const int renderers = ranks <= 2 ? ranks : ranks - 1;
     if (job.modeOption == "auto") {
         job.mode = chooseMode(frames, renderers, job.settings.width, job.settings.height, job.modeWhy);
+        job.modeWhy = "auto: " + job.modeWhy;
     } else {
         job.mode = job.modeOption == "pixel" ? Mode::Pixel : Mode::Frame;
         job.modeWhy = "as asked";
@@ -338,10 +352,10 @@ int runRender(const std::vector<std::string>& args) {
         if (t.rank() == 0) throw;
         return 2;  // every rank parsed the same arguments; rank 0 reports
     }
-    const std::string threadsNote =
-        job.threads > 0 ? std::to_string(job.threads) + " threads each"
-                        : std::to_string(std::max(1, hardwareThreads() / std::max(1, t.ranksOnThisNode()))) +
-                              " thread(s) per rank on rank 0's node";
+    const std::string threadsNote = std::to_string(threadsForRank(job, t)) + " render thread(s) on rank 0" +
+                                    (cpusAllowed() < hardwareThreads() ? " (bound by mpirun to " + std::to_string(cpusAllowed()) + " of " +
+                                                                             std::to_string(hardwareThreads()) + " CPUs)"
+                                                                       : "");
     SharedScene shared;
     try {
         shared = shareScene(

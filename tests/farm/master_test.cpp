@@ -218,3 +218,22 @@ TEST(SceneBroadcast, BadSceneOnRankZeroTellsTheOthers) {
     worker.join();
     EXPECT_EQ(workerCode, 2);
 }
+
+TEST(SceneBroadcast, GltfModelLoadsFromTheBundleAsFromDisk) {
+    // A real binary glTF through the path the workers take: disk on rank 0, bundle elsewhere.
+    const std::string glb = "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
+    DiskFileSource disk;
+    Scene a = loadScene(glb, disk);
+    BundleFileSource mem(FileBundle::deserialize(disk.bundle().serialize()));
+    Scene b = loadScene(glb, mem);
+    EXPECT_EQ(a.triangleCount(), b.triangleCount());
+    EXPECT_GT(a.triangleCount(), 100000u);
+    const anim::Timeline ta = anim::Timeline::fromScene(a), tb = anim::Timeline::fromScene(b);
+    EXPECT_EQ(ta.frameCount(), tb.frameCount());
+    RenderSettings s = a.settings;
+    s.width = 32;
+    s.height = 24;
+    int fa = -1, fb = -1;
+    EXPECT_TRUE(RenderEngine::render(a, ta, s, 1, {5, {0, 0, 32, 24}}, fa).rgb ==
+                RenderEngine::render(b, tb, s, 1, {5, {0, 0, 32, 24}}, fb).rgb);
+}

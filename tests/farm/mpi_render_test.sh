@@ -1,0 +1,216 @@
+#!/usr/bin/env bash
+# End-to-end tests of `rayfarm render` under real `mpirun --oversubscribe`, checked with FFmpeg's
+# own tools. Usage: mpi_render_test.sh RAYFARM SOURCE_DIR WORK_DIR CASE
+#   modes SCENE [ARGS...]  np 1, 2, 3 × pixel, frame: PNGs bit-identical everywhere; every MP4
+#                          has the timeline's frame count, size and rate and each frame is within
+#                          PSNR_MIN dB of its PNG; a lossless MP4 decodes to the PNGs exactly
+#   resume | interrupt | killed-worker | stalled-worker | one-frame | odd-size | bad-output
+set -euo pipefail
+RAYFARM=$1 SRC=$2 WORK=$3 CASE=$4
+shift 4
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+# Stated tolerance for libx264 at CRF 18 (yuv420p) against the PNG frames, RGB PSNR per frame.
+PSNR_MIN=${PSNR_MIN:-30}
+FLIGHT="$SRC/scenes/flight.json"
+mkdir -p "$WORK"
+cd "$WORK"
+
+fail() { echo "FAIL: $*" >&2; exit 1; }
+mpi() { local np=$1; shift; mpirun --oversubscribe -np "$np" "$RAYFARM" "$@"; }
+# Runs that get signalled start mpirun directly in the background, so $! is mpirun itself.
+
+probe() {  # file -> "frames width height rate"
+    ffprobe -v error -select_streams v:0 -count_frames \
+        -show_entries stream=nb_read_frames,width,height,r_frame_rate -of default=nw=1 "$1" |
+        awk -F= '{v[$1]=$2} END {print v["nb_read_frames"], v["width"], v["height"], v["r_frame_rate"]}'
+}
+
+pngs_md5() { (cd "$1" && md5sum frame_*.png) ; }
+
+# Decoded MP4 frames as RGB, one md5 per frame (crop to WxH first if given).
+video_md5() {
+    local vf=format=rgb24
+    [ -n "${2:-}" ] && vf="crop=$2:0:0,format=rgb24"
+    ffmpeg -v error -i "$1" -vf "$vf" -f framemd5 -pix_fmt rgb24 - | grep -v '^#' | awk -F, '{print $NF}'
+}
+pngs_rgb_md5() {  # the PNGs decoded the same way
+    local first=$2
+    ffmpeg -v error -start_number "$first" -i "$1/frame_%06d.png" -vf format=rgb24 -f framemd5 -pix_fmt rgb24 - |
+        grep -v '^#' | awk -F, '{print $NF}'
+}
+
+# Minimum over frames of the RGB PSNR between the MP4 and the PNGs.
+min_psnr() {  # mp4 framesdir first [crop WxH]
+    local crop="" rate
+    [ -n "${4:-}" ] && crop="format=rgb24,crop=$4:0:0,"
+    # Pair frames by index: both streams get the video's rate.
+    rate=$(ffprobe -v error -select_streams v:0 -show_entries stream=r_frame_rate -of csv=p=0 "$1")
+    ffmpeg -v error -i "$1" -framerate "$rate" -start_number "$3" -i "$2/frame_%06d.png" \
+        -lavfi "[0:v]${crop}format=rgb24[a];[1:v]format=rgb24[b];[a][b]psnr=stats_file=psnr.log" -f null - 
+    awk '{for (i = 1; i <= NF; i++) if ($i ~ /^psnr_avg:/) { split($i, a, ":"); v = a[2] == "inf" ? 1e9 : a[2] + 0; if (min == "" || v < min) min = v } }
+         END {print min}' psnr.log
+}
+
+rank_pid() {  # mpirun-pid rank -> pid of that rank
+    local c
+    for c in $(pgrep -P "$1"); do
+        if tr '\0' '\n' < /proc/"$c"/environ 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK=$2"; then echo "$c"; return; fi
+    done
+}
+
+wait_for_pngs() {  # dir count timeout-seconds
+    local t=0
+    while [ "$(ls "$1" 2>/dev/null | grep -c '^frame_.*\.png$')" -lt "$2" ]; do
+        sleep 0.1; t=$((t + 1)); [ $t -lt $(($3 * 10)) ] || fail "fewer than $2 frames in $1 after $3 s"
+    done
+}
+
+case "$CASE" in
+modes)
+    scene=$1; shift
+    ref=""
+    for np in 1 2 3; do
+        for mode in pixel frame; do
+            out=m_${np}_$mode
+            rm -rf "$out.mp4" "$out.frames"
+            mpi "$np" render "$scene" -o "$out.mp4" --mode "$mode" --stats "$out.json" "$@" 2> "$out.log" ||
+                { cat "$out.log"; fail "np $np $mode: rayfarm failed"; }
+            pngs_md5 "$out.frames" > "$out.md5"
+            n=$(wc -l < "$out.md5")
+            [ "$n" -ge 1 ] || fail "np $np $mode: no PNG frames"
+            if [ -z "$ref" ]; then ref=$out; else
+                cmp -s "$ref.md5" "$out.md5" || { diff "$ref.md5" "$out.md5" | head; fail "np $np $mode: PNGs differ from $ref"; }
+            fi
+            read -r frames w h rate < <(probe "$out.mp4")
+            first=$(ls "$out.frames" | grep -m1 '^frame_' | sed 's/frame_0*\([0-9]\)/\1/; s/\.png//')
+            [ "$frames" = "$n" ] || fail "np $np $mode: MP4 has $frames frames, expected $n"
+            read -r pw ph < <(python3 -c "import struct,sys; d=open(sys.argv[1],'rb').read(24); print(*struct.unpack('>II', d[16:24]))" "$out.frames/$(ls "$out.frames" | grep -m1 '^frame_')")
+            [ "$w" = "$pw" ] && [ "$h" = "$ph" ] || fail "np $np $mode: MP4 is ${w}x$h, frames are ${pw}x$ph"
+            want_rate=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['video_fps'])" "$out.json")
+            python3 -c "import sys; n,d=map(int,sys.argv[1].split('/')); sys.exit(abs(n/d-float(sys.argv[2]))>1e-3)" "$rate" "$want_rate" ||
+                fail "np $np $mode: MP4 rate $rate, timeline $want_rate"
+            p=$(min_psnr "$out.mp4" "$out.frames" "$first")
+            python3 -c "import sys; sys.exit(float(sys.argv[1]) < float(sys.argv[2]))" "$p" "$PSNR_MIN" ||
+                fail "np $np $mode: a frame decodes at $p dB PSNR, below $PSNR_MIN"
+            echo "np $np $mode: $n frames ${w}x$h at $rate, PNGs identical to $ref, min PSNR $p dB"
+        done
+    done
+    # Lossless: the decoded video is the PNGs, bit for bit.
+    mpi 2 render "$scene" -o lossless.mp4 --no-frames --lossless "$@" 2> lossless.log || { cat lossless.log; fail "lossless run failed"; }
+    video_md5 lossless.mp4 > lossless.vmd5
+    pngs_rgb_md5 "$ref.frames" "$first" > ref.vmd5
+    cmp -s lossless.vmd5 ref.vmd5 || fail "lossless MP4 does not decode to the PNG frames"
+    echo "lossless: $(wc -l < ref.vmd5) decoded frames equal the PNGs"
+    ;;
+resume)
+    args=(render "$FLIGHT" --size 64x48 --frames 0:11)
+    rm -rf full.* part.*
+    mpi 2 "${args[@]}" -o full.mp4 2> full.log || { cat full.log; fail "full run failed"; }
+    mpi 2 "${args[@]}" -o part.mp4 2> part.log || { cat part.log; fail "second run failed"; }
+    rm part.mp4 part.frames/frame_000003.png part.frames/frame_000007.png part.frames/frame_000008.png
+    mpi 3 "${args[@]}" -o part.mp4 --resume 2> resume.log || { cat resume.log; fail "resume failed"; }
+    grep -q "9 of 12 frames kept in part.frames, 3 to render" resume.log || { cat resume.log; fail "resume did not render exactly the 3 missing frames"; }
+    cmp -s <(pngs_md5 full.frames) <(pngs_md5 part.frames) || fail "resumed PNGs differ"
+    cmp -s <(video_md5 full.mp4) <(video_md5 part.mp4) || fail "resumed video decodes differently"
+    # A different size must not resume from these frames.
+    if mpi 2 "${args[@]}" -o part.mp4 --resume --size 32x24 2> wrong.log; then fail "resume with other settings accepted"; fi
+    grep -q "different scene or settings" wrong.log || { cat wrong.log; fail "no clear message for mismatched resume"; }
+    echo "resume: 3 frames re-rendered, video identical"
+    ;;
+interrupt)
+    args=(render "$FLIGHT" --size 320x180 --spp 9)
+    rm -rf int.* ref.*
+    mpirun --oversubscribe -np 2 "$RAYFARM" "${args[@]}" -o int.mp4 2> int.log &
+    pid=$!
+    wait_for_pngs int.frames 3 60
+    kill -INT "$pid"
+    set +e; wait "$pid"; set -e
+    grep -q "rayfarm: interrupted" int.log || { cat int.log; fail "no interrupt message"; }
+    grep -q -- "--resume" int.log || { cat int.log; fail "no resume hint"; }
+    read -r frames w h rate < <(probe int.mp4)
+    kept=$(ls int.frames | grep -c '^frame_.*\.png$')
+    [ "$frames" -ge 1 ] && [ "$frames" -lt 97 ] || fail "partial MP4 has $frames frames"
+    [ "$frames" -le "$kept" ] || fail "MP4 has $frames frames but only $kept PNGs were kept"
+    echo "interrupt: partial MP4 plays $frames frames ($kept PNGs kept)"
+    mpi 2 "${args[@]}" -o int.mp4 --resume 2> resume.log || { cat resume.log; fail "resume after interrupt failed"; }
+    read -r frames w h rate < <(probe int.mp4)
+    [ "$frames" = 97 ] || fail "resumed MP4 has $frames frames"
+    "$RAYFARM" "${args[@]}" -o ref.mp4 2> ref.log || fail "reference run failed"
+    cmp -s <(pngs_md5 int.frames) <(pngs_md5 ref.frames) || fail "interrupted+resumed PNGs differ from one uninterrupted run"
+    cmp -s <(video_md5 int.mp4) <(video_md5 ref.mp4) || fail "interrupted+resumed video differs from one uninterrupted run"
+    echo "interrupt: resumed video identical to an uninterrupted run"
+    ;;
+killed-worker)
+    rm -rf kill.*
+    mpirun --oversubscribe -np 2 "$RAYFARM" render "$FLIGHT" -o kill.mp4 --size 320x180 --spp 9 2> kill.log &
+    pid=$!
+    wait_for_pngs kill.frames 2 60
+    victim=$(rank_pid "$pid" 1)
+    [ -n "$victim" ] || fail "rank 1 not found"
+    start=$(date +%s.%N)
+    kill -9 "$victim"
+    set +e; wait "$pid"; rc=$?; set -e
+    took=$(python3 -c "import sys,time; print(round(time.time()-float(sys.argv[1]),2))" "$start")
+    [ "$rc" -ne 0 ] || fail "run with a killed worker exited 0"
+    grep -Eq "rayfarm: error: rank 1 .*frame" kill.log || { cat kill.log; fail "no message naming rank 1 and its frame"; }
+    python3 -c "import sys; sys.exit(float(sys.argv[1]) > 10)" "$took" || fail "took $took s to stop (bound 10 s)"
+    read -r frames w h rate < <(probe kill.mp4)
+    echo "killed-worker: stopped in $took s: $(grep 'rayfarm: error' kill.log); MP4 plays $frames frames"
+    ;;
+stalled-worker)
+    rm -rf stall.*
+    mpirun --oversubscribe -np 3 "$RAYFARM" render "$FLIGHT" -o stall.mp4 --size 320x180 --spp 9 --timeout 2 2> stall.log &
+    pid=$!
+    wait_for_pngs stall.frames 2 60
+    victim=$(rank_pid "$pid" 2)
+    [ -n "$victim" ] || fail "rank 2 not found"
+    start=$(date +%s.%N)
+    kill -STOP "$victim"
+    set +e; wait "$pid"; rc=$?; set -e
+    took=$(python3 -c "import sys,time; print(round(time.time()-float(sys.argv[1]),2))" "$start")
+    [ "$rc" -ne 0 ] || fail "run with a stalled worker exited 0"
+    grep -Eq "rayfarm: error: rank 2 stopped answering .*frame" stall.log || { cat stall.log; fail "no message naming rank 2 and its frame"; }
+    python3 -c "import sys; sys.exit(float(sys.argv[1]) > 10)" "$took" || fail "took $took s to stop (bound: 2 s timeout + 8 s)"
+    echo "stalled-worker: stopped in $took s: $(grep 'rayfarm: error' stall.log)"
+    ;;
+one-frame)
+    for mode in pixel frame auto; do
+        rm -rf one_$mode.*
+        mpi 2 render "$SRC/tests/farm/data/still_small.json" -o one_$mode.mp4 --size 64x48 --mode $mode 2> one_$mode.log ||
+            { cat one_$mode.log; fail "one-frame $mode failed"; }
+        read -r frames w h rate < <(probe one_$mode.mp4)
+        [ "$frames $w $h" = "1 64 48" ] || fail "one-frame $mode: got '$frames $w $h'"
+    done
+    grep -q "mode pixel (auto: 1 frame" one_auto.log || { cat one_auto.log; fail "auto did not pick pixel mode for one frame"; }
+    cmp -s <(pngs_md5 one_pixel.frames) <(pngs_md5 one_frame.frames) || fail "one-frame PNGs differ between modes"
+    echo "one-frame: 1-frame MP4 in every mode"
+    ;;
+odd-size)
+    for np in 1 2; do
+        rm -rf odd_$np.*
+        mpi $np render "$FLIGHT" -o odd_$np.mp4 --size 321x241 --frames 0:2 --mode pixel 2> odd_$np.log ||
+            { cat odd_$np.log; fail "321x241 failed"; }
+    done
+    grep -q "the video is 322x242" odd_1.log || { cat odd_1.log; fail "no note about padding"; }
+    cmp -s <(pngs_md5 odd_1.frames) <(pngs_md5 odd_2.frames) || fail "321x241 PNGs differ between 1 and 2 ranks"
+    read -r frames w h rate < <(probe odd_2.mp4)
+    [ "$frames $w $h" = "3 322 242" ] || fail "321x241: MP4 is '$frames $w $h'"
+    p=$(min_psnr odd_2.mp4 odd_2.frames 0 321:241)
+    python3 -c "import sys; sys.exit(float(sys.argv[1]) < float(sys.argv[2]))" "$p" "$PSNR_MIN" || fail "321x241: PSNR $p below $PSNR_MIN"
+    echo "odd-size: 321x241 frames, 322x242 video, min PSNR $p dB over the visible area"
+    ;;
+bad-output)
+    start=$(date +%s.%N)
+    set +e; mpi 2 render "$FLIGHT" -o /nonexistent-dir/x.mp4 2> bad.log; rc=$?; set -e
+    [ "$rc" -eq 2 ] || { cat bad.log; fail "unwritable -o: exit $rc, expected 2"; }
+    [ "$(grep -c 'rayfarm: error' bad.log)" = 1 ] || { cat bad.log; fail "expected exactly one error line"; }
+    grep -q "rayfarm: error: /nonexistent-dir/x.mp4: cannot write" bad.log || { cat bad.log; fail "message does not name the path"; }
+    grep -q "frames 0" bad.log && fail "rendering was planned before the output check"
+    set +e; "$RAYFARM" render "$FLIGHT" -o out.mp4 --mode sideways 2> bad2.log; rc=$?; set -e
+    [ "$rc" -eq 2 ] && grep -q "rayfarm: error: --mode" bad2.log || { cat bad2.log; fail "bad --mode not refused"; }
+    echo "bad-output: refused at once with exit 2"
+    ;;
+*)
+    fail "unknown case $CASE"
+    ;;
+esac
