@@ -11,3 +11,9 @@ cmake --build build -j"$jobs" --target rayfarm
 mkdir -p out
 build/bin/rayfarm still scenes/whitted.json -o out/whitted.png --stats out/whitted-stats.json
 echo "quickstart: wrote out/whitted.png"
+
+# The default turntable of a real glTF model, to an MP4 any player plays (120 frames, 640x360;
+# one process on all cores; under mpirun the same command becomes a render farm).
+build/bin/rayfarm render /usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb \
+  -o out/engine_turntable.mp4 --size 640x360 --no-frames --stats out/engine_turntable-stats.json
+echo "quickstart: wrote out/engine_turntable.mp4"

@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# Benchmark (not a test): sustained frames per second of `rayfarm render` end to end (render,
+# gather, encode, mux), for scenes/whitted.json and the 2CylinderEngine glTF turntable at 640x360
+# over 120 frames, in pixel and frame mode at 1 and 2 ranks; the 1 -> 2 rank speed-up; and the
+# encoder's share of the time (encoder busy seconds / seconds from first dispatch to last mux).
+#   bash examples/bench_farm.sh [BUILD_DIR]       (default: build)
+# mpirun binds each rank to one core when it starts two or fewer, so "1 rank" is one core and
+# "2 ranks" two. Runs use --no-frames (the MP4 only); one extra run shows the cost of keeping
+# PNG frames (the default). Targets: >= 30 fps for the engine turntable, speed-up >= 1.8.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build}
+bin=$build/bin/rayfarm
+if [ ! -x "$bin" ]; then
+  bash tests/install-deps.sh
+  cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$build" -j"$(nproc 2>/dev/null || echo 2)" --target rayfarm
+fi
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+engine=/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+run() {  # name np mode args...
+  local name=$1 np=$2 mode=$3
+  shift 3
+  mpirun --oversubscribe -np "$np" "$bin" render "$@" -o "$tmp/$name.mp4" --mode "$mode" --size 640x360 \
+    --stats "$tmp/$name.json" 2> "$tmp/$name.log" || { cat "$tmp/$name.log" >&2; exit 1; }
+}
+
+echo "bench_farm: $(nproc) CPUs, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), load $(cut -d' ' -f1-3 /proc/loadavg)"
+for scene in whitted engine; do
+  if [ $scene = whitted ]; then args=(scenes/whitted.json --fps 120 --frames 0:119); else args=("$engine"); fi
+  for mode in pixel frame; do
+    for np in 1 2; do run "${scene}_${mode}_$np" "$np" "$mode" "${args[@]}" --no-frames; done
+  done
+done
+run engine_frame_2_png 2 frame "$engine"
+
+python3 - "$tmp" <<'PY'
+import json, sys, os
+d = sys.argv[1]
+def s(n): return json.load(open(os.path.join(d, n + ".json")))
+print(f"{'scene':9}{'mode':7}{'frames':>7}{'fps 1 rank':>12}{'fps 2 ranks':>13}{'speed-up':>10}{'encoder share (1/2)':>22}{'Mrays/s (2)':>13}")
+for scene in ("whitted", "engine"):
+    for mode in ("pixel", "frame"):
+        a, b = s(f"{scene}_{mode}_1"), s(f"{scene}_{mode}_2")
+        mr = b["rays"]["total"] / b["render_s"] / 1e6
+        print(f"{scene:9}{mode:7}{b['frames']:7}{a['sustained_fps']:12.2f}{b['sustained_fps']:13.2f}"
+              f"{b['sustained_fps'] / a['sustained_fps']:10.2f}{a['encoder_share'] * 100:14.1f}% /{b['encoder_share'] * 100:4.1f}%{mr:13.1f}")
+p = s("engine_frame_2_png")
+print(f"engine frame mode, 2 ranks, keeping PNG frames (the default): {p['sustained_fps']:.2f} fps "
+      f"(PNG writer busy {p['png_s']:.2f} s of {p['render_s']:.2f} s)")
+PY
