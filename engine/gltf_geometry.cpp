@@ -212,4 +212,34 @@ bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int primIndex, 
     return true;
 }
 
+bool placePrimitive(TriangleMesh& m, const DMat4& renderFromNode, const std::vector<double>& weights) {
+    const glm::dmat3 l(renderFromNode);
+    const double det = glm::determinant(l);
+    if (!(std::abs(det) > 0.0) || !std::isfinite(det)) return false;  // zero scale: nothing visible
+    const glm::dmat3 nm = glm::transpose(glm::inverse(l));
+    const std::vector<Vec3> pos = morphedPositions(m, weights);
+    const std::vector<Vec3> nor = morphedNormals(m, weights);
+    m.positions.resize(pos.size());
+    m.normals.resize(nor.size());
+    for (size_t i = 0; i < pos.size(); ++i) {
+        m.positions[i] = Vec3(glm::dvec3(renderFromNode * glm::dvec4(glm::dvec3(pos[i]), 1.0)));
+        if (!isFinite(m.positions[i])) return false;
+    }
+    for (size_t i = 0; i < nor.size(); ++i) {
+        const glm::dvec3 n = nm * glm::dvec3(nor[i]);
+        const double len = glm::length(n);
+        m.normals[i] = len > 0.0 && std::isfinite(len) ? Vec3(n / len) : Vec3(0.f);
+    }
+    for (Vec4& t : m.tangents) {
+        const glm::dvec3 v = l * glm::dvec3(Vec3(t));
+        const double len = glm::length(v);
+        t = Vec4(len > 0.0 && std::isfinite(len) ? Vec3(v / len) : Vec3(0.f), det < 0.0 ? -t.w : t.w);
+    }
+    // A mirroring transform turns counter-clockwise triangles clockwise: swap two corners so the
+    // front face stays where glTF put it.
+    if (det < 0.0)
+        for (size_t t = 0; t + 2 < m.indices.size(); t += 3) std::swap(m.indices[t + 1], m.indices[t + 2]);
+    return !m.indices.empty();
+}
+
 }  // namespace rf::gltf

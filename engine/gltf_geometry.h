@@ -31,6 +31,11 @@ std::vector<Vec3> morphedNormals(const TriangleMesh& mesh, const std::vector<dou
 /// Area-weighted vertex normals from the triangles (zero where no triangle touches a vertex).
 std::vector<Vec3> generateNormals(const std::vector<Vec3>& positions, const std::vector<uint32_t>& indices);
 
+/// Moves a primitive's triangles into render space by renderFromNode (morph weights applied,
+/// normals by the inverse transpose, winding flipped under a mirroring transform). Returns
+/// false if nothing drawable is left (zero or non-finite scale).
+bool placePrimitive(TriangleMesh& mesh, const DMat4& renderFromNode, const std::vector<double>& weights);
+
 /// Per-vertex tangents (xyz, handedness w) from UV gradients, orthogonal to the normals; zero
 /// where the UVs give no direction.
 std::vector<Vec4> generateTangents(const std::vector<Vec3>& positions, const std::vector<Vec3>& normals,

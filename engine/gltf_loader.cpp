@@ -12,6 +12,7 @@
 #include "errors.h"
 #include "gltf_accessors.h"
 #include "gltf_geometry.h"
+#include "gltf_lights_cameras.h"
 #include "gltf_materials.h"
 #include "gltf_safety.h"
 #include "scene_loader.h"
@@ -60,7 +61,13 @@ public:
         }
         if (!cfs.violation().empty())
             throw InputError(path, "URI \"" + cfs.violation() + "\" would leave the model's folder; refused");
-        if (!ok) throw InputError(path, firstLine(err));
+        if (!ok) {
+            // tinygltf says "File not found : NAME"; say which kind of file is missing, and where.
+            std::string msg = firstLine(err);
+            const std::string nf = "File not found : ";
+            if (msg.rfind(nf, 0) == 0) msg = "cannot find \"" + msg.substr(nf.size()) + "\" in the model's folder";
+            throw InputError(path, msg);
+        }
         if (!warn.empty()) notes_.push_back(firstLine(warn));
         for (const std::string& n : pf.notes) notes_.push_back(n);
         resolveHierarchy();
@@ -270,37 +277,6 @@ private:
     bool skippedPointsLines_ = false;
 };
 
-/// Moves one primitive's triangles into render space; returns false if nothing is left.
-bool placeMesh(TriangleMesh& m, const DMat4& renderFromNode, const std::vector<double>& weights) {
-    const glm::dmat3 l(renderFromNode);
-    const double det = glm::determinant(l);
-    if (!(std::abs(det) > 0.0) || !std::isfinite(det)) return false;  // zero scale: nothing visible
-    const glm::dmat3 nm = glm::transpose(glm::inverse(l));
-    const std::vector<Vec3> pos = morphedPositions(m, weights);
-    const std::vector<Vec3> nor = morphedNormals(m, weights);
-    m.positions.resize(pos.size());
-    m.normals.resize(nor.size());
-    for (size_t i = 0; i < pos.size(); ++i) {
-        m.positions[i] = Vec3(glm::dvec3(renderFromNode * glm::dvec4(glm::dvec3(pos[i]), 1.0)));
-        if (!isFinite(m.positions[i])) return false;
-    }
-    for (size_t i = 0; i < nor.size(); ++i) {
-        const glm::dvec3 n = nm * glm::dvec3(nor[i]);
-        const double len = glm::length(n);
-        m.normals[i] = len > 0.0 && std::isfinite(len) ? Vec3(n / len) : Vec3(0.f);
-    }
-    for (Vec4& t : m.tangents) {
-        const glm::dvec3 v = l * glm::dvec3(Vec3(t));
-        const double len = glm::length(v);
-        t = Vec4(len > 0.0 && std::isfinite(len) ? Vec3(v / len) : Vec3(0.f), det < 0.0 ? -t.w : t.w);
-    }
-    // A mirroring transform turns counter-clockwise triangles clockwise: swap two corners so the
-    // front face stays where glTF put it.
-    if (det < 0.0)
-        for (size_t t = 0; t + 2 < m.indices.size(); t += 3) std::swap(m.indices[t + 1], m.indices[t + 2]);
-    return !m.indices.empty();
-}
-
 void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel) {
     const DMat4 renderFromModel = glm::translate(DMat4(1.0), -scene.renderOrigin) * worldFromModel;
     const int modelIndex = int(scene.models.size());
@@ -352,7 +328,7 @@ void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel) {
                     m.objectNormals = m.normals;
                     m.objectTangents = m.tangents;
                 }
-                if (!placeMesh(m, renderFromNode, defaultWeights(node))) {
+                if (!placePrimitive(m, renderFromNode, defaultWeights(node))) {
                     ++unplaced;
                     continue;
                 }
@@ -364,53 +340,18 @@ void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel) {
                 scene.meshes.push_back(std::move(m));
             }
         }
-        const glm::dmat3 l(renderFromNode);
-        const Vec3 origin = Vec3(glm::dvec3(renderFromNode[3]));
-        auto axis = [&](const glm::dvec3& a) {
-            const glm::dvec3 v = l * a;
-            const double len = glm::length(v);
-            return len > 0.0 && std::isfinite(len) ? Vec3(v / len) : Vec3(a);
-        };
         if (auto it = n.extensions.find("KHR_lights_punctual"); it != n.extensions.end() && it->second.Has("light")) {
             const tinygltf::Value& li = it->second.Get("light");
             const int idx = li.IsInt() ? li.Get<int>() : -1;
-            if (idx < 0 || size_t(idx) >= model_.lights.size()) throw InputError(path_, "nodes[" + std::to_string(node) + "]: no light " + std::to_string(idx));
-            const tinygltf::Light& gl = model_.lights[size_t(idx)];
-            Light L;
-            L.name = gl.name;
-            L.position = origin;
-            L.direction = axis(glm::dvec3(0, 0, -1));
-            if (gl.color.size() == 3) L.color = Color(float(gl.color[0]), float(gl.color[1]), float(gl.color[2]));
-            L.intensity = float(std::max(0.0, std::isfinite(gl.intensity) ? gl.intensity : 1.0) / kPi);
-            L.range = gl.range > 0.0 && std::isfinite(gl.range) ? float(gl.range) : 0.f;
-            if (gl.type == "directional") {
-                L.type = LightType::Directional;
-            } else {
-                L.type = gl.type == "spot" ? LightType::Spot : LightType::Point;
-                L.attenuation = Vec3(0.f, 0.f, 1.f);  // inverse square, as glTF specifies
-                if (L.type == LightType::Spot) {
-                    L.innerCone = float(std::clamp(gl.spot.innerConeAngle, 0.0, double(kPi) / 2));
-                    L.outerCone = float(std::clamp(gl.spot.outerConeAngle, double(L.innerCone), double(kPi) / 2));
-                }
-            }
-            if (!isFinite(L.color) || !isFinite(L.position)) throw InputError(path_, "lights[" + std::to_string(idx) + "]: non-finite values");
-            scene.lights.push_back(L);
+            if (idx < 0 || size_t(idx) >= model_.lights.size())
+                throw InputError(path_, "nodes[" + std::to_string(node) + "]: no light " + std::to_string(idx));
+            scene.lights.push_back(punctualLight(model_.lights[size_t(idx)], renderFromNode, path_, idx));
         }
         if (n.camera >= 0) {
-            if (size_t(n.camera) >= model_.cameras.size()) throw InputError(path_, "nodes[" + std::to_string(node) + "].camera: no such camera");
-            const tinygltf::Camera& gc = model_.cameras[size_t(n.camera)];
-            if (gc.type == "perspective") {
-                Camera c;
-                c.eye = origin;
-                c.target = origin + axis(glm::dvec3(0, 0, -1));
-                c.up = axis(glm::dvec3(0, 1, 0));
-                const double fov = glm::degrees(gc.perspective.yfov);
-                c.fovDeg = float(fov > 0.0 && fov < 180.0 ? fov : 45.0);
-                c.fovHorizontal = false;
-                scene.gltfCameras.push_back(c);
-            } else {
-                notes_.push_back("cameras[" + std::to_string(n.camera) + "]: " + gc.type + " cameras are not supported; skipped");
-            }
+            if (size_t(n.camera) >= model_.cameras.size())
+                throw InputError(path_, "nodes[" + std::to_string(node) + "].camera: no such camera");
+            if (auto c = perspectiveCamera(model_.cameras[size_t(n.camera)], renderFromNode)) scene.gltfCameras.push_back(*c);
+            else notes_.push_back("cameras[" + std::to_string(n.camera) + "]: " + model_.cameras[size_t(n.camera)].type + " cameras are not supported; skipped");
         }
     }
     if (degenerate) notes_.push_back(std::to_string(degenerate) + " degenerate triangles dropped");

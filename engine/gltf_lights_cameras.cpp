@@ -1,0 +1,53 @@
+#include "gltf_lights_cameras.h"
+
+#include "errors.h"
+
+namespace rf::gltf {
+
+namespace {
+
+/// A node axis in render space, unit length (the axis itself if the node collapses it).
+Vec3 nodeAxis(const DMat4& renderFromNode, const glm::dvec3& a) {
+    const glm::dvec3 v = glm::dmat3(renderFromNode) * a;
+    const double len = glm::length(v);
+    return len > 0.0 && std::isfinite(len) ? Vec3(v / len) : Vec3(a);
+}
+
+}  // namespace
+
+Light punctualLight(const tinygltf::Light& gl, const DMat4& renderFromNode, const std::string& file, int index) {
+    Light L;
+    L.name = gl.name;
+    L.position = Vec3(glm::dvec3(renderFromNode[3]));
+    L.direction = nodeAxis(renderFromNode, glm::dvec3(0, 0, -1));
+    if (gl.color.size() == 3) L.color = Color(float(gl.color[0]), float(gl.color[1]), float(gl.color[2]));
+    L.intensity = float(std::max(0.0, std::isfinite(gl.intensity) ? gl.intensity : 1.0) / kPi);
+    L.range = gl.range > 0.0 && std::isfinite(gl.range) ? float(gl.range) : 0.f;
+    if (gl.type == "directional") {
+        L.type = LightType::Directional;
+    } else {
+        L.type = gl.type == "spot" ? LightType::Spot : LightType::Point;
+        L.attenuation = Vec3(0.f, 0.f, 1.f);  // inverse square, as glTF specifies
+        if (L.type == LightType::Spot) {
+            L.innerCone = float(std::clamp(gl.spot.innerConeAngle, 0.0, double(kPi) / 2));
+            L.outerCone = float(std::clamp(gl.spot.outerConeAngle, double(L.innerCone), double(kPi) / 2));
+        }
+    }
+    if (!isFinite(L.color) || !isFinite(L.position) || !std::isfinite(L.intensity))
+        throw InputError(file, "lights[" + std::to_string(index) + "]: non-finite values");
+    return L;
+}
+
+std::optional<Camera> perspectiveCamera(const tinygltf::Camera& gc, const DMat4& renderFromNode) {
+    if (gc.type != "perspective") return std::nullopt;
+    Camera c;
+    c.eye = Vec3(glm::dvec3(renderFromNode[3]));
+    c.target = c.eye + nodeAxis(renderFromNode, glm::dvec3(0, 0, -1));
+    c.up = nodeAxis(renderFromNode, glm::dvec3(0, 1, 0));
+    const double fov = glm::degrees(gc.perspective.yfov);
+    c.fovDeg = float(fov > 0.0 && fov < 180.0 ? fov : 45.0);
+    c.fovHorizontal = false;
+    return c;
+}
+
+}  // namespace rf::gltf
