@@ -115,12 +115,12 @@ std::string gnuplotScript(const std::vector<SweepRow>& rows, const std::string& 
         plots.push_back(block + " using 1:2 with points pt " + std::to_string(style++) + " ps 1.3 title " +
                         gnuplotQuote("sweep: " + factor));
     }
-    // Labels only where they do not pile up: a front point within 30% in both time and error of
+    // Labels only where they do not pile up: a front point within 60% in both time and error of
     // the last labelled one keeps its mark but not its name.
     s << "$frontlabels << EOD\n";
     const SweepRow* lastLabel = nullptr;
     for (const SweepRow* r : front) {
-        const auto near = [](double a, double b) { return std::abs(std::log(std::max(a, kRmseFloor) / std::max(b, kRmseFloor))) < std::log(1.3); };
+        const auto near = [](double a, double b) { return std::abs(std::log(std::max(a, kRmseFloor) / std::max(b, kRmseFloor))) < std::log(1.6); };
         if (lastLabel && near(r->seconds, lastLabel->seconds) && near(r->error.rmse, lastLabel->error.rmse)) continue;
         point(s, *r);
         lastLabel = r;
