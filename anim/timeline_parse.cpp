@@ -8,13 +8,14 @@
 //                 "fov": TRACK, "orbit": {"center", "radius", "height", "period", "phase"} },
 //     "lights": [ { "light": 0 | "name", "position", "direction", "color", "intensity",
 //                   "inner_angle", "outer_angle": TRACK } ],
-//     "animation": false | {"model", "name" | "index", "mode": "loop" | "clamp", "speed", "offset"}
+//     "animation": true | false | {"model", "name" | "index", "mode": "loop" | "clamp", "speed", "offset"}
 //                  | [ ...one per model... ]
 //   }
 //   TRACK = { "interpolation": "linear", "keys": [ {"time", "value", "interpolation", "in", "out"} ] }
 //           or just the keys array.
 //
-// Positions are world space (render space = world − renderOrigin). Angles in degrees.
+// Positions are world space (render space = world − renderOrigin). Angles in degrees. The full
+// description, with the turntable section, is anim/timeline_format.md.
 #include <filesystem>
 #include <set>
 
@@ -216,14 +217,14 @@ public:
         const json& a = o["animation"];
         const std::string aw = join(w, "animation");
         std::vector<GltfAnimationPlayer> players;
-        if (a.is_boolean() && !a.get<bool>()) return players;
+        if (a.is_boolean()) return a.get<bool>() ? defaultPlayers(scene_) : players;
         if (a.is_string() && a.get<std::string>() == "none") return players;
         if (a.is_object()) {
             players.push_back(player(a, aw));
         } else if (a.is_array()) {
             for (size_t i = 0; i < a.size(); ++i) players.push_back(player(a[i], index(aw, i)));
         } else {
-            fail(aw, "expected false, \"none\", an object or an array of objects");
+            fail(aw, "expected true, false, \"none\", an object or an array of objects");
         }
         return players;
     }
