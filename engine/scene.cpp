@@ -60,7 +60,9 @@ void Scene::build() {
             sphX_[i] = s.center.x;
             sphY_[i] = s.center.y;
             sphZ_[i] = s.center.z;
-            sphReach_[i] = used ? s.radius + 32.f * kMachineEps * (maxComponent(glm::abs(s.center)) + s.radius) : -kInf;
+            const float err = 32.f * kMachineEps * (maxComponent(glm::abs(s.center)) + s.radius);
+            sphReach_[i] = used ? s.radius + err : -kInf;
+            sphInner_[i] = used ? s.radius - err : -kInf;
         }
     }
     fillSlotData();
@@ -154,11 +156,24 @@ bool Scene::intersectSlot(uint32_t slot, const Ray& r, const WatertightRay& wr, 
     return true;
 }
 
-uint32_t Scene::sphereCandidates(const Ray& r, float tMax) const {
+namespace {
+typedef float F4 __attribute__((vector_size(16)));
+typedef int I4 __attribute__((vector_size(16)));
+/// Lane signs as four bits (movmskps where SSE is there, a loop elsewhere).
+inline uint32_t laneMask(I4 m) {
+#if defined(__SSE__)
+    return static_cast<uint32_t>(__builtin_ia32_movmskps(reinterpret_cast<F4>(m)));
+#else
+    uint32_t r = 0;
+    for (int i = 0; i < 4; ++i) r |= uint32_t(m[i] & 1) << i;
+    return r;
+#endif
+}
+}  // namespace
+
+uint32_t Scene::sphereCandidates(const Ray& r, float tMax, uint32_t* sure) const {
     // The float test of sphereMayHit for all lanes at once, without branches or divisions
     // (a·v = a·f − b·d). GCC/Clang vector extensions: SSE2 on any x86-64, NEON elsewhere.
-    typedef float F4 __attribute__((vector_size(16)));
-    typedef int I4 __attribute__((vector_size(16)));
     static_assert(kBvhThreshold == 8, "two lanes of four");
     const float a = glm::dot(r.d, r.d);
     const float oErr = 32.f * kMachineEps * maxComponent(glm::abs(r.o));
@@ -168,25 +183,38 @@ uint32_t Scene::sphereCandidates(const Ray& r, float tMax) const {
     // Entry no earlier than (|f| − reach)/|d|: |f| > reach + tMax·|d| cannot hit before tMax.
     const float far = tMax * std::sqrt(a) * (1.f + 1e-5f);
     const F4 farv = {far, far, far, far};
-    uint32_t mask = 0;
+    // Sure hit: outside, approaching, the line well inside the sphere, and the closest approach
+    // (after the entry) before tMax, all with margins far above the float error.
+    const float aT = a * tMax * (1.f - 1e-4f);
+    const F4 aTv = {aT, aT, aT, aT}, grow = {1.f + 1e-4f, 1.f + 1e-4f, 1.f + 1e-4f, 1.f + 1e-4f};
+    uint32_t mask = 0, sureMask = 0;
     for (int h = 0; h < 2; ++h) {
-        F4 cx, cy, cz, rr;
+        F4 cx, cy, cz, rr, ri;
         std::memcpy(&cx, sphX_ + 4 * h, sizeof cx);
         std::memcpy(&cy, sphY_ + 4 * h, sizeof cy);
         std::memcpy(&cz, sphZ_ + 4 * h, sizeof cz);
         std::memcpy(&rr, sphReach_ + 4 * h, sizeof rr);
+        std::memcpy(&ri, sphInner_ + 4 * h, sizeof ri);
         const F4 fx = ox - cx, fy = oy - cy, fz = oz - cz;
         const F4 b = fx * dx + fy * dy + fz * dz;
         const F4 vx = av * fx - b * dx, vy = av * fy - b * dy, vz = av * fz - b * dz;
         const F4 reach = rr + errv;
         const F4 reach2 = reach * reach;
         const F4 f2 = fx * fx + fy * fy + fz * fz;
-        const I4 beside = (vx * vx + vy * vy + vz * vz) > av * av * reach2;
+        const F4 v2 = vx * vx + vy * vy + vz * vz;
+        const I4 beside = v2 > av * av * reach2;
         const F4 farReach = reach + farv;
         const I4 away = ((f2 > reach2) & (b > zero)) | (f2 > farReach * farReach);
         const I4 pass = ~(beside | away) & (reach > zero);
-        for (int i = 0; i < 4; ++i) mask |= uint32_t(pass[i] & 1) << (4 * h + i);
+        mask |= laneMask(pass) << (4 * h);
+        if (sure) {
+            const F4 inner = ri - errv;
+            const I4 through = (inner > zero) & (v2 * grow < av * av * inner * inner);
+            const I4 ahead = (b < zero) & (f2 > reach2 * grow) & (-b * grow < aTv);
+            sureMask |= laneMask(pass & through & ahead) << (4 * h);
+        }
     }
+    if (sure) *sure = sureMask;
     return mask;
 }
 
@@ -246,8 +274,13 @@ bool Scene::occluded(const Ray& r, float tMax, uint32_t skip) const {
     float tm = tMax;
     for (uint32_t p = 0; p < nTri; ++p)
         if (intersectSlot(p, r, wr, tm, scratch)) return true;
-    uint32_t m = spheres.empty() ? 0 : sphereCandidates(r, tMax);
-    if (skip >= nTri && skip < base) m &= ~(1u << (skip - nTri));
+    uint32_t sure = 0;
+    uint32_t m = spheres.empty() ? 0 : sphereCandidates(r, tMax, &sure);
+    if (skip >= nTri && skip < base) {
+        m &= ~(1u << (skip - nTri));
+        sure &= ~(1u << (skip - nTri));
+    }
+    if (sure) return true;
     for (; m; m &= m - 1) {
         float t;
         if (intersectSphereExact(spheres[__builtin_ctz(m)], r, 0.f, tMax, t)) return true;

@@ -101,7 +101,9 @@ private:
     bool intersectSlot(uint32_t slot, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit) const;
     bool triangleAlphaPasses(uint32_t tri, const TriangleHit& h) const;
     /// Brute-force mode: bit i set if sphere i may be hit (a branch-free, vectorisable pre-test).
-    uint32_t sphereCandidates(const Ray& r, float tMax) const;
+    /// *sure (if given) gets the spheres the ray certainly enters before tMax from outside,
+    /// which a shadow ray can accept without the exact root.
+    uint32_t sphereCandidates(const Ray& r, float tMax, uint32_t* sure = nullptr) const;
     void fillSlotData();
 
     Bvh bvh_;
@@ -118,6 +120,7 @@ private:
     /// Brute-force sphere pre-test, structure of arrays padded to kBvhThreshold lanes.
     float sphX_[kBvhThreshold] = {}, sphY_[kBvhThreshold] = {}, sphZ_[kBvhThreshold] = {};
     float sphReach_[kBvhThreshold] = {};  ///< radius plus its centre's share of the float error
+    float sphInner_[kBvhThreshold] = {};  ///< radius minus it
 };
 
 }  // namespace rf

@@ -46,8 +46,13 @@ Color WhittedTracer::baseColor(const SurfaceInteraction& si, float* alphaOut) co
         // small scale-relative bias keeps points lying exactly on a cell face (a floor at y = 0)
         // on one side, as POV-Ray's checker does.
         const DVec3 w = (DVec3(si.p) + scene_.renderOrigin) / double(m.checkerScale) + DVec3(1e-4);
-        const long long cell = static_cast<long long>(std::floor(w.x)) + static_cast<long long>(std::floor(w.y)) +
-                               static_cast<long long>(std::floor(w.z));
+        // floor by truncation: baseline x86-64 has no roundsd, and libm's floor is a call.
+        auto fl = [](double v) -> long long {
+            if (!(std::abs(v) < 1e18)) return 0;  // beyond long long (or NaN): no meaningful cell
+            const long long i = static_cast<long long>(v);
+            return i - (static_cast<double>(i) > v);
+        };
+        const long long cell = fl(w.x) + fl(w.y) + fl(w.z);
         c = (cell & 1) ? m.color2 : m.color;
     }
     if (m.baseColorTexture >= 0) {
