@@ -28,6 +28,13 @@ std::string csvField(const std::string& s) {
     return q + "\"";
 }
 
+/// A table cell: a '|' in the text would split it.
+std::string cell(const std::string& s) {
+    std::string out;
+    for (char c : s) out += c == '|' ? std::string("\\|") : std::string(1, c);
+    return out;
+}
+
 std::string verdict(const StabilityCase& c) { return c.informative ? "info" : c.pass ? "pass" : "FAIL"; }
 
 void writeFile(const std::string& path, const std::string& text) {
@@ -63,7 +70,7 @@ std::string stabilityMarkdown(const std::vector<StabilityCase>& cases) {
                     " pass. Rows marked *info* show what a naive method does and are not counted.\n\n"
                     "| # | case | measured | error | tolerance | result |\n|---|---|---|---:|---:|---|\n";
     for (const StabilityCase& c : cases)
-        s += "| " + c.id + " | " + c.name + " | " + c.measured + " | " + num(c.error) + " " + c.unit + " | " +
+        s += "| " + c.id + " | " + cell(c.name) + " | " + cell(c.measured) + " | " + num(c.error) + " " + c.unit + " | " +
              (c.informative ? "–" : "≤ " + num(c.tolerance) + " " + c.unit) + " | " + verdict(c) + " |\n";
     return s;
 }

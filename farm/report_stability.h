@@ -29,6 +29,10 @@ struct StabilityReport {
 /// Every case, in catalogue order. threads: 0 for all cores.
 std::vector<StabilityCase> runStabilityCases(int threads);
 
+/// The timeline cases (#23–#29: short-path slerp, slerp edges, turntable yaw, CUBICSPLINE,
+/// key rules, Catmull–Rom duplicates, degenerate lookAt), appended to out.
+void runTimelineCases(std::vector<StabilityCase>& out);
+
 /// The table as Markdown and as CSV.
 std::string stabilityMarkdown(const std::vector<StabilityCase>& cases);
 std::string stabilityCsv(const std::vector<StabilityCase>& cases);

@@ -422,6 +422,7 @@ std::vector<StabilityCase> runStabilityCases(int threads) {
     lightJustAbovePlane(out, threads);
     scaleSweep(out, threads);
     translatedModel(out, threads);
+    runTimelineCases(out);
     frameTimes(out);
     return out;
 }

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <set>
 
 #include "report_stability.h"
 #include "report_test_scene.h"
@@ -30,6 +31,16 @@ TEST(ReportStability, EveryCountedCasePassesAndTheTableHasEveryCase) {
     size_t rows = 0;
     for (size_t p = text.find("\n| "); p != std::string::npos; p = text.find("\n| ", p + 1)) ++rows;
     EXPECT_EQ(rows, rep.cases.size() + 1);  // the header row too
+}
+
+TEST(ReportStability, CoversTheCataloguesMeasurableCases) {
+    std::vector<StabilityCase> cases;
+    runTimelineCases(cases);
+    std::set<std::string> ids;
+    for (const StabilityCase& c : cases) ids.insert(c.id);
+    EXPECT_EQ(ids, (std::set<std::string>{"23", "24", "25", "26", "27", "28", "29"}));
+    const std::string md = stabilityMarkdown({{"1", "a | b", "x", 0.0, 1.0, "", true, false}});
+    EXPECT_NE(md.find("a \\| b"), std::string::npos) << md;  // a pipe may not split the row
 }
 
 TEST(ReportStability, NaiveContrastsShowTheErrorTheyExistToShow) {
