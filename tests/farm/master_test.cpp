@@ -102,6 +102,11 @@ struct FarmCase {
     int threads;
 };
 
+void PrintTo(const FarmCase& c, std::ostream* os) {
+    *os << c.ranks << " ranks, " << (c.mode == Mode::Pixel ? "pixel" : "frame") << (c.rank0Renders ? ", rank 0 renders" : "")
+        << ", " << c.threads << " threads";
+}
+
 class MasterModes : public ::testing::TestWithParam<FarmCase> {};
 
 TEST_P(MasterModes, FramesAreBitIdenticalToOneRendererAndInOrder) {
