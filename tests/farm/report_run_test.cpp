@@ -11,6 +11,8 @@
 #include "report_csv.h"
 #include "report_run.h"
 #include "report_test_scene.h"
+#include "scene_loader.h"
+#include "timeline.h"
 
 namespace rf::report {
 namespace {
@@ -151,6 +153,34 @@ TEST(ReportCli, RunsEndToEndOnASceneFile) {
     int w = 0, h = 0;
     readImageRgb8(out + "/video_psnr_vs_fps.png", w, h);
     EXPECT_EQ(w, 960);
+}
+
+TEST(ReportCli, FramePosesTheSceneByItsTimeline) {
+    const std::string dir = testing::freshDir("report_cli_frame");
+    const std::string scene = dir + "/orbit.json";
+    std::ofstream(scene) << R"({"camera": {"eye": [0, 2, -5], "target": [0, 0.5, 0]},
+      "render": {"width": 24, "height": 16},
+      "materials": {"m": {"color": [0.8, 0.3, 0.2]}, "f": {"color": [0.9, 0.9, 0.9]}},
+      "lights": [{"type": "point", "position": [3, 5, -3]}],
+      "objects": [{"type": "sphere", "center": [0.8, 0.5, 0], "radius": 0.5, "material": "m"},
+                  {"type": "plane", "normal": [0, 1, 0], "point": [0, 0, 0], "material": "f"}],
+      "timeline": {"fps": 10, "duration": 1,
+                   "camera": {"orbit": {"center": [0, 0, 0], "radius": 5, "height": 2, "period": 1}}}})";
+    auto run = [&](const std::string& frame) {
+        const std::string out = dir + "/f" + frame;
+        EXPECT_EQ(cli::runReport({scene, "--out", out, "--frame", frame, "--no-video", "--sweep-spp", "1",
+                                  "--sweep-depth", "2", "--sweep-min-weight", "0", "--ref-spp", "4"}),
+                  0);
+        int w = 0, h = 0;
+        return readImageRgb8(out + "/reference.png", w, h);
+    };
+    const auto f0 = run("0"), f0again = run("0"), f3 = run("3");
+    EXPECT_EQ(f0, f0again);  // a frame is a pure function of its index
+    EXPECT_NE(f0, f3);       // a quarter orbit later the view has changed
+    DiskFileSource fs;
+    const int frames = anim::Timeline::fromScene(loadScene(scene, fs)).frameCount();
+    EXPECT_GE(frames, 10);
+    EXPECT_THROW(cli::runReport({scene, "--out", dir, "--frame", std::to_string(frames)}), cli::UsageError);
 }
 
 TEST(ReportCli, RefusesAnUnknownVideoPresetBeforeRendering) {
