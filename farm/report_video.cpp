@@ -136,7 +136,17 @@ std::string videoPlotScript(const std::vector<VideoRow>& rows, const std::string
       << "set logscale x\nset xlabel 'encoding speed (frames/s, open to close of the MP4 sink)'\n"
       << "set ylabel 'PSNR against the lossless frames (dB)'\n"
       << "set grid lc rgb '#dddddd'\nset key outside right top box opaque noenhanced\nset format x '%g'\n"
-      << "set offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05\n";
+;
+    // Explicit ranges: gnuplot warns on (and pads oddly) a range that holds a single value.
+    double flo = 1e300, fhi = 0.0, plo = 1e300, phi = -1e300;
+    for (const VideoRow& r : rows) {
+        if (r.lossless || !std::isfinite(r.psnr)) continue;
+        flo = std::min(flo, r.encodeFps), fhi = std::max(fhi, r.encodeFps);
+        plo = std::min(plo, r.psnr), phi = std::max(phi, r.psnr);
+    }
+    if (fhi > 0.0)
+        s << "set xrange [" << num(flo / 1.5) << ":" << num(fhi * 1.5) << "]\nset yrange [" << num(plo - 2.0) << ":"
+          << num(phi + 2.0) << "]\n";
     std::map<std::string, std::vector<const VideoRow*>> byPreset;
     std::vector<const VideoRow*> front;
     for (const VideoRow& r : rows) {
