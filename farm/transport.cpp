@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <climits>
+#include <cstdlib>
 #include <thread>
 
 #include <mpi.h>
@@ -37,6 +38,9 @@ MpiTransport::MpiTransport() {
         MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
     }
     MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
+    // Tests shrink the broadcast chunk so that a small scene goes out in many pieces, as one
+    // beyond 2 GiB must.
+    if (const char* c = std::getenv("RAYFARM_BROADCAST_CHUNK")) setBroadcastChunk(std::atoll(c));
     MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
     MPI_Comm_size(MPI_COMM_WORLD, &size_);
     MPI_Comm node;

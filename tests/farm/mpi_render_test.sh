@@ -69,6 +69,8 @@ case "$CASE" in
 modes)
     scene=$1; shift
     ref=""
+    # The scene goes out in 4 KiB broadcast pieces (as one beyond 2 GiB goes out in 1 GiB ones).
+    export RAYFARM_BROADCAST_CHUNK=4093
     for np in 1 2 3; do
         for mode in pixel frame; do
             out=m_${np}_$mode
