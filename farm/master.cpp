@@ -25,11 +25,16 @@ Master::Master(Transport& t, Scheduler& s, FrameAssembler& a, RenderEngine* loca
 
 std::string Master::describeBusy(const WorkerState& w) const {
     if (w.outstanding.empty()) return "while idle";
+    // Items run in the order given: the first is the one being rendered, the rest wait.
     std::vector<int> frames;
     for (const WorkItem& i : w.outstanding)
         if (std::find(frames.begin(), frames.end(), i.frame) == frames.end()) frames.push_back(i.frame);
-    std::string s = frames.size() == 1 ? "while rendering frame " : "while rendering frames ";
-    for (size_t i = 0; i < frames.size(); ++i) s += (i ? ", " : "") + std::to_string(frames[i]);
+    std::string s = "while rendering frame " + std::to_string(frames[0]);
+    if (frames.size() > 1) {
+        s += " (queued: frame";
+        for (size_t i = 1; i < frames.size(); ++i) s += (i > 1 ? ", " : " ") + std::to_string(frames[i]);
+        s += ")";
+    }
     return s;
 }
 
