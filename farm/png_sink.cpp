@@ -7,7 +7,6 @@
 #include <sstream>
 
 #include "cli.h"
-#include "image.h"
 
 namespace rf::farm {
 
@@ -40,7 +39,13 @@ std::string framePngPath(const std::string& dir, int frame) {
 void PngSink::write(int frame, const std::vector<uint8_t>& rgb) {
     const std::string path = framePngPath(dir_, frame);
     const std::string tmp = path + ".part";
-    writePng(tmp, width_, height_, rgb);
+    if (!encoder_) encoder_ = std::make_unique<PngEncoder>(width_, height_);
+    const std::string png = encoder_->encode(rgb);
+    {
+        std::ofstream f(tmp, std::ios::binary);
+        f.write(png.data(), std::streamsize(png.size()));
+        if (!f.flush()) throw std::runtime_error(path + ": cannot write PNG");
+    }
     std::error_code ec;
     std::filesystem::rename(tmp, path, ec);
     if (ec) throw std::runtime_error(path + ": cannot write: " + ec.message());

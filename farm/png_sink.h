@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "frame_sink.h"
+#include "png_encoder.h"
 
 namespace rf::farm {
 
@@ -23,6 +24,7 @@ public:
 private:
     std::string dir_;
     int width_, height_;
+    std::unique_ptr<PngEncoder> encoder_;  ///< made on the sink's thread, at the first frame
 };
 
 /// The manifest: what the frames in a directory were rendered from (scene, size, quality).

@@ -1,0 +1,65 @@
+#include "png_encoder.h"
+
+#include <cstring>
+#include <stdexcept>
+
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavutil/frame.h>
+#include <libavutil/opt.h>
+}
+
+namespace rf::farm {
+
+struct PngEncoder::Impl {
+    int width = 0, height = 0;
+    AVCodecContext* ctx = nullptr;
+    AVFrame* frame = nullptr;
+    AVPacket* pkt = nullptr;
+    ~Impl() {
+        av_packet_free(&pkt);
+        av_frame_free(&frame);
+        avcodec_free_context(&ctx);
+    }
+};
+
+PngEncoder::PngEncoder(int width, int height) : impl_(std::make_unique<Impl>()) {
+    Impl& m = *impl_;
+    m.width = width;
+    m.height = height;
+    const AVCodec* codec = avcodec_find_encoder(AV_CODEC_ID_PNG);
+    if (!codec) throw std::runtime_error("this FFmpeg has no PNG encoder");
+    m.ctx = avcodec_alloc_context3(codec);
+    m.frame = av_frame_alloc();
+    m.pkt = av_packet_alloc();
+    if (!m.ctx || !m.frame || !m.pkt) throw std::runtime_error("out of memory");
+    m.ctx->width = width;
+    m.ctx->height = height;
+    m.ctx->pix_fmt = AV_PIX_FMT_RGB24;
+    m.ctx->time_base = {1, 25};
+    m.ctx->compression_level = 1;
+    m.ctx->thread_count = 1;
+    av_opt_set(m.ctx->priv_data, "pred", "sub", 0);
+    if (avcodec_open2(m.ctx, codec, nullptr) < 0) throw std::runtime_error("cannot open the PNG encoder");
+    m.frame->format = AV_PIX_FMT_RGB24;
+    m.frame->width = width;
+    m.frame->height = height;
+    if (av_frame_get_buffer(m.frame, 0) < 0) throw std::runtime_error("out of memory");
+}
+
+PngEncoder::~PngEncoder() = default;
+
+std::string PngEncoder::encode(const std::vector<uint8_t>& rgb) {
+    Impl& m = *impl_;
+    if (rgb.size() != size_t(m.width) * m.height * 3) throw std::runtime_error("PNG frame has the wrong size");
+    if (av_frame_make_writable(m.frame) < 0) throw std::runtime_error("out of memory");
+    for (int y = 0; y < m.height; ++y)
+        std::memcpy(m.frame->data[0] + size_t(y) * m.frame->linesize[0], rgb.data() + 3 * size_t(y) * m.width, 3 * size_t(m.width));
+    if (avcodec_send_frame(m.ctx, m.frame) < 0) throw std::runtime_error("PNG encoding failed");
+    if (avcodec_receive_packet(m.ctx, m.pkt) < 0) throw std::runtime_error("PNG encoding failed");
+    std::string out(reinterpret_cast<const char*>(m.pkt->data), size_t(m.pkt->size));
+    av_packet_unref(m.pkt);
+    return out;
+}
+
+}  // namespace rf::farm

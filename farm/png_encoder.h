@@ -1,0 +1,28 @@
+#pragma once
+/// PNG bytes through FFmpeg's PNG encoder at a fast setting (zlib level 1, "sub" prediction):
+/// about 3 ms for a 640x360 frame against about 15 ms for stb_image_write, which matters when
+/// every frame of a 30 fps run is kept. Lossless either way.
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rf::farm {
+
+class PngEncoder {
+public:
+    /// Throws std::runtime_error if FFmpeg has no PNG encoder.
+    PngEncoder(int width, int height);
+    ~PngEncoder();
+    PngEncoder(const PngEncoder&) = delete;
+    PngEncoder& operator=(const PngEncoder&) = delete;
+
+    /// width × height × 3 bytes of RGB to a complete PNG file image.
+    std::string encode(const std::vector<uint8_t>& rgb);
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rf::farm
