@@ -57,7 +57,7 @@ struct TimedRender {
 /// Renders frame `frame` with settings; repeats while the total stays under minTotalSeconds
 /// (at most maxRepeats times) and keeps the fastest time.
 TimedRender renderTimed(const Scene& scene, const RenderSettings& settings, int frame, int threads,
-                        double minTotalSeconds = 0.3, int maxRepeats = 5);
+                        double minTotalSeconds = 1.0, int maxRepeats = 9);
 
 /// One row of the report.
 struct SweepRow {
