@@ -214,12 +214,11 @@ int runRank0(MpiTransport& t, RenderJob& job, SharedScene& shared, const std::ve
             rf.rgb = readImageRgb8(framePngPath(job.framesDir, rf.frame), w, h);
             if (w != width || h != height) throw std::runtime_error(framePngPath(job.framesDir, rf.frame) + ": wrong size");
             ++encodedKept;
-        } else if (sinks.png) {
-            sinks.png->write(rf.frame, rf.rgb);
         }
         sinks.mp4->write(rf.frame, rf.rgb);
     };
     Master master(t, *sched, assembler, local.get(), emit, cfg);
+    if (sinks.png) master.onFrameComplete([&](int frame, const std::vector<uint8_t>& rgb) { sinks.png->write(frame, rgb); });
     MasterOutcome o;
     try {
         o = master.run();

@@ -12,7 +12,7 @@ FrameAssembler::FrameAssembler(int width, int height, std::vector<int> order, st
         if (!onDisk_.count(f)) wanted_.insert(f);
 }
 
-void FrameAssembler::add(const TileResult& r) {
+bool FrameAssembler::add(const TileResult& r) {
     const TileRect& t = r.item.rect;
     const std::string where = "frame " + std::to_string(r.item.frame);
     if (!wanted_.count(r.item.frame)) throw std::runtime_error(where + ": result for a frame not being rendered");
@@ -36,6 +36,12 @@ void FrameAssembler::add(const TileResult& r) {
                     3 * size_t(t.width()));
     }
     p.remaining -= t.pixels();
+    return p.remaining == 0;
+}
+
+const std::vector<uint8_t>* FrameAssembler::completed(int frame) const {
+    auto it = partial_.find(frame);
+    return it != partial_.end() && it->second.remaining == 0 ? &it->second.rgb : nullptr;
 }
 
 bool FrameAssembler::popReady(ReadyFrame& out) {

@@ -21,9 +21,12 @@ public:
     /// order: every frame of the output in order; onDisk: those kept from an earlier run.
     FrameAssembler(int width, int height, std::vector<int> order, std::set<int> onDisk);
 
-    /// Copies a result into its frame. Throws std::runtime_error if it does not belong to a frame
-    /// being rendered, lies outside the image or covers pixels twice.
-    void add(const TileResult& r);
+    /// Copies a result into its frame; returns true if that completed the frame. Throws
+    /// std::runtime_error if it does not belong to a frame being rendered, lies outside the image
+    /// or covers pixels twice.
+    bool add(const TileResult& r);
+    /// Pixels of a frame completed and not yet popped (nullptr otherwise).
+    const std::vector<uint8_t>* completed(int frame) const;
     /// The next frame in order if it is complete (or on disk).
     bool popReady(ReadyFrame& out);
     /// All frames have been popped.

@@ -50,7 +50,7 @@ void Master::accept(int rank, const TileResult& r) {
         return;
     }
     w.outstanding.erase(it);
-    asm_.add(r);
+    if (asm_.add(r) && onComplete_) onComplete_(r.item.frame, *asm_.completed(r.item.frame));
     out_.rays += r.rays;
     RankStats& st = out_.perRank[size_t(rank)];
     st.busySeconds += r.busySeconds;

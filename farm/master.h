@@ -42,6 +42,10 @@ public:
     Master(Transport& t, Scheduler& s, FrameAssembler& a, RenderEngine* local,
            std::function<void(ReadyFrame&)> emit, MasterConfig cfg);
 
+    /// Called with each frame's pixels as soon as it is complete, before its turn in the output
+    /// order (the PNG frames, so that nothing finished is lost to an interrupt).
+    void onFrameComplete(std::function<void(int frame, const std::vector<uint8_t>& rgb)> f) { onComplete_ = std::move(f); }
+
     /// Runs until every frame is passed on, an interrupt, a lost worker or an error.
     MasterOutcome run();
     /// After an interrupt: waits up to `seconds` for every busy worker to speak; returns the
@@ -69,6 +73,7 @@ private:
     FrameAssembler& asm_;
     RenderEngine* local_;
     std::function<void(ReadyFrame&)> emit_;
+    std::function<void(int, const std::vector<uint8_t>&)> onComplete_;
     MasterConfig cfg_;
     std::vector<WorkerState> workers_;  ///< index = rank; rank 0 is the local engine if any
     MasterOutcome out_;

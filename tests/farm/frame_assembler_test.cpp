@@ -54,9 +54,11 @@ TEST(FrameAssembler, TilesInAnyOrderLeaveAsWholeFramesInOrder) {
         a.add(tiles[i]);
         EXPECT_FALSE(a.popReady(out));
     }
-    for (; i + 1 < tiles.size(); ++i) a.add(tiles[i]);
+    EXPECT_TRUE(a.completed(1) != nullptr);  // frame 1 is whole, though it must wait its turn
+    for (; i + 1 < tiles.size(); ++i) EXPECT_FALSE(a.add(tiles[i]));
     EXPECT_FALSE(a.popReady(out));
-    a.add(tiles.back());
+    EXPECT_TRUE(a.completed(0) == nullptr);
+    EXPECT_TRUE(a.add(tiles.back()));
     ASSERT_TRUE(a.popReady(out));
     EXPECT_EQ(out.frame, 0);
     expectFramePixels(out, w, h);

@@ -25,6 +25,7 @@ namespace {
 
 struct FarmRun {
     MasterOutcome outcome;
+    std::map<int, std::vector<uint8_t>> completed;  ///< as reported on completion, any order
     std::map<int, std::vector<uint8_t>> frames;
     std::vector<int> order;
 };
@@ -67,6 +68,10 @@ FarmRun runFarm(int ranks, Mode mode, bool rank0Renders, int threads = 1) {
                       run.frames[f.frame] = f.rgb;
                   },
                   cfg);
+    master.onFrameComplete([&](int f, const std::vector<uint8_t>& rgb) {
+        EXPECT_EQ(run.completed.count(f), 0u) << "frame " << f << " completed twice";
+        run.completed[f] = rgb;
+    });
     run.outcome = master.run();
     master.stopWorkers();
     for (auto& w : workers) w.join();
@@ -117,6 +122,7 @@ TEST_P(MasterModes, FramesAreBitIdenticalToOneRendererAndInOrder) {
     ASSERT_EQ(run.frames.size(), ref.size());
     for (size_t i = 0; i < run.order.size(); ++i) EXPECT_EQ(run.order[i], int(i));
     for (const auto& [f, rgb] : ref) EXPECT_TRUE(run.frames.at(f) == rgb) << "frame " << f << " differs";
+    EXPECT_EQ(run.completed, run.frames);  // the PNG path sees the same pixels as the video path
     // Every rendering rank did some of the work.
     for (int r = c.rank0Renders ? 0 : 1; r < c.ranks; ++r)
         EXPECT_GT(run.outcome.perRank[size_t(r)].frames + run.outcome.perRank[size_t(r)].tiles, 0) << "rank " << r;
