@@ -128,34 +128,40 @@ uint32_t Bvh::buildRecursive(std::vector<BuildItem>& items, uint32_t begin, uint
     if (spanLongest > 0.f && std::isfinite(spanLongest) && depth < kMaxDepth - 16) {
         float bestCost = kInf;
         int bestSplit = -1;
+        struct Bin {
+            Aabb box;
+            uint32_t n = 0;
+        } bins[3][kBins];
+        Vec3 scale3(0.f);
         for (int ax = 0; ax < 3; ++ax) {
-            const float lo = cbox.lo[ax], span = cbox.hi[ax] - lo;
-            if (!(span > 0.f) || !std::isfinite(span)) continue;
-            struct Bin {
-                Aabb box;
-                uint32_t n = 0;
-            } bins[kBins];
-            const float scale = kBins / span;
-            for (uint32_t i = begin; i < end; ++i) {
-                const int bi = std::min(kBins - 1, std::max(0, static_cast<int>((items[i].centroid[ax] - lo) * scale)));
-                bins[bi].box.grow(items[i].box);
-                ++bins[bi].n;
+            const float span = cbox.hi[ax] - cbox.lo[ax];
+            scale3[ax] = (span > 0.f && std::isfinite(span)) ? kBins / span : 0.f;
+        }
+        // One pass over the items fills the bins of all three axes.
+        for (uint32_t i = begin; i < end; ++i) {
+            for (int ax = 0; ax < 3; ++ax) {
+                const int bi = std::min(kBins - 1, std::max(0, static_cast<int>((items[i].centroid[ax] - cbox.lo[ax]) * scale3[ax])));
+                bins[ax][bi].box.grow(items[i].box);
+                ++bins[ax][bi].n;
             }
+        }
+        for (int ax = 0; ax < 3; ++ax) {
+            if (scale3[ax] == 0.f) continue;  // all centroids share this coordinate
             float rightArea[kBins];
             uint32_t rightCount[kBins];
             Aabb acc;
             uint32_t n = 0;
             for (int i = kBins - 1; i > 0; --i) {
-                acc.grow(bins[i].box);
-                n += bins[i].n;
+                acc.grow(bins[ax][i].box);
+                n += bins[ax][i].n;
                 rightArea[i] = acc.area();
                 rightCount[i] = n;
             }
             acc = Aabb{};
             n = 0;
             for (int i = 0; i < kBins - 1; ++i) {
-                acc.grow(bins[i].box);
-                n += bins[i].n;
+                acc.grow(bins[ax][i].box);
+                n += bins[ax][i].n;
                 if (n == 0 || rightCount[i + 1] == 0) continue;
                 const float cost = acc.area() * n + rightArea[i + 1] * rightCount[i + 1];
                 if (cost < bestCost) {  // strict: ties keep the earlier axis, so builds are deterministic

@@ -35,7 +35,7 @@ Vec3 terminatorSafeOrigin(const Scene& scene, const SurfaceInteraction& si, floa
 }  // namespace
 
 WhittedTracer::WhittedTracer(const Scene& scene, const RenderSettings& settings)
-    : scene_(scene), settings_(settings), features_(scene.features()) {}
+    : scene_(scene), settings_(settings) {}
 
 Color WhittedTracer::baseColor(const SurfaceInteraction& si, float* alphaOut) const {
     const Material& m = scene_.materials[si.material];

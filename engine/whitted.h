@@ -25,7 +25,6 @@ private:
 
     const Scene& scene_;
     RenderSettings settings_;
-    SceneFeatures features_;
 };
 
 }  // namespace rf
