@@ -79,8 +79,10 @@ void AsyncSink::loop() {
         std::lock_guard<std::mutex> lock(mutex_);
         if (!error_) error_ = std::current_exception();
     }
+    const auto t1 = std::chrono::steady_clock::now();
     std::lock_guard<std::mutex> lock(mutex_);
-    busy_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    busy_ += std::chrono::duration<double>(t1 - t0).count();
+    lastDone_ = t1;  // an encoder holds frames back until it is closed: they are muxed only now
     closed_ = true;
 }
 

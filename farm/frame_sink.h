@@ -37,7 +37,8 @@ public:
     double busySeconds() const;
     /// Frames the inner sink has completed.
     int framesDone() const;
-    /// When the inner sink last completed a frame (the last frame "muxed").
+    /// When the inner sink last finished work: a frame, or after close() the closing, which for
+    /// an encoder is when the last frames are muxed.
     std::chrono::steady_clock::time_point lastDone() const;
     /// Frames waiting in the queue.
     int queued() const;
