@@ -37,7 +37,9 @@ const char* kRenderHelp =
     "  --stats FILE      write run statistics as JSON (sustained_fps, per-rank busy time, ...)\n"
     "\n"
     "Ctrl-C stops cleanly: the MP4 holds the frames done so far and the command to resume is\n"
-    "printed.\n";
+    "printed. A worker that dies or stays silent stops the run with a message naming it.\n"
+    "Threads: Open MPI binds each rank to one core when it starts two or fewer ranks; each rank\n"
+    "renders with the cores it is bound to (mpirun --bind-to none: the node's cores shared).\n";
 
 void declareRenderOptions(cli::ArgParser& p) {
     for (const char* o : {"-o", "--mode", "--frames", "--fps", "--size", "--spp", "--depth", "--min-weight", "--tonemap",
