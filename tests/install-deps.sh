@@ -11,6 +11,7 @@ packages=(
   libgtest-dev libbenchmark-dev                               # tests and benchmarks
   assimp-testmodels                                           # real glTF files the tests render
   ffmpeg                                                      # ffprobe, to check videos independently
+  python3 procps                                              # farm MPI tests: stats JSON, pgrep for ranks
   gnuplot-nox                                                 # plots in rayfarm report
   "$@"
 )
