@@ -62,7 +62,9 @@ int MaterialBuilder::materialFor(int index) {
     if (index < 0) {
         // glTF's default material: white, metallic 1, roughness 1. A black-background Whitted
         // world would show a fully metallic surface as black, so use the dielectric reading.
-        m = convert(tinygltf::Material{}, "default material");
+        tinygltf::Material def;
+        def.pbrMetallicRoughness.metallicFactor = 0.0;
+        m = convert(def, "default material");
         m.name = "glTF default";
     } else {
         m = convert(model_.materials[size_t(index)], "materials[" + std::to_string(index) + "]");

@@ -157,3 +157,14 @@ TEST(GltfLights, LitFloorPixelMatchesTheHandComputedValue) {
     EXPECT_NEAR(img.pixel(32, 32)[0], want, 1e-4);
     EXPECT_NEAR(img.pixel(32, 32)[1], want, 1e-4);
 }
+
+TEST(GltfMaterials, PrimitiveWithoutMaterialGetsAMatteWhiteDefault) {
+    json g = floorModel(json::array());
+    g.erase("materials");
+    g["meshes"][0]["primitives"][0].erase("material");
+    const Scene s = loadScene(g);
+    ASSERT_EQ(s.materials.size(), 1u);
+    EXPECT_EQ(s.materials[0].color, Color(1.f));
+    EXPECT_FLOAT_EQ(s.materials[0].diffuse, 0.9f);  // read as a dielectric: metal would be black here
+    EXPECT_FLOAT_EQ(s.materials[0].reflection, 0.f);
+}
