@@ -77,8 +77,9 @@ std::string uriProblem(const std::string& uri) {
     if (uri.empty()) return "empty URI";
     for (unsigned char c : uri) {
         if (c < 0x20 || c == 0x7f) return "control character in the URI";
-        if (c == '`' || c == '$' || c == '\\' || c == '|' || c == ';' || c == '&' || c == '<' || c == '>' || c == '*' ||
-            c == '?' || c == '{' || c == '}')
+        // Never expanded here (no wordexp), but refused so no later tool that might expand
+        // them sees a name that reads as a command substitution, variable or glob.
+        if (c == '`' || c == '$' || c == '\\' || c == '*' || c == '?' || c == '{' || c == '}')
             return std::string("character '") + char(c) + "' is not allowed in a file URI (no shell syntax)";
     }
     if (uri[0] == '/') return "absolute paths are not allowed; URIs must stay inside the model's folder";
