@@ -68,7 +68,7 @@ std::string summaryMarkdown(const SummaryInfo& in, const std::vector<SweepRow>& 
       << " on " << in.threads << " thread(s) (`" << in.referenceImageFile << "`). Every setting below renders the "
       << "same frame and is scored against it on the tone-mapped 8-bit sRGB image a viewer sees: RMSE and largest "
       << "per-pixel channel error on the 0..1 scale, PSNR with peak 1, SSIM (Wang et al. 2004) on luma with an "
-      << "11×11 Gaussian window (σ 1.5). Times are the fastest of up to nine repeats (repeats stop after a second in all), since other work on the machine only ever adds time.\n\n";
+      << "11×11 Gaussian window (σ 1.5). Times are the fastest of up to nine renders of each setting, repeated round robin over all settings until a setting has had a second, since other work on the machine only ever adds time.\n\n";
 
     s << "## Cheapest setting within " << fmt("%g", in.targetPsnr) << " dB PSNR\n\n";
     if (const SweepRow* best = cheapestWithin(rows, in.targetPsnr)) {

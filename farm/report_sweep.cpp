@@ -67,10 +67,11 @@ std::vector<SweepRow> runSweep(const Scene& scene, const RenderSettings& setting
                                const std::function<void(int, int, const SweepRow&)>& progress) {
     const std::vector<SweepPoint> points = makeSweep(spec);
     std::vector<SweepRow> rows;
+    std::vector<double> spent;
     rows.reserve(points.size());
     for (size_t i = 0; i < points.size(); ++i) {
         const RenderSettings s = withQuality(settings, points[i].q);
-        const TimedRender r = renderTimed(scene, s, frame, threads);
+        const TimedRender r = renderTimed(scene, s, frame, threads, 0.0, 1);
         SweepRow row;
         row.q = points[i].q;
         row.factor = points[i].factor;
@@ -80,7 +81,22 @@ std::vector<SweepRow> runSweep(const Scene& scene, const RenderSettings& setting
         row.rays = r.rays;
         row.error = compareRgb8(toRgb8(r.image, s.toneMap), reference, s.width, s.height);
         rows.push_back(row);
+        spent.push_back(r.seconds);
         if (progress) progress(int(i) + 1, int(points.size()), rows.back());
+    }
+    // Repeats go round robin over the settings, not one setting at a time: a burst of other work
+    // on the machine then slows one repeat of many settings instead of every repeat of one.
+    for (int pass = 1; pass < spec.maxRepeats; ++pass) {
+        bool any = false;
+        for (size_t i = 0; i < rows.size(); ++i) {
+            if (spent[i] >= spec.minTimingSeconds) continue;
+            const TimedRender r = renderTimed(scene, withQuality(settings, rows[i].q), frame, threads, 0.0, 1);
+            spent[i] += r.seconds;
+            rows[i].seconds = std::min(rows[i].seconds, r.seconds);
+            ++rows[i].repeats;
+            any = true;
+        }
+        if (!any) break;
     }
     markPareto(rows);
     return rows;

@@ -34,6 +34,10 @@ struct SweepSpec {
     std::vector<float> minWeight{0.f, 1e-3f, 1e-2f, 0.1f};
     QualitySetting base;  ///< the default setting; always part of the sweep
     SweepKind kind = SweepKind::OneFactor;
+    /// Timing: each setting is rendered again (round robin over all settings) until its renders
+    /// add up to minTimingSeconds or it has maxRepeats; the fastest counts.
+    double minTimingSeconds = 1.0;
+    int maxRepeats = 9;
 };
 
 /// A setting to render and the sweep line it belongs to ("spp", "depth", "min_weight", "grid").
@@ -57,7 +61,7 @@ struct TimedRender {
 /// Renders frame `frame` with settings; repeats while the total stays under minTotalSeconds
 /// (at most maxRepeats times) and keeps the fastest time.
 TimedRender renderTimed(const Scene& scene, const RenderSettings& settings, int frame, int threads,
-                        double minTotalSeconds = 1.0, int maxRepeats = 9);
+                        double minTotalSeconds = 0.3, int maxRepeats = 5);
 
 /// One row of the report.
 struct SweepRow {
@@ -71,8 +75,8 @@ struct SweepRow {
     bool pareto = false;  ///< no other row is at least as fast and at least as accurate
 };
 
-/// Renders every point, scores it against reference (8-bit sRGB, width × height of settings).
-/// progress(i, n, row) is called after each render.
+/// Renders every point, scores it against reference (8-bit sRGB, width × height of settings),
+/// then re-times the points round robin (see SweepSpec). progress(i, n, row) after each first render.
 std::vector<SweepRow> runSweep(const Scene& scene, const RenderSettings& settings, const SweepSpec& spec,
                                const std::vector<uint8_t>& reference, int frame, int threads,
                                const std::function<void(int, int, const SweepRow&)>& progress = {});

@@ -96,6 +96,21 @@ TEST(ReportSweep, TheReferenceSettingScoresInfinitePsnrAgainstTheReference) {
     EXPECT_DOUBLE_EQ(rows[0].error.ssim, 1.0);
 }
 
+TEST(ReportSweep, RepeatsStopAtTheTimingBudgetOrTheRepeatLimit) {
+    const Scene sc = testing::edgeScene(false);
+    SweepSpec spec;
+    spec.spp = {1};
+    spec.depth = {2};
+    spec.minWeight = {0.f};
+    spec.base = {1, 2, 0.f};
+    spec.maxRepeats = 4;
+    spec.minTimingSeconds = 1e9;  // never reached: the limit decides
+    const auto ref8 = toRgb8(renderTimed(sc, sc.settings, 0, 1, 0.0, 1).image, sc.settings.toneMap);
+    EXPECT_EQ(runSweep(sc, sc.settings, spec, ref8, 0, 1)[0].repeats, 4);
+    spec.minTimingSeconds = 0.0;  // reached after the first render
+    EXPECT_EQ(runSweep(sc, sc.settings, spec, ref8, 0, 1)[0].repeats, 1);
+}
+
 TEST(ReportSweep, DepthOneTracesNoSecondaryRays) {
     const Scene sc = testing::edgeScene(true);
     const TimedRender r = renderTimed(sc, withQuality(sc.settings, {1, 1, 0.f}), 0, 1, 0.0, 1);
