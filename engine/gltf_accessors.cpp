@@ -144,9 +144,10 @@ AccessorData readAccessor(const tinygltf::Model& model, int index, const std::st
         const unsigned char* ip = ispan.data + a.sparse.indices.byteOffset;
         const unsigned char* vp = vspan.data + a.sparse.values.byteOffset;
         for (uint64_t k = 0; k < n; ++k) {
-            const float fi = decodeComponent(ip + k * isize, itype, false);
-            const uint64_t target = static_cast<uint64_t>(fi);
-            if (!(fi >= 0.f) || target >= a.count)
+            // Integer decode: indices above 2^24 would not survive a trip through float.
+            uint32_t target = 0;
+            std::memcpy(&target, ip + k * isize, size_t(isize));  // little-endian: low bytes first
+            if (target >= a.count)
                 throw InputError(file, ws + ".indices[" + std::to_string(k) + "]: index outside the accessor's " + std::to_string(a.count) + " elements");
             for (int c = 0; c < comps; ++c)
                 out.values[target * comps + c] = decodeComponent(vp + k * elemSize + size_t(c) * csize, a.componentType, a.normalized);
