@@ -107,6 +107,9 @@ AccessorData readAccessor(const tinygltf::Model& model, int index, const std::st
         throw InputError(file, w + ".type: wrong type for this use");
     if (a.count > Limits::kMaxAccessorCount)
         throw InputError(file, w + ".count: " + std::to_string(a.count) + " is over the limit of " + std::to_string(Limits::kMaxAccessorCount));
+    if (a.bufferView < 0 && a.count > Limits::kMaxViewlessCount)
+        throw InputError(file, w + ".count: " + std::to_string(a.count) + " elements without a bufferView is over the limit of " +
+                                   std::to_string(Limits::kMaxViewlessCount));
     if (comps > 4 && csize < 4) throw InputError(file, w + ": padded 8/16-bit matrices are not supported");
 
     AccessorData out;

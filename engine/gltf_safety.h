@@ -21,6 +21,9 @@ struct Limits {
     static constexpr uint64_t kMaxImageBytes = 256ull << 20;    ///< one encoded image
     static constexpr int kMaxImageSide = 16384;                 ///< decoded width or height
     static constexpr uint64_t kMaxAccessorCount = 1ull << 26;   ///< elements of one accessor
+    /// Elements of an accessor without a bufferView (zeros, maybe sparse): nothing on disk
+    /// bounds them, so a few bytes of JSON could otherwise ask for gigabytes.
+    static constexpr uint64_t kMaxViewlessCount = 1ull << 22;
 };
 
 /// Percent-decodes a URI the way tinygltf does before it opens a file.

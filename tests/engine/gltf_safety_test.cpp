@@ -144,6 +144,24 @@ TEST(GltfSafety, AccessorPastItsBufferViewIsRefused) {
     EXPECT_THROW(loadGltfModel(scene, path, DMat4(1.0), files), InputError);
 }
 
+TEST(GltfSafety, HugeAccessorWithoutBufferViewIsRefused) {
+    // 30 million zero vectors (360 MB of floats) asked for by a few bytes of JSON: refused.
+    TempDir root;
+    json g = oneTriangleGltf(dataUri(triangle()));
+    g["accessors"][0].erase("bufferView");
+    g["accessors"][0]["count"] = 30000000;  // under the general cap, over the view-less one
+    const std::string path = root / "huge.gltf";
+    writeFile(path, g.dump());
+    DiskFileSource files;
+    Scene scene;
+    try {
+        loadGltfModel(scene, path, DMat4(1.0), files);
+        ADD_FAILURE() << "loaded";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("over the limit"), std::string::npos) << e.what();
+    }
+}
+
 TEST(GltfSafety, WorkerRanksLoadTheSameModelFromTheBundle) {
     // Rank 0 reads from disk and records; other ranks see only the bundle.
     const std::string path = "/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf";
