@@ -71,6 +71,7 @@ public:
         if (!warn.empty()) notes_.push_back(firstLine(warn));
         for (const std::string& n : pf.notes) notes_.push_back(n);
         resolveHierarchy();
+        checkInstancedSize();
         readAnimations();
     }
 
@@ -206,6 +207,26 @@ private:
             if (mesh >= 0 && size_t(mesh) >= model_.meshes.size())
                 throw InputError(path_, "nodes[" + std::to_string(i) + "].mesh: no mesh " + std::to_string(mesh));
         }
+    }
+
+    /// Refuses models whose nodes instance more triangles than the cap, from accessor counts
+    /// alone, before any geometry is built (nodes sharing a big mesh multiply it).
+    void checkInstancedSize() const {
+        uint64_t tris = 0;
+        for (int node : order_) {
+            const int mesh = model_.nodes[size_t(node)].mesh;
+            if (mesh < 0) continue;
+            for (const tinygltf::Primitive& p : model_.meshes[size_t(mesh)].primitives) {
+                int acc = p.indices;
+                if (acc < 0)
+                    if (auto it = p.attributes.find("POSITION"); it != p.attributes.end()) acc = it->second;
+                if (acc >= 0 && size_t(acc) < model_.accessors.size()) tris += model_.accessors[size_t(acc)].count;
+            }
+        }
+        tris /= 3;  // an upper bound for strips and fans as well, within two per primitive
+        if (tris > Limits::kMaxTriangles)
+            throw InputError(path_, "about " + std::to_string(tris) + " triangles once nodes instance their meshes, over the limit of " +
+                                        std::to_string(Limits::kMaxTriangles));
     }
 
     void readAnimations() {

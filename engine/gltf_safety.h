@@ -24,6 +24,8 @@ struct Limits {
     /// Elements of an accessor without a bufferView (zeros, maybe sparse): nothing on disk
     /// bounds them, so a few bytes of JSON could otherwise ask for gigabytes.
     static constexpr uint64_t kMaxViewlessCount = 1ull << 22;
+    /// Triangles of one model after instancing: many nodes sharing a big mesh multiply it.
+    static constexpr uint64_t kMaxTriangles = 1ull << 25;
 };
 
 /// Percent-decodes a URI the way tinygltf does before it opens a file.

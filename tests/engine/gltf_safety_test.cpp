@@ -162,6 +162,31 @@ TEST(GltfSafety, HugeAccessorWithoutBufferViewIsRefused) {
     }
 }
 
+TEST(GltfSafety, InstancingPastTheTriangleCapIsRefusedBeforeBuilding) {
+    // One 4M-vertex zero accessor drawn by 30 nodes: 40M triangles, over the 32M cap.
+    TempDir root;
+    json g = oneTriangleGltf(dataUri(triangle()));
+    g["accessors"][0].erase("bufferView");
+    g["accessors"][0]["count"] = 4000002;
+    json nodes = json::array(), roots = json::array();
+    for (int i = 0; i < 30; ++i) {
+        nodes.push_back({{"mesh", 0}, {"translation", {i, 0, 0}}});
+        roots.push_back(i);
+    }
+    g["nodes"] = nodes;
+    g["scenes"][0]["nodes"] = roots;
+    const std::string path = root / "many.gltf";
+    writeFile(path, g.dump());
+    DiskFileSource files;
+    Scene scene;
+    try {
+        loadGltfModel(scene, path, DMat4(1.0), files);
+        ADD_FAILURE() << "loaded";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("instance"), std::string::npos) << e.what();
+    }
+}
+
 TEST(GltfSafety, WorkerRanksLoadTheSameModelFromTheBundle) {
     // Rank 0 reads from disk and records; other ranks see only the bundle.
     const std::string path = "/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf";
