@@ -199,9 +199,13 @@ int runRank0(MpiTransport& t, RenderJob& job, SharedScene& shared, const std::ve
     cfg.totalFrames = int(order.size());
     std::unique_ptr<Scheduler> sched;
     if (job.mode == Mode::Pixel) {
-        const int tilesPerFrame = int(makeTiles(width, height, job.tileSize).size());
+        // Big tiles mean fewer messages; small frames still get enough tiles to keep every
+        // rank's hands full.
+        int tile = job.tileSize;
+        while (tile > 16 && int(makeTiles(width, height, tile).size()) < 2 * renderers * cfg.credits) tile /= 2;
+        const int tilesPerFrame = int(makeTiles(width, height, tile).size());
         const int window = 2 + (renderers * cfg.credits + tilesPerFrame - 1) / tilesPerFrame;
-        sched = makePixelScheduler(toRender, width, height, job.tileSize, window);
+        sched = makePixelScheduler(toRender, width, height, tile, window);
     } else {
         sched = makeFrameScheduler(toRender, width, height, renderers * cfg.credits + 2);
     }

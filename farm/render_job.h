@@ -28,7 +28,7 @@ struct RenderJob {
     Mp4Options mp4;
     int threads = 0;             ///< --threads (0: share the node's cores among its ranks)
     double workerTimeout = 10.0;
-    int tileSize = 64;           ///< pixel mode's work-item size
+    int tileSize = 128;          ///< pixel mode's work-item size (split again into 16x16 on the rank)
 
     std::vector<int> frames() const;
     /// Identifies what a frames directory holds, for --resume.
