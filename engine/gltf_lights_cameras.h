@@ -7,7 +7,7 @@
 
 #include "camera.h"
 #include "light.h"
-#include "math.h"
+#include "vec_math.h"
 
 namespace rf::gltf {
 

@@ -2,7 +2,7 @@
 /// Punctual lights with the seed's distance attenuation 1/(a + b·d + c·d²).
 #include <string>
 
-#include "math.h"
+#include "vec_math.h"
 
 namespace rf {
 

@@ -3,7 +3,7 @@
 /// mirror reflection, and a dielectric for refraction.
 #include <string>
 
-#include "math.h"
+#include "vec_math.h"
 
 namespace rf {
 

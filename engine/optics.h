@@ -1,6 +1,6 @@
 #pragma once
 /// Reflection, Snell refraction and exact dielectric Fresnel.
-#include "math.h"
+#include "vec_math.h"
 
 namespace rf {
 

@@ -1,6 +1,6 @@
 #pragma once
 /// A ray with its parametric extent.
-#include "math.h"
+#include "vec_math.h"
 
 namespace rf {
 

@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "math.h"
+#include "vec_math.h"
 
 namespace rf {
 

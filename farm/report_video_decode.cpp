@@ -1,11 +1,5 @@
 #include "report_video_decode.h"
 
-// engine/math.h is on this target's include path and shadows the C <math.h> that the libav*
-// headers include. Including it first (it is #pragma once, and <cmath> declares the C maths
-// functions) makes their #include <math.h> a no-op instead of a C++ header inside extern "C".
-#include <cmath>
-#include "math.h"
-
 #include <algorithm>
 #include <stdexcept>
 
