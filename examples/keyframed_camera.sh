@@ -5,13 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ranks=${1:-2}
-bin=${RAYFARM_BIN:-build/bin/rayfarm}
-if [ ! -x "$bin" ]; then
-  bash tests/install-deps.sh
-  cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build build -j"$(nproc 2>/dev/null || echo 2)" --target rayfarm
-fi
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+source examples/common.sh
 mkdir -p out
 mpirun --oversubscribe -np "$ranks" "$bin" render scenes/flight.json -o out/flight.mp4 --stats out/flight.json
 echo "keyframed_camera: wrote out/flight.mp4; PNG frames in out/flight.frames/"

@@ -6,13 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scene=${1:-scenes/whitted.json}
 ranks=${2:-2}
-bin=${RAYFARM_BIN:-build/bin/rayfarm}
-if [ ! -x "$bin" ]; then
-  bash tests/install-deps.sh
-  cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build build -j"$(nproc 2>/dev/null || echo 2)" --target rayfarm
-fi
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+source examples/common.sh
 mkdir -p out
 for mode in pixel frame; do
   mpirun --oversubscribe -np "$ranks" "$bin" render "$scene" -o "out/pvf_$mode.mp4" --mode "$mode" --size 640x360 \

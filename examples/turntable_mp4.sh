@@ -8,13 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 model=${1:-/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb}
 ranks=${2:-2}
-bin=${RAYFARM_BIN:-build/bin/rayfarm}
-if [ ! -x "$bin" ]; then
-  bash tests/install-deps.sh
-  cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
-  cmake --build build -j"$(nproc 2>/dev/null || echo 2)" --target rayfarm
-fi
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1  # containers run as root
+source examples/common.sh
 mkdir -p out
 if [ "$ranks" -gt 0 ]; then
   mpirun --oversubscribe -np "$ranks" "$bin" render "$model" -o out/engine_turntable.mp4 --size 640x360 --stats out/engine_turntable.json

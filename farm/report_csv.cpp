@@ -7,14 +7,16 @@
 
 namespace rf::report {
 
-namespace {
-std::string num(double v) {
+std::string formatNumber(double v, int digits) {
     if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
     if (std::isnan(v)) return "nan";
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.6g", v);
+    char buf[48];
+    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
     return buf;
 }
+
+namespace {
+std::string num(double v) { return formatNumber(v, 6); }
 }  // namespace
 
 std::string csvHeader() {

@@ -7,6 +7,9 @@
 
 namespace rf::report {
 
+/// A number for CSV and Markdown tables: `digits` significant digits; "inf", "-inf", "nan".
+std::string formatNumber(double v, int digits = 6);
+
 /// The header line (no newline), column names in order.
 std::string csvHeader();
 

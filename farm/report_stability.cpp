@@ -1,5 +1,7 @@
 #include "report_stability.h"
 
+#include "report_csv.h"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -10,13 +12,7 @@ namespace rf::report {
 
 namespace {
 
-std::string num(double v) {
-    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-    if (std::isnan(v)) return "nan";
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.4g", v);
-    return buf;
-}
+std::string num(double v) { return formatNumber(v, 4); }
 
 std::string csvField(const std::string& s) {
     if (s.find_first_of(",\"\n") == std::string::npos) return s;
