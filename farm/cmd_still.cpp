@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "cli.h"
+#include "gltf_loader.h"
 #include "image.h"
 #include "output_check.h"
 #include "render.h"
@@ -31,7 +32,8 @@ const char* kStillHelp =
     "  --threads N       worker threads (default: all cores)\n"
     "  --stats FILE      write run statistics as JSON\n"
     "  --frame N         render frame N of the scene's timeline (default 0)\n"
-    "  --time T          render the timeline at T seconds (noise seed of the nearest frame)\n";
+    "  --time T          render the timeline at T seconds (noise seed of the nearest frame)\n"
+    "  --camera N        look through the model's glTF camera N instead of the scene camera\n";
 }  // namespace
 
 /// Applies the quality options shared by still, render and report to settings.
@@ -53,7 +55,7 @@ void applyQualityOptions(const ArgParser& p, RenderSettings& s) {
 
 int runStill(const std::vector<std::string>& args) {
     ArgParser p("still");
-    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats", "--frame", "--time"}) p.option(o);
+    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats", "--frame", "--time", "--camera"}) p.option(o);
     p.flag("--help");
     p.flag("-h");
     p.parse(args);
@@ -84,6 +86,9 @@ int runStill(const std::vector<std::string>& args) {
     } else {
         timeline.applyFrame(scene, frame);
     }
+    // A glTF camera replaces the timeline's camera; the rest of the frame (model animation,
+    // lights) still follows the timeline.
+    if (p.has("--camera")) useGltfCamera(scene, p.intValue("--camera", 0, 0, 1 << 20));
     RenderSettings settings = scene.settings;
     applyQualityOptions(p, settings);
 

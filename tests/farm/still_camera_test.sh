@@ -1,0 +1,27 @@
+#!/usr/bin/env bash
+# rayfarm still --camera N end to end: the glTF camera of cameras/Cameras.gltf gives another view
+# than the default framing, and a camera the scene lacks is one error line with exit status 2.
+set -u
+rayfarm=$1 out=$2
+model=/usr/share/assimp/models/glTF2/cameras/Cameras.gltf
+mkdir -p "$out"
+fail() { echo "FAIL: $*"; exit 1; }
+[ -f "$model" ] || fail "$model missing (package assimp-testmodels)"
+
+"$rayfarm" still "$model" --size 64x36 -o "$out/default.png" 2>/dev/null || fail "default view"
+"$rayfarm" still "$model" --size 64x36 -o "$out/cam0.png" --camera 0 2>/dev/null || fail "--camera 0"
+cmp -s "$out/default.png" "$out/cam0.png" && fail "--camera 0 renders the default framing"
+
+for bad in "$model --camera 1" "$model --camera 7"; do
+  err=$("$rayfarm" still $bad --size 64x36 -o "$out/bad.png" 2>&1 >/dev/null | grep -v '^rayfarm: note:')
+  status=${PIPESTATUS[0]}
+  [ "$(printf '%s\n' "$err" | wc -l)" -eq 1 ] || fail "$bad: expected one error line, got: $err"
+  case "$err" in
+    "rayfarm: error: $model: no glTF camera "*) ;;
+    *) fail "$bad: unexpected message: $err" ;;
+  esac
+  [ -e "$out/bad.png" ] && fail "$bad wrote an image"
+done
+"$rayfarm" still "$model" --size 64x36 -o "$out/bad.png" --camera 7 >/dev/null 2>&1
+[ $? -eq 2 ] || fail "--camera 7: exit status is not 2"
+echo "ok"
