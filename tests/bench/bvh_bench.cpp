@@ -10,17 +10,11 @@
 #include "render.h"
 #include "scene_loader.h"
 
+#include "bench_util.h"
+
 using namespace rf;
 
-namespace {
-/// CPU seconds used by the whole process: on a shared machine wall time counts other people's
-/// work too, so the benches print both.
-double processCpuSeconds() {
-    timespec ts{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-}  // namespace
+using rf::bench::processCpuSeconds;
 
 namespace {
 

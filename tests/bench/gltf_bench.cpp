@@ -9,6 +9,7 @@
 #include <string>
 #include <ctime>
 
+#include "bench_util.h"
 #include "gltf_loader.h"
 #include "render.h"
 
@@ -20,13 +21,6 @@ double seconds(std::chrono::steady_clock::time_point a, std::chrono::steady_cloc
     return std::chrono::duration<double>(b - a).count();
 }
 
-/// CPU time of the whole process: on a shared machine, rays per CPU-second stay meaningful
-/// when wall-clock rates drop because other jobs hold the cores.
-double cpuSeconds() {
-    timespec ts{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
 
 /// The default camera turned about the vertical axis through its target: frame f of n.
 Camera orbit(const Camera& base, int f, int n) {
@@ -59,14 +53,14 @@ int main(int argc, char** argv) {
         Scene scene;
         for (int r = 0; r < repeat; ++r) {
             DiskFileSource fs;
-            const double c0 = cpuSeconds();
+            const double c0 = rf::bench::processCpuSeconds();
             const auto t0 = std::chrono::steady_clock::now();
             Scene s;
             loadGltfModel(s, path, DMat4(1.0), fs);
-            const double c1 = cpuSeconds();
+            const double c1 = rf::bench::processCpuSeconds();
             const auto t1 = std::chrono::steady_clock::now();
             s.build();
-            const double c2 = cpuSeconds();
+            const double c2 = rf::bench::processCpuSeconds();
             const auto t2 = std::chrono::steady_clock::now();
             loadS = std::min(loadS, seconds(t0, t1));
             buildS = std::min(buildS, seconds(t1, t2));
@@ -102,11 +96,11 @@ int main(int argc, char** argv) {
         }
         for (int threads : {1, 2}) {
             RayStats stats;
-            const double c0 = cpuSeconds();
+            const double c0 = rf::bench::processCpuSeconds();
             const auto t0 = std::chrono::steady_clock::now();
             for (int f = 0; f < frames; ++f) renderFrame(scene, orbit(scene.camera, f, frames), settings, f, threads, stats);
             const double s = seconds(t0, std::chrono::steady_clock::now());
-            const double cpu = cpuSeconds() - c0;
+            const double cpu = rf::bench::processCpuSeconds() - c0;
             std::printf("%d thread%s   %.2f Mrays/s wall, %.2f Mrays per CPU-second  (%llu primary + %llu shadow rays, %d frames "
                         "%dx%d in %.2f s, %.1f fps)\n",
                         threads, threads > 1 ? "s" : " ", stats.total() / s / 1e6, stats.total() / cpu / 1e6,

@@ -14,17 +14,11 @@
 #include "scene_loader.h"
 #include "timeline.h"
 
+#include "bench_util.h"
+
 using namespace rf;
 
-namespace {
-/// CPU seconds used by the whole process: on a shared machine wall time counts other people's
-/// work too, so the benches print both.
-double processCpuSeconds() {
-    timespec ts{};
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-}  // namespace
+using rf::bench::processCpuSeconds;
 
 int main(int argc, char** argv) {
     std::string path = "scenes/whitted.json", outDir;
