@@ -188,7 +188,9 @@ uint32_t Scene::sphereCandidates(const Ray& r, float tMax, uint32_t* sure) const
     const float aT = a * tMax * (1.f - 1e-4f);
     const F4 aTv = {aT, aT, aT, aT}, grow = {1.f + 1e-4f, 1.f + 1e-4f, 1.f + 1e-4f, 1.f + 1e-4f};
     uint32_t mask = 0, sureMask = 0;
-    for (int h = 0; h < 2; ++h) {
+    // Only the groups of four that hold spheres (a typical Whitted scene fills one).
+    const int groups = static_cast<int>((spheres.size() + 3) / 4);
+    for (int h = 0; h < groups; ++h) {
         F4 cx, cy, cz, rr, ri;
         std::memcpy(&cx, sphX_ + 4 * h, sizeof cx);
         std::memcpy(&cy, sphY_ + 4 * h, sizeof cy);
