@@ -24,6 +24,8 @@ struct Light {
 
 /// 1/(a + b·d + c·d²); finite for any d ≥ 0 when the coefficients are valid.
 inline float attenuationFactor(const Vec3& abc, float d) {
+    // Constant attenuation (the default a = 1): no division in double per shading point.
+    if (abc.y == 0.f && abc.z == 0.f) return abc.x > 0.f ? 1.f / abc.x : 0.f;
     const double den = double(abc.x) + double(abc.y) * d + double(abc.z) * double(d) * d;
     if (!(den > 0.0)) return 0.f;
     const double f = 1.0 / den;

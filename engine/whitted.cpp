@@ -35,7 +35,11 @@ Vec3 terminatorSafeOrigin(const Scene& scene, const SurfaceInteraction& si, floa
 }  // namespace
 
 WhittedTracer::WhittedTracer(const Scene& scene, const RenderSettings& settings)
-    : scene_(scene), settings_(settings) {}
+    : scene_(scene), settings_(settings) {
+    specFloor_.reserve(scene.materials.size());
+    for (const Material& m : scene.materials)
+        specFloor_.push_back(m.shininess > 0.f ? std::exp2(-40.f / m.shininess) : 0.f);
+}
 
 Color WhittedTracer::baseColor(const SurfaceInteraction& si, float* alphaOut) const {
     const Material& m = scene_.materials[si.material];
@@ -65,7 +69,7 @@ Color WhittedTracer::baseColor(const SurfaceInteraction& si, float* alphaOut) co
     return c;
 }
 
-Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats& stats) const {
+Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats& stats, const Color& weight) const {
     const Material& m = scene_.materials[si.material];
     const Vec3 V = -d;
     const Color base = baseColor(si);
@@ -109,7 +113,7 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
             const Vec3 toL = L.position - si.p;
             dist = glm::length(toL);
             if (!(dist > 0.f)) continue;
-            Ldir = toL / dist;
+            Ldir = toL * (1.f / dist);
             att = attenuationFactor(L.attenuation, dist);
             if (L.range > 0.f) {
                 const float r = dist / L.range;
@@ -125,6 +129,18 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
         // leaving on the viewer's side of the facet, clears the facet and its neighbours.
         const bool behindFacet = glm::dot(ng, Ldir) <= 0.f;
         if (behindFacet && (si.mesh < 0 || !L.castShadows)) continue;
+        float spec = 0.f;
+        if (m.specular > 0.f) {
+            const float x = settings_.shading == ShadingModel::BlinnPhong
+                                ? glm::dot(ns, glm::normalize(Ldir + V))
+                                : glm::dot(reflect(-Ldir, ns), V);
+            // x^n below 2^-40 cannot show: skip pow (and its slow underflow path) there.
+            if (x > specFloor_[si.material]) spec = m.specular * std::pow(x, m.shininess);
+        }
+        const Color term = att * L.intensity * L.color * (m.diffuse * nl * base + Color(spec));
+        // The seed's pruning rule applied to the shadow ray: a light whose whole unshadowed term
+        // would reach the pixel below the weight threshold is left out with its ray.
+        if (maxComponent(weight * term) <= settings_.minWeight) continue;
         if (L.castShadows) {
             if (!terminatorDone) {
                 shadowBase = terminatorSafeOrigin(scene_, si, side);
@@ -133,19 +149,15 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
             Ray sr;
             sr.o = offsetRayOrigin(shadowBase, si.pError, ng, behindFacet ? ng : Ldir);
             sr.d = Ldir;
-            // Shorten the far end relatively, so a light lying on a surface still lights it.
-            const float tMax = std::isinf(dist) ? kInf : glm::length(L.position - sr.o) * (1.f - 1e-4f);
+            // Shorten the far end relatively, so a light lying on a surface still lights it. The
+            // origin moved off si.p by at most the L1 length of the shift: a distance bound
+            // without another square root.
+            const Vec3 moved = glm::abs(sr.o - si.p);
+            const float tMax = std::isinf(dist) ? kInf : std::max(0.f, dist - (moved.x + moved.y + moved.z)) * (1.f - 1e-4f);
             ++stats.shadow;
             if (scene_.occluded(sr, tMax, scene_.skipFor(si, Ldir))) continue;
         }
-        float spec = 0.f;
-        if (m.specular > 0.f) {
-            const float x = settings_.shading == ShadingModel::BlinnPhong
-                                ? glm::dot(ns, glm::normalize(Ldir + V))
-                                : glm::dot(reflect(-Ldir, ns), V);
-            if (x > 0.f) spec = m.specular * std::pow(x, m.shininess);
-        }
-        c += att * L.intensity * L.color * (m.diffuse * nl * base + Color(spec));
+        c += term;
     }
     return c;
 }
@@ -159,7 +171,7 @@ Color WhittedTracer::trace(const Ray& r, int depth, const Color& weight, RayStat
     Hit hit;
     if (!scene_.intersect(r, hit, skip)) return scene_.background;
     const SurfaceInteraction si = scene_.interaction(r, hit);
-    Color c = shade(si, r.d, stats);
+    Color c = shade(si, r.d, stats, weight);
     if (depth >= settings_.maxDepth) return c;
 
     const Material& m = scene_.materials[si.material];

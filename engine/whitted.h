@@ -15,7 +15,9 @@ public:
     Color tracePrimary(const Ray& r, RayStats& stats) const;
 
     /// Local illumination at a surface point seen along direction d (the seed's Phong formula).
-    Color shade(const SurfaceInteraction& si, const Vec3& d, RayStats& stats) const;
+    /// weight: what the result is worth in the pixel; a light whose term would count for no
+    /// more than settings.minWeight there is left out, shadow ray and all.
+    Color shade(const SurfaceInteraction& si, const Vec3& d, RayStats& stats, const Color& weight = Color(1.f)) const;
 
     /// Base colour of the material at the surface point (checker, texture, factor).
     Color baseColor(const SurfaceInteraction& si, float* alpha = nullptr) const;
@@ -25,6 +27,7 @@ private:
 
     const Scene& scene_;
     RenderSettings settings_;
+    std::vector<float> specFloor_;  ///< per material: the Phong term is skipped below this cosine
 };
 
 }  // namespace rf
