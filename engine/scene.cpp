@@ -133,7 +133,7 @@ bool Scene::triangleAlphaPasses(uint32_t tri, const TriangleHit& h) const {
     return alpha >= mat.alphaCutoff;
 }
 
-bool Scene::intersectSlot(uint32_t slot, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit) const {
+bool Scene::intersectSlot(uint32_t slot, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit, uint32_t skip) const {
     const uint32_t prim = slotPrim_[slot];
     if (prim < triMesh_.size()) {
         TriangleHit th;
@@ -148,7 +148,9 @@ bool Scene::intersectSlot(uint32_t slot, const Ray& r, const WatertightRay& wr, 
     }
     float t;
     Vec3 rel;
-    if (!intersectSphere(spheres[prim - triMesh_.size()], r, 0.f, tMax, t, &rel)) return false;
+    const Sphere& s = spheres[prim - triMesh_.size()];
+    if (!(prim == insidePrim(skip) ? intersectSphereFromInside(s, r, tMax, t, &rel) : intersectSphere(s, r, 0.f, tMax, t, &rel)))
+        return false;
     tMax = t;
     hit.t = t;
     hit.prim = prim;
@@ -239,12 +241,26 @@ bool Scene::intersect(const Ray& r, Hit& hit, uint32_t skip) const {
     const WatertightRay wr = nTri ? WatertightRay(r) : WatertightRay();
     if (useBvh_) {
         found |= bvh_.traverseSlots(r, tMax, false, [&](uint32_t slot, float& tm) {
-            return slotPrim_[slot] != skip && intersectSlot(slot, r, wr, tm, hit);
+            return slotPrim_[slot] != skip && intersectSlot(slot, r, wr, tm, hit, skip);
         });
     } else {
-        for (uint32_t p = 0; p < nTri; ++p) found |= intersectSlot(p, r, wr, tMax, hit);
+        for (uint32_t p = 0; p < nTri; ++p) found |= intersectSlot(p, r, wr, tMax, hit, skip);
         uint32_t m = spheres.empty() ? 0 : sphereCandidates(r, tMax);
         if (skip >= nTri && skip < base) m &= ~(1u << (skip - nTri));
+        const uint32_t inside = insidePrim(skip);
+        if (inside >= nTri && inside < base) {
+            // The sphere the ray starts in: its exit bounds everything else.
+            m &= ~(1u << (inside - nTri));
+            float t;
+            Vec3 rel;
+            if (intersectSphereFromInside(spheres[inside - nTri], r, tMax, t, &rel)) {
+                tMax = t;
+                hit.t = t;
+                hit.prim = inside;
+                hit.sphereRel = rel;
+                found = true;
+            }
+        }
         for (; m; m &= m - 1) {
             const uint32_t i = static_cast<uint32_t>(__builtin_ctz(m));
             float t;
@@ -271,16 +287,23 @@ bool Scene::occluded(const Ray& r, float tMax, uint32_t skip) const {
     Hit scratch;
     if (useBvh_)
         return bvh_.traverseSlots(r, tMax, true, [&](uint32_t slot, float& tm) {
-            return slotPrim_[slot] != skip && intersectSlot(slot, r, wr, tm, scratch);
+            return slotPrim_[slot] != skip && intersectSlot(slot, r, wr, tm, scratch, skip);
         });
     float tm = tMax;
     for (uint32_t p = 0; p < nTri; ++p)
-        if (intersectSlot(p, r, wr, tm, scratch)) return true;
+        if (intersectSlot(p, r, wr, tm, scratch, skip)) return true;
     uint32_t sure = 0;
     uint32_t m = spheres.empty() ? 0 : sphereCandidates(r, tMax, &sure);
     if (skip >= nTri && skip < base) {
         m &= ~(1u << (skip - nTri));
         sure &= ~(1u << (skip - nTri));
+    }
+    const uint32_t inside = insidePrim(skip);
+    if (inside >= nTri && inside < base) {
+        m &= ~(1u << (inside - nTri));
+        sure &= ~(1u << (inside - nTri));
+        float t;
+        if (intersectSphereFromInside(spheres[inside - nTri], r, tMax, t)) return true;
     }
     if (sure) return true;
     for (; m; m &= m - 1) {
@@ -294,8 +317,13 @@ uint32_t Scene::skipFor(const SurfaceInteraction& si, const Vec3& dir) const {
     const uint32_t nTri = static_cast<uint32_t>(triMesh_.size());
     const uint32_t base = nTri + static_cast<uint32_t>(spheres.size());
     if (si.prim >= base && si.prim < base + planes.size()) return si.prim;
-    // si.ng of a sphere is its outward normal: a ray leaving outwards cannot come back.
-    if (si.prim >= nTri && si.prim < base && glm::dot(dir, si.ng) > 0.f) return si.prim;
+    // si.ng of a sphere is its outward normal: a ray leaving outwards cannot come back, one
+    // heading in meets it once more, at its exit.
+    if (si.prim >= nTri && si.prim < base) {
+        const float dn = glm::dot(dir, si.ng);
+        if (dn > 0.f) return si.prim;
+        if (dn < 0.f) return si.prim | kFromInside;
+    }
     return kNoPrim;
 }
 

@@ -77,13 +77,15 @@ public:
     void applyNodeTransforms(int model, const std::vector<DMat4>& renderFromNode,
                              const std::vector<std::vector<double>>& morphWeights = {});
 
-    /// Closest hit in (0, r.tMax). skip: a convex primitive (sphere, plane) the ray leaves on
-    /// its outer side, which it cannot meet again and so is not tested (see skipFor).
+    /// Closest hit in (0, r.tMax). skip (see skipFor): a convex primitive (sphere, plane) the
+    /// ray leaves on its outer side, which it cannot meet again and so is not tested; or
+    /// kFromInside | sphere id for a ray entering that sphere, which meets it only at its exit.
     bool intersect(const Ray& r, Hit& hit, uint32_t skip = kNoPrim) const;
     /// Any hit in (0, tMax): the shadow-ray query.
     bool occluded(const Ray& r, float tMax, uint32_t skip = kNoPrim) const;
-    /// The primitive a ray spawned at si in direction dir may skip: si's own sphere when dir
-    /// points out of it, si's plane always; kNoPrim otherwise (triangles, rays entering).
+    /// What a ray spawned at si in direction dir knows about its own primitive: si's sphere is
+    /// skipped when dir points out of it and marked kFromInside when dir points in; si's plane is
+    /// always skipped; kNoPrim otherwise (triangles).
     uint32_t skipFor(const SurfaceInteraction& si, const Vec3& dir) const;
     SurfaceInteraction interaction(const Ray& r, const Hit& hit) const;
 
@@ -96,9 +98,12 @@ public:
     /// Below this many bounded primitives, brute force beats building a BVH.
     static constexpr size_t kBvhThreshold = 8;
     static constexpr uint32_t kNoPrim = ~0u;
+    static constexpr uint32_t kFromInside = 1u << 31;
 
 private:
-    bool intersectSlot(uint32_t slot, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit) const;
+    bool intersectSlot(uint32_t slot, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit, uint32_t skip) const;
+    /// The sphere (scene-wide prim id) a ray marked kFromInside starts in, or kNoPrim.
+    static uint32_t insidePrim(uint32_t skip) { return (skip != kNoPrim && (skip & kFromInside)) ? skip & ~kFromInside : kNoPrim; }
     bool triangleAlphaPasses(uint32_t tri, const TriangleHit& h) const;
     /// Brute-force mode: bit i set if sphere i may be hit (a branch-free, vectorisable pre-test).
     /// *sure (if given) gets the spheres the ray certainly enters before tMax from outside,

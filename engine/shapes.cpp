@@ -85,6 +85,35 @@ bool intersectSphereExact(const Sphere& s, const Ray& r, float tMin, float tMax,
     return sphereRoot<double>(s, r, tMin, tMax, t, pRel);
 }
 
+bool intersectSphereFromInside(const Sphere& s, const Ray& r, float tMax, float& t, Vec3* pRel) {
+    const Vec3 f = r.o - s.center;
+    const float r2 = s.radius * s.radius;
+    const float a = glm::dot(r.d, r.d);
+    const float bHalf = glm::dot(f, r.d);
+    const float f2 = glm::dot(f, f);
+    // Float only for an origin inside up to a few ulps of r² (the spawn offset puts it inside by
+    // its error bound) and a ray at least 75.5° off grazing (cos ≥ 1/4): b = f·d cancels as
+    // cos → 0 and r² − |v|² loses ~4u/cos² of the squared chord, ≤ 2e-6 here. A refracted ray
+    // entering glass of n ≥ 1.2 and its internal reflections always qualify.
+    if (!(bHalf <= 0.f) || !(f2 <= r2 * (1.f + 1e-5f)) || !(a > 0.f) || !(bHalf * bHalf >= 0.0625f * a * f2))
+        return intersectSphereExact(s, r, 0.f, tMax, t, pRel);
+    const float invA = 1.f / a;
+    const Vec3 v = f - (bHalf * invA) * r.d;
+    // Inside, the line always crosses the sphere: a negative discriminant is rounding (the
+    // tangent case), so it counts as zero.
+    const float sq = std::sqrt(std::max(0.f, a * (r2 - glm::dot(v, v))));
+    const float tt = (sq - bHalf) * invA;
+    if (!(tt > 0.f && tt < tMax)) return false;
+    t = tt;
+    if (pRel) {
+        Vec3 p = v + (sq * invA) * r.d;
+        const float len = glm::length(p);
+        if (len > 0.f) p *= s.radius / len;  // reproject onto the surface
+        *pRel = p;
+    }
+    return true;
+}
+
 bool intersectSphereNaive(const Sphere& s, const Ray& r, float tMin, float tMax, float& t) {
     const Vec3 f = r.o - s.center;
     const float a = glm::dot(r.d, r.d);

@@ -25,6 +25,12 @@ bool intersectSphere(const Sphere& s, const Ray& r, float tMin, float tMax, floa
 /// intersectSphere without the float pre-test, for callers that have filtered already.
 bool intersectSphereExact(const Sphere& s, const Ray& r, float tMin, float tMax, float& t, Vec3* pRel = nullptr);
 
+/// Exit of a ray that starts on the sphere's surface, just inside it, and heads inwards (a
+/// refracted or internally reflected ray): only the far root can count. While the ray heads in
+/// well off grazing, that root, (−b + √disc)/a, adds two positive terms and is computed in
+/// float; otherwise (grazing, an origin not inside) it falls back on intersectSphereExact.
+bool intersectSphereFromInside(const Sphere& s, const Ray& r, float tMax, float& t, Vec3* pRel = nullptr);
+
 /// Conservative float pre-test: false only if the ray certainly misses in (0, tMax).
 bool sphereMayHit(const Sphere& s, const Ray& r, float tMax);
 

@@ -108,6 +108,45 @@ TEST(Sphere, InnerSphereHitFromInsideThinGap) {
     (void)outer;
 }
 
+// A ray spawned inwards from the surface (refraction into glass) meets the sphere only at its
+// exit: the far root, in float, against a long double reference, from head-on to grazing.
+TEST(Sphere, FromInsideFindsTheExit) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1.f, 1.f);
+    std::uniform_real_distribution<float> logc(-6.f, 0.f);
+    int checked = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const Vec3 c = 3.f * Vec3(u(rng), u(rng), u(rng));
+        const float radius = std::pow(10.f, u(rng));
+        const Vec3 n = glm::normalize(Vec3(u(rng), u(rng), u(rng)));
+        const Vec3 rel = radius * n;
+        const Vec3 p = c + rel;
+        // As Scene::interaction bounds a sphere hit point.
+        const Vec3 pError = gamma(5) * glm::abs(rel) + gamma(2) * glm::abs(p);
+        // Inward directions, the cosine to -n spread log-uniformly down to 1e-6 (grazing).
+        const Vec3 t = glm::normalize(glm::cross(n, Vec3(u(rng), u(rng), u(rng))));
+        const float cosIn = std::pow(10.f, logc(rng));
+        const Vec3 d = glm::normalize(-cosIn * n + std::sqrt(1.f - cosIn * cosIn) * t);
+        const Ray r{offsetRayOrigin(p, pError, n, d), d};
+        const Sphere s{c, radius, 0};
+        float tHit;
+        Vec3 pRel;
+        ASSERT_TRUE(intersectSphereFromInside(s, r, kInf, tHit, &pRel)) << "case " << i;
+        using LD = long double;
+        const LD fx = LD(r.o.x) - c.x, fy = LD(r.o.y) - c.y, fz = LD(r.o.z) - c.z;
+        const LD b = fx * d.x + fy * d.y + fz * d.z;
+        const LD a = LD(d.x) * d.x + LD(d.y) * d.y + LD(d.z) * d.z;
+        const LD cc = fx * fx + fy * fy + fz * fz - LD(radius) * radius;
+        ASSERT_LT(cc, 0.0L) << "the spawned origin must lie inside, case " << i;
+        const LD far = (-b + std::sqrt(b * b - a * cc)) / a;
+        // The chord is 2r·cos: relative error 1e-5 of it, or a few ulps of r when it is tiny.
+        EXPECT_NEAR(double(tHit), double(far), 1e-5 * double(far) + 8.0 * kMachineEps * radius) << "case " << i;
+        EXPECT_NEAR(glm::length(pRel) / radius, 1.f, 1e-6f);
+        ++checked;
+    }
+    EXPECT_EQ(checked, 20000);
+}
+
 TEST(Plane, HitsFromAboveAndBelow) {
     Plane p{Vec3(0, 1, 0), 0.f, 0};
     float t;
