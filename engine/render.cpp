@@ -17,6 +17,9 @@ void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, 
     const int n = std::max(1, static_cast<int>(std::lround(std::sqrt(static_cast<double>(std::max(1, settings.spp))))));
     const float invN = 1.f / n;
     const float invSpp = 1.f / (n * n);
+    // Counted on this thread's stack and added once: callers keep one RayStats per thread side
+    // by side, and bumping those per ray would bounce a shared cache line between cores.
+    RayStats local;
     for (int y = rect.y0; y < rect.y1; ++y) {
         for (int x = rect.x0; x < rect.x1; ++x) {
             const uint64_t pixel = uint64_t(y) * uint64_t(settings.width) + uint64_t(x);
@@ -30,10 +33,10 @@ void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, 
                         jy = rng.next();
                     }
                     const Ray r = rays.generate(x + (sx + jx) * invN, y + (sy + jy) * invN);
-                    Color c = tracer.tracePrimary(r, stats);
+                    Color c = tracer.tracePrimary(r, local);
                     if (!isFinite(c)) {
                         c = Color(0.f);
-                        ++stats.nonFinite;
+                        ++local.nonFinite;
                     }
                     sum += c;
                 }
@@ -45,6 +48,7 @@ void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, 
             o[2] = sum.b;
         }
     }
+    stats += local;
 }
 
 std::vector<TileRect> makeTiles(int width, int height, int tileSize) {
