@@ -37,11 +37,13 @@ CameraRays::CameraRays(const Camera& cam, int w, int h) : origin(cam.eye), width
         tanHalfX = tanHalfY * aspect;
     }
     if (cam.leftHanded) tanHalfX = -tanHalfX;  // mirror the image's x axis
+    twoOverW = 2.f / static_cast<float>(w);
+    twoOverH = 2.f / static_cast<float>(h);
 }
 
 Ray CameraRays::generate(float x, float y) const {
-    const float sx = (2.f * x / width - 1.f) * tanHalfX;
-    const float sy = (1.f - 2.f * y / height) * tanHalfY;
+    const float sx = (x * twoOverW - 1.f) * tanHalfX;
+    const float sy = (1.f - y * twoOverH) * tanHalfY;
     Ray r;
     r.o = origin;
     r.d = glm::normalize(basis.forward + sx * basis.right + sy * basis.up);

@@ -183,7 +183,8 @@ uint32_t Scene::sphereCandidates(const Ray& r, float tMax, uint32_t* sure) const
     const F4 dx = {r.d.x, r.d.x, r.d.x, r.d.x}, dy = {r.d.y, r.d.y, r.d.y, r.d.y}, dz = {r.d.z, r.d.z, r.d.z, r.d.z};
     const F4 av = {a, a, a, a}, errv = {oErr, oErr, oErr, oErr}, zero = {0.f, 0.f, 0.f, 0.f};
     // Entry no earlier than (|f| − reach)/|d|: |f| > reach + tMax·|d| cannot hit before tMax.
-    const float far = tMax * std::sqrt(a) * (1.f + 1e-5f);
+    // |d| ≤ (a + 1)/2 (AM–GM; equal for a unit direction): a bound without a square root.
+    const float far = tMax * (0.5f * (a + 1.f)) * (1.f + 1e-5f);
     const F4 farv = {far, far, far, far};
     // Sure hit: outside, approaching, the line well inside the sphere, and the closest approach
     // (after the entry) before tMax, all with margins far above the float error.
@@ -279,10 +280,8 @@ bool Scene::intersect(const Ray& r, Hit& hit, uint32_t skip) const {
 bool Scene::occluded(const Ray& r, float tMax, uint32_t skip) const {
     const uint32_t nTri = static_cast<uint32_t>(triMesh_.size());
     const uint32_t base = static_cast<uint32_t>(triMesh_.size() + spheres.size());
-    for (size_t i = 0; i < planes.size(); ++i) {
-        float t;
-        if (base + i != skip && intersectPlane(planes[i], r, 0.f, tMax, t)) return true;
-    }
+    for (size_t i = 0; i < planes.size(); ++i)
+        if (base + i != skip && planeBlocks(planes[i], r, tMax)) return true;
     const WatertightRay wr = nTri ? WatertightRay(r) : WatertightRay();
     Hit scratch;
     if (useBvh_)

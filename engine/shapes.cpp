@@ -128,15 +128,6 @@ bool intersectSphereNaive(const Sphere& s, const Ray& r, float tMin, float tMax,
     return false;
 }
 
-bool intersectPlane(const Plane& pl, const Ray& r, float tMin, float tMax, float& t) {
-    const float denom = glm::dot(pl.n, r.d);
-    if (denom == 0.f || !std::isfinite(denom)) return false;  // parallel, or lying in the plane
-    const float tt = -(glm::dot(pl.n, r.o) + pl.d) / denom;
-    if (!(tt > tMin && tt < tMax)) return false;
-    t = tt;
-    return true;
-}
-
 Vec3 planeHitPoint(const Plane& pl, const Ray& r, float t, Vec3& pError) {
     Vec3 p = r.o + t * r.d;
     // One projection step removes the error that grew with t; what is left scales with |p|.

@@ -38,7 +38,24 @@ bool sphereMayHit(const Sphere& s, const Ray& r, float tMax);
 bool intersectSphereNaive(const Sphere& s, const Ray& r, float tMin, float tMax, float& t);
 
 /// Plane hit in (tMin, tMax). A ray parallel to or lying in the plane misses cleanly.
-bool intersectPlane(const Plane& pl, const Ray& r, float tMin, float tMax, float& t);
+inline bool intersectPlane(const Plane& pl, const Ray& r, float tMin, float tMax, float& t) {
+    const float denom = glm::dot(pl.n, r.d);
+    if (denom == 0.f || !std::isfinite(denom)) return false;  // parallel, or lying in the plane
+    const float tt = -(glm::dot(pl.n, r.o) + pl.d) / denom;
+    if (!(tt > tMin && tt < tMax)) return false;
+    t = tt;
+    return true;
+}
+
+/// Whether the plane crosses the ray in (0, tMax), without the division (the shadow-ray query):
+/// t = num/denom lies there exactly when num has denom's sign and |num| < tMax·|denom|.
+inline bool planeBlocks(const Plane& pl, const Ray& r, float tMax) {
+    const float denom = glm::dot(pl.n, r.d);
+    const float num = -(glm::dot(pl.n, r.o) + pl.d);
+    if (denom > 0.f) return num > 0.f && num < tMax * denom;
+    if (denom < 0.f) return num < 0.f && num > tMax * denom;
+    return false;  // parallel, lying in the plane, or NaN
+}
 
 /// Hit point on the plane, projected back onto it, with its absolute error bound.
 Vec3 planeHitPoint(const Plane& pl, const Ray& r, float t, Vec3& pError);
