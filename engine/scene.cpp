@@ -361,7 +361,7 @@ SurfaceInteraction Scene::interaction(const Ray& r, const Hit& hit) const {
         const Sphere& s = spheres[hit.prim - nTri];
         si.p = s.center + hit.sphereRel;
         si.pError = gamma(5) * glm::abs(hit.sphereRel) + gamma(2) * glm::abs(si.p);
-        si.ng = si.ns = hit.sphereRel / s.radius;
+        si.ng = si.ns = hit.sphereRel * (1.f / s.radius);
         si.material = s.material;
     } else {
         const Plane& pl = planes[hit.prim - nTri - nSph];

@@ -49,7 +49,7 @@ Color WhittedTracer::baseColor(const SurfaceInteraction& si, float* alphaOut) co
         // World coordinates in double: the render-space point plus the rebasing origin. The
         // small scale-relative bias keeps points lying exactly on a cell face (a floor at y = 0)
         // on one side, as POV-Ray's checker does.
-        const DVec3 w = (DVec3(si.p) + scene_.renderOrigin) / double(m.checkerScale) + DVec3(1e-4);
+        const DVec3 w = (DVec3(si.p) + scene_.renderOrigin) * (1.0 / double(m.checkerScale)) + DVec3(1e-4);
         // floor by truncation: baseline x86-64 has no roundsd, and libm's floor is a call.
         auto fl = [](double v) -> long long {
             if (!(std::abs(v) < 1e18)) return 0;  // beyond long long (or NaN): no meaningful cell
