@@ -107,13 +107,21 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
         Vec3 Ldir;
         float dist = kInf;
         float att = 1.f;
+        float nl;
         if (L.type == LightType::Directional) {
             Ldir = -L.direction;
+            nl = glm::dot(ns, Ldir);
         } else {
+            // Both early outs read squared or unnormalised values, so neither waits for the
+            // square root and the division (a dependent chain of ~30 cycles).
             const Vec3 toL = L.position - si.p;
-            dist = glm::length(toL);
-            if (!(dist > 0.f)) continue;
-            Ldir = toL * (1.f / dist);
+            const float dist2 = glm::dot(toL, toL);
+            const float nlRaw = glm::dot(ns, toL);
+            if (!(dist2 > 0.f) || nlRaw <= 0.f) continue;
+            dist = std::sqrt(dist2);
+            const float invDist = 1.f / dist;
+            Ldir = toL * invDist;
+            nl = nlRaw * invDist;
             att = attenuationFactor(L.attenuation, dist);
             if (L.range > 0.f) {
                 const float r = dist / L.range;
@@ -122,8 +130,7 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
             }
             if (L.type == LightType::Spot) att *= spotFactor(L, -Ldir);
         }
-        const float nl = glm::dot(ns, Ldir);
-        if (nl <= 0.f || att <= 0.f) continue;
+        if (!(nl > 0.f) || att <= 0.f) continue;
         // The light is behind the flat facet but in front of the smooth (interpolated) surface:
         // Hanika's shadow-terminator case. Lit only if a shadow ray from the shifted point,
         // leaving on the viewer's side of the facet, clears the facet and its neighbours.
