@@ -182,6 +182,8 @@ uint32_t Scene::sphereCandidates(const Ray& r, float tMax, uint32_t* sure) const
     const F4 ox = {r.o.x, r.o.x, r.o.x, r.o.x}, oy = {r.o.y, r.o.y, r.o.y, r.o.y}, oz = {r.o.z, r.o.z, r.o.z, r.o.z};
     const F4 dx = {r.d.x, r.d.x, r.d.x, r.d.x}, dy = {r.d.y, r.d.y, r.d.y, r.d.y}, dz = {r.d.z, r.d.z, r.d.z, r.d.z};
     const F4 av = {a, a, a, a}, errv = {oErr, oErr, oErr, oErr}, zero = {0.f, 0.f, 0.f, 0.f};
+    constexpr float kSlack = 16.f * kMachineEps;
+    const F4 slack = {kSlack, kSlack, kSlack, kSlack};
     // Entry no earlier than (|f| − reach)/|d|: |f| > reach + tMax·|d| cannot hit before tMax.
     // |d| ≤ (a + 1)/2 (AM–GM; equal for a unit direction): a bound without a square root.
     const float far = tMax * (0.5f * (a + 1.f)) * (1.f + 1e-5f);
@@ -202,19 +204,23 @@ uint32_t Scene::sphereCandidates(const Ray& r, float tMax, uint32_t* sure) const
         std::memcpy(&ri, sphInner_ + 4 * h, sizeof ri);
         const F4 fx = ox - cx, fy = oy - cy, fz = oz - cz;
         const F4 b = fx * dx + fy * dy + fz * dz;
-        const F4 vx = av * fx - b * dx, vy = av * fy - b * dy, vz = av * fz - b * dz;
         const F4 reach = rr + errv;
         const F4 reach2 = reach * reach;
         const F4 f2 = fx * fx + fy * fy + fz * fz;
-        const F4 v2 = vx * vx + vy * vy + vz * vz;
-        const I4 beside = v2 > av * av * reach2;
+        // The closest approach: a·|v|² = a·|f|² − b² (v = f − (b/a)·d), from b and |f|² computed
+        // side by side, a shorter dependent chain than forming v. Both terms are ≤ a·|f|²
+        // (Cauchy–Schwarz), so their rounding stays below 8 ulps of a·|f|²: a slack of 16 ulps
+        // covers it and only lets more candidates through, never fewer.
+        const F4 av2 = av * f2 - b * b;
+        const F4 slackA = av * slack * f2;
+        const I4 beside = av2 > av * reach2 + slackA;
         const F4 farReach = reach + farv;
         const I4 away = ((f2 > reach2) & (b > zero)) | (f2 > farReach * farReach);
         const I4 pass = ~(beside | away) & (reach > zero);
         mask |= laneMask(pass) << (4 * h);
         if (sure) {
             const F4 inner = ri - errv;
-            const I4 through = (inner > zero) & (v2 * grow < av * av * inner * inner);
+            const I4 through = (inner > zero) & ((av2 + slackA) * grow < av * inner * inner);
             const I4 ahead = (b < zero) & (f2 > reach2 * grow) & (-b * grow < aTv);
             sureMask |= laneMask(pass & through & ahead) << (4 * h);
         }

@@ -155,6 +155,46 @@ TEST(BvhStress, MillionGrazingRaysMatchBruteForce) {
     EXPECT_GT(mm.hits, mm.rays / 4);
 }
 
+// Below kBvhThreshold primitives a scene tests its spheres brute force, behind a vectorised
+// float pre-test. The pre-test may only reject what the exact root would miss, and the shadow
+// query's "sure hit" shortcut may only accept what it would hit: rays aimed within ±1e-4 radii
+// of the silhouettes, from 1e-2 to 1e5 away, plus random ones.
+TEST(SmallScene, SpherePretestNeverLosesAHit) {
+    Scene s = test::emptyScene();
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<float> u(-1.f, 1.f), u01(0.f, 1.f);
+    for (int i = 0; i < 7; ++i)
+        s.spheres.push_back(Sphere{Vec3(4.f * u(rng), 4.f * u(rng), 4.f * u(rng)), std::pow(10.f, u(rng)), 0});
+    s.build();
+    ASSERT_FALSE(s.usesBvh());
+    size_t hits = 0;
+    for (int i = 0; i < 200000; ++i) {
+        const Sphere& sp = s.spheres[i % s.spheres.size()];
+        const Vec3 dir = glm::normalize(Vec3(u(rng), u(rng), u(rng)));
+        Vec3 side = glm::cross(dir, glm::normalize(Vec3(u(rng), u(rng), u(rng))));
+        side = glm::normalize(side);
+        const float offset = (i % 2 ? 1.f : -1.f) * std::pow(10.f, -4.f - 4.f * u01(rng));
+        const Vec3 target = sp.center + sp.radius * (1.f + offset) * side;
+        const float dist = std::pow(10.f, -2.f + 7.f * u01(rng));
+        Ray r{target - dist * dir, dir};
+        if (i % 5 == 4) r = Ray{Vec3(20.f * u(rng), 20.f * u(rng), 20.f * u(rng)), dir};
+        Hit h;
+        const bool hb = s.intersect(r, h);
+        float tRef;
+        uint32_t idRef = 0;
+        const bool hr = bruteForce(s, r, tRef, idRef);
+        ASSERT_EQ(hb, hr) << "ray " << i;
+        if (!hb) continue;
+        ++hits;
+        ASSERT_EQ(h.prim, idRef) << "ray " << i;
+        ASSERT_EQ(h.t, tRef) << "ray " << i;
+        // Shadow rays ending just before, and well past, the hit.
+        ASSERT_FALSE(s.occluded(r, h.t * (1.f - 1e-5f))) << "ray " << i;
+        ASSERT_TRUE(s.occluded(r, h.t * 2.f + 1.f)) << "ray " << i;
+    }
+    EXPECT_GT(hits, 50000u);
+}
+
 TEST(Bvh, AnyHitAgreesWithClosestHit) {
     const Scene s = testScene(13);
     std::mt19937 rng(3);
