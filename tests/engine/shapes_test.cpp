@@ -8,6 +8,28 @@
 
 using namespace rf;
 
+namespace {
+/// Both roots of |o + t·d − c|² = r² in long double, the reference for the float and double
+/// paths; c_ is |o − c|² − r² (negative when o is inside). disc < 0 when the line misses.
+struct RootsLD {
+    long double near = 0, far = 0, disc = 0, c = 0;
+};
+RootsLD referenceRoots(const Vec3& o, const Vec3& d, const Vec3& center, float radius) {
+    using LD = long double;
+    const LD fx = LD(o.x) - center.x, fy = LD(o.y) - center.y, fz = LD(o.z) - center.z;
+    const LD a = LD(d.x) * d.x + LD(d.y) * d.y + LD(d.z) * d.z;
+    const LD b = fx * d.x + fy * d.y + fz * d.z;
+    RootsLD r;
+    r.c = fx * fx + fy * fy + fz * fz - LD(radius) * radius;
+    r.disc = b * b - a * r.c;
+    if (r.disc >= 0) {
+        r.near = (-b - std::sqrt(r.disc)) / a;
+        r.far = (-b + std::sqrt(r.disc)) / a;
+    }
+    return r;
+}
+}  // namespace
+
 TEST(Sphere, HitsUnitSphereHeadOn) {
     Sphere s{Vec3(0.f), 1.f, 0};
     Ray r{Vec3(0, 0, 5), Vec3(0, 0, -1)};
@@ -78,16 +100,9 @@ TEST(Sphere, RootsMatchLongDoubleReference) {
         Sphere s{c, radius, 0};
         float t;
         if (!intersectSphere(s, Ray{o, d}, 0.f, kInf, t)) continue;
-        // Reference root in long double.
-        using LD = long double;
-        const LD fx = LD(o.x) - c.x, fy = LD(o.y) - c.y, fz = LD(o.z) - c.z;
-        const LD a = LD(d.x) * d.x + LD(d.y) * d.y + LD(d.z) * d.z;
-        const LD b = fx * d.x + fy * d.y + fz * d.z;
-        const LD cc = fx * fx + fy * fy + fz * fz - LD(radius) * radius;
-        const LD disc = b * b - a * cc;
-        ASSERT_GE(disc, 0.0L);
-        LD t0 = (-b - std::sqrt(disc)) / a, t1 = (-b + std::sqrt(disc)) / a;
-        const LD ref = t0 > 0 ? t0 : t1;
+        const RootsLD ld = referenceRoots(o, d, c, radius);
+        ASSERT_GE(ld.disc, 0.0L);
+        const long double ref = ld.near > 0 ? ld.near : ld.far;
         EXPECT_NEAR(t / double(ref), 1.0, 1e-5) << "case " << i;
         ++hits;
     }
@@ -132,15 +147,11 @@ TEST(Sphere, FromInsideFindsTheExit) {
         float tHit;
         Vec3 pRel;
         ASSERT_TRUE(intersectSphereFromInside(s, r, kInf, tHit, &pRel)) << "case " << i;
-        using LD = long double;
-        const LD fx = LD(r.o.x) - c.x, fy = LD(r.o.y) - c.y, fz = LD(r.o.z) - c.z;
-        const LD b = fx * d.x + fy * d.y + fz * d.z;
-        const LD a = LD(d.x) * d.x + LD(d.y) * d.y + LD(d.z) * d.z;
-        const LD cc = fx * fx + fy * fy + fz * fz - LD(radius) * radius;
-        ASSERT_LT(cc, 0.0L) << "the spawned origin must lie inside, case " << i;
-        const LD far = (-b + std::sqrt(b * b - a * cc)) / a;
+        const RootsLD ld = referenceRoots(r.o, d, c, radius);
+        ASSERT_LT(ld.c, 0.0L) << "the spawned origin must lie inside, case " << i;
+        const double far = double(ld.far);
         // The chord is 2r·cos: relative error 1e-5 of it, or a few ulps of r when it is tiny.
-        EXPECT_NEAR(double(tHit), double(far), 1e-5 * double(far) + 8.0 * kMachineEps * radius) << "case " << i;
+        EXPECT_NEAR(double(tHit), far, 1e-5 * far + 8.0 * kMachineEps * radius) << "case " << i;
         EXPECT_NEAR(glm::length(pRel) / radius, 1.f, 1e-6f);
         ++checked;
     }
