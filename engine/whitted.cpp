@@ -32,6 +32,13 @@ Vec3 terminatorSafeOrigin(const Scene& scene, const SurfaceInteraction& si, floa
     return shifted;
 }
 
+/// Where a ray leaving si starts. One that skips si's own primitive (the plane, or the sphere it
+/// leaves outwards: Scene::skipFor) cannot re-meet it however p rounded, so it starts at p and
+/// saves the offset; any other is pushed off the surface by p's error bound.
+Vec3 spawnOrigin(const Vec3& p, const SurfaceInteraction& si, const Vec3& ng, const Vec3& side, uint32_t skip) {
+    return skip == si.prim ? p : offsetRayOrigin(p, si.pError, ng, side);
+}
+
 }  // namespace
 
 WhittedTracer::WhittedTracer(const Scene& scene, const RenderSettings& settings)
@@ -153,8 +160,9 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
                 shadowBase = terminatorSafeOrigin(scene_, si, side);
                 terminatorDone = true;
             }
+            const uint32_t skip = scene_.skipFor(si, Ldir);
             Ray sr;
-            sr.o = offsetRayOrigin(shadowBase, si.pError, ng, behindFacet ? ng : Ldir);
+            sr.o = spawnOrigin(shadowBase, si, ng, behindFacet ? ng : Ldir, skip);
             sr.d = Ldir;
             // Shorten the far end relatively, so a light lying on a surface still lights it. The
             // origin moved off si.p by at most the L1 length of the shift: a distance bound
@@ -162,7 +170,7 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
             const Vec3 moved = glm::abs(sr.o - si.p);
             const float tMax = std::isinf(dist) ? kInf : std::max(0.f, dist - (moved.x + moved.y + moved.z)) * (1.f - 1e-4f);
             ++stats.shadow;
-            if (scene_.occluded(sr, tMax, scene_.skipFor(si, Ldir))) continue;
+            if (scene_.occluded(sr, tMax, skip)) continue;
         }
         c += term;
     }
@@ -201,22 +209,24 @@ Color WhittedTracer::trace(const Ray& r, int depth, const Color& weight, RayStat
             if (glm::dot(ns, ng) < 0.f) ns = -ns;
             Vec3 dir = reflect(r.d, ns);
             if (glm::dot(dir, ng) <= 0.f) dir = reflect(r.d, ng);  // below the surface: use ng
+            const uint32_t skip = scene_.skipFor(si, dir);
             Ray rr;
-            rr.o = offsetRayOrigin(si.p, si.pError, ng, dir);
+            rr.o = spawnOrigin(si.p, si, ng, dir, skip);
             rr.d = dir;
             ++stats.reflection;
-            c += kr * trace(rr, depth + 1, w, stats, scene_.skipFor(si, dir));
+            c += kr * trace(rr, depth + 1, w, stats, skip);
         }
     }
     if (kt > 0.f) {
         const Color filter = baseColor(si);
         const Color w = weight * kt * filter;
         if (maxComponent(w) > settings_.minWeight) {
+            const uint32_t skip = scene_.skipFor(si, refrDir);
             Ray tr;
-            tr.o = offsetRayOrigin(si.p, si.pError, ng, refrDir);
+            tr.o = spawnOrigin(si.p, si, ng, refrDir, skip);
             tr.d = refrDir;
             ++stats.refraction;
-            c += kt * filter * trace(tr, depth + 1, w, stats, scene_.skipFor(si, refrDir));
+            c += kt * filter * trace(tr, depth + 1, w, stats, skip);
         }
     }
     return c;
