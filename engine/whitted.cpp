@@ -110,6 +110,7 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
     if (m.diffuse <= 0.f && m.specular <= 0.f) return c;
     bool terminatorDone = false;
     Vec3 shadowBase = si.p;
+    float pruned = 0.f;  // worth of the lights left out so far
     for (const Light& L : scene_.lights) {
         Vec3 Ldir;
         float dist = kInf;
@@ -153,8 +154,13 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
         }
         const Color term = att * L.intensity * L.color * (m.diffuse * nl * base + Color(spec));
         // The seed's pruning rule applied to the shadow ray: a light whose whole unshadowed term
-        // would reach the pixel below the weight threshold is left out with its ray.
-        if (maxComponent(weight * term) <= settings_.minWeight) continue;
+        // would reach the pixel below the weight threshold is left out with its ray, as long as
+        // all lights left out at this point stay below it together (many dim lights add up).
+        const float worth = maxComponent(weight * term);
+        if (pruned + worth <= settings_.minWeight) {
+            pruned += worth;
+            continue;
+        }
         if (L.castShadows) {
             if (!terminatorDone) {
                 shadowBase = terminatorSafeOrigin(scene_, si, side);
@@ -164,11 +170,10 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
             Ray sr;
             sr.o = spawnOrigin(shadowBase, si, ng, behindFacet ? ng : Ldir, skip);
             sr.d = Ldir;
-            // Shorten the far end relatively, so a light lying on a surface still lights it. The
-            // origin moved off si.p by at most the L1 length of the shift: a distance bound
-            // without another square root.
-            const Vec3 moved = glm::abs(sr.o - si.p);
-            const float tMax = std::isinf(dist) ? kInf : std::max(0.f, dist - (moved.x + moved.y + moved.z)) * (1.f - 1e-4f);
+            // Shorten the far end relatively, so a light lying on a surface still lights it. An
+            // origin still at si.p (no offset) already has its distance.
+            const float tMax = std::isinf(dist) ? kInf
+                                                : (sr.o == si.p ? dist : glm::length(L.position - sr.o)) * (1.f - 1e-4f);
             ++stats.shadow;
             if (scene_.occluded(sr, tMax, skip)) continue;
         }

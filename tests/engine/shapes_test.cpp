@@ -109,6 +109,31 @@ TEST(Sphere, RootsMatchLongDoubleReference) {
     EXPECT_GT(hits, 10000);
 }
 
+// Rays that nearly graze the silhouette (closest approach 0.9 to 1 − 1e-7 radii) from 1.1 to 30
+// radii away: the near root stays within 1e-5 relative of the long double root, so t still orders
+// a sphere against a surface it touches (the float path hands these to double).
+TEST(Sphere, NearTangentRootsStayAccurate) {
+    std::mt19937 rng(23);
+    std::uniform_real_distribution<float> u(-1.f, 1.f), u01(0.f, 1.f);
+    int hits = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const Vec3 c = 2.f * Vec3(u(rng), u(rng), u(rng));
+        const float radius = std::pow(10.f, u(rng));
+        const Vec3 d = glm::normalize(Vec3(u(rng), u(rng), u(rng)));
+        const Vec3 side = glm::normalize(glm::cross(d, Vec3(u(rng), u(rng), u(rng))));
+        const float miss = std::pow(10.f, -1.f - 6.f * u01(rng));  // 1 − closest approach / r
+        const float dist = radius * (1.1f + 29.f * u01(rng));
+        const Vec3 o = c + radius * (1.f - miss) * side - dist * d;
+        float t;
+        if (!intersectSphere(Sphere{c, radius, 0}, Ray{o, d}, 0.f, kInf, t)) continue;
+        const RootsLD ld = referenceRoots(o, d, c, radius);
+        ASSERT_GE(ld.disc, 0.0L) << "case " << i;
+        EXPECT_NEAR(t / double(ld.near), 1.0, 1e-5) << "case " << i << ", miss " << miss;
+        ++hits;
+    }
+    EXPECT_GT(hits, 15000);
+}
+
 // Catalogue 12: a thin gap of 4e-5 between concentric spheres is still resolved.
 TEST(Sphere, InnerSphereHitFromInsideThinGap) {
     Sphere inner{Vec3(0.f), 1.f, 0};

@@ -45,6 +45,34 @@ Light pointLight(const Vec3& p, const Vec3& att = Vec3(1, 0, 0)) {
 
 }  // namespace
 
+// The seed's pruning rule on shadow rays: lights too dim to show are left out, but together they
+// never lose more than min_weight at one point. 100 lights worth 5e-4 each (0.05 in all, far above
+// 1e-3) must nearly all count; one light worth 5e-4 alone may be dropped.
+TEST(Whitted, ShadowPruningBoundsTheTotalLeftOut) {
+    Material m = matte(Color(1.f), 0.f, 1.f);
+    ShadeProbe p(m, pointLight(Vec3(0, 10, 0)));
+    p.scene.lights.clear();
+    for (int i = 0; i < 100; ++i) {
+        Light l = pointLight(Vec3(0.01f * i, 10.f, 0.f));
+        l.intensity = 5e-4f;
+        p.scene.lights.push_back(l);
+    }
+    RenderSettings rs;
+    rs.minWeight = 1e-3f;
+    RayStats st;
+    const Color all = WhittedTracer(p.scene, rs).shade(p.si, p.dir, st);
+    float expect = 0.f;
+    for (const Light& l : p.scene.lights) expect += l.intensity * glm::normalize(l.position).y;
+    EXPECT_GE(all.g, expect - rs.minWeight - 1e-6f);  // 1e-6: float summation order
+    EXPECT_LE(all.g, expect + 1e-6f);
+    EXPECT_GE(st.shadow, 97u);  // at most two of them left out
+    p.scene.lights.resize(1);
+    RayStats one;
+    const Color single = WhittedTracer(p.scene, rs).shade(p.si, p.dir, one);
+    EXPECT_EQ(one.shadow, 0u);
+    EXPECT_EQ(single.g, 0.f);
+}
+
 // I = I_amb·k_amb + 1/(a + b·d + c·d²)·(k_dif·(N·L) + k_spec·(R·V)^n), as the seed writes it.
 TEST(Whitted, SeedPhongFormulaWithAttenuation) {
     Material m = matte(Color(0.6f, 0.4f, 0.2f), 0.1f, 0.9f);
