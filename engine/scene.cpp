@@ -40,6 +40,16 @@ void Scene::build() {
         }
     }
     const size_t nPrims = triMesh_.size() + spheres.size();
+    sphereAlone_.assign(spheres.size(), 0);
+    for (size_t i = 0; i < spheres.size() && triMesh_.empty(); ++i) {
+        const Sphere& a = spheres[i];
+        bool alone = true;
+        for (const Plane& pl : planes)  // the plane may touch, not cut
+            alone &= std::abs(glm::dot(DVec3(pl.n), DVec3(a.center)) + double(pl.d)) >= double(a.radius);
+        for (size_t j = 0; j < spheres.size() && alone; ++j)
+            alone &= j == i || glm::length(DVec3(a.center) - DVec3(spheres[j].center)) >= double(a.radius) + spheres[j].radius;
+        sphereAlone_[i] = alone;
+    }
     useBvh_ = nPrims >= kBvhThreshold;
     if (useBvh_) {
         std::vector<Aabb> boxes;
@@ -234,6 +244,18 @@ bool Scene::intersect(const Ray& r, Hit& hit, uint32_t skip) const {
     bool found = false;
     const uint32_t nTri = static_cast<uint32_t>(triMesh_.size());
     const uint32_t base = static_cast<uint32_t>(triMesh_.size() + spheres.size());
+    const uint32_t inside = insidePrim(skip);
+    const bool fromInside = inside >= nTri && inside < base;
+    if (fromInside && sphereAlone_[inside - nTri]) {
+        // Nothing else reaches into the sphere the ray starts in: its exit is the next hit.
+        float t;
+        Vec3 rel;
+        if (!intersectSphereFromInside(spheres[inside - nTri], r, tMax, t, &rel)) return false;
+        hit.t = t;
+        hit.prim = inside;
+        hit.sphereRel = rel;
+        return true;
+    }
     // Planes first: their hit bounds tMax cheaply for the sphere pre-test.
     for (size_t i = 0; i < planes.size(); ++i) {
         float t;
@@ -254,8 +276,7 @@ bool Scene::intersect(const Ray& r, Hit& hit, uint32_t skip) const {
         for (uint32_t p = 0; p < nTri; ++p) found |= intersectSlot(p, r, wr, tMax, hit, skip);
         uint32_t m = spheres.empty() ? 0 : sphereCandidates(r, tMax);
         if (skip >= nTri && skip < base) m &= ~(1u << (skip - nTri));
-        const uint32_t inside = insidePrim(skip);
-        if (inside >= nTri && inside < base) {
+        if (fromInside) {
             // The sphere the ray starts in: its exit bounds everything else.
             m &= ~(1u << (inside - nTri));
             float t;
@@ -286,6 +307,13 @@ bool Scene::intersect(const Ray& r, Hit& hit, uint32_t skip) const {
 bool Scene::occluded(const Ray& r, float tMax, uint32_t skip) const {
     const uint32_t nTri = static_cast<uint32_t>(triMesh_.size());
     const uint32_t base = static_cast<uint32_t>(triMesh_.size() + spheres.size());
+    // Any hit will do: a ray that leaves the sphere it starts in before tMax is blocked by it.
+    const uint32_t inside = insidePrim(skip);
+    const bool fromInside = inside >= nTri && inside < base;
+    if (fromInside) {
+        float t;
+        if (intersectSphereFromInside(spheres[inside - nTri], r, tMax, t)) return true;
+    }
     for (size_t i = 0; i < planes.size(); ++i)
         if (base + i != skip && planeBlocks(planes[i], r, tMax)) return true;
     const WatertightRay wr = nTri ? WatertightRay(r) : WatertightRay();
@@ -303,12 +331,9 @@ bool Scene::occluded(const Ray& r, float tMax, uint32_t skip) const {
         m &= ~(1u << (skip - nTri));
         sure &= ~(1u << (skip - nTri));
     }
-    const uint32_t inside = insidePrim(skip);
-    if (inside >= nTri && inside < base) {
+    if (fromInside) {  // tested first, above
         m &= ~(1u << (inside - nTri));
         sure &= ~(1u << (inside - nTri));
-        float t;
-        if (intersectSphereFromInside(spheres[inside - nTri], r, tMax, t)) return true;
     }
     if (sure) return true;
     for (; m; m &= m - 1) {

@@ -117,6 +117,9 @@ private:
     std::vector<uint32_t> triMesh_;  ///< mesh of each triangle
     std::vector<uint32_t> triLocal_; ///< triangle index within its mesh
     std::vector<uint8_t> meshMasked_; ///< mesh needs an alpha test during traversal
+    /// Per sphere: no other primitive reaches into it (touching is fine), so a ray starting
+    /// inside meets nothing before the sphere's own exit. Always 0 in scenes with triangles.
+    std::vector<uint8_t> sphereAlone_;
     bool anyMasked_ = false;
     /// Primitive data in BVH leaf order (identity order without a BVH), so traversal reads
     /// leaves contiguously: the primitive id and, for triangles, the three vertices.

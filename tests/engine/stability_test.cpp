@@ -55,6 +55,37 @@ TEST(Stability, ThinGapBetweenConcentricSpheres) {
     EXPECT_NEAR(h2.t, 4e-5f, 1e-6f);
 }
 
+// A ray entering a sphere goes straight to the exit only when nothing else reaches into the
+// sphere: a plane cutting it, or a second sphere overlapping it, is still met first; a plane or
+// sphere that only touches it is not.
+TEST(Stability, RayInsideSphereStillMeetsWhatCutsIt) {
+    auto firstHit = [](float planeY, bool overlap) {
+        Scene s = test::emptyScene();
+        s.spheres.push_back(Sphere{Vec3(0.f), 1.f, 0});
+        s.spheres.push_back(Sphere{Vec3(overlap ? 1.5f : 2.f, 0.f, 0.f), 1.f, 0});  // 2: touching
+        s.planes.push_back(Plane{Vec3(0, 1, 0), -planeY, 0});
+        s.build();
+        const Ray in{Vec3(0, -5, 0), Vec3(0, 1, 0)};
+        Hit h;
+        EXPECT_TRUE(s.intersect(in, h, Scene::kNoPrim));
+        const SurfaceInteraction si = s.interaction(in, h);
+        // Refracted straight on, then turned towards +x, as a ray inside glass would be.
+        const Vec3 d = glm::normalize(Vec3(0.8f, 1.f, 0.f));
+        const Ray r{offsetRayOrigin(si.p, si.pError, si.ng, d), d};
+        Hit h2;
+        EXPECT_TRUE(s.intersect(r, h2, s.skipFor(si, d)));
+        const bool blocked = s.occluded(r, 100.f, s.skipFor(si, d));
+        EXPECT_TRUE(blocked);
+        return r.o + h2.t * r.d;
+    };
+    // Plane tangent below (y = -1 would be the sphere's bottom; here -5 < y < -1 is left alone).
+    EXPECT_NEAR(glm::length(firstHit(-1.f, false)), 1.f, 1e-5f);  // touching plane: the exit
+    EXPECT_NEAR(firstHit(0.f, false).y, 0.f, 1e-5f);                 // cutting plane: met first
+    const Vec3 p = firstHit(-1.f, true);                             // overlapping sphere
+    EXPECT_NEAR(glm::length(p - Vec3(1.5f, 0.f, 0.f)), 1.f, 1e-5f);
+    EXPECT_LT(glm::length(p), 1.f - 1e-3f);                           // inside the first sphere
+}
+
 // Catalogue 21: the Whitted scene scaled by 1e-4, 1 and 1e5 (camera, lights, geometry, checker)
 // renders the same: at least 99.9% of pixels within 1/255.
 TEST(Stability, WhittedSceneScaleSweep) {
