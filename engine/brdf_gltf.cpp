@@ -1,0 +1,216 @@
+#include "brdf_gltf.h"
+
+#include <array>
+
+namespace rf::pbr {
+
+float f0FromIor(float ior) {
+    const float r = (ior - 1.f) / (ior + 1.f);
+    return r * r;
+}
+
+Color specularF0(const Surface& s) { return glm::mix(Color(f0FromIor(s.ior)), s.baseColor, s.metallic); }
+
+float ggxD(float cos2, float sin2, float alpha) {
+    const float a2 = alpha * alpha;
+    const float d = cos2 * a2 + sin2;  // = cos²·(α² − 1) + 1 without the cancellation
+    return d > 0.f ? a2 / (kPi * d * d) : 0.f;
+}
+
+float ggxD(float nh, float alpha) { return ggxD(nh * nh, std::max(0.f, (1.f - nh) * (1.f + nh)), alpha); }
+
+float smithVisibility(float nl, float nv, float alpha) {
+    const float a2 = alpha * alpha;
+    const float gv = nl * std::sqrt(nv * nv * (1.f - a2) + a2);
+    const float gl = nv * std::sqrt(nl * nl * (1.f - a2) + a2);
+    const float den = gv + gl;
+    return den > 0.f ? 0.5f / den : 0.f;
+}
+
+float schlickFresnel(float f0, float vh) {
+    const float m = std::clamp(1.f - vh, 0.f, 1.f);
+    const float m2 = m * m;
+    return f0 + (1.f - f0) * (m2 * m2 * m);
+}
+
+Color schlickFresnel(const Color& f0, float vh) {
+    const float m = std::clamp(1.f - vh, 0.f, 1.f);
+    const float m2 = m * m;
+    return f0 + (Color(1.f) - f0) * (m2 * m2 * m);
+}
+
+Color evalBrdf(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l) {
+    const float nl = glm::dot(n, l), nv = glm::dot(n, v);
+    if (!(nl > 0.f) || !(nv > 0.f)) return Color(0.f);
+    Vec3 h = v + l;
+    const float hl = glm::length(h);
+    if (!(hl > 0.f)) return Color(0.f);
+    h /= hl;
+    const float nh = std::max(glm::dot(n, h), 0.f), vh = std::max(glm::dot(v, h), 0.f);
+    const Vec3 nxh = glm::cross(n, h);
+    const float alpha = std::max(alphaFromRoughness(s.roughness), kMinAlpha);
+    const float dv = ggxD(nh * nh, glm::dot(nxh, nxh), alpha) * smithVisibility(nl, nv, alpha);
+    // Schlick is linear in f0, so the metal/dielectric mix of the two Fresnel-weighted specular
+    // lobes is one lobe with the mixed f0.
+    const Color spec = schlickFresnel(specularF0(s), vh) * dv;
+    if (s.metallic >= 1.f) return spec;
+    const float f0 = f0FromIor(s.ior);
+    const float couple = (1.f - dielectricAlbedo(f0, s.roughness, nv)) * (1.f - dielectricAlbedo(f0, s.roughness, nl)) /
+                         std::max(1e-4f, 1.f - dielectricAlbedoAverage(f0, s.roughness));
+    const Color diffuse = (1.f - s.metallic) * couple * s.baseColor * (1.f / kPi);
+    return diffuse + spec;
+}
+
+Color directLight(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l, const Color& irradiance) {
+    const float nl = glm::dot(n, l);
+    if (!(nl > 0.f)) return Color(0.f);
+    return evalBrdf(s, n, v, l) * irradiance * nl;
+}
+
+MetallicRoughness metallicRoughnessFromTexel(float metallicFactor, float roughnessFactor, const Vec4& texel) {
+    return {metallicFactor * texel.b, roughnessFactor * texel.g};
+}
+
+float occlusionFromTexel(float strength, const Vec4& texel) { return 1.f + strength * (texel.r - 1.f); }
+
+Vec2 hammersley(uint32_t i, uint32_t n) {
+    uint32_t bits = i;
+    bits = (bits << 16u) | (bits >> 16u);
+    bits = ((bits & 0x55555555u) << 1u) | ((bits & 0xAAAAAAAAu) >> 1u);
+    bits = ((bits & 0x33333333u) << 2u) | ((bits & 0xCCCCCCCCu) >> 2u);
+    bits = ((bits & 0x0F0F0F0Fu) << 4u) | ((bits & 0xF0F0F0F0u) >> 4u);
+    bits = ((bits & 0x00FF00FFu) << 8u) | ((bits & 0xFF00FF00u) >> 8u);
+    return Vec2((i + 0.5f) / float(n), float(bits) * 2.3283064365386963e-10f);
+}
+
+Vec3 sampleGgxHalfVector(float alpha, float u1, float u2) {
+    // Inverting the CDF of D(h)·cos θh over cos² θh.
+    const float a2 = alpha * alpha;
+    const float den = 1.f + (a2 - 1.f) * u1;
+    const float cos2 = den > 0.f ? std::clamp((1.f - u1) / den, 0.f, 1.f) : 1.f;
+    const float cosT = std::sqrt(cos2), sinT = std::sqrt(1.f - cos2);
+    const float phi = 2.f * kPi * u2;
+    return Vec3(sinT * std::cos(phi), sinT * std::sin(phi), cosT);
+}
+
+namespace {
+
+constexpr int kLutSize = 32;
+constexpr uint32_t kLutSamples = 1024;
+
+/// (A, B) for one (n·v, α) by quadrature over GGX half vectors: the lobe's albedo is
+/// ∫ F·D·V·(n·l) dω = f0·A + B with A = ∫(1 − Fc)w, B = ∫Fc·w, Fc = (1 − v·h)⁵.
+Vec2 integrateScaleBias(float nv, float alpha) {
+    const Vec3 v(std::sqrt(std::max(0.f, 1.f - nv * nv)), 0.f, nv);
+    double a = 0.0, b = 0.0;
+    for (uint32_t i = 0; i < kLutSamples; ++i) {
+        const Vec2 u = hammersley(i, kLutSamples);
+        const Vec3 h = sampleGgxHalfVector(alpha, u.x, u.y);
+        const float vh = glm::dot(v, h);
+        const Vec3 l = 2.f * vh * h - v;
+        if (l.z <= 0.f || vh <= 0.f) continue;
+        // f·cos/pdf with pdf(l) = D·(n·h)/(4 v·h): the D cancels.
+        const float w = smithVisibility(l.z, nv, alpha) * 4.f * l.z * vh / h.z;
+        const float fc = schlickFresnel(0.f, vh);
+        a += (1.f - fc) * w;
+        b += fc * w;
+    }
+    return Vec2(float(a / kLutSamples), float(b / kLutSamples));
+}
+
+using Lut = std::array<Vec2, kLutSize * kLutSize>;
+using AverageLut = std::array<Vec2, kLutSize>;
+
+const Lut& scaleBiasLut() {
+    static const Lut lut = [] {
+        Lut t{};
+        for (int j = 0; j < kLutSize; ++j) {      // roughness
+            for (int i = 0; i < kLutSize; ++i) {  // n·v
+                const float nv = std::max(1e-3f, float(i) / (kLutSize - 1));
+                const float r = float(j) / (kLutSize - 1);
+                t[size_t(j) * kLutSize + i] = integrateScaleBias(nv, alphaFromRoughness(r));
+            }
+        }
+        return t;
+    }();
+    return lut;
+}
+
+/// A row of the table at n·v; roughness row 0 is a mirror and so exact in closed form.
+Vec2 lutRow(int j, float nv) {
+    if (j == 0) {
+        const float fc = schlickFresnel(0.f, nv);
+        return Vec2(1.f - fc, fc);
+    }
+    const Lut& t = scaleBiasLut();
+    const float x = nv * (kLutSize - 1);
+    const int i0 = std::min(int(x), kLutSize - 2);
+    const float fx = x - i0;
+    return glm::mix(t[size_t(j) * kLutSize + i0], t[size_t(j) * kLutSize + i0 + 1], fx);
+}
+
+/// Per roughness row: 2∫(A, B)(μ) μ dμ over the interpolated row, so E_avg matches the E the
+/// BRDF uses (the coupled diffuse then integrates to exactly 1 − E(n·v)).
+const AverageLut& averageLut() {
+    static const AverageLut avg = [] {
+        AverageLut t{};
+        constexpr int kSteps = 1024;
+        for (int j = 0; j < kLutSize; ++j) {
+            Vec2 sum(0.f);
+            for (int i = 0; i < kSteps; ++i) {
+                const float mu = (i + 0.5f) / kSteps;
+                sum += lutRow(j, mu) * mu;
+            }
+            t[size_t(j)] = sum * (2.f / kSteps);
+        }
+        return t;
+    }();
+    return avg;
+}
+
+/// Row index and weight for a roughness in [0, 1].
+int rowOf(float roughness, float& frac) {
+    roughness = std::clamp(std::isfinite(roughness) ? roughness : 1.f, 0.f, 1.f);
+    const float y = roughness * (kLutSize - 1);
+    const int j0 = std::min(int(y), kLutSize - 2);
+    frac = y - j0;
+    return j0;
+}
+
+}  // namespace
+
+Vec2 specularScaleBias(float nv, float roughness) {
+    nv = std::clamp(std::isfinite(nv) ? nv : 0.f, 0.f, 1.f);
+    float fy;
+    const int j0 = rowOf(roughness, fy);
+    return glm::mix(lutRow(j0, nv), lutRow(j0 + 1, nv), fy);
+}
+
+float dielectricAlbedo(float f0, float roughness, float nv) {
+    const Vec2 ab = specularScaleBias(nv, roughness);
+    return f0 * ab.x + ab.y;
+}
+
+float dielectricAlbedoAverage(float f0, float roughness) {
+    float fy;
+    const int j0 = rowOf(roughness, fy);
+    const AverageLut& t = averageLut();
+    const Vec2 ab = glm::mix(t[size_t(j0)], t[size_t(j0) + 1], fy);
+    return f0 * ab.x + ab.y;
+}
+
+Color specularAlbedo(const Surface& s, float nv) {
+    const Vec2 ab = specularScaleBias(nv, s.roughness);
+    return specularF0(s) * ab.x + Color(ab.y);
+}
+
+Color environmentLight(const Surface& s, float nv, const Color& specularRadiance, const Color& diffuseRadiance) {
+    const Vec2 ab = specularScaleBias(nv, s.roughness);
+    const float ed = f0FromIor(s.ior) * ab.x + ab.y;
+    const Color spec = (specularF0(s) * ab.x + Color(ab.y)) * specularRadiance;
+    // The coupled diffuse layer under light arriving evenly: (1 − E(n·v))·c times irradiance/π.
+    const Color diffuse = (1.f - s.metallic) * (1.f - ed) * s.baseColor * diffuseRadiance;
+    return s.occlusion * (spec + diffuse);
+}
+
+}  // namespace rf::pbr

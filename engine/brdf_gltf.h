@@ -1,0 +1,78 @@
+#pragma once
+/// The glTF 2.0 metallic-roughness BRDF (specification, Appendix B): α = roughness², GGX
+/// distribution, height-correlated Smith visibility, Schlick Fresnel with f0 from the index of
+/// refraction (KHR_materials_ior), Lambert diffuse, and the metal/dielectric mix. Pure functions
+/// of unit vectors in one frame; the tracer supplies the frame and the light.
+#include "vec_math.h"
+
+namespace rf::pbr {
+
+/// What the BRDF needs at one surface point, after textures and factors are applied.
+struct Surface {
+    Color baseColor{1.f};  ///< linear
+    float metallic = 0.f;
+    float roughness = 1.f;  ///< perceptual roughness; α = roughness²
+    float ior = 1.5f;       ///< dielectric f0 = ((ior − 1)/(ior + 1))²
+    float occlusion = 1.f;  ///< dims environment and indirect light only, never direct light
+};
+
+/// Smallest α analytic lights see: a delta lobe would make a point light's highlight vanish (or
+/// turn into 0/0). Roughness below ~0.045 shades direct light as this; mirrors still reflect.
+constexpr float kMinAlpha = 2e-3f;
+
+inline float alphaFromRoughness(float roughness) { return roughness * roughness; }
+/// ((ior − 1)/(ior + 1))²: 0.04 at ior 1.5.
+float f0FromIor(float ior);
+/// f0 of the mix: the dielectric's scalar f0 and the metal's base colour, mixed by metallic.
+Color specularF0(const Surface& s);
+/// GGX (Trowbridge–Reitz) normal distribution D(h) for cos θh = nh.
+float ggxD(float nh, float alpha);
+/// The same from cos² θh and sin² θh given apart: for small α, 1 − cos² θh from a float cosine
+/// loses the digits the peak depends on, while |n × h|² keeps them.
+float ggxD(float cos2, float sin2, float alpha);
+/// Height-correlated Smith visibility V = G₂ / (4 |n·l| |n·v|).
+float smithVisibility(float nl, float nv, float alpha);
+/// Schlick's Fresnel with f90 = 1 for the cosine between the view and the half vector.
+Color schlickFresnel(const Color& f0, float vh);
+float schlickFresnel(float f0, float vh);
+
+/// The BRDF f(v, l) (without the cosine) for unit n, v, l on the same side of the surface.
+/// Zero when either direction lies below it. The diffuse layer receives what the specular
+/// layer's directional albedo E leaves, on the way in and out (Kelemen and Szirmay-Kalos 2001):
+/// (1 − E(n·v))(1 − E(n·l))/(1 − E_avg) · c/π, which is reciprocal and conserves energy. The
+/// spec's per-microfacet (1 − F(v·h)) makes a smooth white dielectric reflect 1.55 times the
+/// light it receives at n·v = 0.1, and a white furnace must not glow.
+Color evalBrdf(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l);
+
+/// Reflected radiance from a light arriving along l with irradiance E (at normal incidence):
+/// f · E · (n·l). Occlusion does not enter: it describes ambient visibility only.
+Color directLight(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l, const Color& irradiance);
+
+/// glTF's metallicRoughnessTexture: G is roughness, B is metallic, both linear, multiplied by
+/// the factors. R (often occlusion in packed ORM textures) is ignored.
+struct MetallicRoughness {
+    float metallic = 1.f;
+    float roughness = 1.f;
+};
+MetallicRoughness metallicRoughnessFromTexel(float metallicFactor, float roughnessFactor, const Vec4& texel);
+/// glTF's occlusionTexture: 1 + strength · (R − 1).
+float occlusionFromTexel(float strength, const Vec4& texel);
+
+/// Split-sum scale and bias (Karis 2013): the GGX lobe's directional albedo is f0·A + B for
+/// Schlick's Fresnel. Tabulated once, interpolated in (n·v, roughness).
+Vec2 specularScaleBias(float nv, float roughness);
+/// The share of light a surface reflects specularly from a uniform environment, per channel.
+Color specularAlbedo(const Surface& s, float nv);
+/// The dielectric layer's specular albedo E(μ) and its cosine-weighted mean E_avg = 2∫E(μ)μ dμ.
+float dielectricAlbedo(float f0, float roughness, float nv);
+float dielectricAlbedoAverage(float f0, float roughness);
+/// Reflected radiance under environment light: prefiltered specular radiance (GGX lobe around
+/// the mirror direction) and diffuse irradiance/π, weighted by the split sum and the occlusion.
+Color environmentLight(const Surface& s, float nv, const Color& specularRadiance, const Color& diffuseRadiance);
+
+/// A GGX half vector about +Z sampled proportionally to D(h)·cos θh, from two uniforms in [0, 1).
+Vec3 sampleGgxHalfVector(float alpha, float u1, float u2);
+/// The i-th of n points of the Hammersley set in [0, 1)² (deterministic quadrature).
+Vec2 hammersley(uint32_t i, uint32_t n);
+
+}  // namespace rf::pbr
