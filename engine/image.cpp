@@ -10,8 +10,11 @@
 
 namespace rf {
 
-void Image::setTile(int x, int y, int w, int h, const float* src) {
+void Image::setTile(int x, int y, int w, int h, const float* src, const float* alpha) {
     for (int j = 0; j < h; ++j) std::memcpy(pixel(x, y + j), src + size_t(j) * w * 3, sizeof(float) * 3 * w);
+    if (alpha && hasAlpha())
+        for (int j = 0; j < h; ++j)
+            std::memcpy(&alpha_[size_t(y + j) * w_ + x], alpha + size_t(j) * w, sizeof(float) * w);
 }
 
 float srgbEncode(float v) {
@@ -47,8 +50,25 @@ std::vector<uint8_t> toRgb8(const Image& img, ToneMap op) {
     return out;
 }
 
-void writePng(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb8) {
-    if (!stbi_write_png(path.c_str(), width, height, 3, rgb8.data(), width * 3))
+void toRgba8Pixel(const float* rgb, float a, ToneMap op, uint8_t* out) {
+    const uint8_t alpha = toByte(a);
+    // Below half a step of alpha the pixel is transparent: its colour carries no meaning, and
+    // dividing by a tiny coverage would only amplify noise.
+    const float inv = alpha == 0 ? 0.f : 1.f / a;
+    for (int k = 0; k < 3; ++k) out[k] = toByte(srgbEncode(toneMap(rgb[k] * inv, op)));
+    out[3] = alpha;
+}
+
+std::vector<uint8_t> toRgba8(const Image& img, ToneMap op) {
+    const size_t n = size_t(img.width()) * img.height();
+    std::vector<uint8_t> out(n * 4);
+    const float* src = img.data();
+    for (size_t i = 0; i < n; ++i) toRgba8Pixel(src + 3 * i, img.hasAlpha() ? img.alpha()[i] : 1.f, op, &out[4 * i]);
+    return out;
+}
+
+void writePng(const std::string& path, int width, int height, const std::vector<uint8_t>& pixels, int channels) {
+    if (!stbi_write_png(path.c_str(), width, height, channels, pixels.data(), width * channels))
         throw std::runtime_error(path + ": cannot write PNG");
 }
 

@@ -11,7 +11,10 @@ namespace rf {
 class Image {
 public:
     Image() = default;
-    Image(int width, int height) : w_(width), h_(height), rgb_(size_t(width) * height * 3, 0.f) {}
+    /// withAlpha: also a coverage plane (0 transparent … 1 opaque); the colour is then
+    /// premultiplied by it.
+    Image(int width, int height, bool withAlpha = false)
+        : w_(width), h_(height), rgb_(size_t(width) * height * 3, 0.f), alpha_(withAlpha ? size_t(width) * height : 0, 1.f) {}
 
     int width() const { return w_; }
     int height() const { return h_; }
@@ -19,12 +22,16 @@ public:
     const float* data() const { return rgb_.data(); }
     float* pixel(int x, int y) { return &rgb_[3 * (size_t(y) * w_ + x)]; }
     const float* pixel(int x, int y) const { return &rgb_[3 * (size_t(y) * w_ + x)]; }
-    /// Copies a w × h block of RGB floats to (x, y).
-    void setTile(int x, int y, int w, int h, const float* src);
+    bool hasAlpha() const { return !alpha_.empty(); }
+    /// Coverage per pixel, row-major (empty without alpha).
+    const std::vector<float>& alpha() const { return alpha_; }
+    /// Copies a w × h block of RGB floats (and, with an alpha plane, w × h alphas) to (x, y).
+    void setTile(int x, int y, int w, int h, const float* src, const float* alpha = nullptr);
 
 private:
     int w_ = 0, h_ = 0;
     std::vector<float> rgb_;
+    std::vector<float> alpha_;
 };
 
 /// sRGB transfer function (IEC 61966-2-1) for linear values in [0, 1].
@@ -38,9 +45,15 @@ uint8_t toByte(float v);
 
 /// Tone-maps and sRGB-encodes a linear image to 8-bit RGB.
 std::vector<uint8_t> toRgb8(const Image& img, ToneMap op);
+/// One pixel of premultiplied linear colour and coverage a to 8-bit straight (unassociated)
+/// RGBA, as PNG, VP9 and ProRes carry it: the colour is divided by a before tone mapping.
+void toRgba8Pixel(const float* rgb, float a, ToneMap op, uint8_t* out);
+/// The whole image to 8-bit straight RGBA (alpha 255 where the image has no alpha plane).
+std::vector<uint8_t> toRgba8(const Image& img, ToneMap op);
 
-/// Writes 8-bit RGB as PNG; throws std::runtime_error naming the path on failure.
-void writePng(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb8);
+/// Writes 8-bit RGB (channels 3) or straight RGBA (channels 4) as PNG; throws
+/// std::runtime_error naming the path on failure.
+void writePng(const std::string& path, int width, int height, const std::vector<uint8_t>& pixels, int channels = 3);
 /// Reads a PNG (or any stb-readable image) as 8-bit RGB; throws naming the path on failure.
 std::vector<uint8_t> readImageRgb8(const std::string& path, int& width, int& height);
 

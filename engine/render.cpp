@@ -11,7 +11,7 @@
 namespace rf {
 
 void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, const RenderSettings& settings,
-                int frame, float* out, RayStats& stats) {
+                int frame, float* out, RayStats& stats, float* alpha) {
     const CameraRays rays(camera, settings.width, settings.height);
     const WhittedTracer tracer(scene, settings);
     const int n = std::max(1, static_cast<int>(std::lround(std::sqrt(static_cast<double>(std::max(1, settings.spp))))));
@@ -24,6 +24,7 @@ void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, 
         for (int x = rect.x0; x < rect.x1; ++x) {
             const uint64_t pixel = uint64_t(y) * uint64_t(settings.width) + uint64_t(x);
             Color sum(0.f);
+            int hits = 0;
             for (int sy = 0; sy < n; ++sy) {
                 for (int sx = 0; sx < n; ++sx) {
                     float jx = 0.5f, jy = 0.5f;
@@ -33,7 +34,9 @@ void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, 
                         jy = rng.next();
                     }
                     const Ray r = rays.generate(x + (sx + jx) * invN, y + (sy + jy) * invN);
-                    Color c = tracer.tracePrimary(r, local);
+                    bool hit = false;
+                    Color c = tracer.tracePrimary(r, local, alpha ? &hit : nullptr);
+                    hits += hit;
                     if (!isFinite(c)) {
                         c = Color(0.f);
                         ++local.nonFinite;
@@ -46,6 +49,7 @@ void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, 
             o[0] = sum.r;
             o[1] = sum.g;
             o[2] = sum.b;
+            if (alpha) alpha[size_t(y - rect.y0) * rect.width() + (x - rect.x0)] = hits * invSpp;
         }
     }
     stats += local;
@@ -95,15 +99,15 @@ void parallelFor(int n, int threads, const std::function<void(int, int)>& job) {
 
 Image renderFrame(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame, int threads,
                   RayStats& stats) {
-    Image img(settings.width, settings.height);
+    Image img(settings.width, settings.height, scene.transparentBackground);
     const std::vector<TileRect> tiles = makeTiles(settings.width, settings.height, settings.tileSize);
     if (threads <= 0) threads = hardwareThreads();
     std::vector<RayStats> perThread(std::max(1, threads));
     parallelFor(static_cast<int>(tiles.size()), threads, [&](int i, int t) {
         const TileRect& r = tiles[i];
-        std::vector<float> buf(size_t(r.pixels()) * 3);
-        renderTile(scene, camera, r, settings, frame, buf.data(), perThread[t]);
-        img.setTile(r.x0, r.y0, r.width(), r.height(), buf.data());
+        std::vector<float> buf(size_t(r.pixels()) * 3), alpha(img.hasAlpha() ? size_t(r.pixels()) : 0);
+        renderTile(scene, camera, r, settings, frame, buf.data(), perThread[t], img.hasAlpha() ? alpha.data() : nullptr);
+        img.setTile(r.x0, r.y0, r.width(), r.height(), buf.data(), img.hasAlpha() ? alpha.data() : nullptr);
     });
     for (const RayStats& s : perThread) stats += s;
     return img;

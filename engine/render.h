@@ -21,13 +21,17 @@ struct TileRect {
 /// Renders rect of frame `frame` into out (rect.pixels() × 3 linear floats, row-major). The
 /// result depends only on (scene, camera, settings, frame, pixel): never on thread or rank.
 /// Non-finite sample values are replaced by black and counted in stats.nonFinite.
+/// alpha (if given, rect.pixels() floats): coverage, the fraction of the pixel's samples whose
+/// primary ray met geometry. With scene.transparentBackground the colour is premultiplied by it
+/// (misses add nothing).
 void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, const RenderSettings& settings,
-                int frame, float* out, RayStats& stats);
+                int frame, float* out, RayStats& stats, float* alpha = nullptr);
 
 /// Splits a width × height image into tiles of tileSize, row by row.
 std::vector<TileRect> makeTiles(int width, int height, int tileSize);
 
-/// Renders a whole frame with `threads` worker threads (0: all cores) pulling tiles.
+/// Renders a whole frame with `threads` worker threads (0: all cores) pulling tiles. The image
+/// has an alpha plane when the scene's background is transparent.
 Image renderFrame(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame, int threads,
                   RayStats& stats);
 

@@ -62,6 +62,9 @@ public:
     std::vector<SceneGraph> models;
     std::vector<Camera> gltfCameras;  ///< perspective cameras of glTF models, selectable as the render camera
     Color background{0.f};
+    /// Primary rays that miss give no colour and zero coverage (alpha), so the film can be laid
+    /// over something else; reflections and refractions still see `background`.
+    bool transparentBackground = false;
     Color ambientLight{1.f};  ///< I_amb of the seed's model
     RenderSettings settings;  ///< defaults from the scene file; the CLI may override
     DVec3 renderOrigin{0.0};

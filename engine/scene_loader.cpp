@@ -263,7 +263,14 @@ public:
         s.renderOrigin = chooseRenderOrigin(target);
         s.camera.eye = Vec3(eye - s.renderOrigin);
         s.camera.target = Vec3(target - s.renderOrigin);
-        s.background = rd_.color(root, "background", "", s.background);
+        if (root.contains("background") && root["background"].is_string()) {
+            // "transparent": misses give alpha 0; reflections still see the default background.
+            if (root["background"].get<std::string>() != "transparent")
+                rd_.fail("background", "expected [r, g, b] or \"transparent\"");
+            s.transparentBackground = true;
+        } else {
+            s.background = rd_.color(root, "background", "", s.background);
+        }
         s.ambientLight = rd_.color(root, "ambient", "", s.ambientLight);
         if (root.contains("render")) readRender(rd_, root["render"], s.settings);
         readMaterials(root, s);

@@ -182,14 +182,23 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
     return c;
 }
 
-Color WhittedTracer::tracePrimary(const Ray& r, RayStats& stats) const {
+Color WhittedTracer::tracePrimary(const Ray& r, RayStats& stats, bool* hit) const {
     ++stats.primary;
-    return trace(r, 1, Color(1.f), stats);
+    if (!hit && !scene_.transparentBackground) return trace(r, 1, Color(1.f), stats);
+    Hit h;
+    const bool met = scene_.intersect(r, h);
+    if (hit) *hit = met;
+    if (!met) return scene_.transparentBackground ? Color(0.f) : scene_.background;
+    return traceHit(r, h, 1, Color(1.f), stats);
 }
 
 Color WhittedTracer::trace(const Ray& r, int depth, const Color& weight, RayStats& stats, uint32_t skip) const {
     Hit hit;
     if (!scene_.intersect(r, hit, skip)) return scene_.background;
+    return traceHit(r, hit, depth, weight, stats);
+}
+
+Color WhittedTracer::traceHit(const Ray& r, const Hit& hit, int depth, const Color& weight, RayStats& stats) const {
     const SurfaceInteraction si = scene_.interaction(r, hit);
     Color c = shade(si, r.d, stats, weight);
     if (depth >= settings_.maxDepth) return c;

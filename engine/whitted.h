@@ -11,8 +11,9 @@ class WhittedTracer {
 public:
     WhittedTracer(const Scene& scene, const RenderSettings& settings);
 
-    /// Radiance along a primary ray (counted as primary).
-    Color tracePrimary(const Ray& r, RayStats& stats) const;
+    /// Radiance along a primary ray (counted as primary). *hit (if given): whether it met
+    /// geometry. With a transparent background a miss gives black.
+    Color tracePrimary(const Ray& r, RayStats& stats, bool* hit = nullptr) const;
 
     /// Local illumination at a surface point seen along direction d (the seed's Phong formula).
     /// weight: what the result is worth in the pixel; a light whose term would count for no
@@ -24,6 +25,8 @@ public:
 
 private:
     Color trace(const Ray& r, int depth, const Color& weight, RayStats& stats, uint32_t skip = Scene::kNoPrim) const;
+    /// trace() once the ray's closest hit is known.
+    Color traceHit(const Ray& r, const Hit& hit, int depth, const Color& weight, RayStats& stats) const;
 
     const Scene& scene_;
     RenderSettings settings_;

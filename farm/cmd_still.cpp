@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "background_option.h"
 #include "cli.h"
 #include "gltf_loader.h"
 #include "image.h"
@@ -33,7 +34,9 @@ const char* kStillHelp =
     "  --stats FILE      write run statistics as JSON\n"
     "  --frame N         render frame N of the scene's timeline (default 0)\n"
     "  --time T          render the timeline at T seconds (noise seed of the nearest frame)\n"
-    "  --camera N        look through the model's glTF camera N instead of the scene camera\n";
+    "  --camera N        look through the model's glTF camera N instead of the scene camera\n"
+    "  --background B    transparent (a PNG with alpha: coverage, anti-aliased edges included),\n"
+    "                    #RRGGBB (sRGB) or R,G,B (linear); default: the scene's\n";
 }  // namespace
 
 /// Applies the quality options shared by still, render and report to settings.
@@ -55,7 +58,7 @@ void applyQualityOptions(const ArgParser& p, RenderSettings& s) {
 
 int runStill(const std::vector<std::string>& args) {
     ArgParser p("still");
-    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats", "--frame", "--time", "--camera"}) p.option(o);
+    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats", "--frame", "--time", "--camera", "--background"}) p.option(o);
     p.flag("--help");
     p.flag("-h");
     p.parse(args);
@@ -67,6 +70,8 @@ int runStill(const std::vector<std::string>& args) {
     const std::string scenePath = p.positional()[0];
     const std::string out = p.value("-o").value_or(std::filesystem::path(scenePath).stem().string() + ".png");
     const int threads = p.intValue("--threads", 0, 0, 4096);
+    BackgroundChoice background;
+    if (auto b = p.value("--background")) background = parseBackground(*b);
     checkWritableFile(out);
     if (auto st = p.value("--stats")) checkWritableFile(*st);
 
@@ -74,6 +79,7 @@ int runStill(const std::vector<std::string>& args) {
     DiskFileSource fs;
     Scene scene = loadScene(scenePath, fs);
     for (const std::string& note : scene.notes) std::cerr << "rayfarm: note: " << note << "\n";
+    applyBackground(background, scene);
     // The still is one frame of the scene's film: frame 0 unless --frame or --time says otherwise.
     const anim::Timeline timeline = anim::Timeline::fromScene(scene);
     if (p.has("--frame") && p.has("--time")) throw UsageError("still: give --frame or --time, not both");
@@ -96,7 +102,8 @@ int runStill(const std::vector<std::string>& args) {
     const auto t1 = std::chrono::steady_clock::now();
     const Image img = renderFrame(scene, scene.camera, settings, frame, threads, rays);
     const auto t2 = std::chrono::steady_clock::now();
-    writePng(out, img.width(), img.height(), toRgb8(img, settings.toneMap));
+    if (img.hasAlpha()) writePng(out, img.width(), img.height(), toRgba8(img, settings.toneMap), 4);
+    else writePng(out, img.width(), img.height(), toRgb8(img, settings.toneMap));
     const auto t3 = std::chrono::steady_clock::now();
 
     const double renderS = std::chrono::duration<double>(t2 - t1).count();

@@ -155,3 +155,14 @@ TEST(SceneLoader, ShippedScenesLoad) {
         EXPECT_NO_THROW(loadScene(path, fs)) << path;
     }
 }
+
+// "background" is a colour or "transparent" (misses get alpha 0); any other word names the key.
+TEST(SceneLoader, BackgroundMayBeTransparent) {
+    const Scene clear = loadText(R"({"background": "transparent"})");
+    EXPECT_TRUE(clear.transparentBackground);
+    EXPECT_EQ(clear.background, Color(0.f));
+    const Scene red = loadText(R"({"background": [1, 0, 0]})");
+    EXPECT_FALSE(red.transparentBackground);
+    EXPECT_EQ(red.background, Color(1.f, 0.f, 0.f));
+    EXPECT_NE(errorOf(R"({"background": "clear"})").find("background: expected [r, g, b] or \"transparent\""), std::string::npos);
+}
