@@ -46,5 +46,7 @@ void applyQualityOptions(const ArgParser& p, RenderSettings& s);
 int runStill(const std::vector<std::string>& args);
 int runRender(const std::vector<std::string>& args);
 int runReport(const std::vector<std::string>& args);
+/// The live window (farm/view/); only in builds that found Qt 6.
+int runView(const std::vector<std::string>& args);
 
 }  // namespace rf::cli

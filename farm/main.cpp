@@ -1,4 +1,4 @@
-// rayfarm: one executable, three commands (render, still, report).
+// rayfarm: one executable, four commands (render, still, report, view).
 #include <cstdio>
 #include <exception>
 #include <iostream>
@@ -17,6 +17,7 @@ const char* kUsage =
     "  render SCENE|MODEL -o out.mp4   render the timeline to video (under mpirun: a render farm)\n"
     "  still SCENE|MODEL -o out.png    render one frame to a PNG\n"
     "  report SCENE --out DIR          error against run time for the quality settings\n"
+    "  view SCENE|MODEL                live window: orbit, key a camera path, save it\n"
     "\n"
     "Run 'rayfarm COMMAND --help' for a command's options.\n";
 
@@ -34,7 +35,15 @@ int main(int argc, char** argv) {
         if (cmd == "still") return rf::cli::runStill(args);
         if (cmd == "render") return rf::cli::runRender(args);
         if (cmd == "report") return rf::cli::runReport(args);
-        std::cerr << "rayfarm: error: unknown command \"" << cmd << "\" (expected render, still or report)\n";
+        if (cmd == "view") {
+#ifdef RAYFARM_HAVE_VIEW
+            return rf::cli::runView(args);
+#else
+            std::cerr << "rayfarm: error: view: this rayfarm was built without Qt 6 (install qt6-base-dev and rebuild)\n";
+            return 2;
+#endif
+        }
+        std::cerr << "rayfarm: error: unknown command \"" << cmd << "\" (expected render, still, report or view)\n";
         return 2;
     } catch (const rf::InputError& e) {
         std::cerr << "rayfarm: error: " << e.what() << "\n";

@@ -13,6 +13,8 @@ packages=(
   ffmpeg                                                      # ffprobe, to check videos independently
   python3 procps                                              # farm MPI tests: stats JSON, pgrep for ranks
   gnuplot-nox                                                 # plots in rayfarm report
+  qt6-base-dev                                                # rayfarm view: the Qt 6 Widgets window
+  xvfb xdotool imagemagick                                    # view tests: X server, real mouse/keys, window grabs
   "$@"
 )
 

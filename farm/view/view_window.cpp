@@ -1,0 +1,287 @@
+#include "view_window.h"
+
+#include <QCloseEvent>
+#include <QGridLayout>
+#include <QHBoxLayout>
+#include <QKeySequence>
+#include <QLabel>
+#include <QListWidget>
+#include <QMouseEvent>
+#include <QPainter>
+#include <QPushButton>
+#include <QShortcut>
+#include <QSlider>
+#include <QTimer>
+#include <QVBoxLayout>
+#include <QWheelEvent>
+#include <cmath>
+#include <cstdio>
+
+#include <nlohmann/json.hpp>
+
+#include "orbit_camera.h"
+
+namespace rf::view {
+
+/// The picture, drawn 1:1 at the target size (a low-resolution moving frame is scaled up with
+/// nearest-neighbour), and the mouse input on it.
+class ImageView : public QWidget {
+public:
+    ImageView(ViewWindow* w, int width, int height) : QWidget(w), window_(w) {
+        setFixedSize(width, height);
+        setFocusPolicy(Qt::StrongFocus);
+        setAttribute(Qt::WA_OpaquePaintEvent);
+    }
+
+protected:
+    void paintEvent(QPaintEvent*) override {
+        QPainter p(this);
+        const QImage& img = window_->picture_;
+        if (img.isNull()) {
+            p.fillRect(rect(), Qt::black);
+            return;
+        }
+        p.setRenderHint(QPainter::SmoothPixmapTransform, false);
+        p.drawImage(rect(), img);
+        if (window_->tint_) paintTint(p);
+    }
+    void mousePressEvent(QMouseEvent* e) override { last_ = e->position(); }
+    void mouseMoveEvent(QMouseEvent* e) override {
+        const QPointF d = e->position() - last_;
+        last_ = e->position();
+        const Qt::MouseButtons b = e->buttons();
+        const Qt::MouseButton button = (b & Qt::LeftButton) ? Qt::LeftButton : (b & Qt::MiddleButton) ? Qt::MiddleButton : Qt::NoButton;
+        if (button != Qt::NoButton) window_->dragBy(button, e->modifiers(), d.x(), d.y());
+    }
+    void wheelEvent(QWheelEvent* e) override { window_->wheelBy(e->angleDelta().y() / 120.0); }
+
+private:
+    void paintTint(QPainter& p) {
+        // One hue per rank, half transparent, over each 32×32 tile of the target size.
+        const int t = ViewRenderer::kTile, cols = (width() + t - 1) / t;
+        const std::vector<uint8_t>& ranks = window_->tileRanks_;
+        for (size_t i = 0; i < ranks.size(); ++i) {
+            const QColor c = QColor::fromHsv((ranks[i] * 97) % 360, 255, 255, 90);
+            p.fillRect(QRect(int(i % cols) * t, int(i / cols) * t, t, t), c);
+        }
+    }
+
+    ViewWindow* window_;
+    QPointF last_;
+};
+
+ViewWindow::ViewWindow(Scene scene, anim::Timeline timeline, RenderSettings settings, ViewOptions options)
+    : scene_(std::move(scene)), timeline_(timeline), sceneTimeline_(std::move(timeline)), settings_(settings), options_(std::move(options)),
+      start_(Clock::now()) {
+    film_ = filmOf(timeline_);
+    bounds_ = scene_.bounds();
+    frame_ = std::clamp(options_.startFrame, 0, film_.frames - 1);
+    // The free camera starts where the timeline puts it at the first frame shown.
+    Scene posed = scene_;
+    timeline_.applyFrame(posed, frame_);
+    camera_ = posed.camera;
+    if (options_.gltfCamera >= 0) {
+        camera_ = scene_.gltfCameras[size_t(options_.gltfCamera)];
+        follow_ = false;
+    }
+    buildUi();
+    addShortcuts();
+    startRenderer();
+    setWindowTitle(QString::fromStdString("rayfarm view - " + options_.scenePath));
+}
+
+ViewWindow::~ViewWindow() = default;
+
+void ViewWindow::startRenderer() {
+    // Frames come back on the render threads; the window takes them on its own thread.
+    renderer_ = std::make_unique<ViewRenderer>(scene_, timeline_, settings_, options_.threads, [this](ViewFrame&& f) {
+        auto shared = std::make_shared<ViewFrame>(std::move(f));
+        QMetaObject::invokeMethod(this, [this, shared] { showFrame(std::move(*shared)); }, Qt::QueuedConnection);
+    });
+    dirty_ = true;
+    pump();
+    sendRest();
+}
+
+void ViewWindow::buildUi() {
+    auto* grid = new QGridLayout(this);
+    grid->setContentsMargins(0, 0, 0, 0);
+    grid->setSpacing(0);
+    image_ = new ImageView(this, settings_.width, settings_.height);
+    grid->addWidget(image_, 0, 0, Qt::AlignLeft | Qt::AlignTop);
+
+    auto* side = new QVBoxLayout;
+    side->setContentsMargins(6, 6, 6, 6);
+    side->addWidget(new QLabel("Camera keys (K adds)"));
+    keyList_ = new QListWidget;
+    keyList_->setFocusPolicy(Qt::NoFocus);
+    side->addWidget(keyList_);
+    auto* jump = new QPushButton("Jump");
+    auto* del = new QPushButton("Delete");
+    for (QPushButton* b : {jump, del}) b->setFocusPolicy(Qt::NoFocus);
+    auto* keyButtons = new QHBoxLayout;
+    keyButtons->addWidget(jump);
+    keyButtons->addWidget(del);
+    side->addLayout(keyButtons);
+    connect(jump, &QPushButton::clicked, this, [this] { jumpToKey(keyList_->currentRow()); });
+    connect(del, &QPushButton::clicked, this, [this] { deleteKey(keyList_->currentRow()); });
+    connect(keyList_, &QListWidget::itemDoubleClicked, this, [this] { jumpToKey(keyList_->currentRow()); });
+    grid->addLayout(side, 0, 1);
+
+    auto* bar = new QHBoxLayout;
+    bar->setContentsMargins(6, 4, 6, 0);
+    play_ = new QPushButton("Play");
+    play_->setFocusPolicy(Qt::NoFocus);
+    slider_ = new QSlider(Qt::Horizontal);
+    slider_->setRange(0, film_.frames - 1);
+    slider_->setValue(frame_);
+    slider_->setFocusPolicy(Qt::NoFocus);
+    timeLabel_ = new QLabel;
+    bar->addWidget(play_);
+    bar->addWidget(slider_, 1);
+    bar->addWidget(timeLabel_);
+    grid->addLayout(bar, 1, 0, 1, 2);
+    status_ = new QLabel;
+    status_->setContentsMargins(6, 2, 6, 4);
+    grid->addWidget(status_, 2, 0, 1, 2);
+
+    connect(play_, &QPushButton::clicked, this, [this] { togglePlay(); });
+    connect(slider_, &QSlider::valueChanged, this, [this](int v) {
+        if (v != frame_) setFrame(v, true);
+    });
+    restTimer_ = new QTimer(this);
+    restTimer_->setSingleShot(true);
+    connect(restTimer_, &QTimer::timeout, this, [this] { sendRest(); });
+    playTimer_ = new QTimer(this);
+    playTimer_->setInterval(std::max(1, int(std::lround(1000.0 / film_.fps))));
+    connect(playTimer_, &QTimer::timeout, this, [this] { setFrame((frame_ + 1) % film_.frames, false); });
+    image_->setFocus();
+}
+
+void ViewWindow::addShortcuts() {
+    auto add = [this](const QKeySequence& k, auto fn) {
+        auto* s = new QShortcut(k, this);
+        connect(s, &QShortcut::activated, this, fn);
+    };
+    add(QKeySequence(Qt::Key_F), [this] { camera_ = frameBox(camera_, bounds_, double(settings_.width) / settings_.height); follow_ = false; cameraEdited(); });
+    add(QKeySequence(Qt::Key_R), [this] { follow_ = true; cameraEdited(); });
+    add(QKeySequence(Qt::Key_T), [this] { tint_ = !tint_; image_->update(); updateStatus(); });
+    add(QKeySequence(Qt::Key_K), [this] { addKey(); });
+    add(QKeySequence(Qt::Key_Space), [this] { togglePlay(); });
+    add(QKeySequence(Qt::Key_Delete), [this] { deleteKey(keyList_->currentRow()); });
+    add(QKeySequence(QKeySequence::Save), [this] { save(); });
+    add(QKeySequence(Qt::CTRL | Qt::Key_Q), [this] { close(); });
+}
+
+void ViewWindow::togglePlay() {
+    playing_ = !playing_;
+    play_->setText(playing_ ? "Pause" : "Play");
+    if (playing_) {
+        playTimer_->start();
+    } else {
+        playTimer_->stop();
+        sendRest();
+    }
+}
+
+void ViewWindow::dragBy(Qt::MouseButton button, Qt::KeyboardModifiers mods, double dx, double dy) {
+    if (button == Qt::MiddleButton || (mods & Qt::ShiftModifier)) camera_ = pan(camera_, dx, dy, settings_.height);
+    else camera_ = orbit(camera_, dx, dy);
+    follow_ = false;
+    cameraEdited();
+}
+
+void ViewWindow::wheelBy(double steps) {
+    camera_ = zoom(camera_, steps);
+    follow_ = false;
+    cameraEdited();
+}
+
+void ViewWindow::cameraEdited() {
+    if (!pendingInput_) pendingInput_ = Clock::now();
+    dirty_ = true;
+    restTimer_->start(150);
+    pump();
+}
+
+void ViewWindow::setFrame(int frame, bool fromInput) {
+    frame_ = frame;
+    if (slider_->value() != frame) slider_->setValue(frame);
+    if (fromInput && !pendingInput_) pendingInput_ = Clock::now();
+    dirty_ = true;
+    if (!playing_) restTimer_->start(150);
+    pump();
+}
+
+void ViewWindow::pump() {
+    // One moving frame in flight at a time: newer input waits for it and then goes out as one
+    // request, rather than cancelling every frame before it reaches the screen.
+    if (!dirty_ || movingInFlight_ != 0) return;
+    ViewRequest r{camera_, frame_, true, follow_, pendingInput_};
+    lastEpoch_ = movingInFlight_ = renderer_->request(r);
+    pendingInput_.reset();
+    dirty_ = false;
+}
+
+void ViewWindow::sendRest() {
+    if (playing_) return;
+    if (dirty_ || movingInFlight_ != 0) {  // still moving: rest after the last moving frame
+        restTimer_->start(50);
+        return;
+    }
+    lastEpoch_ = renderer_->request(ViewRequest{camera_, frame_, false, follow_, std::nullopt});
+}
+
+void ViewWindow::showFrame(ViewFrame&& f) {
+    if (f.epoch != lastEpoch_) return;  // a view the user has left already
+    if (f.moving && f.complete) movingInFlight_ = 0;
+    if (follow_ && f.complete) camera_ = f.camera;  // drags start from the picture on screen
+    picture_ = QImage(f.rgb.data(), f.width, f.height, f.width * 3, QImage::Format_RGB888).copy();
+    tileRanks_ = std::move(f.tileRank);
+    image_->repaint();  // on screen now, so the latency below is input to display
+    if (f.complete) {
+        const double now = nowS();
+        const double latency = f.input ? std::chrono::duration<double, std::milli>(Clock::now() - *f.input).count() : -1.0;
+        stats_.frameShown(now, f.moving, latency);
+        shownSpp_ = f.spp;
+        passMs_ = f.passMs;
+        ++fpsFrames_;
+        if (now - fpsWindowStart_ >= 1.0) {
+            fps_ = fpsFrames_ / (now - fpsWindowStart_);
+            fpsFrames_ = 0;
+            fpsWindowStart_ = now;
+        }
+        updateStatus();
+    }
+    pump();
+}
+
+void ViewWindow::updateStatus() {
+    const std::string err = renderer_ ? renderer_->error() : "";
+    char buf[512];
+    std::snprintf(buf, sizeof buf, "%.1f fps | %.1f ms/frame | %d/%d spp | 1 rank x %d threads | frame %d/%d (%.2f s) | camera: %s%s%s%s",
+                  fps_, passMs_, shownSpp_, settings_.spp, threads(), frame_, film_.frames - 1,
+                  timeline_.frameTime(frame_), follow_ ? "timeline" : "free", tint_ ? " | tiles tinted by rank" : "",
+                  message_.empty() ? "" : " | ", (err.empty() ? message_ : "render error: " + err).c_str());
+    status_->setText(QString::fromUtf8(buf));
+    char t[64];
+    std::snprintf(t, sizeof t, "%.2f s", timeline_.frameTime(frame_));
+    timeLabel_->setText(t);
+}
+
+double ViewWindow::nowS() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
+
+void ViewWindow::closeEvent(QCloseEvent* e) {
+    playTimer_->stop();
+    renderer_.reset();  // cancels the pass in flight and joins the render thread
+    if (!options_.statsPath.empty()) {
+        try {
+            stats_.write(options_.statsPath, settings_.width, settings_.height, 1, threads());
+        } catch (const std::exception& ex) {
+            std::fprintf(stderr, "rayfarm: error: %s\n", ex.what());
+        }
+    }
+    e->accept();
+}
+
+}  // namespace rf::view

@@ -1,0 +1,106 @@
+#pragma once
+/// The viewer's window (Qt 6 Widgets): the picture at its rendered size in the top-left corner,
+/// the camera keys beside it, the timeline bar and the status line below. Input edits a camera
+/// and a frame index; the ViewRenderer turns them into pictures.
+#include <QImage>
+#include <QWidget>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "camera_keys.h"
+#include "view_renderer.h"
+#include "view_stats.h"
+
+class QLabel;
+class QListWidget;
+class QPushButton;
+class QSlider;
+class QTimer;
+
+namespace rf::view {
+
+class ImageView;
+
+/// Everything the window needs from the command line.
+struct ViewOptions {
+    std::string scenePath;
+    std::string savePath;   ///< where Ctrl+S writes the scene with its timeline
+    std::string statsPath;  ///< --stats, "" for none
+    int threads = 0;
+    int startFrame = 0;
+    int gltfCamera = -1;    ///< --camera: start from this glTF camera instead of the timeline's
+};
+
+class ViewWindow : public QWidget {
+public:
+    /// scene: loaded, posed at no particular frame; settings: the target picture.
+    ViewWindow(Scene scene, anim::Timeline timeline, RenderSettings settings, ViewOptions options);
+    ~ViewWindow() override;
+
+    // Input from the picture, in the picture's pixels.
+    void dragBy(Qt::MouseButton button, Qt::KeyboardModifiers mods, double dx, double dy);
+    void wheelBy(double steps);
+
+protected:
+    void closeEvent(class QCloseEvent* e) override;
+
+private:
+    void startRenderer();
+    void togglePlay();
+    void buildUi();
+    void addShortcuts();
+    void cameraEdited();
+    void setFrame(int frame, bool fromInput);
+    void pump();
+    void sendRest();
+    void showFrame(ViewFrame&& f);
+    void updateStatus();
+    void refreshKeys();
+    void addKey();
+    void jumpToKey(int row);
+    void deleteKey(int row);
+    void save();
+    void rebuildTimeline();
+    int threads() const { return renderer_ ? renderer_->threads() : 0; }
+    double nowS() const;
+
+    Scene scene_;  ///< as loaded; the renderer owns its own copy
+    anim::Timeline timeline_;        ///< what the window plays: the scene's, or the keys'
+    anim::Timeline sceneTimeline_;   ///< the scene's own, back when the last key goes
+    Film film_;
+    RenderSettings settings_;
+    ViewOptions options_;
+    std::unique_ptr<ViewRenderer> renderer_;
+    ViewStats stats_;
+    CameraKeys keys_;
+    Aabb bounds_;
+    Camera camera_;       ///< the free camera (valid once the user moved it or a frame came back)
+    bool follow_ = true;  ///< show the timeline's camera
+    int frame_ = 0;
+    bool playing_ = false;
+    bool dirty_ = false;  ///< the view changed since the last request
+    std::optional<Clock::time_point> pendingInput_;
+    uint64_t lastEpoch_ = 0, movingInFlight_ = 0;
+    Clock::time_point start_;
+    // Display and status.
+    QImage picture_;
+    int shownSpp_ = 0;
+    double passMs_ = 0.0, fps_ = 0.0;
+    int fpsFrames_ = 0;
+    double fpsWindowStart_ = 0.0;
+    bool tint_ = false;
+    std::vector<uint8_t> tileRanks_;
+    std::string message_;  ///< last action (saved, key added, error)
+    ImageView* image_ = nullptr;
+    QLabel* status_ = nullptr;
+    QLabel* timeLabel_ = nullptr;
+    QSlider* slider_ = nullptr;
+    QPushButton* play_ = nullptr;
+    QListWidget* keyList_ = nullptr;
+    QTimer* restTimer_ = nullptr;
+    QTimer* playTimer_ = nullptr;
+    friend class ImageView;
+};
+
+}  // namespace rf::view

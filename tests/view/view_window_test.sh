@@ -1,0 +1,142 @@
+#!/usr/bin/env bash
+# rayfarm view driven for real: a window under Xvfb, mouse and keys through xdotool (XTEST),
+# the picture grabbed from the X server with ImageMagick's `import`.
+# Usage: view_window_test.sh RAYFARM WORK_DIR CASE
+#   no-display   without a display: one error line naming render and still, exit 2
+#   still SCENE  the window's picture at rest equals `still`'s PNG (exact: 0 differing pixels)
+#   author SCENE a drag changes the picture; K then Ctrl+S writes a scene that `render` accepts,
+#                whose frame 0 equals the window exactly; Ctrl+Q ends the process with status 0
+#                within 2 s and leaves no rayfarm process; --stats has the frames shown
+# Exit 77 (ctest SKIP) only when this rayfarm was built without Qt 6 (no viewer to test).
+set -uo pipefail
+RAYFARM=$1 WORK=$2 CASE=$3
+shift 3
+SIZE=160x90
+W=160 H=90
+mkdir -p "$WORK"
+cd "$WORK" || exit 1
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+if ! "$RAYFARM" view --help >/dev/null 2>&1; then
+    echo "SKIP: $("$RAYFARM" view --help 2>&1 | head -1)"
+    exit 77
+fi
+
+if [ "$CASE" = no-display ]; then
+    err=$(env -u DISPLAY -u WAYLAND_DISPLAY -u QT_QPA_PLATFORM "$RAYFARM" view "$@" 2>&1)
+    status=$?
+    [ $status -eq 2 ] || fail "exit status $status, expected 2"
+    [ "$(printf '%s\n' "$err" | wc -l)" -eq 1 ] || fail "expected one line, got: $err"
+    case "$err" in
+        "rayfarm: error: view: "*render*still*) echo "ok: $err"; exit 0 ;;
+        *) fail "unexpected message: $err" ;;
+    esac
+fi
+
+for tool in Xvfb xdotool import compare; do
+    command -v $tool >/dev/null || fail "$tool missing (tests/install-deps.sh installs it)"
+done
+
+# A private X server on a free display number (Xvfb picks it and writes it to fd 3).
+Xvfb -displayfd 3 -screen 0 1280x800x24 -nolisten tcp 3>display.txt 2>xvfb.log &
+XVFB=$!
+VIEW=
+cleanup() {
+    [ -n "$VIEW" ] && kill "$VIEW" 2>/dev/null
+    kill "$XVFB" 2>/dev/null
+    wait 2>/dev/null
+}
+trap cleanup EXIT
+for _ in $(seq 50); do [ -s display.txt ] && break; sleep 0.1; done
+[ -s display.txt ] || fail "Xvfb did not start: $(cat xvfb.log)"
+export DISPLAY=:$(cat display.txt)
+
+start_view() {  # args for rayfarm view; sets VIEW and WID
+    "$RAYFARM" view "$@" >view.log 2>&1 &
+    VIEW=$!
+    WID=
+    for _ in $(seq 100); do
+        WID=$(xdotool search --name '^rayfarm view' 2>/dev/null | head -1)
+        [ -n "$WID" ] && break
+        kill -0 $VIEW 2>/dev/null || fail "view exited early: $(cat view.log)"
+        sleep 0.2
+    done
+    [ -n "$WID" ] || fail "no window appeared: $(cat view.log)"
+}
+
+grab() {  # the picture area, top-left W×H of the window, as $1
+    import -window "$WID" png:- 2>/dev/null | convert png:- -crop ${W}x${H}+0+0 +repage "$1"
+}
+
+differing() {  # pixels that differ between two images (ImageMagick AE, exact)
+    compare -metric AE "$1" "$2" null: 2>&1 | cut -d' ' -f1
+}
+
+# Waits up to $2 s for the window to show exactly the picture in $1; on timeout writes
+# $3.grab.png and $3.diff.png and fails.
+wait_equal() {
+    local ref=$1 secs=$2 name=$3 n=
+    for _ in $(seq $((secs * 4))); do
+        grab "$name.grab.png"
+        n=$(differing "$name.grab.png" "$ref")
+        [ "$n" = 0 ] && return 0
+        sleep 0.25
+    done
+    compare "$name.grab.png" "$ref" "$name.diff.png" 2>/dev/null
+    fail "$name: window differs from $ref in $n pixels after ${secs} s (see $WORK/$name.diff.png)"
+}
+
+scene=$1
+case "$CASE" in
+still)
+    "$RAYFARM" still "$scene" --size $SIZE --spp 4 -o still.png 2>/dev/null || fail "still"
+    start_view "$scene" --size $SIZE --spp 4
+    wait_equal still.png 60 rest
+    echo "ok: window equals still.png ($SIZE, 4 spp)"
+    ;;
+author)
+    "$RAYFARM" still "$scene" --size $SIZE --spp 4 -o still.png 2>/dev/null || fail "still"
+    rm -f saved.json stats.json
+    start_view "$scene" --size $SIZE --spp 4 -o saved.json --stats stats.json
+    wait_equal still.png 60 start
+    # Orbit: left drag across the picture.
+    xdotool mousemove --window "$WID" 40 45 mousedown 1
+    for i in $(seq 12); do xdotool mousemove --window "$WID" $((40 + 5 * i)) $((45 + i)); sleep 0.03; done
+    xdotool mouseup 1
+    moved=
+    for _ in $(seq 40); do
+        grab moved.png
+        [ "$(differing moved.png still.png)" != 0 ] && { moved=1; break; }
+        sleep 0.25
+    done
+    [ -n "$moved" ] || fail "a left drag did not change the picture"
+    # Key the new camera at t = 0 and save.
+    xdotool windowfocus --sync "$WID" key k
+    sleep 0.3
+    xdotool key ctrl+s
+    for _ in $(seq 40); do [ -s saved.json ] && break; sleep 0.25; done
+    [ -s saved.json ] || fail "Ctrl+S wrote no scene: $(cat view.log)"
+    "$RAYFARM" render saved.json -o saved.mp4 --frames 0:0 --frames-dir saved.frames 2>render.log ||
+        fail "render does not accept the saved scene: $(tail -1 render.log)"
+    [ "$(differing saved.frames/frame_000000.png still.png)" != 0 ] || fail "the saved camera is the start camera"
+    wait_equal saved.frames/frame_000000.png 60 keyed
+    # Close: the process ends with status 0 within 2 s and leaves nothing behind.
+    xdotool windowfocus --sync "$WID" key ctrl+q
+    for _ in $(seq 40); do kill -0 $VIEW 2>/dev/null || break; sleep 0.05; done
+    kill -0 $VIEW 2>/dev/null && fail "view still running 2 s after Ctrl+Q"
+    wait $VIEW
+    status=$?
+    VIEW=
+    [ $status -eq 0 ] || fail "view exited with status $status: $(cat view.log)"
+    pgrep -f "$RAYFARM view" >/dev/null && fail "a rayfarm view process is left: $(pgrep -af "$RAYFARM view")"
+    python3 - stats.json <<'PY' || fail "stats.json"
+import json, sys
+s = json.load(open(sys.argv[1]))
+assert s["frames_shown"] >= 3, s
+assert s["moving_frames"] >= 1 and s["latency_samples"] >= 1, s
+assert 0 < s["latency_mean_ms"] <= s["latency_p95_ms"], s
+PY
+    echo "ok: drag, K, Ctrl+S, render frame 0 = window, closed with status 0 within 2 s"
+    ;;
+*) fail "unknown case $CASE" ;;
+esac
