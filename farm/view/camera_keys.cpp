@@ -56,7 +56,6 @@ json modelScene(const Scene& scene) {
     doc["camera"] = {{"eye", vec(DVec3(scene.camera.eye) + o)}, {"target", vec(DVec3(scene.camera.target) + o)},
                      {"up", vec(scene.camera.up)}, {"fov", double(scene.camera.fovDeg)},
                      {"fov_axis", scene.camera.fovHorizontal ? "horizontal" : "vertical"}};
-    doc["background"] = vec(scene.background);
     doc["ambient"] = vec(scene.ambientLight);
     // The default rig is not part of the model: write it, so the scene keeps its light. Lights
     // the model brings come back with the model.
@@ -131,6 +130,8 @@ json sceneDocument(const Scene& scene, const RenderSettings& s, const json& time
                     o["path"] = absoluteFrom(scene.sourcePath, o["path"].get<std::string>());
     }
     doc.erase("turntable");
+    // The background as shown (--background may have replaced the file's).
+    doc["background"] = scene.transparentBackground ? json("transparent") : vec(scene.background);
     doc["timeline"] = timeline;
     json& r = doc["render"];
     r["width"] = s.width;

@@ -8,6 +8,7 @@
 #include <string>
 #include <unistd.h>
 
+#include "background_option.h"
 #include "cli.h"
 #include "errors.h"
 #include "file_source.h"
@@ -31,6 +32,7 @@ const char* kViewHelp =
     "  --depth N         maximum ray depth; the primary ray counts as 1\n"
     "  --min-weight W    do not trace secondary rays weighing less than W (0: never prune)\n"
     "  --tonemap T       clamp or reinhard\n"
+    "  --background B    #RRGGBB or R,G,B (linear); transparent shows coverage over black\n"
     "  --threads N       render threads (default: all cores)\n"
     "  --frame N         start at frame N of the scene's timeline (default 0)\n"
     "  --camera N        start from the model's glTF camera N\n"
@@ -38,7 +40,8 @@ const char* kViewHelp =
     "  --stats FILE      on close, write frames shown, fps while moving and input latency as JSON\n"
     "\n"
     "Mouse: left drag orbits, middle or shift drag pans, the wheel zooms.\n"
-    "Keys: F frames the model, R returns to the timeline's camera, Space plays/pauses, T tints tiles\n"
+    "Keys: F frames the model, R returns to the timeline's camera, Space plays/pauses, Left/Right\n"
+    "step a frame, Home/End jump to the first/last frame, T tints tiles\n"
     "by rank, K adds a camera key at the current time, Delete removes the selected key,\n"
     "Ctrl+S saves, Ctrl+Q closes.\n";
 
@@ -69,7 +72,7 @@ bool haveDisplay() {
 
 int runView(const std::vector<std::string>& args) {
     ArgParser p("view");
-    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats", "--frame", "--camera"}) p.option(o);
+    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats", "--frame", "--camera", "--background"}) p.option(o);
     p.flag("--help");
     p.flag("-h");
     p.parse(args);
@@ -87,6 +90,8 @@ int runView(const std::vector<std::string>& args) {
     o.savePath = p.value("-o").value_or(std::filesystem::path(o.scenePath).stem().string() + "_view.json");
     o.threads = p.intValue("--threads", 0, 0, 4096);
     checkWritableFile(o.savePath);
+    BackgroundChoice background;
+    if (auto b = p.value("--background")) background = parseBackground(*b);
     if (auto st = p.value("--stats")) {
         checkWritableFile(*st);
         o.statsPath = *st;
@@ -95,6 +100,7 @@ int runView(const std::vector<std::string>& args) {
     DiskFileSource fs;
     Scene scene = loadScene(o.scenePath, fs);
     for (const std::string& note : scene.notes) std::cerr << "rayfarm: note: " << note << "\n";
+    applyBackground(background, scene);
     const anim::Timeline timeline = anim::Timeline::fromScene(scene);
     o.startFrame = p.intValue("--frame", 0, 0, std::max(timeline.frameCount(), view::filmOf(timeline).frames) - 1);
     RenderSettings settings = scene.settings;

@@ -10,11 +10,12 @@
 
 namespace rf::view {
 
-void ViewStats::frameShown(double nowS, bool moving, double latencyMs) {
+void ViewStats::frameShown(double nowS, bool moving, double latencyMs, int width) {
     ++frames_;
     if (latencyMs >= 0.0) latencies_.push_back(latencyMs);
     if (!moving) return;
     ++movingFrames_;
+    ++movingWidths_[width];
     if (lastMovingS_ >= 0.0 && nowS - lastMovingS_ < 0.5) {
         movingSeconds_ += nowS - lastMovingS_;
         ++movingIntervals_;
@@ -45,6 +46,9 @@ void ViewStats::write(const std::string& path, int width, int height, int ranks,
     j["frames_shown"] = frames_;
     j["moving_frames"] = movingFrames_;
     j["moving_fps"] = movingFps();
+    nlohmann::json widths = nlohmann::json::object();
+    for (auto [w, n] : movingWidths_) widths[std::to_string(w)] = n;
+    j["moving_frames_by_width"] = widths;
     j["latency_samples"] = latencies_.size();
     j["latency_mean_ms"] = latencyMeanMs();
     j["latency_p95_ms"] = latencyP95Ms();

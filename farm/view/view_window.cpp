@@ -168,6 +168,10 @@ void ViewWindow::addShortcuts() {
     add(QKeySequence(Qt::Key_T), [this] { tint_ = !tint_; image_->update(); updateStatus(); });
     add(QKeySequence(Qt::Key_K), [this] { addKey(); });
     add(QKeySequence(Qt::Key_Space), [this] { togglePlay(); });
+    add(QKeySequence(Qt::Key_Right), [this] { setFrame(std::min(frame_ + 1, film_.frames - 1), true); });
+    add(QKeySequence(Qt::Key_Left), [this] { setFrame(std::max(frame_ - 1, 0), true); });
+    add(QKeySequence(Qt::Key_Home), [this] { setFrame(0, true); });
+    add(QKeySequence(Qt::Key_End), [this] { setFrame(film_.frames - 1, true); });
     add(QKeySequence(Qt::Key_Delete), [this] { deleteKey(keyList_->currentRow()); });
     add(QKeySequence(QKeySequence::Save), [this] { save(); });
     add(QKeySequence(Qt::CTRL | Qt::Key_Q), [this] { close(); });
@@ -242,7 +246,7 @@ void ViewWindow::showFrame(ViewFrame&& f) {
     if (f.complete) {
         const double now = nowS();
         const double latency = f.input ? std::chrono::duration<double, std::milli>(Clock::now() - *f.input).count() : -1.0;
-        stats_.frameShown(now, f.moving, latency);
+        stats_.frameShown(now, f.moving, latency, f.width);
         shownSpp_ = f.spp;
         passMs_ = f.passMs;
         ++fpsFrames_;
@@ -273,10 +277,11 @@ double ViewWindow::nowS() const { return std::chrono::duration<double>(Clock::no
 
 void ViewWindow::closeEvent(QCloseEvent* e) {
     playTimer_->stop();
+    const int threads = this->threads();
     renderer_.reset();  // cancels the pass in flight and joins the render thread
     if (!options_.statsPath.empty()) {
         try {
-            stats_.write(options_.statsPath, settings_.width, settings_.height, 1, threads());
+            stats_.write(options_.statsPath, settings_.width, settings_.height, 1, threads);
         } catch (const std::exception& ex) {
             std::fprintf(stderr, "rayfarm: error: %s\n", ex.what());
         }
