@@ -18,6 +18,10 @@ enum Tag : int {
     kTagHeartbeat = 13,  ///< worker → master: Heartbeat, every kHeartbeatSeconds and on a signal
     kTagError = 14,      ///< worker → master: text; the worker stops after sending it
     kTagStop = 15,       ///< master → worker: no more work, leave (no payload)
+    // rayfarm view (payloads in farm/view/view_messages.h):
+    kTagViewWork = 21,      ///< window → rank: view::ViewWork (a camera, an epoch, a rectangle)
+    kTagViewTile = 22,      ///< rank → window: view::ViewTile (8-bit RGB of the rectangle)
+    kTagViewTimeline = 23,  ///< window → rank: the timeline JSON to play from now on (keys changed)
 };
 
 /// How often a worker says it is alive, even while its threads render a long frame.

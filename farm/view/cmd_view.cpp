@@ -15,7 +15,13 @@
 #include "gltf_loader.h"
 #include "output_check.h"
 #include "scene_loader.h"
+#include "render.h"
+#include "scene_broadcast.h"
+#include "transport.h"
+#include "view_messages.h"
 #include "view_window.h"
+#include "view_worker.h"
+#include "worker.h"
 
 namespace rf::cli {
 
@@ -45,8 +51,8 @@ const char* kViewHelp =
     "by rank, K adds a camera key at the current time, Delete removes the selected key,\n"
     "Ctrl+S saves, Ctrl+Q closes.\n";
 
-const char* kNoDisplay = "rayfarm: error: view: no display to open a window on (DISPLAY is not set); "
-                         "use 'rayfarm render' for a video or 'rayfarm still' for a picture\n";
+const char* kNoDisplay = "view: no display to open a window on (DISPLAY is not set); "
+                         "use 'rayfarm render' for a video or 'rayfarm still' for a picture";
 
 // Qt reports a display it cannot open through qFatal, after a few warning lines: say it in one
 // line in rayfarm's words and leave with the usage status instead.
@@ -68,6 +74,75 @@ bool haveDisplay() {
     const char* w = std::getenv("WAYLAND_DISPLAY");
     return (x && *x) || (w && *w);
 }
+
+void checkDisplayAndOutputs(view::ViewOptions& o, const ArgParser& p) {
+    if (!haveDisplay()) throw UsageError(kNoDisplay);
+    checkWritableFile(o.savePath);
+    if (auto st = p.value("--stats")) {
+        checkWritableFile(*st);
+        o.statsPath = *st;
+    }
+}
+
+/// The settings every rank renders with: the scene's, the picture options over them.
+RenderSettings pictureSettings(const ArgParser& p, const Scene& scene) {
+    RenderSettings settings = scene.settings;
+    applyQualityOptions(p, settings);
+    return settings;
+}
+
+/// Rank 0 (or the only process): the window. Returns the exit status.
+int runWindow(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job, Scene scene) {
+    for (const std::string& note : scene.notes) std::cerr << "rayfarm: note: " << note << "\n";
+    applyBackground(job.background, scene);
+    const anim::Timeline timeline = anim::Timeline::fromScene(scene);
+    o.startFrame = p.intValue("--frame", 0, 0, view::filmOf(timeline).frames - 1);
+    const RenderSettings settings = pictureSettings(p, scene);
+    if (p.has("--camera")) {
+        o.gltfCamera = p.intValue("--camera", 0, 0, 1 << 20);
+        if (size_t(o.gltfCamera) >= scene.gltfCameras.size())
+            throw InputError(scene.sourcePath, "no glTF camera " + std::to_string(o.gltfCamera) + " (the scene has " +
+                                                   std::to_string(scene.gltfCameras.size()) + ")");
+    }
+    qInstallMessageHandler(qtMessages);
+    int argc = 1;
+    char name[] = "rayfarm";
+    char* argv[] = {name, nullptr};
+    QApplication app(argc, argv);
+    view::ViewWindow window(std::move(scene), timeline, settings, o);
+    window.show();
+    return app.exec();
+}
+
+/// Under mpirun: rank 0 checks the display and loads the scene, every rank gets it by
+/// broadcast; rank 0 opens the window and the others render for it.
+int runFarmView(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job) {
+    farm::MpiTransport t;
+    job.threads = o.threads > 0 ? o.threads : std::max(1, hardwareThreads() / std::max(1, t.ranksOnThisNode()));
+    farm::SharedScene shared;
+    try {
+        shared = farm::shareScene(
+            t, o.scenePath, [&] { checkDisplayAndOutputs(o, p); },
+            [&](Scene& scene) {
+                job.settings = pictureSettings(p, scene);
+                return view::encodeViewJob(job);
+            });
+    } catch (const farm::PeerFailed& e) {
+        return e.code();
+    } catch (const std::exception& e) {
+        if (t.rank() == 0) throw;
+        farm::reportWorkerError(t, std::string("loading the broadcast scene: ") + e.what());
+        return 1;
+    }
+    if (t.rank() != 0) {
+        const view::ViewJob j = view::decodeViewJob(shared.job);
+        applyBackground(j.background, shared.scene);
+        return view::runViewWorker(t, std::move(shared.scene), j.settings, j.threads);
+    }
+    o.transport = &t;
+    o.threads = job.threads;
+    return runWindow(p, o, job, std::move(shared.scene));
+}
 }  // namespace
 
 int runView(const std::vector<std::string>& args) {
@@ -81,45 +156,18 @@ int runView(const std::vector<std::string>& args) {
         return 0;
     }
     if (p.positional().size() != 1) throw UsageError("view: expected one SCENE or MODEL (see rayfarm view --help)");
-    if (!haveDisplay()) {
-        std::fputs(kNoDisplay, stderr);
-        return 2;
-    }
     view::ViewOptions o;
     o.scenePath = p.positional()[0];
     o.savePath = p.value("-o").value_or(std::filesystem::path(o.scenePath).stem().string() + "_view.json");
     o.threads = p.intValue("--threads", 0, 0, 4096);
-    checkWritableFile(o.savePath);
-    BackgroundChoice background;
-    if (auto b = p.value("--background")) background = parseBackground(*b);
-    if (auto st = p.value("--stats")) {
-        checkWritableFile(*st);
-        o.statsPath = *st;
-    }
+    view::ViewJob job;
+    if (auto b = p.value("--background")) job.background = parseBackground(*b);
+    if (const char* n = std::getenv("OMPI_COMM_WORLD_SIZE"); n && std::atoi(n) > 1) return runFarmView(p, o, job);
 
+    checkDisplayAndOutputs(o, p);
     DiskFileSource fs;
     Scene scene = loadScene(o.scenePath, fs);
-    for (const std::string& note : scene.notes) std::cerr << "rayfarm: note: " << note << "\n";
-    applyBackground(background, scene);
-    const anim::Timeline timeline = anim::Timeline::fromScene(scene);
-    o.startFrame = p.intValue("--frame", 0, 0, std::max(timeline.frameCount(), view::filmOf(timeline).frames) - 1);
-    RenderSettings settings = scene.settings;
-    applyQualityOptions(p, settings);
-    if (p.has("--camera")) {
-        o.gltfCamera = p.intValue("--camera", 0, 0, 1 << 20);
-        if (size_t(o.gltfCamera) >= scene.gltfCameras.size())
-            throw InputError(scene.sourcePath, "no glTF camera " + std::to_string(o.gltfCamera) + " (the scene has " +
-                                                   std::to_string(scene.gltfCameras.size()) + ")");
-    }
-
-    qInstallMessageHandler(qtMessages);
-    int argc = 1;
-    char name[] = "rayfarm";
-    char* argv[] = {name, nullptr};
-    QApplication app(argc, argv);
-    view::ViewWindow window(std::move(scene), timeline, settings, o);
-    window.show();
-    return app.exec();
+    return runWindow(p, o, job, std::move(scene));
 }
 
 }  // namespace rf::cli

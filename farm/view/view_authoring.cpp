@@ -50,14 +50,15 @@ void ViewWindow::refreshKeys() {
 void ViewWindow::rebuildTimeline() {
     // The window plays the keys through the same parser and evaluator `render` will use on the
     // saved file, so the path on screen is the path rendered.
+    std::string json = scene_.timelineJson;
     if (keys_.empty()) {
         timeline_ = sceneTimeline_;
     } else {
         Scene keyed = scene_;
-        keyed.timelineJson = nlohmann::json{{"timeline", keyedTimeline(keys_, scene_, film_)}}.dump();
+        json = keyed.timelineJson = nlohmann::json{{"timeline", keyedTimeline(keys_, scene_, film_)}}.dump();
         timeline_ = anim::Timeline::fromScene(keyed);
     }
-    renderer_->setTimeline(timeline_);
+    renderer_->setTimeline(timeline_, json);
     dirty_ = true;
     pump();
     sendRest();

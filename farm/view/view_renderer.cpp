@@ -17,6 +17,12 @@ std::vector<int> refinementSpp(int targetSpp) {
     return out;
 }
 
+int nextMovingScale(int scale, double ms) {
+    if (ms > 30.0 && scale < 4) return scale * 2;
+    if (ms * 4.0 < 20.0 && scale > 1) return scale / 2;
+    return scale;
+}
+
 ViewRenderer::ViewRenderer(Scene scene, anim::Timeline timeline, RenderSettings settings, int threads, Publish publish)
     : pristine_(scene), scene_(std::move(scene)), timeline_(std::move(timeline)), settings_(settings),
       threads_(threads > 0 ? threads : hardwareThreads()), publish_(std::move(publish)) {
@@ -44,7 +50,7 @@ uint64_t ViewRenderer::request(const ViewRequest& r) {
     return e;
 }
 
-void ViewRenderer::setTimeline(const anim::Timeline& tl) {
+void ViewRenderer::setTimeline(const anim::Timeline& tl, const std::string&) {
     std::lock_guard<std::mutex> lock(mutex_);
     pendingTimeline_ = tl;
 }

@@ -15,42 +15,13 @@
 #include <thread>
 #include <vector>
 
-#include "scene.h"
-#include "timeline.h"
+#include "view_backend.h"
 
 namespace rf::view {
 
-using Clock = std::chrono::steady_clock;
-
-/// What to show: the camera (or the timeline's own camera) at a frame of the timeline.
-struct ViewRequest {
-    Camera camera;
-    int frame = 0;
-    bool moving = false;          ///< 1 spp, reduced resolution allowed
-    bool followTimeline = false;  ///< use the timeline's camera at `frame`, not `camera`
-    std::optional<Clock::time_point> input;  ///< the input event this view answers, for latency
-};
-
-/// A picture for the window: full passes, and partial ones while a slow pass renders.
-struct ViewFrame {
-    uint64_t epoch = 0;
-    int width = 0, height = 0;  ///< of rgb; smaller than the target while moving at low resolution
-    std::vector<uint8_t> rgb;   ///< width × height × 3, toRgb8 of the linear tiles
-    std::vector<uint8_t> tileRank;  ///< rank that rendered each 32×32 tile of the target size (row-major)
-    int spp = 0;                ///< samples per pixel of this pass
-    bool complete = false;      ///< the whole pass is in rgb
-    bool final = false;         ///< complete at the target spp: nothing more will come for this view
-    bool moving = false;
-    double passMs = 0.0;        ///< render time of the pass so far
-    Camera camera;              ///< the camera rendered (the timeline's when following it)
-    int frame = 0;
-    std::optional<Clock::time_point> input;
-};
-
-class ViewRenderer {
+class ViewRenderer : public ViewBackend {
 public:
-    using Publish = std::function<void(ViewFrame&&)>;
-    static constexpr int kTile = 32;
+    static constexpr int kTile = kTintTile;
 
     /// settings: the target picture (size, spp, depth ...); threads 0 = all cores.
     ViewRenderer(Scene scene, anim::Timeline timeline, RenderSettings settings, int threads, Publish publish);
@@ -58,14 +29,10 @@ public:
     ViewRenderer(const ViewRenderer&) = delete;
     ViewRenderer& operator=(const ViewRenderer&) = delete;
 
-    /// Replaces whatever is pending or rendering; returns the request's epoch.
-    uint64_t request(const ViewRequest& r);
-    /// The error that stopped the render thread, empty while all is well.
-    std::string error() const;
-    const RenderSettings& settings() const { return settings_; }
-    int threads() const { return threads_; }
-    /// Plays another timeline from the next request on, over the scene as loaded.
-    void setTimeline(const anim::Timeline& tl);
+    uint64_t request(const ViewRequest& r) override;
+    std::string error() const override;
+    int threads() const override { return threads_; }
+    void setTimeline(const anim::Timeline& tl, const std::string& timelineJson) override;
 
 private:
     void loop();
@@ -92,7 +59,5 @@ private:
     std::thread thread_;
 };
 
-/// spp of the refinement passes at rest: n = 1, 2, 4, ... up to √target, always ending at target.
-std::vector<int> refinementSpp(int targetSpp);
 
 }  // namespace rf::view

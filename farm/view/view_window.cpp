@@ -19,7 +19,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "farm_view.h"
 #include "orbit_camera.h"
+#include "view_renderer.h"
 
 namespace rf::view {
 
@@ -58,7 +60,7 @@ protected:
 private:
     void paintTint(QPainter& p) {
         // One hue per rank, half transparent, over each 32×32 tile of the target size.
-        const int t = ViewRenderer::kTile, cols = (width() + t - 1) / t;
+        const int t = kTintTile, cols = (width() + t - 1) / t;
         const std::vector<uint8_t>& ranks = window_->tileRanks_;
         for (size_t i = 0; i < ranks.size(); ++i) {
             const QColor c = QColor::fromHsv((ranks[i] * 97) % 360, 255, 255, 90);
@@ -93,11 +95,33 @@ ViewWindow::ViewWindow(Scene scene, anim::Timeline timeline, RenderSettings sett
 ViewWindow::~ViewWindow() = default;
 
 void ViewWindow::startRenderer() {
-    // Frames come back on the render threads; the window takes them on its own thread.
-    renderer_ = std::make_unique<ViewRenderer>(scene_, timeline_, settings_, options_.threads, [this](ViewFrame&& f) {
+    // Frames come back on the render threads (or in step()); the window takes them on its
+    // own thread, from its event queue.
+    Publish publish = [this](ViewFrame&& f) {
         auto shared = std::make_shared<ViewFrame>(std::move(f));
         QMetaObject::invokeMethod(this, [this, shared] { showFrame(std::move(*shared)); }, Qt::QueuedConnection);
-    });
+    };
+    if (options_.transport) {
+        renderer_ = std::make_unique<FarmView>(*options_.transport, settings_, options_.threads, publish);
+    } else {
+        renderer_ = std::make_unique<ViewRenderer>(scene_, timeline_, settings_, options_.threads, publish);
+    }
+    if (renderer_->wantsSteps()) {
+        stepTimer_ = new QTimer(this);
+        stepTimer_->setInterval(1);
+        connect(stepTimer_, &QTimer::timeout, this, [this] {
+            renderer_->step();
+            if (!renderer_->error().empty() && !reportedError_) {
+                // A rank died or failed: say so in the window (and on stderr), render no more.
+                reportedError_ = true;
+                std::fprintf(stderr, "rayfarm: error: view: %s; the session stops (close the window)\n", renderer_->error().c_str());
+                stepTimer_->stop();
+                playTimer_->stop();
+                updateStatus();
+            }
+        });
+        stepTimer_->start();
+    }
     dirty_ = true;
     pump();
     sendRest();
@@ -263,8 +287,8 @@ void ViewWindow::showFrame(ViewFrame&& f) {
 void ViewWindow::updateStatus() {
     const std::string err = renderer_ ? renderer_->error() : "";
     char buf[512];
-    std::snprintf(buf, sizeof buf, "%.1f fps | %.1f ms/frame | %d/%d spp | 1 rank x %d threads | frame %d/%d (%.2f s) | camera: %s%s%s%s",
-                  fps_, passMs_, shownSpp_, settings_.spp, threads(), frame_, film_.frames - 1,
+    std::snprintf(buf, sizeof buf, "%.1f fps | %.1f ms/frame | %d/%d spp | %s x %d threads | frame %d/%d (%.2f s) | camera: %s%s%s%s",
+                  fps_, passMs_, shownSpp_, settings_.spp, ranksText().c_str(), threads(), frame_, film_.frames - 1,
                   timeline_.frameTime(frame_), follow_ ? "timeline" : "free", tint_ ? " | tiles tinted by rank" : "",
                   message_.empty() ? "" : " | ", (err.empty() ? message_ : "render error: " + err).c_str());
     status_->setText(QString::fromUtf8(buf));
@@ -273,15 +297,21 @@ void ViewWindow::updateStatus() {
     timeLabel_->setText(t);
 }
 
+std::string ViewWindow::ranksText() const {
+    const int n = renderer_ ? renderer_->ranks() : 1;
+    return n == 1 ? "1 rank" : std::to_string(n) + " ranks (" + std::to_string(n - 1) + " rendering)";
+}
+
 double ViewWindow::nowS() const { return std::chrono::duration<double>(Clock::now() - start_).count(); }
 
 void ViewWindow::closeEvent(QCloseEvent* e) {
     playTimer_->stop();
-    const int threads = this->threads();
+    if (stepTimer_) stepTimer_->stop();
+    const int threads = this->threads(), ranks = renderer_ ? renderer_->ranks() : 1;
     renderer_.reset();  // cancels the pass in flight and joins the render thread
     if (!options_.statsPath.empty()) {
         try {
-            stats_.write(options_.statsPath, settings_.width, settings_.height, 1, threads);
+            stats_.write(options_.statsPath, settings_.width, settings_.height, ranks, threads);
         } catch (const std::exception& ex) {
             std::fprintf(stderr, "rayfarm: error: %s\n", ex.what());
         }

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "camera_keys.h"
-#include "view_renderer.h"
+#include "view_backend.h"
 #include "view_stats.h"
 
 class QLabel;
@@ -17,6 +17,10 @@ class QListWidget;
 class QPushButton;
 class QSlider;
 class QTimer;
+
+namespace rf::farm {
+class Transport;
+}
 
 namespace rf::view {
 
@@ -30,6 +34,9 @@ struct ViewOptions {
     int threads = 0;
     int startFrame = 0;
     int gltfCamera = -1;    ///< --camera: start from this glTF camera instead of the timeline's
+    /// Under mpirun: rank 0's transport; the other ranks render (runViewWorker). Null: this
+    /// process renders alone.
+    farm::Transport* transport = nullptr;
 };
 
 class ViewWindow : public QWidget {
@@ -64,6 +71,7 @@ private:
     void rebuildTimeline();
     int threads() const { return renderer_ ? renderer_->threads() : 0; }
     double nowS() const;
+    std::string ranksText() const;
 
     Scene scene_;  ///< as loaded; the renderer owns its own copy
     anim::Timeline timeline_;        ///< what the window plays: the scene's, or the keys'
@@ -71,7 +79,7 @@ private:
     Film film_;
     RenderSettings settings_;
     ViewOptions options_;
-    std::unique_ptr<ViewRenderer> renderer_;
+    std::unique_ptr<ViewBackend> renderer_;
     ViewStats stats_;
     CameraKeys keys_;
     Aabb bounds_;
@@ -100,6 +108,8 @@ private:
     QListWidget* keyList_ = nullptr;
     QTimer* restTimer_ = nullptr;
     QTimer* playTimer_ = nullptr;
+    QTimer* stepTimer_ = nullptr;  ///< drives a farm backend's messages
+    bool reportedError_ = false;
     friend class ImageView;
 };
 

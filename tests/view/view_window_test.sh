@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # rayfarm view driven for real: a window under Xvfb, mouse and keys through xdotool (XTEST),
 # the picture grabbed from the X server with ImageMagick's `import`.
-# Usage: view_window_test.sh RAYFARM WORK_DIR CASE
+# Usage: [VIEW_NP=3] view_window_test.sh RAYFARM WORK_DIR CASE
+# With VIEW_NP=N the window runs under `mpirun --oversubscribe -np N`: rank 0 owns the window,
+# the other ranks render every frame (pixel mode); the same checks apply, and after Ctrl+Q
+# mpirun itself exits 0 within 2 s and no rank or orted is left.
 #   no-display   without a display: one error line naming render and still, exit 2
 #   still SCENE  the window's picture at rest equals `still`'s PNG (exact: 0 differing pixels)
 #   author SCENE a drag changes the picture; K then Ctrl+S writes a scene that `render` accepts,
@@ -51,8 +54,19 @@ for _ in $(seq 50); do [ -s display.txt ] && break; sleep 0.1; done
 [ -s display.txt ] || fail "Xvfb did not start: $(cat xvfb.log)"
 export DISPLAY=:$(cat display.txt)
 
-start_view() {  # args for rayfarm view; sets VIEW and WID
-    "$RAYFARM" view "$@" >view.log 2>&1 &
+LAUNCH=()
+if [ -n "${VIEW_NP:-}" ]; then
+    export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+    LAUNCH=(mpirun --oversubscribe -np "$VIEW_NP")
+fi
+
+descendants() {  # every process below $1 (ranks, orted), one pid per line
+    local c
+    for c in $(pgrep -P "$1"); do echo "$c"; descendants "$c"; done
+}
+
+start_view() {  # args for rayfarm view; sets VIEW (the process, or mpirun) and WID
+    "${LAUNCH[@]}" "$RAYFARM" view "$@" >view.log 2>&1 &
     VIEW=$!
     WID=
     for _ in $(seq 100); do
@@ -97,7 +111,7 @@ still)
 author)
     "$RAYFARM" still "$scene" --size $SIZE --spp 4 -o still.png 2>/dev/null || fail "still"
     rm -f saved.json stats.json
-    start_view "$scene" --size $SIZE --spp 4 -o saved.json --stats stats.json
+    start_view "$scene" --size $SIZE --spp 4 -o "$PWD/saved.json" --stats "$PWD/stats.json"
     wait_equal still.png 60 start
     # Orbit: left drag across the picture.
     xdotool mousemove --window "$WID" 40 45 mousedown 1
@@ -121,6 +135,7 @@ author)
     [ "$(differing saved.frames/frame_000000.png still.png)" != 0 ] || fail "the saved camera is the start camera"
     wait_equal saved.frames/frame_000000.png 60 keyed
     # Close: the process ends with status 0 within 2 s and leaves nothing behind.
+    ours=$(descendants $VIEW)
     xdotool windowfocus --sync "$WID" key ctrl+q
     for _ in $(seq 40); do kill -0 $VIEW 2>/dev/null || break; sleep 0.05; done
     kill -0 $VIEW 2>/dev/null && fail "view still running 2 s after Ctrl+Q"
@@ -128,7 +143,13 @@ author)
     status=$?
     VIEW=
     [ $status -eq 0 ] || fail "view exited with status $status: $(cat view.log)"
-    pgrep -f "$RAYFARM view" >/dev/null && fail "a rayfarm view process is left: $(pgrep -af "$RAYFARM view")"
+    pgrep -f "$RAYFARM view .*$PWD/saved.json" >/dev/null && fail "a rayfarm view process is left: $(pgrep -af "$RAYFARM view")"
+    for pid in $ours; do
+        kill -0 "$pid" 2>/dev/null && fail "process $pid of the session left behind: $(ps -o pid=,comm= -p "$pid")"
+    done
+    if [ -n "${VIEW_NP:-}" ]; then
+        grep -q "\"ranks\": $VIEW_NP" stats.json || fail "stats.json does not count $VIEW_NP ranks: $(cat stats.json)"
+    fi
     python3 - stats.json <<'PY' || fail "stats.json"
 import json, sys
 s = json.load(open(sys.argv[1]))

@@ -1,0 +1,128 @@
+#include "view_worker.h"
+
+#include <atomic>
+#include <chrono>
+#include <deque>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "image.h"
+#include "messages.h"
+#include "render.h"
+#include "view_messages.h"
+
+namespace rf::view {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct WorkerState {
+    farm::Transport& t;
+    const Scene pristine;
+    Scene scene;
+    anim::Timeline timeline;
+    RenderSettings settings;
+    int threads;
+    int appliedFrame = -1;
+    std::deque<ViewWork> queue;
+    uint64_t newest = 0;
+    bool stop = false;
+    Clock::time_point lastBeat = Clock::now();
+
+    /// Takes every waiting message; true if one of them makes `epoch` stale.
+    bool drain(uint64_t epoch) {
+        farm::Message m;
+        while (t.poll(m)) {
+            if (m.tag == farm::kTagStop) {
+                stop = true;
+            } else if (m.tag == farm::kTagViewWork) {
+                const ViewWork w = decodeViewWork(m.bytes);
+                if (w.epoch > newest) {
+                    newest = w.epoch;
+                    std::erase_if(queue, [&](const ViewWork& q) { return q.epoch < newest; });
+                }
+                queue.push_back(w);
+            } else if (m.tag == farm::kTagViewTimeline) {
+                Scene keyed = pristine;
+                keyed.timelineJson = m.bytes;
+                timeline = anim::Timeline::fromScene(keyed);
+                scene = pristine;  // a new timeline poses the scene as loaded, not as the old one left it
+                appliedFrame = -1;
+            }
+        }
+        beat();
+        return stop || newest > epoch;
+    }
+
+    void beat() {
+        if (Clock::now() - lastBeat < std::chrono::duration<double>(farm::kHeartbeatSeconds)) return;
+        t.send(0, farm::kTagHeartbeat, farm::encodeHeartbeat({appliedFrame, 0}));
+        lastBeat = Clock::now();
+    }
+
+    /// Renders w's rectangle; false when newer work cancelled it.
+    bool render(const ViewWork& w, std::vector<uint8_t>& rgb) {
+        if (w.frame != appliedFrame) {
+            timeline.applyFrame(scene, w.frame);
+            appliedFrame = w.frame;
+        }
+        const Camera cam = w.followTimeline ? scene.camera : w.camera;
+        RenderSettings s = settings;
+        s.spp = w.spp;
+        s.width = w.width;
+        s.height = w.height;
+        Image img(w.rect.width(), w.rect.height());
+        std::vector<TileRect> subs = makeTiles(w.rect.width(), w.rect.height(), 16);
+        std::atomic<bool> cancelled{false};
+        parallelFor(static_cast<int>(subs.size()), threads, [&](int i, int thread) {
+            // The calling thread is worker 0 of the pool: it alone talks MPI, between sub-tiles.
+            if (thread == 0 && drain(w.epoch)) cancelled = true;
+            if (cancelled) return;
+            TileRect r = subs[size_t(i)];
+            r.x0 += w.rect.x0, r.x1 += w.rect.x0, r.y0 += w.rect.y0, r.y1 += w.rect.y0;
+            std::vector<float> buf(size_t(r.pixels()) * 3);
+            RayStats rays;
+            renderTile(scene, cam, r, s, w.frame, buf.data(), rays);
+            img.setTile(r.x0 - w.rect.x0, r.y0 - w.rect.y0, r.width(), r.height(), buf.data());
+        });
+        if (cancelled || drain(w.epoch)) return false;
+        rgb = toRgb8(img, s.toneMap);
+        return true;
+    }
+};
+
+}  // namespace
+
+int runViewWorker(farm::Transport& t, Scene scene, RenderSettings settings, int threads) {
+    WorkerState st{t, scene, scene, anim::Timeline::fromScene(scene), settings, std::max(1, threads)};
+    try {
+        while (!st.stop) {
+            st.drain(0);
+            if (st.stop) break;
+            if (st.queue.empty()) {
+                std::this_thread::sleep_for(std::chrono::microseconds(300));
+                continue;
+            }
+            const ViewWork w = st.queue.front();
+            st.queue.pop_front();
+            if (w.epoch < st.newest) continue;
+            ViewTile tile{w, {}};
+            if (st.render(w, tile.rgb)) t.send(0, farm::kTagViewTile, encodeViewTile(tile));
+        }
+        t.flush(1.0);
+        return 0;
+    } catch (const farm::TransportError&) {
+        return 1;  // rank 0 is gone; mpirun reports it
+    } catch (const std::exception& e) {
+        try {
+            t.send(0, farm::kTagError, e.what());
+            t.flush(2.0);
+        } catch (...) {
+        }
+        return 1;
+    }
+}
+
+}  // namespace rf::view
