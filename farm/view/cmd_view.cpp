@@ -111,7 +111,8 @@ int runWindow(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job, Scen
     QApplication app(argc, argv);
     view::ViewWindow window(std::move(scene), timeline, settings, o);
     window.show();
-    return app.exec();
+    const int status = app.exec();
+    return window.failed() ? 1 : status;
 }
 
 /// Under mpirun: rank 0 checks the display and loads the scene, every rank gets it by
@@ -141,7 +142,10 @@ int runFarmView(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job) {
     }
     o.transport = &t;
     o.threads = job.threads;
-    return runWindow(p, o, job, std::move(shared.scene));
+    const int status = runWindow(p, o, job, std::move(shared.scene));
+    // A lost rank cannot be stopped politely and MPI_Finalize would wait for it: end them all.
+    if (status != 0) t.abort(status);
+    return status;
 }
 }  // namespace
 

@@ -290,7 +290,7 @@ void ViewWindow::updateStatus() {
     std::snprintf(buf, sizeof buf, "%.1f fps | %.1f ms/frame | %d/%d spp | %s x %d threads | frame %d/%d (%.2f s) | camera: %s%s%s%s",
                   fps_, passMs_, shownSpp_, settings_.spp, ranksText().c_str(), threads(), frame_, film_.frames - 1,
                   timeline_.frameTime(frame_), follow_ ? "timeline" : "free", tint_ ? " | tiles tinted by rank" : "",
-                  message_.empty() ? "" : " | ", (err.empty() ? message_ : "render error: " + err).c_str());
+                  message_.empty() && err.empty() ? "" : " | ", (err.empty() ? message_ : "render error: " + err).c_str());
     status_->setText(QString::fromUtf8(buf));
     char t[64];
     std::snprintf(t, sizeof t, "%.2f s", timeline_.frameTime(frame_));

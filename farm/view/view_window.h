@@ -45,6 +45,9 @@ public:
     ViewWindow(Scene scene, anim::Timeline timeline, RenderSettings settings, ViewOptions options);
     ~ViewWindow() override;
 
+    /// True once the rendering stopped on an error (a render failure, a lost rank).
+    bool failed() const { return reportedError_; }
+
     // Input from the picture, in the picture's pixels.
     void dragBy(Qt::MouseButton button, Qt::KeyboardModifiers mods, double dx, double dy);
     void wheelBy(double steps);

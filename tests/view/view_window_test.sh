@@ -10,6 +10,11 @@
 #   author SCENE a drag changes the picture; K then Ctrl+S writes a scene that `render` accepts,
 #                whose frame 0 equals the window exactly; Ctrl+Q ends the process with status 0
 #                within 2 s and leaves no rayfarm process; --stats has the frames shown
+#   killed-rank SCENE  (VIEW_NP=3) rank 2 is killed while it renders: the window stays and names
+#                it on its status line and stderr; Ctrl+Q then ends the session (mpirun exits
+#                non-zero within 5 s) and leaves no process. mpirun runs with
+#                --mca orte_abort_on_non_zero_status 0; by default it kills rank 0 with the
+#                dead rank before anything can be said.
 # Exit 77 (ctest SKIP) only when this rayfarm was built without Qt 6 (no viewer to test).
 set -uo pipefail
 RAYFARM=$1 WORK=$2 CASE=$3
@@ -59,6 +64,12 @@ if [ -n "${VIEW_NP:-}" ]; then
     export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
     LAUNCH=(mpirun --oversubscribe -np "$VIEW_NP")
 fi
+
+alive() {  # a running process, not a zombie waiting to be reaped
+    local st
+    st=$(ps -o stat= -p "$1" 2>/dev/null) || return 1
+    case "$st" in Z*) return 1 ;; *) return 0 ;; esac
+}
 
 descendants() {  # every process below $1 (ranks, orted), one pid per line
     local c
@@ -145,7 +156,7 @@ author)
     [ $status -eq 0 ] || fail "view exited with status $status: $(cat view.log)"
     pgrep -f "$RAYFARM view .*$PWD/saved.json" >/dev/null && fail "a rayfarm view process is left: $(pgrep -af "$RAYFARM view")"
     for pid in $ours; do
-        kill -0 "$pid" 2>/dev/null && fail "process $pid of the session left behind: $(ps -o pid=,comm= -p "$pid")"
+        alive "$pid" && fail "process $pid of the session left behind: $(ps -o pid=,stat=,args= -p "$pid")"
     done
     if [ -n "${VIEW_NP:-}" ]; then
         grep -q "\"ranks\": $VIEW_NP" stats.json || fail "stats.json does not count $VIEW_NP ranks: $(cat stats.json)"
@@ -158,6 +169,34 @@ assert s["moving_frames"] >= 1 and s["latency_samples"] >= 1, s
 assert 0 < s["latency_mean_ms"] <= s["latency_p95_ms"], s
 PY
     echo "ok: drag, K, Ctrl+S, render frame 0 = window, closed with status 0 within 2 s"
+    ;;
+killed-rank)
+    [ -n "${VIEW_NP:-}" ] || fail "killed-rank runs under mpirun (VIEW_NP=3)"
+    LAUNCH=(mpirun --mca orte_abort_on_non_zero_status 0 --oversubscribe -np "$VIEW_NP")
+    start_view "$scene" --size 320x180 --spp 1024  # seconds of work for the ranks at rest
+    sleep 1
+    victim=
+    for pid in $(descendants $VIEW); do
+        [ "$(ps -o comm= -p "$pid")" = rayfarm ] && victim=$pid  # the last rank started
+    done
+    [ -n "$victim" ] || fail "no rank found under mpirun"
+    ours=$(descendants $VIEW)
+    kill -9 "$victim"
+    for _ in $(seq 60); do grep -q "rayfarm: error: view: rank [12] stopped answering" view.log && break; sleep 0.25; done
+    grep -q "rayfarm: error: view: rank [12] stopped answering" view.log || fail "no line naming the lost rank: $(cat view.log)"
+    kill -0 $VIEW 2>/dev/null || fail "the session ended with the rank, the window could not tell"
+    xdotool windowfocus --sync "$WID" key ctrl+q
+    for _ in $(seq 100); do kill -0 $VIEW 2>/dev/null || break; sleep 0.05; done
+    kill -0 $VIEW 2>/dev/null && fail "mpirun still running 5 s after Ctrl+Q"
+    wait $VIEW
+    status=$?
+    VIEW=
+    [ $status -ne 0 ] || fail "a session that lost a rank exited 0"
+    sleep 1  # the killed rank and mpirun's helpers are reaped as mpirun ends
+    for pid in $ours; do
+        alive "$pid" && fail "process $pid of the session left behind: $(ps -o pid=,stat=,args= -p "$pid")"
+    done
+    echo "ok: $(grep 'stopped answering' view.log); closed with status $status"
     ;;
 *) fail "unknown case $CASE" ;;
 esac
