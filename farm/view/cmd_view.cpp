@@ -49,7 +49,8 @@ const char* kViewHelp =
     "Keys: F frames the model, R returns to the timeline's camera, Space plays/pauses, Left/Right\n"
     "step a frame, Home/End jump to the first/last frame, T tints tiles\n"
     "by rank, K adds a camera key at the current time, Delete removes the selected key,\n"
-    "Ctrl+S saves, Ctrl+Q closes.\n";
+    "Ctrl+S saves, Ctrl+R renders the film to NAME.mp4 (again: cancels, frames kept; the next one\n"
+    "resumes), Ctrl+Q closes.\n";
 
 const char* kNoDisplay = "view: no display to open a window on (DISPLAY is not set); "
                          "use 'rayfarm render' for a video or 'rayfarm still' for a picture";

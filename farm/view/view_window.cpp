@@ -8,6 +8,7 @@
 #include <QListWidget>
 #include <QMouseEvent>
 #include <QPainter>
+#include <QProgressBar>
 #include <QPushButton>
 #include <QShortcut>
 #include <QSlider>
@@ -150,6 +151,14 @@ void ViewWindow::buildUi() {
     connect(jump, &QPushButton::clicked, this, [this] { jumpToKey(keyList_->currentRow()); });
     connect(del, &QPushButton::clicked, this, [this] { deleteKey(keyList_->currentRow()); });
     connect(keyList_, &QListWidget::itemDoubleClicked, this, [this] { jumpToKey(keyList_->currentRow()); });
+    renderButton_ = new QPushButton("Render MP4 (Ctrl+R)");
+    renderButton_->setFocusPolicy(Qt::NoFocus);
+    renderBar_ = new QProgressBar;
+    renderBar_->setRange(0, 1);
+    renderBar_->setValue(0);
+    side->addWidget(renderButton_);
+    side->addWidget(renderBar_);
+    connect(renderButton_, &QPushButton::clicked, this, [this] { renderFilm(); });
     grid->addLayout(side, 0, 1);
 
     auto* bar = new QHBoxLayout;
@@ -198,6 +207,7 @@ void ViewWindow::addShortcuts() {
     add(QKeySequence(Qt::Key_End), [this] { setFrame(film_.frames - 1, true); });
     add(QKeySequence(Qt::Key_Delete), [this] { deleteKey(keyList_->currentRow()); });
     add(QKeySequence(QKeySequence::Save), [this] { save(); });
+    add(QKeySequence(Qt::CTRL | Qt::Key_R), [this] { renderFilm(); });
     add(QKeySequence(Qt::CTRL | Qt::Key_Q), [this] { close(); });
 }
 
@@ -307,6 +317,7 @@ double ViewWindow::nowS() const { return std::chrono::duration<double>(Clock::no
 void ViewWindow::closeEvent(QCloseEvent* e) {
     playTimer_->stop();
     if (stepTimer_) stepTimer_->stop();
+    cancelRender();  // a film render started here ends with the window, its frames kept
     const int threads = this->threads(), ranks = renderer_ ? renderer_->ranks() : 1;
     renderer_.reset();  // cancels the pass in flight and joins the render thread
     if (!options_.statsPath.empty()) {

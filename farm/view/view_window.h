@@ -13,6 +13,8 @@
 #include "view_stats.h"
 
 class QLabel;
+class QProcess;
+class QProgressBar;
 class QListWidget;
 class QPushButton;
 class QSlider;
@@ -72,6 +74,10 @@ private:
     void deleteKey(int row);
     void save();
     void rebuildTimeline();
+    void renderFilm();
+    void cancelRender();
+    void renderProgress();
+    void renderEnded(int status);
     int threads() const { return renderer_ ? renderer_->threads() : 0; }
     double nowS() const;
     std::string ranksText() const;
@@ -112,6 +118,15 @@ private:
     QTimer* restTimer_ = nullptr;
     QTimer* playTimer_ = nullptr;
     QTimer* stepTimer_ = nullptr;  ///< drives a farm backend's messages
+    // The Render action: `rayfarm render` of the saved scene as a child process.
+    QProcess* renderProc_ = nullptr;
+    QPushButton* renderButton_ = nullptr;
+    QProgressBar* renderBar_ = nullptr;
+    QTimer* renderTimer_ = nullptr;
+    std::string renderFramesDir_, renderOutput_;
+    int renderTotal_ = 0;
+    bool renderCancelled_ = false;
+    bool renderResumable_ = false;  ///< the last render was cancelled and the keys did not change since
     bool reportedError_ = false;
     friend class ImageView;
 };

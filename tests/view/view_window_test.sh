@@ -8,7 +8,9 @@
 #   no-display   without a display: one error line naming render and still, exit 2
 #   still SCENE  the window's picture at rest equals `still`'s PNG (exact: 0 differing pixels)
 #   author SCENE a drag changes the picture; K then Ctrl+S writes a scene that `render` accepts,
-#                whose frame 0 equals the window exactly; Ctrl+Q ends the process with status 0
+#                whose frame 0 equals the window exactly; Ctrl+R renders the film, Ctrl+R
+#                again cancels it keeping frames, a third Ctrl+R resumes to the whole film (MP4
+#                frame count checked with ffprobe); Ctrl+Q ends the process with status 0
 #                within 2 s and leaves no rayfarm process; --stats has the frames shown
 #   killed-rank SCENE  (VIEW_NP=3) rank 2 is killed while it renders: the window stays and names
 #                it on its status line and stderr; Ctrl+Q then ends the session (mpirun exits
@@ -41,7 +43,7 @@ if [ "$CASE" = no-display ]; then
     esac
 fi
 
-for tool in Xvfb xdotool import compare; do
+for tool in Xvfb xdotool import compare ffprobe; do
     command -v $tool >/dev/null || fail "$tool missing (tests/install-deps.sh installs it)"
 done
 
@@ -145,6 +147,23 @@ author)
         fail "render does not accept the saved scene: $(tail -1 render.log)"
     [ "$(differing saved.frames/frame_000000.png still.png)" != 0 ] || fail "the saved camera is the start camera"
     wait_equal saved.frames/frame_000000.png 60 keyed
+    # Render the film from the window (Ctrl+R), cancel it after a frame, render again: it
+    # resumes from the kept frames and the MP4 holds the whole film.
+    rm -rf saved.frames saved.mp4
+    frames=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['timeline']['frames'])" saved.json)
+    xdotool windowfocus --sync "$WID" key ctrl+r
+    for _ in $(seq 240); do [ -n "$(ls saved.frames/frame_*.png 2>/dev/null)" ] && break; sleep 0.05; done
+    xdotool key ctrl+r
+    for _ in $(seq 100); do grep -q "rayfarm: view: render cancelled" view.log && break; sleep 0.1; done
+    grep -q "rayfarm: view: render cancelled" view.log || fail "no cancelled render: $(tail -3 view.log)"
+    kept=$(ls saved.frames/frame_*.png | wc -l)
+    [ "$kept" -ge 1 ] && [ "$kept" -lt "$frames" ] || fail "cancel kept $kept of $frames frames"
+    xdotool key ctrl+r
+    for _ in $(seq 600); do grep -q "rayfarm: view: rendered" view.log && break; sleep 0.1; done
+    grep -q "rayfarm: resume: $kept of $frames frames kept" view.log || fail "the second render did not resume: $(tail -4 view.log)"
+    grep -q "rayfarm: view: rendered" view.log || fail "the resumed render did not finish: $(tail -3 view.log)"
+    n=$(ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames -of csv=p=0 saved.mp4)
+    [ "$n" = "$frames" ] || fail "the rendered MP4 holds $n frames, the film $frames"
     # Close: the process ends with status 0 within 2 s and leaves nothing behind.
     ours=$(descendants $VIEW)
     xdotool windowfocus --sync "$WID" key ctrl+q
@@ -168,7 +187,7 @@ assert s["frames_shown"] >= 3, s
 assert s["moving_frames"] >= 1 and s["latency_samples"] >= 1, s
 assert 0 < s["latency_mean_ms"] <= s["latency_p95_ms"], s
 PY
-    echo "ok: drag, K, Ctrl+S, render frame 0 = window, closed with status 0 within 2 s"
+    echo "ok: drag, K, Ctrl+S, render frame 0 = window, Render/cancel/resume ($kept kept) to $frames frames, closed with status 0 within 2 s"
     ;;
 killed-rank)
     [ -n "${VIEW_NP:-}" ] || fail "killed-rank runs under mpirun (VIEW_NP=3)"
