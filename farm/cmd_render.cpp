@@ -20,6 +20,7 @@
 #include "mp4_sink.h"
 #include "output_check.h"
 #include "png_sink.h"
+#include "preview_spawn.h"
 #include "progress.h"
 #include "render.h"
 #include "render_engine.h"
@@ -147,6 +148,7 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, int ranks, cons
                  job.scenePath.c_str(), frameSpan(job.first, job.last).c_str(), job.timelineFrames,
                  job.settings.width, job.settings.height, job.settings.spp, job.mode == Mode::Pixel ? "pixel" : "frame",
                  job.modeWhy.c_str(), ranks, ranks == 1 ? "" : "s", threadsNote.c_str());
+    if (p.has("--preview")) startPreview(job.framesDir, job.last - job.first + 1);
 }
 
 struct Rank0Sinks {

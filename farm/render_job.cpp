@@ -26,6 +26,8 @@ const char* kRenderHelp =
     "  --frames-dir DIR  keep a PNG per frame here as frames complete (default: OUT.frames next\n"
     "                    to the output, e.g. out.frames/ for out.mp4)\n"
     "  --no-frames       keep no PNG frames (then nothing can be resumed)\n"
+    "  --preview         open a window (rayfarm view --watch) on the frames as they complete;\n"
+    "                    closing it does not stop the render\n"
     "  --resume          render only the frames missing from the frames directory, then encode\n"
     "                    the whole video again (the same settings are required)\n"
     "  --crf N           x264 quality, 0-51 (default 18; lower is better)\n"
@@ -45,7 +47,7 @@ void declareRenderOptions(cli::ArgParser& p) {
     for (const char* o : {"-o", "--mode", "--frames", "--fps", "--size", "--spp", "--depth", "--min-weight", "--tonemap",
                           "--frames-dir", "--crf", "--preset", "--stats", "--threads", "--timeout"})
         p.option(o);
-    for (const char* f : {"--resume", "--lossless", "--no-frames", "--help", "-h"}) p.flag(f);
+    for (const char* f : {"--resume", "--lossless", "--no-frames", "--preview", "--help", "-h"}) p.flag(f);
 }
 
 RenderJob jobFromOptions(const cli::ArgParser& p) {
@@ -59,6 +61,7 @@ RenderJob jobFromOptions(const cli::ArgParser& p) {
     if (ext != ".mp4" && ext != ".MP4") throw UsageError(j.output + ": the output must be an .mp4 file");
     if (p.has("--no-frames") && p.has("--frames-dir")) throw UsageError("--no-frames and --frames-dir contradict each other");
     if (p.has("--no-frames") && p.has("--resume")) throw UsageError("--resume needs the frames directory (drop --no-frames)");
+    if (p.has("--no-frames") && p.has("--preview")) throw UsageError("--preview shows the PNG frames as they complete (drop --no-frames)");
     if (!p.has("--no-frames"))
         j.framesDir = p.value("--frames-dir").value_or(std::filesystem::path(j.output).replace_extension(".frames").string());
     j.statsPath = p.value("--stats").value_or("");

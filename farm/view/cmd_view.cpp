@@ -19,6 +19,7 @@
 #include "scene_broadcast.h"
 #include "transport.h"
 #include "view_messages.h"
+#include "preview_window.h"
 #include "view_window.h"
 #include "view_worker.h"
 #include "worker.h"
@@ -44,6 +45,10 @@ const char* kViewHelp =
     "  --camera N        start from the model's glTF camera N\n"
     "  -o FILE           where Ctrl+S saves the scene with its camera keys (default: NAME_view.json)\n"
     "  --stats FILE      on close, write frames shown, fps while moving and input latency as JSON\n"
+    "\n"
+    "rayfarm view --watch DIR [--total N]\n"
+    "  shows the PNG frames a render writes to DIR as they complete, with frames done, fps and\n"
+    "  ETA (of N frames); 'render --preview' opens it. Closing it does not stop the render.\n"
     "\n"
     "Mouse: left drag orbits, middle or shift drag pans, the wheel zooms.\n"
     "Keys: F frames the model, R returns to the timeline's camera, Space plays/pauses, Left/Right\n"
@@ -116,6 +121,18 @@ int runWindow(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job, Scen
     return window.failed() ? 1 : status;
 }
 
+int runPreview(const std::string& dir, int total) {
+    if (!haveDisplay()) throw UsageError(kNoDisplay);
+    qInstallMessageHandler(qtMessages);
+    int argc = 1;
+    char name[] = "rayfarm";
+    char* argv[] = {name, nullptr};
+    QApplication app(argc, argv);
+    view::PreviewWindow window(dir, total);
+    window.show();
+    return app.exec();
+}
+
 /// Under mpirun: rank 0 checks the display and loads the scene, every rank gets it by
 /// broadcast; rank 0 opens the window and the others render for it.
 int runFarmView(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job) {
@@ -152,13 +169,17 @@ int runFarmView(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job) {
 
 int runView(const std::vector<std::string>& args) {
     ArgParser p("view");
-    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats", "--frame", "--camera", "--background"}) p.option(o);
+    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats", "--frame", "--camera", "--background", "--watch", "--total"}) p.option(o);
     p.flag("--help");
     p.flag("-h");
     p.parse(args);
     if (p.has("--help") || p.has("-h")) {
         std::fputs(kViewHelp, stdout);
         return 0;
+    }
+    if (auto dir = p.value("--watch")) {
+        if (!p.positional().empty()) throw UsageError("view: --watch takes a frames directory, not a scene");
+        return runPreview(*dir, p.intValue("--total", 0, 0, 1 << 30));
     }
     if (p.positional().size() != 1) throw UsageError("view: expected one SCENE or MODEL (see rayfarm view --help)");
     view::ViewOptions o;

@@ -12,6 +12,9 @@
 #                again cancels it keeping frames, a third Ctrl+R resumes to the whole film (MP4
 #                frame count checked with ffprobe); Ctrl+Q ends the process with status 0
 #                within 2 s and leaves no rayfarm process; --stats has the frames shown
+#   preview SCENE  render --preview opens a window on the frames as they complete; closing it
+#                mid-render leaves the render to finish (status 0, every frame); a window on the
+#                finished frames directory (view --watch) shows the last frame exactly
 #   killed-rank SCENE  (VIEW_NP=3) rank 2 is killed while it renders: the window stays and names
 #                it on its status line and stderr; Ctrl+Q then ends the session (mpirun exits
 #                non-zero within 5 s) and leaves no process. mpirun runs with
@@ -83,7 +86,7 @@ start_view() {  # args for rayfarm view; sets VIEW (the process, or mpirun) and 
     VIEW=$!
     WID=
     for _ in $(seq 100); do
-        WID=$(xdotool search --name '^rayfarm view' 2>/dev/null | head -1)
+        WID=$(xdotool search --name '^rayfarm (view|preview)' 2>/dev/null | head -1)
         [ -n "$WID" ] && break
         kill -0 $VIEW 2>/dev/null || fail "view exited early: $(cat view.log)"
         sleep 0.2
@@ -188,6 +191,41 @@ assert s["moving_frames"] >= 1 and s["latency_samples"] >= 1, s
 assert 0 < s["latency_mean_ms"] <= s["latency_p95_ms"], s
 PY
     echo "ok: drag, K, Ctrl+S, render frame 0 = window, Render/cancel/resume ($kept kept) to $frames frames, closed with status 0 within 2 s"
+    ;;
+preview)
+    rm -rf pv.mp4 pv.frames
+    "${LAUNCH[@]}" "$RAYFARM" render "$scene" -o "$PWD/pv.mp4" --size $SIZE --spp 36 --preview >render.log 2>&1 &
+    RENDER=$!
+    WID=
+    for _ in $(seq 150); do
+        WID=$(xdotool search --name '^rayfarm preview' 2>/dev/null | head -1)
+        [ -n "$WID" ] && break
+        sleep 0.2
+    done
+    [ -n "$WID" ] || fail "render --preview opened no window: $(cat render.log)"
+    for _ in $(seq 100); do [ -n "$(ls pv.frames/frame_*.png 2>/dev/null)" ] && break; sleep 0.1; done
+    kill -0 $RENDER 2>/dev/null || fail "the render ended before the preview could be closed mid-way; make it longer"
+    xdotool windowfocus --sync "$WID" key ctrl+q
+    for _ in $(seq 40); do xdotool search --name '^rayfarm preview' >/dev/null 2>&1 || break; sleep 0.1; done
+    xdotool search --name '^rayfarm preview' >/dev/null 2>&1 && fail "the preview window did not close"
+    kill -0 $RENDER 2>/dev/null || fail "closing the preview ended the render too early"
+    wait $RENDER
+    status=$?
+    [ $status -eq 0 ] || fail "render exited $status after the preview closed: $(tail -2 render.log)"
+    frames=$(ls pv.frames/frame_*.png | wc -l)
+    grep -q "wrote $PWD/pv.mp4: $frames frames" render.log || fail "the render did not write every frame: $(tail -1 render.log)"
+    # A window on the finished directory shows its last frame, 1:1.
+    LAUNCH=()  # the watching window is a plain process, never a member of an MPI job
+    start_view --watch "$PWD/pv.frames" --total "$frames"
+    last=$(ls pv.frames/frame_*.png | tail -1)
+    wait_equal "$last" 30 watch
+    xdotool windowfocus --sync "$WID" key ctrl+q
+    for _ in $(seq 40); do kill -0 $VIEW 2>/dev/null || break; sleep 0.05; done
+    wait $VIEW
+    status=$?
+    VIEW=
+    [ $status -eq 0 ] || fail "view --watch exited $status"
+    echo "ok: preview closed mid-render, render finished $frames frames; --watch shows $(basename "$last") exactly"
     ;;
 killed-rank)
     [ -n "${VIEW_NP:-}" ] || fail "killed-rank runs under mpirun (VIEW_NP=3)"
