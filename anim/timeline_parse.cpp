@@ -23,6 +23,7 @@
 
 #include "errors.h"
 #include "frame_time.h"
+#include "json_guard.h"
 #include "timeline_spec.h"
 
 namespace rf::anim {
@@ -52,6 +53,7 @@ public:
         if (!j.is_number()) fail(w, "expected a number");
         const double v = j.get<double>();
         if (!std::isfinite(v)) fail(w, "expected a finite number");
+        if (std::string p = sceneNumberProblem(v); !p.empty()) fail(w, p);
         return v;
     }
     double number(const json& o, const char* k, const std::string& w, double def) const {

@@ -41,6 +41,37 @@ std::vector<uint32_t> unroll(const std::vector<uint32_t>& v, int mode) {
     return t;
 }
 
+/// POSITION's declared min/max, which glTF requires; a vertex outside them (beyond float
+/// rounding of the written bounds) marks a corrupt buffer, e.g. a flipped exponent bit.
+struct DeclaredBounds {
+    bool present = false;  ///< min and max given (or not needed: quantized data is not checked)
+    bool checked = false;
+    glm::dvec3 lo{0.0}, hi{0.0}, slack{0.0};
+    bool contain(const Vec3& p) const {
+        if (!checked) return true;
+        for (int c = 0; c < 3; ++c)
+            if (double(p[c]) < lo[c] - slack[c] || double(p[c]) > hi[c] + slack[c]) return false;
+        return true;
+    }
+};
+
+DeclaredBounds declaredBounds(const tinygltf::Accessor& a) {
+    DeclaredBounds b;
+    // Quantized (integer) positions may declare bounds before or after normalization; only
+    // float data is checked.
+    if (a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || a.minValues.size() != 3 || a.maxValues.size() != 3) {
+        b.present = a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT;
+        return b;
+    }
+    b.present = b.checked = true;
+    for (int c = 0; c < 3; ++c) {
+        b.lo[c] = a.minValues[size_t(c)];
+        b.hi[c] = a.maxValues[size_t(c)];
+        b.slack[c] = 1e-4 * (std::abs(b.hi[c] - b.lo[c]) + std::abs(b.lo[c]) + std::abs(b.hi[c])) + 1e-30;
+    }
+    return b;
+}
+
 }  // namespace
 
 std::vector<Vec3> generateNormals(const std::vector<Vec3>& pos, const std::vector<uint32_t>& idx) {
@@ -118,9 +149,13 @@ bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int primIndex, 
     TriangleMesh& m = out.mesh;
     m.positions.resize(pos.count);
     std::vector<uint8_t> finite(pos.count, 1);
+    const DeclaredBounds declared = declaredBounds(model.accessors[size_t(posAcc)]);
+    out.boundsMissing = !declared.present;
     for (size_t i = 0; i < pos.count; ++i) {
         m.positions[i] = Vec3(pos.at(i, 0), pos.at(i, 1), pos.at(i, 2));
-        if (!isFinite(m.positions[i])) {
+        const bool outside = isFinite(m.positions[i]) && !declared.contain(m.positions[i]);
+        out.outsideBounds += outside;
+        if (!isFinite(m.positions[i]) || outside) {  // a corrupt vertex: its triangles are dropped
             finite[i] = 0;
             m.positions[i] = Vec3(0.f);
         }
@@ -162,6 +197,7 @@ bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int primIndex, 
         order.resize(nv);
         for (uint32_t i = 0; i < nv; ++i) order[i] = i;
     }
+    if (mode == TINYGLTF_MODE_TRIANGLES) out.leftoverIndices = order.size() % 3;
     const std::vector<uint32_t> tris = unroll(order, mode);
 
     for (size_t k = 0; k < p.targets.size(); ++k) {
@@ -208,7 +244,8 @@ bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int primIndex, 
                               model.materials[size_t(p.material)].normalTexture.index >= 0;
     if (normalMapped && m.tangents.empty() && !m.uvs.empty())
         m.tangents = generateTangents(m.positions, m.normals, model.materials[size_t(p.material)].normalTexture.texCoord == 1 && !m.uvs1.empty() ? m.uvs1 : m.uvs, m.indices);
-    out.gltfMaterial = p.material;
+    out.materialOutOfRange = p.material >= int(model.materials.size());
+    out.gltfMaterial = out.materialOutOfRange ? -1 : p.material;
     return true;
 }
 

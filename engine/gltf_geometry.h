@@ -16,7 +16,11 @@ struct PrimitiveGeometry {
     bool generatedNormals = false;
     size_t droppedDegenerate = 0;
     size_t droppedNonFinite = 0;
-    int gltfMaterial = -1;
+    size_t outsideBounds = 0;     ///< vertices outside POSITION's declared min/max (their triangles dropped)
+    bool boundsMissing = false;   ///< POSITION has no min/max, which glTF requires
+    size_t leftoverIndices = 0;   ///< TRIANGLES indices past the last multiple of 3
+    int gltfMaterial = -1;        ///< -1 also when the file's index is out of range
+    bool materialOutOfRange = false;
 };
 
 /// Builds primitive `prim` of mesh `meshIndex`. Returns false (and builds nothing) for points

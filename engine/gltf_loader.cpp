@@ -103,9 +103,12 @@ public:
 
     /// Why bounds() found nothing to draw, for the error message.
     std::string emptyReason() const {
-        size_t nonFinite = 0, degenerate = 0;
+        size_t nonFinite = 0, degenerate = 0, outside = 0;
         for (const auto& [key, g] : prims_)
-            if (g) nonFinite += g->droppedNonFinite, degenerate += g->droppedDegenerate;
+            if (g) nonFinite += g->droppedNonFinite, degenerate += g->droppedDegenerate, outside += g->outsideBounds;
+        if (outside)
+            return "the model has no triangles to render (" + std::to_string(outside) +
+                   " vertices lie outside POSITION's declared min/max: corrupt data?)";
         if (nonFinite) return "the model has no triangles to render (" + std::to_string(nonFinite) + " have non-finite positions)";
         if (degenerate) return "the model has no triangles to render (" + std::to_string(degenerate) + " are degenerate)";
         if (skippedPointsLines_) return "the model has no triangles to render (points and lines are not rendered)";
@@ -122,8 +125,22 @@ private:
             const bool triangles = buildPrimitive(model_, mesh, prim, path_, g);
             it = prims_.emplace(key, triangles ? std::optional<PrimitiveGeometry>(std::move(g)) : std::nullopt).first;
             if (!triangles) skippedPointsLines_ = true;
+            else notePrimitive(*it->second, "meshes[" + std::to_string(mesh) + "].primitives[" + std::to_string(prim) + "]");
         }
         return it->second ? &*it->second : nullptr;
+    }
+
+    /// Data a loader could silently work around, said once per primitive.
+    void notePrimitive(const PrimitiveGeometry& g, const std::string& w) {
+        if (g.outsideBounds)
+            notes_.push_back(w + ": " + std::to_string(g.outsideBounds) +
+                             " vertices lie outside POSITION's declared min/max (corrupt data?); their triangles dropped");
+        if (g.boundsMissing) notes_.push_back(w + ": POSITION has no min/max (glTF requires them); positions not checked");
+        if (g.leftoverIndices)
+            notes_.push_back(w + ": " + std::to_string(g.leftoverIndices) + " trailing indices ignored (TRIANGLES needs a multiple of 3)");
+        if (g.materialOutOfRange)
+            notes_.push_back(w + ".material: no such material (" + std::to_string(model_.materials.size()) +
+                             " in the file); drawn with the default material");
     }
 
     std::vector<double> defaultWeights(int node) const {
@@ -172,8 +189,10 @@ private:
                 if (++steps > n) throw InputError(path_, "nodes[" + std::to_string(i) + "]: the node hierarchy has a cycle");
         }
         std::vector<int> roots;
-        const int sceneIndex = (model_.defaultScene >= 0 && size_t(model_.defaultScene) < model_.scenes.size()) ? model_.defaultScene
-                               : model_.scenes.empty() ? -1 : 0;
+        if (model_.defaultScene >= 0 && size_t(model_.defaultScene) >= model_.scenes.size())
+            throw InputError(path_, "scene: " + std::to_string(model_.defaultScene) + " is not one of the file's " +
+                                        std::to_string(model_.scenes.size()) + " scenes");
+        const int sceneIndex = model_.defaultScene >= 0 ? model_.defaultScene : model_.scenes.empty() ? -1 : 0;
         if (sceneIndex < 0) {
             for (size_t i = 0; i < n; ++i)
                 if (parent_[i] < 0) roots.push_back(int(i));
@@ -376,7 +395,7 @@ void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel) {
         }
     }
     if (degenerate) notes_.push_back(std::to_string(degenerate) + " degenerate triangles dropped");
-    if (nonFinite) notes_.push_back(std::to_string(nonFinite) + " triangles with non-finite positions dropped");
+    if (nonFinite) notes_.push_back(std::to_string(nonFinite) + " triangles with non-finite or out-of-bounds positions dropped");
     if (generated) notes_.push_back("normals generated for " + std::to_string(generated) + " primitives");
     if (unplaced) notes_.push_back(std::to_string(unplaced) + " primitives dropped: their node scales them to nothing or to infinity");
     if (skippedPointsLines_) notes_.push_back("points and lines are not rendered; skipped");

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "errors.h"
+#include "json_guard.h"
 
 namespace rf::gltf {
 
@@ -121,6 +122,8 @@ PreflightResult preflight(const std::string& path, const std::string& bytes) {
         jsonText = bytes;
     }
 
+    // tinygltf parses `extras` recursively: refuse deep nesting before it (or anyone) recurses.
+    if (std::string p = jsonDepthProblem(jsonText); !p.empty()) throw InputError(path, p);
     json doc;
     try {
         doc = json::parse(jsonText);
@@ -128,6 +131,8 @@ PreflightResult preflight(const std::string& path, const std::string& bytes) {
         throw InputError(path, std::string("not valid glTF JSON: ") + e.what());
     }
     if (!doc.is_object()) throw InputError(path, "not valid glTF: the top level is not a JSON object");
+    if (std::string d = duplicateJsonKey(jsonText); !d.empty())
+        r.notes.push_back(d + ": duplicate JSON key; tinygltf keeps one of them");
 
     // glTF 1.0 keeps its arrays as dictionaries and often says version "1.0" (or a number).
     if (doc.contains("asset") && doc["asset"].is_object() && doc["asset"].contains("version")) {

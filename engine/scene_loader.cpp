@@ -9,6 +9,7 @@
 
 #include "errors.h"
 #include "gltf_loader.h"
+#include "json_guard.h"
 
 namespace rf {
 
@@ -47,6 +48,7 @@ public:
         if (!j.is_number()) fail(where, "expected a number");
         const double v = j.get<double>();
         if (!std::isfinite(v)) fail(where, "expected a finite number");
+        if (std::string p = sceneNumberProblem(v); !p.empty()) fail(where, p);
         return v;
     }
     double number(const json& obj, const char* key, const std::string& where, double def) const {
@@ -248,18 +250,16 @@ public:
 
     Scene load() {
         const std::string text = fs_.read(path_, 1ull << 30);
-        json root;
-        try {
-            root = json::parse(text);
-        } catch (const json::exception& e) {  // parse errors, and numbers like 1e400 that overflow
-            throw InputError(path_, std::string("not valid JSON: ") + e.what());
-        }
+        const json root = parseUserJson(path_, text);
         rd_.allowKeys(root, "", {"camera", "background", "ambient", "render", "materials", "lights", "objects", "timeline",
                                  "turntable", "comment"});
         Scene s;
         s.sourcePath = path_;
         DVec3 eye(0, 0, 5), target(0.0);
         if (root.contains("camera")) readCamera(rd_, root["camera"], s.camera, eye, target);
+        const DVec3 view = glm::normalize(target - eye), up = glm::normalize(DVec3(s.camera.up));
+        if (glm::length(glm::cross(view, up)) < 1e-6)
+            s.notes.push_back(path_ + ": camera.up is parallel to the view direction; the camera uses the world axis least aligned with the view as up");
         s.renderOrigin = chooseRenderOrigin(target);
         s.camera.eye = Vec3(eye - s.renderOrigin);
         s.camera.target = Vec3(target - s.renderOrigin);
@@ -291,11 +291,7 @@ public:
             const std::string rel = root["timeline"].get<std::string>();
             const std::filesystem::path base = std::filesystem::path(path_).parent_path();
             const std::string full = (std::filesystem::path(rel).is_absolute() ? std::filesystem::path(rel) : base / rel).lexically_normal().string();
-            try {
-                anim["timeline"] = json::parse(fs_.read(full, 1ull << 28));
-            } catch (const json::parse_error& e) {
-                throw InputError(full, std::string("not valid JSON: ") + e.what());
-            }
+            anim["timeline"] = parseUserJson(full, fs_.read(full, 1ull << 28));
             anim["timeline_file"] = full;
         } else if (root.contains("timeline")) {
             anim["timeline"] = root["timeline"];

@@ -166,3 +166,31 @@ TEST(SceneLoader, BackgroundMayBeTransparent) {
     EXPECT_EQ(red.background, Color(1.f, 0.f, 0.f));
     EXPECT_NE(errorOf(R"({"background": "clear"})").find("background: expected [r, g, b] or \"transparent\""), std::string::npos);
 }
+
+TEST(SceneLoader, NumbersBeyondFloatRangeNameTheirJsonPath) {
+    // Issue 14 #8: these loaded and the objects vanished from the picture.
+    const std::string big = errorOf(R"({"objects": [{"type": "sphere", "center": [0,0,0], "radius": 1e20}]})");
+    EXPECT_NE(big.find("x.json: objects[0].radius: number beyond the range"), std::string::npos) << big;
+    const std::string eye = errorOf(R"({"camera": {"eye": [0, 1e39, 5]}})");
+    EXPECT_NE(eye.find("x.json: camera.eye: number beyond the range"), std::string::npos) << eye;
+}
+
+TEST(SceneLoader, DuplicateKeyIsAnError) {
+    // nlohmann keeps the last of two equal keys; the user meant one of them.
+    const std::string e = errorOf(R"({"objects": [{"type": "sphere", "radius": 1, "radius": 2}]})");
+    EXPECT_NE(e.find("x.json: objects[0].radius: duplicate key"), std::string::npos) << e;
+}
+
+TEST(SceneLoader, DeepNestingIsRefusedBeforeParsing) {
+    const std::string e = errorOf("{\"comment\": " + std::string(20000, '[') + std::string(20000, ']') + "}");
+    EXPECT_NE(e.find("x.json: JSON nests more than"), std::string::npos) << e;
+}
+
+TEST(SceneLoader, CameraUpParallelToTheViewGivesANote) {
+    const Scene s = loadText(R"({"camera": {"eye": [0, 5, 0], "target": [0, 0, 0], "up": [0, 1, 0]}})");
+    int notes = 0;
+    for (const std::string& n : s.notes) notes += n.find("camera.up is parallel to the view direction") != std::string::npos;
+    EXPECT_EQ(notes, 1);
+    const Scene ok = loadText(R"({"camera": {"eye": [0, 5, 5], "target": [0, 0, 0], "up": [0, 1, 0]}})");
+    EXPECT_TRUE(ok.notes.empty());
+}
