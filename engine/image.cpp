@@ -8,6 +8,8 @@
 #include <stb_image.h>
 #include <stb_image_write.h>
 
+#include "file_write.h"
+
 namespace rf {
 
 void Image::setTile(int x, int y, int w, int h, const float* src, const float* alpha) {
@@ -68,8 +70,13 @@ std::vector<uint8_t> toRgba8(const Image& img, ToneMap op) {
 }
 
 void writePng(const std::string& path, int width, int height, const std::vector<uint8_t>& pixels, int channels) {
-    if (!stbi_write_png(path.c_str(), width, height, channels, pixels.data(), width * channels))
-        throw std::runtime_error(path + ": cannot write PNG");
+    // Encoded in memory, then written with every write checked: stb's own file writer ignores
+    // fwrite errors, so a full disk used to leave an empty PNG behind a success message.
+    std::string png;
+    auto append = [](void* out, void* data, int size) { static_cast<std::string*>(out)->append(static_cast<const char*>(data), size_t(size)); };
+    if (!stbi_write_png_to_func(append, &png, width, height, channels, pixels.data(), width * channels))
+        throw std::runtime_error(path + ": cannot encode PNG");
+    writeFileChecked(path, png);
 }
 
 std::vector<uint8_t> readImageRgb8(const std::string& path, int& width, int& height) {

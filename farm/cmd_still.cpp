@@ -4,7 +4,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <iostream>
 
 #include "background_option.h"
 #include "cli.h"
@@ -78,7 +77,7 @@ int runStill(const std::vector<std::string>& args) {
     const auto t0 = std::chrono::steady_clock::now();
     DiskFileSource fs;
     Scene scene = loadScene(scenePath, fs);
-    for (const std::string& note : scene.notes) std::cerr << "rayfarm: note: " << note << "\n";
+    for (const std::string& note : scene.notes) printLine("note", note);
     applyBackground(background, scene);
     // The still is one frame of the scene's film: frame 0 unless --frame or --time says otherwise.
     const anim::Timeline timeline = anim::Timeline::fromScene(scene);

@@ -1,7 +1,6 @@
 // rayfarm: one executable, four commands (render, still, report, view).
 #include <cstdio>
 #include <exception>
-#include <iostream>
 #include <string>
 #include <vector>
 
@@ -39,20 +38,20 @@ int main(int argc, char** argv) {
 #ifdef RAYFARM_HAVE_VIEW
             return rf::cli::runView(args);
 #else
-            std::cerr << "rayfarm: error: view: this rayfarm was built without Qt 6 (install qt6-base-dev and rebuild)\n";
+            rf::cli::printLine("error", "view: this rayfarm was built without Qt 6 (install qt6-base-dev and rebuild)");
             return 2;
 #endif
         }
-        std::cerr << "rayfarm: error: unknown command \"" << cmd << "\" (expected render, still, report or view)\n";
+        rf::cli::printLine("error", "unknown command \"" + cmd + "\" (expected render, still, report or view)");
         return 2;
     } catch (const rf::InputError& e) {
-        std::cerr << "rayfarm: error: " << e.what() << "\n";
+        rf::cli::printLine("error", e.what());
         return 2;
     } catch (const rf::cli::UsageError& e) {
-        std::cerr << "rayfarm: error: " << e.what() << "\n";
+        rf::cli::printLine("error", e.what());
         return 2;
     } catch (const std::exception& e) {
-        std::cerr << "rayfarm: error: " << e.what() << "\n";
+        rf::cli::printLine("error", e.what());
         return 1;
     }
 }

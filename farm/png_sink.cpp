@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "cli.h"
+#include "file_write.h"
 
 namespace rf::farm {
 
@@ -41,10 +42,13 @@ void PngSink::write(int frame, const std::vector<uint8_t>& rgb) {
     const std::string tmp = path + ".part";
     if (!encoder_) encoder_ = std::make_unique<PngEncoder>(width_, height_);
     const std::string png = encoder_->encode(rgb);
-    {
-        std::ofstream f(tmp, std::ios::binary);
-        f.write(png.data(), std::streamsize(png.size()));
-        if (!f.flush()) throw std::runtime_error(path + ": cannot write PNG");
+    // No fsync per frame (it would stall the sink at 30 fps); write and close are checked.
+    try {
+        writeFileChecked(tmp, png, false);
+    } catch (...) {
+        std::error_code ignored;
+        std::filesystem::remove(tmp, ignored);  // no .part left behind on a full disk
+        throw;
     }
     std::error_code ec;
     std::filesystem::rename(tmp, path, ec);
@@ -53,9 +57,7 @@ void PngSink::write(int frame, const std::vector<uint8_t>& rgb) {
 
 void writeFramesManifest(const std::string& dir, const std::string& identity) {
     const std::string path = (std::filesystem::path(dir) / kManifest).string();
-    std::ofstream f(path);
-    f << identity << "\n";
-    if (!f) throw std::runtime_error(path + ": cannot write");
+    writeFileChecked(path, identity + "\n");
 }
 
 void checkFramesManifest(const std::string& dir, const std::string& identity) {

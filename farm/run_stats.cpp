@@ -5,6 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "file_write.h"
+
 namespace rf {
 
 void writeStatsJson(const std::string& path, const RunStats& s) {
@@ -31,10 +33,7 @@ void writeStatsJson(const std::string& path, const RunStats& s) {
     j["per_rank"] = ranks;
     for (const auto& [k, v] : s.extra) j[k] = v;
     for (const auto& [k, v] : s.extraText) j[k] = v;
-    std::ofstream f(path);
-    if (!f) throw std::runtime_error(path + ": cannot write stats file");
-    f << j.dump(2) << "\n";
-    if (!f) throw std::runtime_error(path + ": write failed");
+    writeFileChecked(path, j.dump(2) + "\n");
 }
 
 }  // namespace rf

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Issue 14 #2: every output write is checked. A write that fails (/dev/full, a full file system)
+# must exit 1 with one line naming the file and the OS's reason, never "wrote" over an empty file.
+# Usage: output_write_test.sh RAYFARM SOURCE_DIR WORK_DIR
+set -euo pipefail
+RAYFARM=$1 SRC=$2 WORK=$3
+SCENE="$SRC/scenes/flight.json"
+mkdir -p "$WORK"
+cd "$WORK"
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+expect_write_error() {  # name file log rc
+    [ "$4" = 1 ] || { cat "$3"; fail "$1: exit $4, expected 1"; }
+    grep -q "^rayfarm: error: $2: cannot write: No space left on device$" "$3" || { cat "$3"; fail "$1: no error naming $2 and the reason"; }
+    [ "$(grep -c 'rayfarm: error' "$3")" = 1 ] || { cat "$3"; fail "$1: expected one error line"; }
+    if grep -q "rayfarm: wrote $2" "$3"; then fail "$1: claims to have written $2"; fi
+}
+
+set +e; "$RAYFARM" still "$SCENE" --size 32x24 -o /dev/full 2> full_png.log; rc=$?; set -e
+expect_write_error "still -o /dev/full" /dev/full full_png.log "$rc"
+set +e; "$RAYFARM" still "$SCENE" --size 32x24 -o ok.png --stats /dev/full 2> full_stats.log; rc=$?; set -e
+expect_write_error "still --stats /dev/full" /dev/full full_stats.log "$rc"
+echo "dev-full: PNG and --stats writes to /dev/full exit 1 naming the file and ENOSPC"
+
+# A real full file system: a 64 KiB tmpfs, if this machine lets us mount one (root in a
+# container with CAP_SYS_ADMIN); the PNG of a 400x300 frame does not fit.
+mnt="$WORK/small-fs"
+mkdir -p "$mnt"
+if mount -t tmpfs -o size=64k tmpfs "$mnt" 2>/dev/null; then
+    trap 'umount "$mnt" 2>/dev/null || true' EXIT
+    head -c 60000 /dev/zero > "$mnt/filler" || true
+    set +e; "$RAYFARM" still "$SCENE" --size 400x300 -o "$mnt/big.png" 2> disk_png.log; rc=$?; set -e
+    expect_write_error "still into a full tmpfs" "$mnt/big.png" disk_png.log "$rc"
+    echo "full-disk: still into a full tmpfs exits 1 naming the file and ENOSPC"
+else
+    echo "full-disk: SKIPPED (cannot mount a tmpfs here)"
+fi
