@@ -331,7 +331,10 @@ int runWorkerRank(MpiTransport& t, const RenderJob& job, SharedScene& shared) {
         const RenderSettings settings = decodeWorkerJob(shared.job, shared.scene.timelineJson);
         anim::Timeline timeline = anim::Timeline::fromScene(shared.scene);
         RenderEngine engine(std::move(shared.scene), timeline, settings, threadsForRank(job, t));
-        return runWorker(t, engine);
+        // A silent master: leave now, as MPI_Finalize would wait for rank 0 forever.
+        const int code = runWorker(t, engine, std::max(4.0, 2.0 * job.workerTimeout));
+        if (code == kMasterSilentExit) std::_Exit(1);
+        return code;
     } catch (const std::exception& e) {
         reportWorkerError(t, e.what());
         return 1;

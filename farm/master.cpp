@@ -101,6 +101,22 @@ bool Master::handOut() {
     return any;
 }
 
+/// Tells every worker rank 0 still runs, and notices when rank 0 itself was stopped: the
+/// silence it then sees is its own, so every worker's timeout starts again.
+void Master::keepAlive(Clock::time_point now) {
+    if (pause_.resumed(now))
+        for (WorkerState& w : workers_) w.lastHeard = now;
+    if (std::chrono::duration<double>(now - lastBeat_).count() < kMasterBeatSeconds) return;
+    lastBeat_ = now;
+    for (int r = 1; r < t_.size(); ++r) {
+        try {
+            t_.send(r, kTagAlive, "");
+        } catch (const TransportError&) {
+            // A lost worker shows up as silence below.
+        }
+    }
+}
+
 MasterOutcome Master::run() {
     Progress progress(cfg_.totalFrames, cfg_.liveProgress);
     std::vector<int> rankFrames;
@@ -116,6 +132,7 @@ MasterOutcome Master::run() {
             if (local_) local_->cancelQueued();
             return finish(RunEnd::Interrupted, "");
         }
+        keepAlive(Clock::now());
         bool progressed = handOut();
         try {
             Message m;
@@ -149,6 +166,7 @@ MasterOutcome Master::run() {
         // Heartbeats are read above before this check, so time spent blocked in emit (a full
         // encoder queue) never counts against a worker.
         const auto now = Clock::now();
+        keepAlive(now);  // emit may have blocked, or this process been stopped, since the top
         for (WorkerState& w : workers_) {
             if (w.rank == 0) continue;
             const double silent = std::chrono::duration<double>(now - w.lastHeard).count();

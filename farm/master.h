@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "frame_assembler.h"
+#include "liveness.h"
 #include "render_engine.h"
 #include "run_stats.h"
 #include "scheduler.h"
@@ -78,6 +79,9 @@ private:
     std::vector<WorkerState> workers_;  ///< index = rank; rank 0 is the local engine if any
     MasterOutcome out_;
     bool dispatched_ = false;
+    PauseDetector pause_;
+    std::chrono::steady_clock::time_point lastBeat_{};
+    void keepAlive(std::chrono::steady_clock::time_point now);
     std::string failure_;
 };
 

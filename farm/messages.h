@@ -18,6 +18,7 @@ enum Tag : int {
     kTagHeartbeat = 13,  ///< worker → master: Heartbeat, every kHeartbeatSeconds and on a signal
     kTagError = 14,      ///< worker → master: text; the worker stops after sending it
     kTagStop = 15,       ///< master → worker: no more work, leave (no payload)
+    kTagAlive = 16,      ///< master → worker: rank 0 still runs (no payload), every kMasterBeatSeconds
     // rayfarm view (payloads in farm/view/view_messages.h):
     kTagViewWork = 21,      ///< window → rank: view::ViewWork (a camera, an epoch, a rectangle)
     kTagViewTile = 22,      ///< rank → window: view::ViewTile (8-bit RGB of the rectangle)
@@ -26,6 +27,8 @@ enum Tag : int {
 
 /// How often a worker says it is alive, even while its threads render a long frame.
 inline constexpr double kHeartbeatSeconds = 0.1;
+/// How often rank 0 tells each worker it is alive, so a worker can notice a silent master.
+inline constexpr double kMasterBeatSeconds = 0.5;
 
 /// One unit of work: a rectangle of one frame (the whole frame in frame mode).
 struct WorkItem {

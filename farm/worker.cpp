@@ -1,8 +1,13 @@
 #include "worker.h"
 
 #include <chrono>
+#include <cstdio>
+#include <cstring>
+
+#include <unistd.h>
 
 #include "interrupt.h"
+#include "liveness.h"
 #include "messages.h"
 
 namespace rf::farm {
@@ -16,13 +21,39 @@ void reportWorkerError(Transport& t, const std::string& message) {
     }
 }
 
-int runWorker(Transport& t, RenderEngine& engine) {
+namespace {
+
+/// "rank 2 on node3": where a message comes from when ranks span hosts.
+std::string whoAmI(const Transport& t) {
+    char host[256] = {};
+    ::gethostname(host, sizeof host - 1);
+    return "rank " + std::to_string(t.rank()) + " on " + host;
+}
+
+}  // namespace
+
+int runWorker(Transport& t, RenderEngine& engine, double masterTimeout) {
     using Clock = std::chrono::steady_clock;
     auto lastBeat = Clock::now() - std::chrono::seconds(1);
+    auto lastFromMaster = Clock::now();
+    PauseDetector pause;
+    bool heardMaster = false;
     Clock::time_point signalledAt{};
     bool signalled = false;
     for (;;) {
         const auto now = Clock::now();
+        if (pause.resumed(now)) lastFromMaster = now;  // this worker was stopped, not rank 0
+        const double masterSilent = std::chrono::duration<double>(now - lastFromMaster).count();
+        // Before its first word rank 0 may still be checking kept frames or building its BVH.
+        if (masterSilent > (heardMaster ? masterTimeout : 6 * masterTimeout)) {
+            char line[512];
+            std::snprintf(line, sizeof line,
+                          "rayfarm: error: %s: rank 0 has been silent for %.1f s (stopped, or its host cut off); this worker stops\n",
+                          whoAmI(t).c_str(), masterSilent);
+            [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, line, std::strlen(line));
+            engine.cancelQueued();
+            return kMasterSilentExit;
+        }
         if (!signalled && interruptSignal()) {
             // Finish nothing more: rank 0 is closing the video and only needs to know we live.
             signalled = true;
@@ -34,6 +65,10 @@ int runWorker(Transport& t, RenderEngine& engine) {
 
         Message m;
         while (t.poll(m)) {
+            if (m.source == 0) {
+                lastFromMaster = Clock::now();
+                heardMaster = true;
+            }
             if (m.tag == kTagStop) return 0;
             if (m.tag == kTagWork && !signalled) engine.submit(decodeWorkItem(m.bytes));
         }

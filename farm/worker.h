@@ -6,9 +6,15 @@
 
 namespace rf::farm {
 
+/// What runWorker returns when rank 0 fell silent: the caller must leave at once (_exit), as
+/// MPI_Finalize would wait for rank 0 forever.
+inline constexpr int kMasterSilentExit = 3;
+
 /// Runs until rank 0 says stop (returns 0), the render fails (the error goes to rank 0 first;
-/// returns 1) or a signal arrives and rank 0 does not say stop within a few seconds (returns 130).
-int runWorker(Transport& t, RenderEngine& engine);
+/// returns 1), a signal arrives and rank 0 does not say stop within a few seconds (returns 130),
+/// or rank 0 says nothing for `masterTimeout` seconds while this worker runs (prints why;
+/// returns kMasterSilentExit).
+int runWorker(Transport& t, RenderEngine& engine, double masterTimeout = 20.0);
 
 /// Tells rank 0 this worker failed (before it could render anything, e.g. while loading).
 void reportWorkerError(Transport& t, const std::string& message);

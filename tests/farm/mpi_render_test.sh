@@ -4,7 +4,8 @@
 #   modes SCENE [ARGS...]  np 1, 2, 3 × pixel, frame: PNGs bit-identical everywhere; every MP4
 #                          has the timeline's frame count, size and rate and each frame is within
 #                          PSNR_MIN dB of its PNG; a lossless MP4 decodes to the PNGs exactly
-#   resume | interrupt | killed-worker | stalled-worker | one-frame | odd-size | bad-output
+#   resume | interrupt | killed-worker | stalled-worker | suspend-all | suspend-master | one-frame
+#   | odd-size | bad-output
 set -euo pipefail
 RAYFARM=$1 SRC=$2 WORK=$3 CASE=$4
 shift 4
@@ -174,6 +175,47 @@ stalled-worker)
     grep -Eq "rayfarm: error: rank 2 stopped answering .*frame" stall.log || { cat stall.log; fail "no message naming rank 2 and its frame"; }
     python3 -c "import sys; sys.exit(float(sys.argv[1]) > 10)" "$took" || fail "took $took s to stop (bound: 2 s timeout + 8 s)"
     echo "stalled-worker: stopped in $took s: $(grep 'rayfarm: error' stall.log)"
+    ;;
+suspend-all)
+    # Issue 14 #4: the whole job paused (Slurm suspend, Ctrl-Z then fg) for longer than the
+    # timeout is not a lost worker: every rank was stopped, rank 0 included.
+    rm -rf susp.*
+    mpirun --oversubscribe -np 3 "$RAYFARM" render "$FLIGHT" -o susp.mp4 --size 160x90 --spp 4 --frames 0:59 --timeout 2 2> susp.log &
+    pid=$!
+    wait_for_pngs susp.frames 2 60
+    ranks=$(pgrep -P "$pid" | tr '\n' ' ')
+    [ "$(wc -w <<<"$ranks")" = 3 ] || fail "expected 3 ranks under mpirun, found: $ranks"
+    kill -STOP $ranks
+    sleep 6
+    kill -CONT $ranks
+    set +e; wait "$pid"; rc=$?; set -e
+    [ "$rc" = 0 ] || { cat susp.log; fail "a 6 s pause of every rank (timeout 2 s) ended the run with $rc"; }
+    read -r frames w h rate < <(probe susp.mp4)
+    [ "$frames" = 60 ] || fail "paused run's MP4 has $frames frames, expected 60"
+    echo "suspend-all: every rank stopped for 6 s (timeout 2 s); the run finished all 60 frames"
+    ;;
+suspend-master)
+    # Issue 14 #4: rank 0 alone stopped; the workers notice the silent master and leave with a
+    # message, so mpirun ends the job instead of idling forever.
+    rm -rf smaster.*
+    mpirun --oversubscribe -np 3 "$RAYFARM" render "$FLIGHT" -o smaster.mp4 --size 160x90 --spp 4 --timeout 2 2> smaster.log &
+    pid=$!
+    wait_for_pngs smaster.frames 2 60
+    master=$(rank_pid "$pid" 0)
+    [ -n "$master" ] || fail "rank 0 not found"
+    start=$(date +%s.%N)
+    kill -STOP "$master"
+    ( sleep 40; kill -CONT "$master" 2>/dev/null; kill "$pid" 2>/dev/null ) &
+    guard=$!
+    set +e; wait "$pid"; rc=$?; set -e
+    took=$(python3 -c "import sys,time; print(round(time.time()-float(sys.argv[1]),2))" "$start")
+    kill "$guard" 2>/dev/null || true
+    kill -CONT "$master" 2>/dev/null || true
+    [ "$rc" -ne 0 ] || fail "a run whose master was stopped exited 0"
+    grep -Eq "rayfarm: error: rank [12] on [^:]+: rank 0 has been silent" smaster.log ||
+        { cat smaster.log; fail "no worker said that rank 0 fell silent"; }
+    python3 -c "import sys; sys.exit(float(sys.argv[1]) > 15)" "$took" || fail "mpirun took $took s to end (bound: 4 s master timeout + 11 s)"
+    echo "suspend-master: job ended $took s after rank 0 was stopped: $(grep -m1 'rank 0 has been silent' smaster.log)"
     ;;
 one-frame)
     for mode in pixel frame auto; do
