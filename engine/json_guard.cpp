@@ -90,7 +90,7 @@ std::string duplicateJsonKey(const std::string& text) {
         }
         return true;
     };
-    json::parse(text, cb, false);
+    (void)json::parse(text, cb, false);  // only the callback's findings matter
     return found;
 }
 
