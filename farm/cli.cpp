@@ -9,8 +9,9 @@
 
 namespace rf::cli {
 
-void printLine(const std::string& kind, const std::string& text) {
-    const std::string line = "rayfarm: " + kind + ": " + text + "\n";
+void printLine(const std::string& kind, const std::string& text) { writeStderr("rayfarm: " + kind + ": " + text + "\n"); }
+
+void writeStderr(const std::string& line) {
     size_t done = 0;
     while (done < line.size()) {  // a pipe may take a long line in parts; EINTR retries
         const ssize_t n = ::write(STDERR_FILENO, line.data() + done, line.size() - done);

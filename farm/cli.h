@@ -46,6 +46,8 @@ void applyQualityOptions(const ArgParser& p, RenderSettings& s);
 /// Writes "rayfarm: KIND: TEXT" and a newline to stderr in a single write(), so that under
 /// mpirun, whose own lines share the terminal, the line never arrives in pieces.
 void printLine(const std::string& kind, const std::string& text);
+/// Writes text (whole lines) to stderr in a single write().
+void writeStderr(const std::string& text);
 
 int runStill(const std::vector<std::string>& args);
 int runRender(const std::vector<std::string>& args);

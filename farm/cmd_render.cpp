@@ -274,15 +274,17 @@ int runRank0(MpiTransport& t, RenderJob& job, SharedScene& shared, const std::ve
         if (ranks > 1) t.abort(1);
         return 1;
     }
+    if (o.end == RunEnd::Interrupted) {
+        // Both lines in one write, before telling the workers (mpirun's SIGKILL is near).
+        const bool sigint = interruptSignal() == SIGINT;
+        std::string lines = "rayfarm: interrupted (" + std::string(sigint ? "SIGINT" : "SIGTERM") + "): " + what + " (playable)\n";
+        if (!job.framesDir.empty()) lines += "rayfarm: to resume: " + resumeCommand(args, ranks) + "\n";
+        writeStderr(lines);
+        master.stopWorkers();
+        return sigint ? 130 : 143;
+    }
     master.stopWorkers();
     if (o.end == RunEnd::Failed) throw std::runtime_error(o.message + "; " + what);
-    if (o.end == RunEnd::Interrupted) {
-        std::fprintf(stderr, "rayfarm: interrupted (%s): %s (playable)\n", interruptSignal() == SIGINT ? "SIGINT" : "SIGTERM",
-                     what.c_str());
-        if (!job.framesDir.empty())
-            std::fprintf(stderr, "rayfarm: to resume: %s\n", resumeCommand(args, ranks).c_str());
-        return 130;
-    }
 
     // Done.
     const double span = secondsBetween(o.firstDispatch == Clock::time_point{} ? wallStart : o.firstDispatch,

@@ -4,7 +4,7 @@
 #   modes SCENE [ARGS...]  np 1, 2, 3 × pixel, frame: PNGs bit-identical everywhere; every MP4
 #                          has the timeline's frame count, size and rate and each frame is within
 #                          PSNR_MIN dB of its PNG; a lossless MP4 decodes to the PNGs exactly
-#   resume | interrupt | killed-worker | stalled-worker | suspend-all | suspend-master | one-frame
+#   resume | interrupt | killed-worker | stalled-worker | suspend-all | suspend-master | signals | one-frame
 #   | odd-size | bad-output
 set -euo pipefail
 RAYFARM=$1 SRC=$2 WORK=$3 CASE=$4
@@ -216,6 +216,23 @@ suspend-master)
         { cat smaster.log; fail "no worker said that rank 0 fell silent"; }
     python3 -c "import sys; sys.exit(float(sys.argv[1]) > 15)" "$took" || fail "mpirun took $took s to end (bound: 4 s master timeout + 11 s)"
     echo "suspend-master: job ended $took s after rank 0 was stopped: $(grep -m1 'rank 0 has been silent' smaster.log)"
+    ;;
+signals)
+    # Issue 14 #9: a plain process reports the signal it got, exits 128 + its number, and prints
+    # the interrupted line and the resume command together.
+    for sig in INT TERM; do
+        rm -rf sig_$sig.*
+        "$RAYFARM" render "$FLIGHT" -o sig_$sig.mp4 --size 320x180 --spp 9 2> sig_$sig.log &
+        pid=$!
+        wait_for_pngs sig_$sig.frames 1 60
+        kill -$sig "$pid"
+        set +e; wait "$pid"; rc=$?; set -e
+        want=$([ $sig = INT ] && echo 130 || echo 143)
+        [ "$rc" = "$want" ] || { cat sig_$sig.log; fail "SIG$sig: exit $rc, expected $want"; }
+        grep -q "rayfarm: interrupted (SIG$sig)" sig_$sig.log || { cat sig_$sig.log; fail "SIG$sig not named"; }
+        grep -A1 "rayfarm: interrupted" sig_$sig.log | grep -q "^rayfarm: to resume: .*--resume$" || { cat sig_$sig.log; fail "SIG$sig: no resume command after the interrupted line"; }
+    done
+    echo "signals: SIGINT exits 130, SIGTERM 143, each named, resume command printed"
     ;;
 one-frame)
     for mode in pixel frame auto; do
