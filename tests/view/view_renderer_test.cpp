@@ -19,6 +19,14 @@ Scene whitted() {
     return loadScene(std::string(RAYFARM_SOURCE_DIR) + "/scenes/whitted.json", fs);
 }
 
+RenderSettings sized(const Scene& scene, int width, int height, int spp) {
+    RenderSettings s = scene.settings;
+    s.width = width;
+    s.height = height;
+    s.spp = spp;
+    return s;
+}
+
 /// Collects published frames and lets the test wait for one that matches.
 struct Inbox {
     std::mutex m;
@@ -52,10 +60,7 @@ TEST(ViewRenderer, RefinementPassesEndAtTheTarget) {
 TEST(ViewRenderer, PictureAtRestIsTheStillBitForBit) {
     Scene scene = whitted();
     const anim::Timeline tl = anim::Timeline::fromScene(scene);
-    RenderSettings s = scene.settings;
-    s.width = 96;
-    s.height = 54;
-    s.spp = 4;
+    const RenderSettings s = sized(scene, 96, 54, 4);
     tl.applyFrame(scene, 3);
     RayStats rays;
     const std::vector<uint8_t> still = toRgb8(renderFrame(scene, scene.camera, s, 3, 2, rays), s.toneMap);
@@ -83,10 +88,7 @@ TEST(ViewRenderer, PictureAtRestIsTheStillBitForBit) {
 TEST(ViewRenderer, ANewRequestCancelsTheWorkInFlight) {
     Scene scene = whitted();
     const anim::Timeline tl = anim::Timeline::fromScene(scene);
-    RenderSettings s = scene.settings;
-    s.width = 320;
-    s.height = 180;
-    s.spp = 1024;  // seconds of work at rest: it must not run to the end
+    const RenderSettings s = sized(scene, 320, 180, 1024);  // seconds of work at rest: it must not run to the end
     Inbox inbox;
     ViewRenderer r(scene, tl, s, 2, [&](ViewFrame&& f) { inbox.put(std::move(f)); });
     ViewRequest rest;
