@@ -1,11 +1,13 @@
 // rayfarm view: a live window on a scene (Qt 6). Loads the scene like `still`, then hands it to
 // the window, which renders with the engine's renderTile on all local cores.
 #include <QApplication>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
 #include <string>
+#include <thread>
 #include <unistd.h>
 
 #include "background_option.h"
@@ -167,7 +169,28 @@ int runFarmView(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job) {
 }
 }  // namespace
 
+namespace {
+int runViewParsed(const std::vector<std::string>& args);
+}  // namespace
+
 int runView(const std::vector<std::string>& args) {
+    try {
+        return runViewParsed(args);
+    } catch (const std::exception&) {
+        // Under mpirun every rank meets the same bad argument: rank 0 alone says so.
+        const char* rank = std::getenv("OMPI_COMM_WORLD_RANK");
+        if (rank && std::string(rank) != "0") {
+            // mpirun ends the whole job when a rank exits non-zero: give rank 0 the moment it
+            // needs to print the line first.
+            std::this_thread::sleep_for(std::chrono::milliseconds(500));
+            return 2;
+        }
+        throw;
+    }
+}
+
+namespace {
+int runViewParsed(const std::vector<std::string>& args) {
     ArgParser p("view");
     for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats", "--frame", "--camera", "--background", "--watch", "--total"}) p.option(o);
     p.flag("--help");
@@ -195,5 +218,6 @@ int runView(const std::vector<std::string>& args) {
     Scene scene = loadScene(o.scenePath, fs);
     return runWindow(p, o, job, std::move(scene));
 }
+}  // namespace
 
 }  // namespace rf::cli
