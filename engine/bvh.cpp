@@ -7,6 +7,10 @@ namespace rf {
 
 namespace {
 constexpr int kBins = 16;
+
+/// The bin of a centroid's scaled offset, clamped as a float first: a huge extent or a tiny
+/// span makes the offset inf (or NaN), which no int can hold (found by fuzz_gltf_text).
+int binIndex(float f) { return f >= float(kBins - 1) ? kBins - 1 : f > 0.f ? static_cast<int>(f) : 0; }
 constexpr float kTraversalCost = 1.0f;  // relative to one primitive test
 constexpr int kMaxDepth = 62;           // traversal stack is 64 deep; deeper subtrees split by count
 }  // namespace
@@ -140,7 +144,7 @@ uint32_t Bvh::buildRecursive(std::vector<BuildItem>& items, uint32_t begin, uint
         // One pass over the items fills the bins of all three axes.
         for (uint32_t i = begin; i < end; ++i) {
             for (int ax = 0; ax < 3; ++ax) {
-                const int bi = std::min(kBins - 1, std::max(0, static_cast<int>((items[i].centroid[ax] - cbox.lo[ax]) * scale3[ax])));
+                const int bi = binIndex((items[i].centroid[ax] - cbox.lo[ax]) * scale3[ax]);
                 bins[ax][bi].box.grow(items[i].box);
                 ++bins[ax][bi].n;
             }
@@ -173,7 +177,7 @@ uint32_t Bvh::buildRecursive(std::vector<BuildItem>& items, uint32_t begin, uint
         }
         const float lo = cbox.lo[axis], scale = kBins / (cbox.hi[axis] - lo);
         auto binOf = [&](const BuildItem& it) {
-            return std::min(kBins - 1, std::max(0, static_cast<int>((it.centroid[axis] - lo) * scale)));
+            return binIndex((it.centroid[axis] - lo) * scale);
         };
         const float leafCost = box.area() * count;
         const float splitCost = kTraversalCost * box.area() + bestCost;

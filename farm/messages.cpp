@@ -61,8 +61,9 @@ TileResult decodeTileResult(const std::string& bytes) {
     std::memcpy(&h, bytes.data(), sizeof h);
     TileResult r;
     r.item = {h.frame, {h.x0, h.y0, h.x1, h.y1}};
-    const size_t expect = size_t(std::max(0, r.item.rect.pixels())) * 3;
-    if (r.item.rect.width() <= 0 || r.item.rect.height() <= 0 || bytes.size() - sizeof h != expect)
+    // In 64 bits: a corrupt rectangle must not overflow int (TileRect::pixels) on the way.
+    const int64_t w = int64_t(h.x1) - h.x0, hgt = int64_t(h.y1) - h.y0;
+    if (w <= 0 || hgt <= 0 || w > (1 << 20) || hgt > (1 << 20) || uint64_t(bytes.size() - sizeof h) != uint64_t(w * hgt * 3))
         throw std::runtime_error("malformed result message: pixel count does not match its rectangle");
     r.busySeconds = h.busySeconds;
     r.rays.primary = h.primary;

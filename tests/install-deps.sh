@@ -13,6 +13,7 @@ packages=(
   ffmpeg                                                      # ffprobe, to check videos independently
   python3 procps                                              # farm MPI tests: stats JSON, pgrep for ranks
   gnuplot-nox                                                 # plots in rayfarm report
+  clang                                                       # libFuzzer + ASan/UBSan harnesses (tests/fuzz)
   qt6-base-dev                                                # rayfarm view: the Qt 6 Widgets window
   xvfb xdotool imagemagick                                    # view tests: X server, real mouse/keys, window grabs
   "$@"

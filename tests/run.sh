@@ -23,3 +23,7 @@ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRAYFARM_SANITIZE=ON
   -DRAYFARM_BUILD_FARM=OFF -DRAYFARM_BUILD_BENCH=OFF
 cmake --build build-asan -j"$jobs" --target gltf_robustness_tests
 ctest --test-dir build-asan --output-on-failure -j"$jobs" -R '^GltfRobustness\.'
+
+# libFuzzer smoke run: replays tests/fuzz/regressions/, then fuzzes each input surface (scene
+# JSON, glTF text, GLB, scene bundle, farm messages) for 20 s under ASan + UBSan (clang).
+bash tests/fuzz/run.sh "${RAYFARM_FUZZ_SECONDS:-20}"

@@ -1,0 +1,28 @@
+// libFuzzer harness: what a worker or the master decodes from the wire. The first byte picks
+// the decoder; the rest is the payload. Every decoder must refuse a malformed payload with
+// std::runtime_error, and a decoded work item must encode back to the same bytes.
+#include <cstdlib>
+
+#include "fuzz_input.h"
+#include "messages.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+    if (size == 0) return 0;
+    const std::string payload = rffuzz::bytes(data + 1, size - 1);
+    try {
+        switch (data[0] % 3) {
+        case 0:
+            if (rf::farm::encodeWorkItem(rf::farm::decodeWorkItem(payload)) != payload) std::abort();
+            break;
+        case 1: {
+            const rf::farm::TileResult r = rf::farm::decodeTileResult(payload);
+            (void)r;
+            break;
+        }
+        default:
+            (void)rf::farm::decodeHeartbeat(payload);  // padding bytes need not survive a round trip
+        }
+    } catch (const std::runtime_error&) {
+    }
+    return 0;
+}
