@@ -16,6 +16,7 @@
 #include "frame_assembler.h"
 #include "image.h"
 #include "interrupt.h"
+#include "launch_command.h"
 #include "master.h"
 #include "mp4_sink.h"
 #include "output_check.h"
@@ -40,14 +41,6 @@ namespace {
 
 double secondsBetween(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
 
-std::string shellQuote(const std::string& s) {
-    if (!s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-./:=,+@%") == std::string::npos)
-        return s;
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
 /// How this executable was invoked (argv[0]), for the resume hint.
 std::string invokedAs() {
     std::ifstream f("/proc/self/cmdline", std::ios::binary);
@@ -57,7 +50,9 @@ std::string invokedAs() {
 }
 
 std::string resumeCommand(const std::vector<std::string>& args, int ranks) {
-    std::string cmd = (ranks > 1 ? "mpirun -np " + std::to_string(ranks) + " " : std::string()) + shellQuote(invokedAs()) + " render";
+    // Under mpirun, mpirun's own options (--oversubscribe, --hostfile, --mca ...) come along.
+    const std::string launcher = launcherPrefix(ranks);
+    std::string cmd = (launcher.empty() ? std::string() : launcher + " ") + shellQuote(invokedAs()) + " render";
     bool hasResume = false;
     for (const std::string& a : args) {
         cmd += " " + shellQuote(a);
@@ -104,7 +99,7 @@ void prepareFramesDir(const std::string& dir) {
 
 /// Rank 0's part of makeJob: everything decided from the options and the loaded scene, checked
 /// before any rendering.
-void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, int ranks, const std::string& threadsNote) {
+void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundle& inputs, int ranks, const std::string& threadsNote) {
     job.settings = scene.settings;
     applyQualityOptions(p, job.settings);
     if (job.fpsOption > 0.0) {
@@ -138,10 +133,10 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, int ranks, cons
     }
     if (!job.framesDir.empty()) {
         if (job.resume) {
-            checkFramesManifest(job.framesDir, job.identity());
+            checkFramesManifest(job.framesDir, job.identity(), inputDigests(inputs));
         } else {
             prepareFramesDir(job.framesDir);
-            writeFramesManifest(job.framesDir, job.identity());
+            writeFramesManifest(job.framesDir, job.identity(), inputDigests(inputs));
         }
     }
     std::fprintf(stderr, "rayfarm: %s: frames %s of %d, %dx%d, %d spp; mode %s (%s); %d rank%s, %s\n",
@@ -176,7 +171,10 @@ int runRank0(MpiTransport& t, RenderJob& job, SharedScene& shared, const std::ve
     const std::vector<int> order = job.frames();
     std::set<int> kept;
     if (job.resume) {
-        kept = findKeptFrames(job.framesDir, order, width, height);
+        std::vector<int> corrupt;
+        kept = findKeptFrames(job.framesDir, order, width, height, &corrupt);
+        for (int f : corrupt)
+            printLine("note", framePngPath(job.framesDir, f) + ": does not match the checksum recorded when it was written; rendering it again");
         std::fprintf(stderr, "rayfarm: resume: %zu of %zu frames kept in %s, %zu to render\n", kept.size(), order.size(),
                      job.framesDir.c_str(), order.size() - kept.size());
     }
@@ -376,8 +374,8 @@ int runRender(const std::vector<std::string>& args) {
                 checkWritableFile(job.output);
                 if (!job.statsPath.empty()) checkWritableFile(job.statsPath);
             },
-            [&](Scene& scene) {
-                decideJob(job, p, scene, t.size(), threadsNote);
+            [&](Scene& scene, const FileBundle& inputs) {
+                decideJob(job, p, scene, inputs, t.size(), threadsNote);
                 return encodeWorkerJob(job, scene.timelineJson);
             });
     } catch (const PeerFailed& e) {

@@ -1,18 +1,26 @@
 #include "png_sink.h"
 
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
 #include "cli.h"
+#include "digest.h"
 #include "file_write.h"
 
 namespace rf::farm {
 
 namespace {
 const char* kManifest = "rayfarm-frames.json";
+const char* kChecksums = "rayfarm-frames.sha256";  ///< "HEX  frame_NNNNNN.png" lines, as sha256sum writes
 
 uint32_t bigEndian(const unsigned char* p) { return uint32_t(p[0]) << 24 | uint32_t(p[1]) << 16 | uint32_t(p[2]) << 8 | p[3]; }
 
@@ -42,7 +50,8 @@ void PngSink::write(int frame, const std::vector<uint8_t>& rgb) {
     const std::string tmp = path + ".part";
     if (!encoder_) encoder_ = std::make_unique<PngEncoder>(width_, height_);
     const std::string png = encoder_->encode(rgb);
-    // No fsync per frame (it would stall the sink at 30 fps); write and close are checked.
+    // No fsync per frame (it would stall the sink at 30 fps); write and close are checked,
+    // and the resume check verifies each kept frame's digest anyway.
     try {
         writeFileChecked(tmp, png, false);
     } catch (...) {
@@ -53,30 +62,99 @@ void PngSink::write(int frame, const std::vector<uint8_t>& rgb) {
     std::error_code ec;
     std::filesystem::rename(tmp, path, ec);
     if (ec) throw std::runtime_error(path + ": cannot write: " + ec.message());
+    // One append per frame; a frame renamed but not yet listed (killed in between) is simply
+    // rendered again by --resume.
+    const std::string line = sha256Hex(png) + "  " + std::filesystem::path(path).filename().string() + "\n";
+    const std::string sums = (std::filesystem::path(dir_) / kChecksums).string();
+    const int fd = ::open(sums.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0666);
+    const bool ok = fd >= 0 && ::write(fd, line.data(), line.size()) == ssize_t(line.size());
+    const int err = errno;
+    if (fd >= 0 && ::close(fd) != 0 && ok) throw std::runtime_error(sums + ": cannot write: " + std::strerror(errno));
+    if (!ok) throw std::runtime_error(sums + ": cannot write: " + std::strerror(err));
 }
 
-void writeFramesManifest(const std::string& dir, const std::string& identity) {
-    const std::string path = (std::filesystem::path(dir) / kManifest).string();
-    writeFileChecked(path, identity + "\n");
+std::map<std::string, std::string> inputDigests(const FileBundle& bundle) {
+    std::map<std::string, std::string> out;
+    for (const auto& [path, bytes] : bundle.files) out[path] = sha256Hex(bytes);
+    return out;
 }
 
-void checkFramesManifest(const std::string& dir, const std::string& identity) {
+void writeFramesManifest(const std::string& dir, const std::string& identity, const std::map<std::string, std::string>& inputs) {
+    const nlohmann::ordered_json j = {{"identity", identity}, {"inputs", inputs}};
+    writeFileChecked((std::filesystem::path(dir) / kChecksums).string(), "");
+    writeFileChecked((std::filesystem::path(dir) / kManifest).string(), j.dump(1) + "\n");
+}
+
+namespace {
+
+/// What differs between the manifest's inputs and today's, in a few words ("" if nothing).
+std::string changedInputs(const nlohmann::json& had, const std::map<std::string, std::string>& now) {
+    std::vector<std::string> changed;
+    for (const auto& [path, sum] : now) {
+        if (!had.contains(path)) changed.push_back(path + " is new");
+        else if (had[path] != sum) changed.push_back(path + " changed");
+    }
+    for (auto it = had.begin(); it != had.end(); ++it)
+        if (!now.count(it.key())) changed.push_back(it.key() + " is no longer used");
+    std::string out;
+    for (size_t i = 0; i < changed.size() && i < 3; ++i) out += (i ? ", " : "") + changed[i];
+    if (changed.size() > 3) out += " and " + std::to_string(changed.size() - 3) + " more";
+    return out;
+}
+
+}  // namespace
+
+void checkFramesManifest(const std::string& dir, const std::string& identity, const std::map<std::string, std::string>& inputs) {
     const std::string path = (std::filesystem::path(dir) / kManifest).string();
     std::ifstream f(path);
     if (!f) throw cli::UsageError(dir + ": nothing to resume (no " + kManifest + " here; run without --resume)");
     std::stringstream ss;
     ss << f.rdbuf();
-    std::string have = ss.str();
-    while (!have.empty() && (have.back() == '\n' || have.back() == '\r')) have.pop_back();
+    const nlohmann::json j = nlohmann::json::parse(ss.str(), nullptr, false);
+    if (!j.is_object() || !j.contains("identity") || !j["identity"].is_string() || !j.contains("inputs") || !j["inputs"].is_object())
+        throw cli::UsageError(path + ": not a manifest this rayfarm can resume from (it has no input digests); run without --resume");
+    const std::string have = j["identity"].get<std::string>();
     if (have != identity)
         throw cli::UsageError(dir + ": its frames were rendered from a different scene or settings (" + have +
                               "; now " + identity + "); use another --frames-dir or run without --resume");
+    const std::string changed = changedInputs(j["inputs"], inputs);
+    if (!changed.empty())
+        throw cli::UsageError(dir + ": the scene changed since its frames were rendered (" + changed +
+                              "); use another --frames-dir or run without --resume");
 }
 
-std::set<int> findKeptFrames(const std::string& dir, const std::vector<int>& frames, int width, int height) {
+namespace {
+
+/// frame file name → SHA-256 recorded when it was written (the last line for a name wins).
+std::map<std::string, std::string> recordedDigests(const std::string& dir) {
+    std::map<std::string, std::string> out;
+    std::ifstream f(std::filesystem::path(dir) / kChecksums);
+    std::string line;
+    while (std::getline(f, line))
+        if (line.size() > 66 && line.compare(64, 2, "  ") == 0) out[line.substr(66)] = line.substr(0, 64);
+    return out;
+}
+
+std::string readAll(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+}  // namespace
+
+std::set<int> findKeptFrames(const std::string& dir, const std::vector<int>& frames, int width, int height,
+                             std::vector<int>* corrupt) {
+    const std::map<std::string, std::string> recorded = recordedDigests(dir);
     std::set<int> kept;
-    for (int f : frames)
-        if (isCompletePng(framePngPath(dir, f), width, height)) kept.insert(f);
+    for (int f : frames) {
+        const std::string path = framePngPath(dir, f);
+        if (!std::filesystem::exists(path)) continue;
+        const auto it = recorded.find(std::filesystem::path(path).filename().string());
+        // A middle bit flipped keeps header and IEND intact: only the digest tells.
+        const bool good = isCompletePng(path, width, height) && it != recorded.end() && sha256Hex(readAll(path)) == it->second;
+        if (good) kept.insert(f);
+        else if (corrupt) corrupt->push_back(f);
+    }
     return kept;
 }
 

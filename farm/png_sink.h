@@ -1,10 +1,12 @@
 #pragma once
 /// The frames directory: one PNG per frame (frame_000012.png, the timeline's index), written as
 /// each frame completes, plus a manifest naming the settings, so --resume can trust what it finds.
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "file_source.h"
 #include "frame_sink.h"
 #include "png_encoder.h"
 
@@ -14,7 +16,8 @@ namespace rf::farm {
 std::string framePngPath(const std::string& dir, int frame);
 
 /// Writes each frame to a temporary name and renames it, so a frame file is either whole or
-/// absent even if the run is killed mid-write.
+/// absent even if the run is killed mid-write; then records its SHA-256 in the manifest's
+/// checksum list.
 class PngSink : public FrameSink {
 public:
     PngSink(std::string dir, int width, int height) : dir_(std::move(dir)), width_(width), height_(height) {}
@@ -27,14 +30,22 @@ private:
     std::unique_ptr<PngEncoder> encoder_;  ///< made on the sink's thread, at the first frame
 };
 
-/// The manifest: what the frames in a directory were rendered from (scene, size, quality).
-/// Writes DIR/rayfarm-frames.json.
-void writeFramesManifest(const std::string& dir, const std::string& identity);
-/// Throws cli::UsageError naming the directory if its manifest is missing or differs.
-void checkFramesManifest(const std::string& dir, const std::string& identity);
+/// SHA-256 of every file of the scene bundle (the scene, its models, buffers, textures,
+/// timeline), by path: what --resume compares to refuse frames of a changed input.
+std::map<std::string, std::string> inputDigests(const FileBundle& bundle);
 
-/// Frames of `frames` already in dir as complete PNGs of width × height (header checked, IEND
-/// present).
-std::set<int> findKeptFrames(const std::string& dir, const std::vector<int>& frames, int width, int height);
+/// The manifest: what the frames in a directory were rendered from (scene, size, quality, the
+/// digest of every input file). Writes DIR/rayfarm-frames.json and starts an empty
+/// DIR/rayfarm-frames.sha256, to which PngSink adds each frame's digest.
+void writeFramesManifest(const std::string& dir, const std::string& identity, const std::map<std::string, std::string>& inputs);
+/// Throws cli::UsageError naming the directory if its manifest is missing or differs, in one
+/// line that names the setting or the input file that changed.
+void checkFramesManifest(const std::string& dir, const std::string& identity, const std::map<std::string, std::string>& inputs);
+
+/// Frames of `frames` already in dir as complete PNGs of width × height whose SHA-256 matches
+/// the one recorded when they were written. Frames present but failing that check are listed
+/// in `corrupt` (they are rendered again).
+std::set<int> findKeptFrames(const std::string& dir, const std::vector<int>& frames, int width, int height,
+                             std::vector<int>* corrupt = nullptr);
 
 }  // namespace rf::farm

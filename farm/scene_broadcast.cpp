@@ -26,7 +26,7 @@ std::string packOk(const std::string& job, const std::string& bundle) {
 }  // namespace
 
 SharedScene shareScene(Transport& t, const std::string& path, const std::function<void()>& preLoad,
-                       const std::function<std::string(Scene&)>& makeJob) {
+                       const std::function<std::string(Scene&, const FileBundle&)>& makeJob) {
     const auto t0 = std::chrono::steady_clock::now();
     SharedScene out;
     std::string payload;
@@ -35,7 +35,7 @@ SharedScene shareScene(Transport& t, const std::string& path, const std::functio
             if (preLoad) preLoad();
             DiskFileSource fs;
             out.scene = loadScene(path, fs);
-            out.job = makeJob ? makeJob(out.scene) : std::string();
+            out.job = makeJob ? makeJob(out.scene, fs.bundle()) : std::string();
             const std::string bundle = fs.bundle().serialize();
             out.bundleBytes = bundle.size();
             payload = packOk(out.job, bundle);

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "file_source.h"
 #include "scene.h"
 #include "transport.h"
 
@@ -29,9 +30,9 @@ struct SharedScene {
 };
 
 /// Collective over all ranks. On rank 0: runs preLoad (output checks), loads path from disk,
-/// then makeJob(scene). If any of those throws, the other ranks are told (they throw PeerFailed
+/// then makeJob(scene, the files it read). If any of those throws, the other ranks are told (they throw PeerFailed
 /// with exit code 2 for input errors, 1 otherwise) and rank 0 rethrows.
 SharedScene shareScene(Transport& t, const std::string& path, const std::function<void()>& preLoad,
-                       const std::function<std::string(Scene&)>& makeJob);
+                       const std::function<std::string(Scene&, const FileBundle&)>& makeJob);
 
 }  // namespace rf::farm

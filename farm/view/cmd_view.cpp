@@ -144,7 +144,7 @@ int runFarmView(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job) {
     try {
         shared = farm::shareScene(
             t, o.scenePath, [&] { checkDisplayAndOutputs(o, p); },
-            [&](Scene& scene) {
+            [&](Scene& scene, const FileBundle&) {
                 job.settings = pictureSettings(p, scene);
                 return view::encodeViewJob(job);
             });

@@ -194,7 +194,7 @@ TEST(SceneBroadcast, WorkersLoadTheSceneFromRankZerosBytesOnly) {
     for (int r = 0; r < 3; ++r)
         ranks.emplace_back([&, r] {
             LoopbackTransport t(hub, r);
-            SharedScene s = shareScene(t, path, nullptr, [&](Scene&) {
+            SharedScene s = shareScene(t, path, nullptr, [&](Scene&, const FileBundle&) {
                 std::filesystem::remove(path);
                 return std::string("job-bytes");
             });

@@ -119,6 +119,23 @@ resume)
     if mpi 2 "${args[@]}" -o part.mp4 --resume --size 32x24 2> wrong.log; then fail "resume with other settings accepted"; fi
     grep -q "different scene or settings" wrong.log || { cat wrong.log; fail "no clear message for mismatched resume"; }
     echo "resume: 3 frames re-rendered, video identical"
+    # Issue 14 #9: a kept PNG with a corrupt middle (header and IEND intact) is rendered again.
+    printf 'Z' | dd of=part.frames/frame_000005.png bs=1 seek=60 conv=notrunc status=none
+    rm part.mp4
+    mpi 2 "${args[@]}" -o part.mp4 --resume 2> corrupt.log || { cat corrupt.log; fail "resume over a corrupt frame failed"; }
+    grep -q "frame_000005.png: does not match the checksum recorded when it was written; rendering it again" corrupt.log ||
+        { cat corrupt.log; fail "corrupt kept frame not noticed"; }
+    grep -q "11 of 12 frames kept in part.frames, 1 to render" corrupt.log || { cat corrupt.log; fail "corrupt frame not re-rendered"; }
+    cmp -s <(video_md5 full.mp4) <(video_md5 part.mp4) || fail "video after re-rendering a corrupt frame differs"
+    echo "resume: a corrupt kept frame was noticed by its checksum and rendered again; video identical"
+    # Issue 14 #5: the same settings over an edited scene are refused, naming the file.
+    python3 -c "import json,sys; d=json.load(open(sys.argv[1])); json.dump(d, open('edited.json','w'))" "$FLIGHT"
+    mpi 2 render edited.json --size 64x48 --frames 0:3 -o edited.mp4 2> edited.log || { cat edited.log; fail "edited-scene run failed"; }
+    python3 -c "import json; d=json.load(open('edited.json')); m=d['materials']; k=sorted(m)[0]; m[k]['color']=[0.1,0.9,0.1]; json.dump(d, open('edited.json','w'))"
+    if mpi 2 render edited.json --size 64x48 --frames 0:3 -o edited.mp4 --resume 2> changed.log; then fail "resume over a changed scene accepted"; fi
+    [ "$(grep -c 'rayfarm: error' changed.log)" = 1 ] && grep -q "the scene changed since its frames were rendered (edited.json changed)" changed.log ||
+        { cat changed.log; fail "changed scene not refused in one line naming the file"; }
+    echo "resume: a changed scene file is refused: $(grep 'rayfarm: error' changed.log | cut -c1-120)"
     ;;
 interrupt)
     args=(render "$FLIGHT" --size 320x180 --spp 9)
@@ -130,6 +147,8 @@ interrupt)
     set +e; wait "$pid"; set -e
     grep -q "rayfarm: interrupted" int.log || { cat int.log; fail "no interrupt message"; }
     grep -q -- "--resume" int.log || { cat int.log; fail "no resume hint"; }
+    # Issue 14 #9: the printed command keeps mpirun's own options, so it works as printed.
+    grep -q "rayfarm: to resume: mpirun --oversubscribe -np 2 " int.log || { cat int.log; fail "resume command drops mpirun's options"; }
     read -r frames w h rate < <(probe int.mp4)
     kept=$(ls int.frames | grep -c '^frame_.*\.png$')
     [ "$frames" -ge 1 ] && [ "$frames" -lt 97 ] || fail "partial MP4 has $frames frames"

@@ -36,22 +36,55 @@ TEST(PngSink, WritesFramesByTimelineIndexAndReadsThemBack) {
     EXPECT_EQ(findKeptFrames(dir, {11, 12, 13, 40}, 5, 3), (std::set<int>{12, 40}));
 }
 
-TEST(PngSink, TruncatedOrWrongSizeFramesAreNotKept) {
+TEST(PngSink, TruncatedCorruptOrUnrecordedFramesAreNotKept) {
     const std::string dir = freshDir("farm_png_bad");
-    std::vector<uint8_t> rgb(4 * 4 * 3, 100);
-    writePng(framePngPath(dir, 0), 4, 4, rgb);
-    writePng(framePngPath(dir, 1), 4, 4, rgb);
-    writePng(framePngPath(dir, 2), 5, 4, std::vector<uint8_t>(5 * 4 * 3, 1));
+    writeFramesManifest(dir, "{}", {});
+    {
+        AsyncSink sink(std::make_unique<PngSink>(dir, 4, 4), 2);
+        for (int f : {0, 1, 3}) sink.write(f, std::vector<uint8_t>(4 * 4 * 3, uint8_t(40 * f + 7)));
+        sink.close();
+    }
+    writePng(framePngPath(dir, 2), 5, 4, std::vector<uint8_t>(5 * 4 * 3, 1));  // wrong size, not recorded
+    writePng(framePngPath(dir, 4), 4, 4, std::vector<uint8_t>(4 * 4 * 3, 1));  // whole, but not recorded
     std::filesystem::resize_file(framePngPath(dir, 1), std::filesystem::file_size(framePngPath(dir, 1)) - 5);
-    EXPECT_EQ(findKeptFrames(dir, {0, 1, 2, 3}, 4, 4), (std::set<int>{0}));
+    // Issue 14 #9: a byte flipped in the middle keeps the header and IEND intact.
+    {
+        std::fstream f(framePngPath(dir, 3), std::ios::in | std::ios::out | std::ios::binary);
+        f.seekp(40);
+        f.put(char(0x5a));
+    }
+    std::vector<int> corrupt;
+    EXPECT_EQ(findKeptFrames(dir, {0, 1, 2, 3, 4, 5}, 4, 4, &corrupt), (std::set<int>{0}));
+    EXPECT_EQ(corrupt, (std::vector<int>{1, 2, 3, 4}));
 }
 
 TEST(PngSink, ManifestMustMatchToResume) {
     const std::string dir = freshDir("farm_manifest");
-    EXPECT_THROW(checkFramesManifest(dir, "{\"a\":1}"), cli::UsageError);
-    writeFramesManifest(dir, "{\"a\":1}");
-    EXPECT_NO_THROW(checkFramesManifest(dir, "{\"a\":1}"));
-    EXPECT_THROW(checkFramesManifest(dir, "{\"a\":2}"), cli::UsageError);
+    const std::map<std::string, std::string> inputs = {{"s.json", "aa"}, {"m.glb", "bb"}};
+    EXPECT_THROW(checkFramesManifest(dir, "{\"a\":1}", inputs), cli::UsageError);
+    writeFramesManifest(dir, "{\"a\":1}", inputs);
+    EXPECT_NO_THROW(checkFramesManifest(dir, "{\"a\":1}", inputs));
+    EXPECT_THROW(checkFramesManifest(dir, "{\"a\":2}", inputs), cli::UsageError);
+    // Issue 14 #5: the same settings over a changed input file are refused, naming the file.
+    auto messageFor = [&](const std::map<std::string, std::string>& now) -> std::string {
+        try {
+            checkFramesManifest(dir, "{\"a\":1}", now);
+        } catch (const cli::UsageError& e) {
+            return e.what();
+        }
+        return "";
+    };
+    EXPECT_NE(messageFor({{"s.json", "ab"}, {"m.glb", "bb"}}).find("the scene changed since its frames were rendered (s.json changed)"), std::string::npos);
+    EXPECT_NE(messageFor({{"s.json", "aa"}}).find("m.glb is no longer used"), std::string::npos);
+    EXPECT_NE(messageFor({{"s.json", "aa"}, {"m.glb", "bb"}, {"t.png", "cc"}}).find("t.png is new"), std::string::npos);
+}
+
+TEST(PngSink, InputDigestsAreSha256OfEachBundleFile) {
+    FileBundle b;
+    b.files["a.json"] = "abc";
+    const auto d = inputDigests(b);
+    ASSERT_EQ(d.size(), 1u);
+    EXPECT_EQ(d.at("a.json"), "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");  // FIPS 180-2 example
 }
 
 TEST(AsyncSink, ErrorsOnTheSinkThreadReachTheCaller) {

@@ -1,0 +1,16 @@
+#pragma once
+/// The launcher part of a printed resume command. Under mpirun the command must keep mpirun's
+/// own options (--oversubscribe, --hostfile, --mca ...), or it fails as printed.
+#include <string>
+
+namespace rf::farm {
+
+/// Shell-quotes s if it holds anything beyond plain path characters.
+std::string shellQuote(const std::string& s);
+
+/// What to put before the rayfarm executable: "" for one plain process; under mpirun, mpirun's
+/// own arguments as it was started (read from /proc when rank 0 is mpirun's child), else
+/// "mpirun -np N" with the options Open MPI exported to this rank's environment.
+std::string launcherPrefix(int ranks);
+
+}  // namespace rf::farm
