@@ -41,6 +41,15 @@ std::string checkMp4Options(int width, int height, const Mp4Options& o) {
     if (!(o.fps > 0.0 && o.fps <= 1000.0)) throw std::invalid_argument("--fps: expected a rate above 0 and up to 1000");
     int w = 0, h = 0;
     mp4EncodedSize(width, height, o, w, h);
+    // FFmpeg's own size limit (about 268 million pixels with padding): refused here, before any
+    // rendering, rather than by the encoder after the first frame.
+    const int logLevel = av_log_get_level();
+    av_log_set_level(AV_LOG_QUIET);  // the one line below says it; FFmpeg would log a second
+    const bool sizeOk = av_image_check_size(unsigned(w), unsigned(h), 0, nullptr) >= 0;
+    av_log_set_level(logLevel);
+    if (!sizeOk)
+        throw std::invalid_argument("--size " + std::to_string(width) + "x" + std::to_string(height) +
+                                    ": too large for FFmpeg's video encoders ((width+128)·(height+128) must stay below 2^28)");
     if (w != width || h != height)
         return "the video is " + std::to_string(w) + "x" + std::to_string(h) + " (yuv420p needs even sizes: the last " +
                (w != width ? std::string("column") : std::string("")) + (w != width && h != height ? " and " : "") +

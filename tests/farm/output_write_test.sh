@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 14 #2: every output write is checked. A write that fails (/dev/full, a full file system)
+# Issue 14 #2: every output write is checked (and #9: a size the encoder cannot take is refused). A write that fails (/dev/full, a full file system)
 # must exit 1 with one line naming the file and the OS's reason, never "wrote" over an empty file.
 # Usage: output_write_test.sh RAYFARM SOURCE_DIR WORK_DIR
 set -euo pipefail
@@ -35,3 +35,9 @@ if mount -t tmpfs -o size=64k tmpfs "$mnt" 2>/dev/null; then
 else
     echo "full-disk: SKIPPED (cannot mount a tmpfs here)"
 fi
+
+# Issue 14 #9: a size FFmpeg cannot encode is refused before rendering, in one line, exit 2.
+set +e; "$RAYFARM" render "$SCENE" -o big.mp4 --size 16384x16384 2> big.log; rc=$?; set -e
+[ "$rc" = 2 ] || { cat big.log; fail "16384x16384: exit $rc, expected 2"; }
+[ "$(wc -l < big.log)" = 1 ] && grep -q "^rayfarm: error: --size 16384x16384: too large" big.log || { cat big.log; fail "16384x16384: not one error line"; }
+echo "size: 16384x16384 refused before rendering with exit 2"
