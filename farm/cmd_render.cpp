@@ -228,9 +228,12 @@ int runRank0(MpiTransport& t, RenderJob& job, SharedScene& shared, const std::ve
     MasterOutcome o;
     try {
         o = master.run();
-    } catch (...) {
+    } catch (const std::exception& e) {
         master.stopWorkers();
-        throw;
+        // A failed write (a full disk) keeps the frames done so far: say how to go on.
+        if (job.framesDir.empty()) throw;
+        throw std::runtime_error(std::string(e.what()) + "; finished frames are in " + job.framesDir +
+                                 "; to resume: " + resumeCommand(args, ranks));
     }
 
     std::string silent;

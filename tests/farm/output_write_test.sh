@@ -32,6 +32,15 @@ if mount -t tmpfs -o size=64k tmpfs "$mnt" 2>/dev/null; then
     set +e; "$RAYFARM" still "$SCENE" --size 400x300 -o "$mnt/big.png" 2> disk_png.log; rc=$?; set -e
     expect_write_error "still into a full tmpfs" "$mnt/big.png" disk_png.log "$rc"
     echo "full-disk: still into a full tmpfs exits 1 naming the file and ENOSPC"
+    # Issue 14 #9: frames filling the disk mid-run: no .part left, the reason, and how to resume.
+    rm -f "$mnt/filler"
+    set +e; "$RAYFARM" render "$SCENE" --size 320x180 -o full.mp4 --frames-dir "$mnt/frames" 2> disk_render.log; rc=$?; set -e
+    [ "$rc" = 1 ] || { cat disk_render.log; fail "render onto a full disk: exit $rc, expected 1"; }
+    [ "$(grep -c 'rayfarm: error' disk_render.log)" = 1 ] || { cat disk_render.log; fail "render onto a full disk: expected one error line"; }
+    grep -q "rayfarm: error: $mnt/frames/frame_[0-9]*\.png.*: cannot write: No space left on device; finished frames are in $mnt/frames; to resume: .*--resume" disk_render.log ||
+        { cat disk_render.log; fail "render onto a full disk: no file, reason or resume command"; }
+    if ls "$mnt/frames" | grep -q '\.part$'; then fail "render onto a full disk left a .part file"; fi
+    echo "full-disk: render stops with the file, ENOSPC and the resume command; no .part left"
 else
     echo "full-disk: SKIPPED (cannot mount a tmpfs here)"
 fi
