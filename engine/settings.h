@@ -5,6 +5,8 @@ namespace rf {
 
 enum class ToneMap { Clamp, Reinhard };
 enum class ShadingModel { Phong, BlinnPhong };
+/// Which Integrator (engine/integrator.h) turns rays into radiance.
+enum class IntegratorKind { Whitted };
 
 struct RenderSettings {
     int width = 640;
@@ -15,6 +17,7 @@ struct RenderSettings {
     ToneMap toneMap = ToneMap::Clamp;
     ShadingModel shading = ShadingModel::Phong;
     int tileSize = 32;
+    IntegratorKind integrator = IntegratorKind::Whitted;
 };
 
 }  // namespace rf
