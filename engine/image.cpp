@@ -44,11 +44,14 @@ uint8_t toByte(float v) {
     return static_cast<uint8_t>(v * 255.f + 0.5f);
 }
 
+void encodeRgb8(const float* linear, size_t n, ToneMap op, uint8_t* out) {
+    for (size_t i = 0; i < n; ++i) out[i] = toByte(srgbEncode(toneMap(linear[i], op)));
+}
+
 std::vector<uint8_t> toRgb8(const Image& img, ToneMap op) {
     const size_t n = size_t(img.width()) * img.height() * 3;
     std::vector<uint8_t> out(n);
-    const float* src = img.data();
-    for (size_t i = 0; i < n; ++i) out[i] = toByte(srgbEncode(toneMap(src[i], op)));
+    encodeRgb8(img.data(), n, op, out.data());
     return out;
 }
 

@@ -25,6 +25,7 @@ public:
     bool hasAlpha() const { return !alpha_.empty(); }
     /// Coverage per pixel, row-major (empty without alpha).
     const std::vector<float>& alpha() const { return alpha_; }
+    float* alphaData() { return alpha_.data(); }
     /// Copies a w × h block of RGB floats (and, with an alpha plane, w × h alphas) to (x, y).
     void setTile(int x, int y, int w, int h, const float* src, const float* alpha = nullptr);
 
@@ -43,7 +44,10 @@ float toneMap(float x, ToneMap op);
 /// [0, 1] → 0..255 with rounding; NaN and negatives give 0, +Inf and > 1 give 255.
 uint8_t toByte(float v);
 
-/// Tone-maps and sRGB-encodes a linear image to 8-bit RGB.
+/// The one 8-bit conversion: tone-maps, sRGB-encodes and rounds n linear values (channel by
+/// channel) into out.
+void encodeRgb8(const float* linear, size_t n, ToneMap op, uint8_t* out);
+/// Tone-maps and sRGB-encodes a linear image to 8-bit RGB (encodeRgb8 over the image).
 std::vector<uint8_t> toRgb8(const Image& img, ToneMap op);
 /// One pixel of premultiplied linear colour and coverage a to 8-bit straight (unassociated)
 /// RGBA, as PNG, VP9 and ProRes carry it: the colour is divided by a before tone mapping.

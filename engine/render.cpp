@@ -1,6 +1,7 @@
 #include "render.h"
 
 #include <atomic>
+#include <cstring>
 #include <exception>
 #include <mutex>
 #include <thread>
@@ -97,19 +98,37 @@ void parallelFor(int n, int threads, const std::function<void(int, int)>& job) {
     if (error) std::rethrow_exception(error);
 }
 
+void renderRect(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame, const TileRect& rect,
+                int threads, int subTile, const RectBuffers& out, RayStats& stats) {
+    std::vector<TileRect> subs = makeTiles(rect.width(), rect.height(), subTile);
+    for (TileRect& t : subs) t = {t.x0 + rect.x0, t.y0 + rect.y0, t.x1 + rect.x0, t.y1 + rect.y0};
+    if (threads <= 0) threads = hardwareThreads();
+    std::vector<RayStats> perThread(size_t(std::max(1, threads)));
+    const size_t stride = size_t(rect.width());
+    parallelFor(static_cast<int>(subs.size()), threads, [&](int i, int thread) {
+        const TileRect& t = subs[size_t(i)];
+        std::vector<float> rgb(size_t(t.pixels()) * 3), alpha(out.alpha ? size_t(t.pixels()) : 0);
+        renderTile(scene, camera, t, settings, frame, rgb.data(), perThread[size_t(thread)], out.alpha ? alpha.data() : nullptr);
+        const size_t w = size_t(t.width());
+        for (int y = 0; y < t.height(); ++y) {
+            const size_t at = size_t(t.y0 - rect.y0 + y) * stride + size_t(t.x0 - rect.x0);
+            const float* src = rgb.data() + 3 * size_t(y) * w;
+            if (out.linear) std::memcpy(out.linear + 3 * at, src, sizeof(float) * 3 * w);
+            if (out.alpha) std::memcpy(out.alpha + at, alpha.data() + size_t(y) * w, sizeof(float) * w);
+            // Encoded here, on the rendering thread: sRGB's pow per channel is a sizeable share
+            // of a cheap frame, and would otherwise run on one core after the render.
+            if (out.rgb8) encodeRgb8(src, 3 * w, settings.toneMap, out.rgb8 + 3 * at);
+        }
+    });
+    for (const RayStats& r : perThread) stats += r;
+}
+
 Image renderFrame(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame, int threads,
                   RayStats& stats) {
     Image img(settings.width, settings.height, scene.transparentBackground);
-    const std::vector<TileRect> tiles = makeTiles(settings.width, settings.height, settings.tileSize);
-    if (threads <= 0) threads = hardwareThreads();
-    std::vector<RayStats> perThread(std::max(1, threads));
-    parallelFor(static_cast<int>(tiles.size()), threads, [&](int i, int t) {
-        const TileRect& r = tiles[i];
-        std::vector<float> buf(size_t(r.pixels()) * 3), alpha(img.hasAlpha() ? size_t(r.pixels()) : 0);
-        renderTile(scene, camera, r, settings, frame, buf.data(), perThread[t], img.hasAlpha() ? alpha.data() : nullptr);
-        img.setTile(r.x0, r.y0, r.width(), r.height(), buf.data(), img.hasAlpha() ? alpha.data() : nullptr);
-    });
-    for (const RayStats& s : perThread) stats += s;
+    const TileRect whole{0, 0, settings.width, settings.height};
+    renderRect(scene, camera, settings, frame, whole, threads, settings.tileSize,
+               {img.data(), img.hasAlpha() ? img.alphaData() : nullptr, nullptr}, stats);
     return img;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 /// The one entry point for splitting work: render a rectangle of one frame. Local threads, the
 /// farm's pixel mode and its frame mode are all schedulers over renderTile.
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -29,6 +30,21 @@ void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, 
 
 /// Splits a width × height image into tiles of tileSize, row by row.
 std::vector<TileRect> makeTiles(int width, int height, int tileSize);
+
+/// Where renderRect puts a rectangle's pixels, each row-major over the rectangle; any may be
+/// null.
+struct RectBuffers {
+    float* linear = nullptr;  ///< 3 floats a pixel: linear radiance (as renderTile)
+    float* alpha = nullptr;   ///< 1 float a pixel: coverage (as renderTile)
+    uint8_t* rgb8 = nullptr;  ///< 3 bytes a pixel: tone-mapped and sRGB-encoded (encodeRgb8)
+};
+
+/// The one frame loop: renders rect of frame `frame` on `threads` threads (0: all cores), which
+/// pull sub-tiles of subTile × subTile pixels and write them to out. Local frames, the farm's
+/// pixel-mode tiles and frame-mode frames all come through here, so their pixels agree bit for
+/// bit (a pixel depends only on its own coordinates, never on how the rectangle was cut).
+void renderRect(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame, const TileRect& rect,
+                int threads, int subTile, const RectBuffers& out, RayStats& stats);
 
 /// Renders a whole frame with `threads` worker threads (0: all cores) pulling tiles. The image
 /// has an alpha plane when the scene's background is transparent.

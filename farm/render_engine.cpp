@@ -102,25 +102,10 @@ TileResult RenderEngine::render(Scene& scene, const anim::Timeline& tl, const Re
     const TileRect& rect = item.rect;
     // Small rectangles (pixel mode) are split finer so every thread gets several pieces.
     const int sub = rect.pixels() <= 128 * 128 ? 16 : std::max(8, s.tileSize);
-    std::vector<TileRect> subs = makeTiles(rect.width(), rect.height(), sub);
-    for (TileRect& t : subs) t = {t.x0 + rect.x0, t.y0 + rect.y0, t.x1 + rect.x0, t.y1 + rect.y0};
-
     TileResult out;
     out.item = item;
     out.rgb.resize(size_t(rect.pixels()) * 3);
-    std::vector<RayStats> perThread(size_t(std::max(1, threads)));
-    parallelFor(int(subs.size()), threads, [&](int i, int thread) {
-        const TileRect& t = subs[size_t(i)];
-        std::vector<float> buf(size_t(t.pixels()) * 3);
-        renderTile(scene, scene.camera, t, s, item.frame, buf.data(), perThread[size_t(thread)]);
-        // The same per-channel mapping as toRgb8, so tiles assemble into the identical frame.
-        for (int y = 0; y < t.height(); ++y) {
-            uint8_t* dst = out.rgb.data() + 3 * (size_t(t.y0 - rect.y0 + y) * rect.width() + size_t(t.x0 - rect.x0));
-            const float* src = buf.data() + 3 * size_t(y) * t.width();
-            for (int k = 0; k < 3 * t.width(); ++k) dst[k] = toByte(srgbEncode(toneMap(src[k], s.toneMap)));
-        }
-    });
-    for (const RayStats& r : perThread) out.rays += r;
+    renderRect(scene, scene.camera, s, item.frame, rect, threads, sub, {nullptr, nullptr, out.rgb.data()}, out.rays);
     out.busySeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;
 }
