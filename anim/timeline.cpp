@@ -62,14 +62,15 @@ bool isModelPath(const std::string& path) {
     return e == ".gltf" || e == ".glb";
 }
 
-Timeline Timeline::fromScene(const Scene& scene) {
+Timeline Timeline::fromScene(const Scene& scene, double fps) {
     Timeline tl;
     ParsedTimeline p;
-    if (!scene.timelineJson.empty()) {
-        p = parseTimeline(scene);
+    if (scene.timeline) {
+        p = parseTimeline(scene, fps);
     } else if (isModelPath(scene.sourcePath)) {
         p.spec.restLights = scene.lights;
-        const TurntableSettings s = defaultModelTurntable();
+        TurntableSettings s = defaultModelTurntable();
+        if (fps > 0.0) s.fps = fps;
         p.spec.players = defaultPlayers(scene);
         p.spec.turntable = Turntable::framed(s, scene, filmBounds(scene, p.spec.players, anim::frameCount(s.seconds, s.fps), s.fps));
         p.frames = p.spec.turntable->frameCount();

@@ -12,10 +12,11 @@ struct TimelineSpec;
 
 class Timeline {
 public:
-    /// Parses scene.timelineJson ("timeline" / "turntable" sections). A JSON scene without one
-    /// is a single still frame; a bare glTF model (.gltf/.glb) gets the default turntable (4 s
-    /// at 30 fps = 120 frames). Throws InputError naming the scene file and the key on bad input.
-    static Timeline fromScene(const Scene& scene);
+    /// Interprets scene.timeline (its "timeline" / "turntable" sections). A JSON scene without
+    /// one is a single still frame; a bare glTF model (.gltf/.glb) gets the default turntable
+    /// (4 s at 30 fps = 120 frames). fps > 0 replaces the rate of the sections or of the default
+    /// turntable (render --fps). Throws InputError naming the scene file and the key.
+    static Timeline fromScene(const Scene& scene, double fps = 0.0);
 
     int frameCount() const { return frames_; }
     double fps() const { return fps_; }

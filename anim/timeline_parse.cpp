@@ -1,4 +1,4 @@
-// The timeline format (scene.timelineJson = {"timeline": {...}} or {"turntable": {...}}):
+// The timeline format (scene.timeline = {"timeline": {...}} or {"turntable": {...}}):
 //
 //   "timeline": {
 //     "fps": 30, "duration": 4, "start": 0,   // seconds; duration defaults to the last key
@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "errors.h"
+#include "json_reader.h"
 #include "frame_time.h"
 #include "json_guard.h"
 #include "timeline_spec.h"
@@ -32,42 +33,13 @@ namespace {
 
 using nlohmann::json;
 
-class Parser {
+/// The timeline section's reader: the scene reader's typed reads, plus tracks and keys.
+class Parser : public JsonReader {
 public:
     Parser(std::string file, std::string prefix, const Scene& scene)
-        : file_(std::move(file)), prefix_(std::move(prefix)), scene_(scene) {}
+        : JsonReader(std::move(file), std::move(prefix)), scene_(scene) {}
 
-    [[noreturn]] void fail(const std::string& where, const std::string& what) const {
-        throw InputError(file_, prefix_ + where + ": " + what);
-    }
-    static std::string join(const std::string& w, const std::string& k) { return w.empty() ? k : w + "." + k; }
-    static std::string index(const std::string& w, size_t i) { return w + "[" + std::to_string(i) + "]"; }
-
-    void allowKeys(const json& j, const std::string& w, std::initializer_list<const char*> keys) const {
-        if (!j.is_object()) fail(w, "expected an object");
-        const std::set<std::string> ok(keys.begin(), keys.end());
-        for (auto it = j.begin(); it != j.end(); ++it)
-            if (!ok.count(it.key())) fail(join(w, it.key()), "unknown key");
-    }
-    double number(const json& j, const std::string& w) const {
-        if (!j.is_number()) fail(w, "expected a number");
-        const double v = j.get<double>();
-        if (!std::isfinite(v)) fail(w, "expected a finite number");
-        if (std::string p = sceneNumberProblem(v); !p.empty()) fail(w, p);
-        return v;
-    }
-    double number(const json& o, const char* k, const std::string& w, double def) const {
-        return o.contains(k) ? number(o[k], join(w, k)) : def;
-    }
-    double positive(const json& o, const char* k, const std::string& w, double def) const {
-        const double v = number(o, k, w, def);
-        if (!(v > 0.0)) fail(join(w, k), "expected a positive number");
-        return v;
-    }
-    DVec3 vec3(const json& j, const std::string& w) const {
-        if (!j.is_array() || j.size() != 3) fail(w, "expected 3 numbers");
-        return DVec3(number(j[0], w), number(j[1], w), number(j[2], w));
-    }
+    DVec3 vec3(const json& j, const std::string& w) const { return dvec3(j, w); }
     /// A key's value (or tangent) with dim components; a colour may be one grey number.
     std::vector<double> values(const json& j, const std::string& w, int dim, bool greyOk) const {
         if (j.is_number() && (dim == 1 || greyOk)) return std::vector<double>(dim, number(j, w));
@@ -264,12 +236,13 @@ public:
         return GltfAnimationPlayer(g, model, anim, loop, number(j, "speed", w, 1.0), number(j, "offset", w, 0.0));
     }
 
-    TurntableSettings turntable(const json& j, const std::string& w) const {
+    /// fps > 0 replaces the section's own rate (render --fps).
+    TurntableSettings turntable(const json& j, const std::string& w, double fps) const {
         allowKeys(j, w, {"seconds", "fps", "elevation", "distance", "lights", "center", "start_yaw", "fov", "animation", "comment"});
         // A bare model's rig is placed for its camera, so there lights follow it by default.
         TurntableSettings s = isModelPath(scene_.sourcePath) ? defaultModelTurntable() : TurntableSettings{};
         s.seconds = positive(j, "seconds", w, s.seconds);
-        s.fps = positive(j, "fps", w, s.fps);
+        s.fps = fps > 0.0 ? fps : positive(j, "fps", w, s.fps);
         s.elevationDeg = number(j, "elevation", w, s.elevationDeg);
         if (s.elevationDeg < -90 || s.elevationDeg > 90) fail(join(w, "elevation"), "expected degrees from −90 to 90");
         if (j.contains("distance") && !(j["distance"].is_string() && j["distance"].get<std::string>() == "auto"))
@@ -292,8 +265,6 @@ public:
     }
 
 private:
-    std::string file_;
-    std::string prefix_;
     const Scene& scene_;
 };
 
@@ -330,22 +301,18 @@ Aabb filmBounds(const Scene& scene, const std::vector<GltfAnimationPlayer>& play
     return b;
 }
 
-ParsedTimeline parseTimeline(const Scene& scene) {
+ParsedTimeline parseTimeline(const Scene& scene, double fps) {
     ParsedTimeline out;
     out.spec.restLights = scene.lights;
-    json root;
-    try {
-        root = json::parse(scene.timelineJson);
-    } catch (const json::parse_error& e) {
-        throw InputError(scene.sourcePath, std::string("timeline: not valid JSON: ") + e.what());
-    }
+    if (!scene.timeline) return out;
+    const json& root = *scene.timeline;
     if (!root.is_object()) throw InputError(scene.sourcePath, "timeline: expected an object");
     if (root.contains("timeline") && root.contains("turntable"))
         throw InputError(scene.sourcePath, "turntable: give either a timeline or a turntable, not both");
 
     if (root.contains("turntable")) {
         const Parser p(scene.sourcePath, "", scene);
-        const TurntableSettings s = p.turntable(root["turntable"], "turntable");
+        const TurntableSettings s = p.turntable(root["turntable"], "turntable", fps);
         out.spec.players = p.animations(root["turntable"], "turntable");
         out.spec.turntable = Turntable::framed(s, scene, filmBounds(scene, out.spec.players, anim::frameCount(s.seconds, s.fps), s.fps));
         out.frames = out.spec.turntable->frameCount();
@@ -359,7 +326,7 @@ ParsedTimeline parseTimeline(const Scene& scene) {
     const Parser p(file, external ? "" : "timeline.", scene);
     const json& j = root["timeline"];
     p.allowKeys(j, "", {"fps", "duration", "frames", "start", "loop", "camera", "lights", "animation", "comment"});
-    out.fps = p.positive(j, "fps", "", 30.0);
+    out.fps = fps > 0.0 ? fps : p.positive(j, "fps", "", 30.0);
     out.t0 = p.number(j, "start", "", 0.0);
     TimelineSpec& s = out.spec;
     if (j.contains("camera")) s.camera = p.camera(j["camera"], "camera");

@@ -54,9 +54,9 @@ bool isModelPath(const std::string& path);
 /// auto, lights following the camera.
 TurntableSettings defaultModelTurntable();
 
-/// Parses scene.timelineJson (see timeline_parse.cpp for the format). Throws InputError naming
-/// the file and the key.
-ParsedTimeline parseTimeline(const Scene& scene);
+/// Interprets scene.timeline (see timeline_parse.cpp for the format). fps > 0 replaces the
+/// sections' frame rate. Throws InputError naming the file and the key.
+ParsedTimeline parseTimeline(const Scene& scene, double fps = 0.0);
 
 /// The scene's bounds grown by where the players move the animated meshes over a film of
 /// `frames` frames at `fps` (sampled at up to 256 of its frames).

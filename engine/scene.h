@@ -2,7 +2,10 @@
 /// The scene in render space: geometry, materials, lights, camera and the acceleration
 /// structure over them. World position = render position + renderOrigin (kept in double, so a
 /// model far from the world origin keeps its float precision).
+#include <memory>
 #include <string>
+
+#include <nlohmann/json_fwd.hpp>
 #include <vector>
 
 #include "bvh.h"
@@ -69,7 +72,10 @@ public:
     RenderSettings settings;  ///< defaults from the scene file; the CLI may override
     DVec3 renderOrigin{0.0};
     std::string sourcePath;
-    std::string timelineJson;        ///< raw "timeline" section, parsed by anim/
+    /// The scene file's animation sections as parsed JSON, null without any:
+    /// {"timeline": {...}, "timeline_file": path if it came from its own file, "turntable": {...}}.
+    /// anim::Timeline interprets it; nothing parses or rewrites it as text again.
+    std::shared_ptr<const nlohmann::json> timeline;
     std::vector<std::string> notes;  ///< warnings met while loading
 
     /// Builds the acceleration structure; call after loading or after geometry changed.

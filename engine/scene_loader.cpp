@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "errors.h"
+#include "json_reader.h"
 #include "gltf_loader.h"
 #include "json_guard.h"
 
@@ -23,91 +24,7 @@ std::string lowerExt(const std::string& path) {
     return e;
 }
 
-/// Reads typed values out of JSON, naming the JSON path in every error.
-class Reader {
-public:
-    explicit Reader(std::string file) : file_(std::move(file)) {}
-
-    [[noreturn]] void fail(const std::string& where, const std::string& what) const {
-        throw InputError(file_, where.empty() ? what : where + ": " + what);
-    }
-
-    void allowKeys(const json& j, const std::string& where, std::initializer_list<const char*> keys) const {
-        if (!j.is_object()) fail(where, "expected an object");
-        std::set<std::string> ok(keys.begin(), keys.end());
-        for (auto it = j.begin(); it != j.end(); ++it)
-            if (!ok.count(it.key())) fail(join(where, it.key()), "unknown key");
-    }
-
-    static std::string join(const std::string& where, const std::string& key) {
-        return where.empty() ? key : where + "." + key;
-    }
-    static std::string index(const std::string& where, size_t i) { return where + "[" + std::to_string(i) + "]"; }
-
-    double number(const json& j, const std::string& where) const {
-        if (!j.is_number()) fail(where, "expected a number");
-        const double v = j.get<double>();
-        if (!std::isfinite(v)) fail(where, "expected a finite number");
-        if (std::string p = sceneNumberProblem(v); !p.empty()) fail(where, p);
-        return v;
-    }
-    double number(const json& obj, const char* key, const std::string& where, double def) const {
-        return obj.contains(key) ? number(obj[key], join(where, key)) : def;
-    }
-    double positive(const json& obj, const char* key, const std::string& where, double def) const {
-        const double v = number(obj, key, where, def);
-        if (!(v > 0.0)) fail(join(where, key), "expected a positive number");
-        return v;
-    }
-    double nonNegative(const json& obj, const char* key, const std::string& where, double def) const {
-        const double v = number(obj, key, where, def);
-        if (v < 0.0) fail(join(where, key), "expected a number ≥ 0");
-        return v;
-    }
-    int integer(const json& obj, const char* key, const std::string& where, int def, int lo, int hi) const {
-        if (!obj.contains(key)) return def;
-        const json& j = obj[key];
-        if (!j.is_number_integer()) fail(join(where, key), "expected an integer");
-        const long long v = j.get<long long>();
-        if (v < lo || v > hi) fail(join(where, key), "expected an integer from " + std::to_string(lo) + " to " + std::to_string(hi));
-        return static_cast<int>(v);
-    }
-    bool boolean(const json& obj, const char* key, const std::string& where, bool def) const {
-        if (!obj.contains(key)) return def;
-        if (!obj[key].is_boolean()) fail(join(where, key), "expected true or false");
-        return obj[key].get<bool>();
-    }
-    std::string string(const json& obj, const char* key, const std::string& where, const std::string& def) const {
-        if (!obj.contains(key)) return def;
-        if (!obj[key].is_string()) fail(join(where, key), "expected a string");
-        return obj[key].get<std::string>();
-    }
-    DVec3 dvec3(const json& j, const std::string& where) const {
-        if (!j.is_array() || j.size() != 3) fail(where, "expected 3 numbers");
-        return DVec3(number(j[0], where), number(j[1], where), number(j[2], where));
-    }
-    DVec3 dvec3(const json& obj, const char* key, const std::string& where, const DVec3& def) const {
-        return obj.contains(key) ? dvec3(obj[key], join(where, key)) : def;
-    }
-    Color color(const json& obj, const char* key, const std::string& where, const Color& def) const {
-        if (!obj.contains(key)) return def;
-        const json& j = obj[key];
-        if (j.is_number()) return Color(static_cast<float>(number(j, join(where, key))));
-        const DVec3 c = dvec3(j, join(where, key));
-        if (c.x < 0 || c.y < 0 || c.z < 0) fail(join(where, key), "colour components must be ≥ 0");
-        return Color(c);
-    }
-    const std::string& file() const { return file_; }
-
-private:
-    std::string file_;
-};
-
-DVec3 unitOrFail(const Reader& rd, const DVec3& v, const std::string& where) {
-    const double l = glm::length(v);
-    if (!(l > 0.0) || !std::isfinite(l)) rd.fail(where, "expected a non-zero direction");
-    return v / l;
-}
+using Reader = JsonReader;
 
 void readCamera(const Reader& rd, const json& j, Camera& cam, DVec3& eye, DVec3& target) {
     const std::string w = "camera";
@@ -191,7 +108,7 @@ Light readLight(const Reader& rd, const json& j, const std::string& w, const DVe
     }
     if (l.type != LightType::Point) {
         if (!j.contains("direction")) rd.fail(w, "a " + type + " light needs a direction");
-        l.direction = Vec3(unitOrFail(rd, rd.dvec3(j["direction"], w + ".direction"), w + ".direction"));
+        l.direction = Vec3(rd.unit(rd.dvec3(j["direction"], w + ".direction"), w + ".direction"));
     }
     l.color = rd.color(j, "color", w, l.color);
     l.intensity = static_cast<float>(rd.nonNegative(j, "intensity", w, 1.0));
@@ -297,7 +214,7 @@ public:
             anim["timeline"] = root["timeline"];
         }
         if (root.contains("turntable")) anim["turntable"] = root["turntable"];
-        if (!anim.empty()) s.timelineJson = anim.dump();
+        if (!anim.empty()) s.timeline = std::make_shared<const json>(std::move(anim));
         s.build();
         return s;
     }
@@ -344,7 +261,7 @@ private:
         } else if (type == "plane") {
             rd_.allowKeys(j, w, {"type", "normal", "point", "material"});
             Plane pl;
-            const DVec3 n = unitOrFail(rd_, rd_.dvec3(j, "normal", w, DVec3(0, 1, 0)), w + ".normal");
+            const DVec3 n = rd_.unit(rd_.dvec3(j, "normal", w, DVec3(0, 1, 0)), w + ".normal");
             const DVec3 p = rd_.dvec3(j, "point", w, DVec3(0.0)) - o;
             pl.n = Vec3(n);
             pl.d = static_cast<float>(-glm::dot(n, p));

@@ -102,12 +102,7 @@ void prepareFramesDir(const std::string& dir) {
 void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundle& inputs, int ranks, const std::string& threadsNote) {
     job.settings = scene.settings;
     applyQualityOptions(p, job.settings);
-    if (job.fpsOption > 0.0) {
-        const std::string ext = std::filesystem::path(job.scenePath).extension().string();
-        const bool bareModel = ext == ".glb" || ext == ".gltf" || ext == ".GLB" || ext == ".GLTF";
-        scene.timelineJson = timelineWithFps(scene.timelineJson, bareModel, job.fpsOption);
-    }
-    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    const anim::Timeline tl = anim::Timeline::fromScene(scene, job.fpsOption);
     job.timelineFrames = tl.frameCount();
     job.timelineFps = tl.fps();
     job.first = 0;
@@ -187,7 +182,7 @@ int runRank0(MpiTransport& t, RenderJob& job, SharedScene& shared, const std::ve
     if (!job.framesDir.empty())
         sinks.png = std::make_unique<AsyncSink>(std::make_unique<PngSink>(job.framesDir, width, height), 4);
 
-    anim::Timeline timeline = anim::Timeline::fromScene(shared.scene);
+    anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, job.fpsOption);
     const bool rank0Renders = ranks <= 2;  // with more ranks, rank 0's core serves the master and encoder
     const int renderers = rank0Renders ? ranks : ranks - 1;
     MasterConfig cfg;
@@ -331,8 +326,9 @@ int runRank0(MpiTransport& t, RenderJob& job, SharedScene& shared, const std::ve
 
 int runWorkerRank(MpiTransport& t, const RenderJob& job, SharedScene& shared) {
     try {
-        const RenderSettings settings = decodeWorkerJob(shared.job, shared.scene.timelineJson);
-        anim::Timeline timeline = anim::Timeline::fromScene(shared.scene);
+        const RenderSettings settings = decodeWorkerJob(shared.job);
+        // Every rank parsed the same options, so the worker's timeline matches rank 0's.
+        anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, job.fpsOption);
         RenderEngine engine(std::move(shared.scene), timeline, settings, threadsForRank(job, t));
         // A silent master: leave now, as MPI_Finalize would wait for rank 0 forever.
         const int code = runWorker(t, engine, std::max(4.0, 2.0 * job.workerTimeout));
@@ -379,7 +375,7 @@ int runRender(const std::vector<std::string>& args) {
             },
             [&](Scene& scene, const FileBundle& inputs) {
                 decideJob(job, p, scene, inputs, t.size(), threadsNote);
-                return encodeWorkerJob(job, scene.timelineJson);
+                return encodeWorkerJob(job);
             });
     } catch (const PeerFailed& e) {
         return e.code();

@@ -132,31 +132,18 @@ std::string RenderJob::identity() const {
     return j.dump();
 }
 
-std::string encodeWorkerJob(const RenderJob& j, const std::string& timelineJson) {
+std::string encodeWorkerJob(const RenderJob& j) {
     // Settings as a byte copy: every rank runs the same executable, and a field added to
     // RenderSettings later travels without anyone remembering to add it here.
     static_assert(std::is_trivially_copyable_v<RenderSettings>);
-    return std::string(reinterpret_cast<const char*>(&j.settings), sizeof(RenderSettings)) + timelineJson;
+    return std::string(reinterpret_cast<const char*>(&j.settings), sizeof(RenderSettings));
 }
 
-RenderSettings decodeWorkerJob(const std::string& bytes, std::string& timelineJson) {
-    if (bytes.size() < sizeof(RenderSettings)) throw std::runtime_error("malformed job broadcast");
+RenderSettings decodeWorkerJob(const std::string& bytes) {
+    if (bytes.size() != sizeof(RenderSettings)) throw std::runtime_error("malformed job broadcast");
     RenderSettings s;
     std::memcpy(&s, bytes.data(), sizeof s);
-    timelineJson = bytes.substr(sizeof s);
     return s;
-}
-
-std::string timelineWithFps(const std::string& timelineJson, bool bareModel, double fps) {
-    nlohmann::json j = timelineJson.empty() ? nlohmann::json::object() : nlohmann::json::parse(timelineJson);
-    bool set = false;
-    for (const char* section : {"timeline", "turntable"})
-        if (j.contains(section) && j[section].is_object()) {
-            j[section]["fps"] = fps;
-            set = true;
-        }
-    if (!set && bareModel) j["turntable"] = {{"fps", fps}};  // the default turntable, at this rate
-    return j.empty() ? timelineJson : j.dump();
 }
 
 }  // namespace rf::farm

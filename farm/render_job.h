@@ -44,13 +44,9 @@ RenderJob jobFromOptions(const cli::ArgParser& p);
 /// Parses "A:B", "A:", ":B" or "A" against a timeline of n frames (inclusive, 0-based).
 void parseFrameRange(const std::string& text, int n, int& first, int& last);
 
-/// What the workers need (settings, the timeline as rank 0 adjusted it), as bytes for the scene
-/// broadcast, and back.
-std::string encodeWorkerJob(const RenderJob& j, const std::string& timelineJson);
-RenderSettings decodeWorkerJob(const std::string& bytes, std::string& timelineJson);
-
-/// The scene's timeline section with its frame rate set to fps (--fps): frames are sampled at
-/// that rate. A bare model's default turntable gets {"turntable": {"fps": fps}}.
-std::string timelineWithFps(const std::string& timelineJson, bool bareModel, double fps);
+/// What the workers need beyond the scene bundle and the options every rank parsed (the render
+/// settings rank 0 settled on), as bytes for the scene broadcast, and back.
+std::string encodeWorkerJob(const RenderJob& j);
+RenderSettings decodeWorkerJob(const std::string& bytes);
 
 }  // namespace rf::farm

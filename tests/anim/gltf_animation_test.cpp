@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+
+#include <nlohmann/json.hpp>
 #include <fstream>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -213,7 +215,7 @@ TEST(AnimatedNodeGltf, ExplicitTurntableOnABareModelKeepsTheModelDefaults) {
     LOAD_OR_SKIP(s, sourceFile("scenes/animated_node.gltf"));
     ASSERT_FALSE(s.lights.empty());
     Scene a = s, b = s;
-    b.timelineJson = R"({"turntable": {"fps": 30}})";
+    b.timeline = std::make_shared<const nlohmann::json>(nlohmann::json::parse(R"({"turntable": {"fps": 30}})"));
     const Timeline ta = Timeline::fromScene(a), tb = Timeline::fromScene(b);
     ASSERT_EQ(ta.frameCount(), tb.frameCount());
     ta.applyFrame(a, 10);
