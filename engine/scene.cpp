@@ -110,6 +110,16 @@ void Scene::applyNodeTransforms(int model, const std::vector<DMat4>& renderFromN
         if (mesh.model != model || mesh.node < 0 || mesh.node >= static_cast<int>(renderFromNode.size())) continue;
         const DMat4& m = renderFromNode[mesh.node];
         const glm::dmat3 nm = glm::transpose(glm::inverse(glm::dmat3(m)));
+        // Tangents follow the surface (the linear part itself, not its inverse transpose); a
+        // mirroring transform flips the bitangent's sign, as glTF's loader-side rule does.
+        const glm::dmat3 lin(m);
+        const double tangentSign = glm::determinant(lin) < 0.0 ? -1.0 : 1.0;
+        for (size_t i = 0; i < mesh.objectTangents.size() && i < mesh.tangents.size(); ++i) {
+            const Vec4& t = mesh.objectTangents[i];
+            const glm::dvec3 v = lin * glm::dvec3(Vec3(t));
+            const double len = glm::length(v);
+            mesh.tangents[i] = Vec4(len > 0.0 && std::isfinite(len) ? Vec3(v / len) : Vec3(0.f), float(tangentSign * t.w));
+        }
         const std::vector<double>* w = (mesh.node < static_cast<int>(morphWeights.size())) ? &morphWeights[mesh.node] : nullptr;
         for (size_t i = 0; i < mesh.objectPositions.size(); ++i) {
             glm::dvec3 p(mesh.objectPositions[i]);
