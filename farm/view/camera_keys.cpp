@@ -95,7 +95,7 @@ Film filmOf(const anim::Timeline& tl) {
 }
 
 json keyedTimeline(const CameraKeys& keys, const Scene& scene, const Film& film) {
-    json base = scene.timelineJson.empty() ? json::object() : json::parse(scene.timelineJson);
+    json base = scene.timeline ? *scene.timeline : json::object();
     json tl;
     if (base.contains("timeline")) {
         tl = base["timeline"];

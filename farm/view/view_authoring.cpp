@@ -72,12 +72,13 @@ void ViewWindow::refreshKeys() {
 void ViewWindow::rebuildTimeline() {
     // The window plays the keys through the same parser and evaluator `render` will use on the
     // saved file, so the path on screen is the path rendered.
-    std::string json = scene_.timelineJson;
+    std::string json = scene_.timeline ? scene_.timeline->dump() : std::string();
     if (keys_.empty()) {
         timeline_ = sceneTimeline_;
     } else {
         Scene keyed = scene_;
-        json = keyed.timelineJson = nlohmann::json{{"timeline", keyedTimeline(keys_, scene_, film_)}}.dump();
+        keyed.timeline = std::make_shared<const nlohmann::json>(nlohmann::json{{"timeline", keyedTimeline(keys_, scene_, film_)}});
+        json = keyed.timeline->dump();
         timeline_ = anim::Timeline::fromScene(keyed);
     }
     renderer_->setTimeline(timeline_, json);

@@ -14,7 +14,7 @@ public:
     /// Replaces whatever is pending or rendering; returns the request's epoch.
     virtual uint64_t request(const ViewRequest& r) = 0;
     /// Plays another timeline from the next request on (timelineJson: {"timeline": …} as in
-    /// Scene::timelineJson), over the scene as loaded.
+    /// Scene::timeline, serialised), over the scene as loaded.
     virtual void setTimeline(const anim::Timeline& tl, const std::string& timelineJson) = 0;
     /// What stopped the rendering (a render error, a lost rank); empty while all is well.
     virtual std::string error() const = 0;

@@ -46,7 +46,7 @@ struct WorkerState {
                 queue.push_back(w);
             } else if (m.tag == farm::kTagViewTimeline) {
                 Scene keyed = pristine;
-                keyed.timelineJson = m.bytes;
+                keyed.timeline = m.bytes.empty() ? nullptr : std::make_shared<const nlohmann::json>(nlohmann::json::parse(m.bytes));
                 timeline = anim::Timeline::fromScene(keyed);
                 scene = pristine;  // a new timeline poses the scene as loaded, not as the old one left it
                 appliedFrame = -1;
