@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "frame_time.h"
+#include "model_path.h"
 #include "timeline_spec.h"
 
 namespace rf::anim {
@@ -56,18 +57,13 @@ void applyLight(const LightTracks& lt, const Light& rest, Light& l, double t) {
 
 }  // namespace
 
-bool isModelPath(const std::string& path) {
-    std::string e = std::filesystem::path(path).extension().string();
-    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return e == ".gltf" || e == ".glb";
-}
 
 Timeline Timeline::fromScene(const Scene& scene, double fps) {
     Timeline tl;
     ParsedTimeline p;
     if (scene.timeline) {
         p = parseTimeline(scene, fps);
-    } else if (isModelPath(scene.sourcePath)) {
+    } else if (isGltfPath(scene.sourcePath)) {
         p.spec.restLights = scene.lights;
         TurntableSettings s = defaultModelTurntable();
         if (fps > 0.0) s.fps = fps;

@@ -25,6 +25,7 @@
 #include "json_reader.h"
 #include "frame_time.h"
 #include "json_guard.h"
+#include "model_path.h"
 #include "timeline_spec.h"
 
 namespace rf::anim {
@@ -240,7 +241,7 @@ public:
     TurntableSettings turntable(const json& j, const std::string& w, double fps) const {
         allowKeys(j, w, {"seconds", "fps", "elevation", "distance", "lights", "center", "start_yaw", "fov", "animation", "comment"});
         // A bare model's rig is placed for its camera, so there lights follow it by default.
-        TurntableSettings s = isModelPath(scene_.sourcePath) ? defaultModelTurntable() : TurntableSettings{};
+        TurntableSettings s = isGltfPath(scene_.sourcePath) ? defaultModelTurntable() : TurntableSettings{};
         s.seconds = positive(j, "seconds", w, s.seconds);
         s.fps = fps > 0.0 ? fps : positive(j, "fps", w, s.fps);
         s.elevationDeg = number(j, "elevation", w, s.elevationDeg);

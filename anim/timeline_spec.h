@@ -47,8 +47,6 @@ struct ParsedTimeline {
     double t0 = 0.0;
 };
 
-/// True for a .gltf or .glb path (a bare model loaded as a whole scene).
-bool isModelPath(const std::string& path);
 
 /// Default turntable of a bare glTF model: 4 s at 30 fps (120 frames), 20° elevation, distance
 /// auto, lights following the camera.

@@ -9,6 +9,8 @@
 
 #include "errors.h"
 #include "json_reader.h"
+#include "model_path.h"
+#include "sample_count.h"
 #include "gltf_loader.h"
 #include "json_guard.h"
 
@@ -18,11 +20,6 @@ namespace {
 
 using nlohmann::json;
 
-std::string lowerExt(const std::string& path) {
-    std::string e = std::filesystem::path(path).extension().string();
-    std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return e;
-}
 
 using Reader = JsonReader;
 
@@ -52,8 +49,7 @@ void readRender(const Reader& rd, const json& j, RenderSettings& s) {
     s.width = rd.integer(j, "width", w, s.width, 1, 16384);
     s.height = rd.integer(j, "height", w, s.height, 1, 16384);
     s.spp = rd.integer(j, "spp", w, s.spp, 1, 4096);
-    const int n = static_cast<int>(std::lround(std::sqrt(double(s.spp))));
-    if (n * n != s.spp) rd.fail("render.spp", "expected a square number of samples (1, 4, 9, 16, ...)");
+    if (const std::string why = sppProblem(s.spp); !why.empty()) rd.fail("render.spp", why);
     s.maxDepth = rd.integer(j, "max_depth", w, s.maxDepth, 1, 64);
     s.minWeight = static_cast<float>(rd.nonNegative(j, "min_weight", w, s.minWeight));
     const std::string tm = rd.string(j, "tonemap", w, "clamp");
@@ -337,9 +333,8 @@ DVec3 chooseRenderOrigin(const DVec3& target) { return glm::round(target / 64.0)
 Scene loadJsonScene(const std::string& path, FileSource& fs) { return JsonSceneLoader(path, fs).load(); }
 
 Scene loadScene(const std::string& path, FileSource& fs) {
-    const std::string ext = lowerExt(path);
-    if (ext == ".json") return loadJsonScene(path, fs);
-    if (ext == ".gltf" || ext == ".glb") return loadGltfScene(path, fs);
+    if (lowerExtension(path) == ".json") return loadJsonScene(path, fs);
+    if (isGltfPath(path)) return loadGltfScene(path, fs);
     throw InputError(path, "unknown scene type (expected .json, .gltf or .glb)");
 }
 
