@@ -7,6 +7,8 @@
 
 #include <unistd.h>
 
+#include "sample_count.h"
+
 namespace rf::cli {
 
 void printLine(const std::string& kind, const std::string& text) { writeStderr("rayfarm: " + kind + ": " + text + "\n"); }
@@ -90,6 +92,21 @@ bool ArgParser::sizeValue(const std::string& name, int& w, int& h) const {
     if (x == std::string::npos || !parse(v->substr(0, x), w) || !parse(v->substr(x + 1), h))
         throw UsageError(name + ": expected WIDTHxHEIGHT (1 to 16384 each), got \"" + *v + "\"");
     return true;
+}
+
+void applyQualityOptions(const ArgParser& p, RenderSettings& s) {
+    p.sizeValue("--size", s.width, s.height);
+    s.spp = p.intValue("--spp", s.spp, 1, 4096);
+    if (const std::string e = sppProblem(s.spp); !e.empty()) throw UsageError("--spp: " + e + ", got " + std::to_string(s.spp));
+    s.maxDepth = p.intValue("--depth", s.maxDepth, 1, 64);
+    const double w = p.doubleValue("--min-weight", s.minWeight);
+    if (w < 0.0) throw UsageError("--min-weight: expected a number ≥ 0");
+    s.minWeight = static_cast<float>(w);
+    if (auto t = p.value("--tonemap")) {
+        if (*t == "clamp") s.toneMap = ToneMap::Clamp;
+        else if (*t == "reinhard") s.toneMap = ToneMap::Reinhard;
+        else throw UsageError("--tonemap: expected clamp or reinhard, got \"" + *t + "\"");
+    }
 }
 
 }  // namespace rf::cli

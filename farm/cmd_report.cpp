@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cli.h"
+#include "sample_count.h"
 #include "mp4_sink.h"
 #include "output_check.h"
 #include "report_plot.h"
@@ -55,11 +56,6 @@ const char* kReportHelp =
     "                          write stability.md and stability.csv (measured error, pass/fail);\n"
     "                          exit status 1 if a case fails\n";
 
-bool isSquare(int n) {
-    const int r = static_cast<int>(std::lround(std::sqrt(double(n))));
-    return r * r == n;
-}
-
 std::vector<std::string> splitList(const std::string& name, const std::string& text) {
     std::vector<std::string> out;
     std::istringstream in(text);
@@ -82,7 +78,7 @@ std::vector<int> intList(const ArgParser& p, const std::string& name, std::vecto
         } catch (const std::exception&) {
             used = 0;
         }
-        if (used == 0 || used != s.size() || x < lo || x > hi || (squares && !isSquare(x)))
+        if (used == 0 || used != s.size() || x < lo || x > hi || (squares && !isSquareSpp(x)))
             throw UsageError(name + ": expected " + (squares ? "square " : "") + "integers from " +
                              std::to_string(lo) + " to " + std::to_string(hi) + ", got \"" + s + "\"");
         out.push_back(x);
@@ -157,7 +153,7 @@ int runReport(const std::vector<std::string>& args) {
         else if (*g != "ofat") throw UsageError("--grid: expected ofat or full, got \"" + *g + "\"");
     }
     o.reference.spp = p.intValue("--ref-spp", 256, 1, 65536);
-    if (!isSquare(o.reference.spp)) throw UsageError("--ref-spp: expected a square number of samples (64, 256, ...)");
+    if (const std::string e = sppProblem(o.reference.spp); !e.empty()) throw UsageError("--ref-spp: " + e);
     o.reference.maxDepth = p.intValue("--ref-depth", 16, 1, 64);
     o.reference.minWeight = 0.f;
     report::VideoReportOptions vo;

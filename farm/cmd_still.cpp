@@ -38,23 +38,6 @@ const char* kStillHelp =
     "                    #RRGGBB (sRGB) or R,G,B (linear); default: the scene's\n";
 }  // namespace
 
-/// Applies the quality options shared by still, render and report to settings.
-void applyQualityOptions(const ArgParser& p, RenderSettings& s) {
-    p.sizeValue("--size", s.width, s.height);
-    s.spp = p.intValue("--spp", s.spp, 1, 4096);
-    const int n = static_cast<int>(std::lround(std::sqrt(double(s.spp))));
-    if (n * n != s.spp) throw UsageError("--spp: expected a square number of samples (1, 4, 9, 16, ...), got " + std::to_string(s.spp));
-    s.maxDepth = p.intValue("--depth", s.maxDepth, 1, 64);
-    const double w = p.doubleValue("--min-weight", s.minWeight);
-    if (w < 0.0) throw UsageError("--min-weight: expected a number ≥ 0");
-    s.minWeight = static_cast<float>(w);
-    if (auto t = p.value("--tonemap")) {
-        if (*t == "clamp") s.toneMap = ToneMap::Clamp;
-        else if (*t == "reinhard") s.toneMap = ToneMap::Reinhard;
-        else throw UsageError("--tonemap: expected clamp or reinhard, got \"" + *t + "\"");
-    }
-}
-
 int runStill(const std::vector<std::string>& args) {
     ArgParser p("still");
     for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats", "--frame", "--time", "--camera", "--background"}) p.option(o);
