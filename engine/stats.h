@@ -1,5 +1,6 @@
 #pragma once
 /// Ray counters by kind, summed per tile and per frame.
+#include <array>
 #include <cstdint>
 
 namespace rf {
@@ -12,14 +13,31 @@ struct RayStats {
     uint64_t nonFinite = 0;  ///< samples whose radiance was NaN/Inf, replaced by black
 
     uint64_t total() const { return primary + shadow + reflection + refraction; }
-    RayStats& operator+=(const RayStats& o) {
-        primary += o.primary;
-        shadow += o.shadow;
-        reflection += o.reflection;
-        refraction += o.refraction;
-        nonFinite += o.nonFinite;
-        return *this;
-    }
+    RayStats& operator+=(const RayStats& o);
 };
+
+/// One counter of RayStats, with the name the --stats file gives it.
+struct RayCounter {
+    const char* name;
+    uint64_t RayStats::*field;
+};
+
+/// Every counter, once. Summing, the stats file and the tests walk this list (the farm's wire
+/// format copies the whole struct), so a counter added to RayStats needs one line here, and the
+/// static_assert below refuses to build until it has it.
+inline constexpr std::array<RayCounter, 5> kRayCounters{{
+    {"primary", &RayStats::primary},
+    {"shadow", &RayStats::shadow},
+    {"reflection", &RayStats::reflection},
+    {"refraction", &RayStats::refraction},
+    {"non_finite_samples", &RayStats::nonFinite},
+}};
+static_assert(sizeof(RayStats) == kRayCounters.size() * sizeof(uint64_t),
+              "a RayStats counter is missing from kRayCounters (or a member is not a uint64_t counter)");
+
+inline RayStats& RayStats::operator+=(const RayStats& o) {
+    for (const RayCounter& c : kRayCounters) this->*c.field += o.*c.field;
+    return *this;
+}
 
 }  // namespace rf

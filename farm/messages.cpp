@@ -10,12 +10,14 @@ namespace {
 
 // Payloads are plain structs copied byte for byte: every rank runs the same build of rayfarm
 // (mpirun starts one executable), so layout and endianness agree.
+// The ray counters travel as the whole RayStats, so a counter added to it arrives too.
 struct ResultHeader {
     int32_t frame, x0, y0, x1, y1;
     int32_t pad = 0;
     double busySeconds;
-    uint64_t primary, shadow, reflection, refraction, nonFinite;
+    RayStats rays;
 };
+static_assert(std::is_trivially_copyable_v<RayStats>);
 static_assert(std::is_trivially_copyable_v<ResultHeader>);
 static_assert(std::is_trivially_copyable_v<Heartbeat>);
 
@@ -48,8 +50,7 @@ WorkItem decodeWorkItem(const std::string& bytes) {
 }
 
 std::string encodeTileResult(const TileResult& r) {
-    ResultHeader h{r.item.frame, r.item.rect.x0, r.item.rect.y0, r.item.rect.x1, r.item.rect.y1, 0, r.busySeconds,
-                   r.rays.primary, r.rays.shadow, r.rays.reflection, r.rays.refraction, r.rays.nonFinite};
+    ResultHeader h{r.item.frame, r.item.rect.x0, r.item.rect.y0, r.item.rect.x1, r.item.rect.y1, 0, r.busySeconds, r.rays};
     std::string out = bytesOf(h);
     out.append(reinterpret_cast<const char*>(r.rgb.data()), r.rgb.size());
     return out;
@@ -65,11 +66,7 @@ TileResult decodeTileResult(const std::string& bytes) {
     if (r.item.rect.width() <= 0 || r.item.rect.height() <= 0 || bytes.size() - sizeof h != expect)
         throw std::runtime_error("malformed result message: pixel count does not match its rectangle");
     r.busySeconds = h.busySeconds;
-    r.rays.primary = h.primary;
-    r.rays.shadow = h.shadow;
-    r.rays.reflection = h.reflection;
-    r.rays.refraction = h.refraction;
-    r.rays.nonFinite = h.nonFinite;
+    r.rays = h.rays;
     r.rgb.assign(bytes.begin() + sizeof h, bytes.end());
     return r;
 }

@@ -21,12 +21,10 @@ void writeStatsJson(const std::string& path, const RunStats& s) {
     j["sustained_fps"] = s.sustainedFps;
     j["render_s"] = s.renderSeconds;
     j["encode_s"] = s.encodeSeconds;
-    j["rays"] = {{"primary", s.rays.primary},
-                 {"shadow", s.rays.shadow},
-                 {"reflection", s.rays.reflection},
-                 {"refraction", s.rays.refraction},
-                 {"total", s.rays.total()},
-                 {"non_finite_samples", s.rays.nonFinite}};
+    nlohmann::ordered_json rays;
+    for (const RayCounter& c : kRayCounters) rays[c.name] = s.rays.*c.field;
+    rays["total"] = s.rays.total();
+    j["rays"] = rays;
     nlohmann::ordered_json ranks = nlohmann::ordered_json::array();
     for (const RankStats& r : s.perRank)
         ranks.push_back({{"rank", r.rank}, {"busy_s", r.busySeconds}, {"frames", r.frames}, {"tiles", r.tiles}});

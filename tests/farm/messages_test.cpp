@@ -43,3 +43,15 @@ TEST(Messages, MalformedPayloadsAreRefused) {
     EXPECT_THROW(decodeTileResult(bytes), std::runtime_error);
     EXPECT_THROW(decodeHeartbeat(""), std::runtime_error);
 }
+
+TEST(Messages, EveryRayCounterTravelsInAResult) {
+    // Distinct values in every counter RayStats lists: one the encoding dropped arrives as zero.
+    TileResult r;
+    r.item = {3, {0, 0, 1, 1}};
+    r.rgb.assign(3, 9);
+    uint64_t v = 1000;
+    for (const RayCounter& c : kRayCounters) r.rays.*c.field = v++;
+    const TileResult r2 = decodeTileResult(encodeTileResult(r));
+    v = 1000;
+    for (const RayCounter& c : kRayCounters) EXPECT_EQ(r2.rays.*c.field, v++) << c.name;
+}
