@@ -20,6 +20,7 @@
 #include "master.h"
 #include "mp4_sink.h"
 #include "output_check.h"
+#include "output_sinks.h"
 #include "png_sink.h"
 #include "preview_spawn.h"
 #include "progress.h"
@@ -88,7 +89,7 @@ int threadsForRank(const RenderJob& job, const MpiTransport& t) {
 void prepareFramesDir(const std::string& dir) {
     ensureWritableDir(dir);
     const bool ours = std::filesystem::exists(std::filesystem::path(dir) / "rayfarm-frames.json");
-    static const std::regex framePattern(R"(frame_\d{6}\.png(\.part)?)");
+    static const std::regex framePattern(R"(frame_\d{6}\.(png|exr)(\.part)?)");
     std::vector<std::filesystem::path> old;
     for (const auto& e : std::filesystem::directory_iterator(dir))
         if (std::regex_match(e.path().filename().string(), framePattern)) old.push_back(e.path());
@@ -114,11 +115,18 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
     job.last = job.timelineFrames - 1;
     if (auto f = p.value("--frames")) parseFrameRange(*f, job.timelineFrames, job.first, job.last);
     job.mp4.fps = tl.isStill() && job.fpsOption > 0.0 ? job.fpsOption : tl.fps();
+    applyBackground(job.background, scene);
+    job.transparent = scene.transparentBackground;
+    job.mp4.channels = job.layout().channels;
+    for (int c = 0; c < 3; ++c) job.mp4.flattenOver[c] = toByte(srgbEncode(toneMap(scene.background[c], job.settings.toneMap)));
+    if (job.posterFrame >= 0 && (job.posterFrame < job.first || job.posterFrame > job.last))
+        throw UsageError("--poster-frame: expected a frame from " + std::to_string(job.first) + " to " + std::to_string(job.last));
     std::string note;
     try {
-        note = checkMp4Options(job.settings.width, job.settings.height, job.mp4);
+        job.video = videoFormatOf(job.output, job.mp4);
+        note = checkMp4Options(job.settings.width, job.settings.height, job.mp4, job.output);
     } catch (const std::invalid_argument& e) {
-        throw UsageError(e.what());
+        throw UsageError(job.output + ": " + e.what());
     }
     if (!note.empty()) std::cerr << "rayfarm: note: " << note << "\n";
 
@@ -172,7 +180,7 @@ int runRank0(MpiTransport& t, RenderJob& job, SharedScene& shared, const std::ve
     std::set<int> kept;
     if (job.resume) {
         std::vector<int> corrupt;
-        kept = findKeptFrames(job.framesDir, order, width, height, &corrupt);
+        kept = keptFramesForJob(job, &corrupt);
         for (int f : corrupt)
             printLine("note", framePngPath(job.framesDir, f) + ": does not match the checksum recorded when it was written; rendering it again");
         std::fprintf(stderr, "rayfarm: resume: %zu of %zu frames kept in %s, %zu to render\n", kept.size(), order.size(),
@@ -182,12 +190,12 @@ int runRank0(MpiTransport& t, RenderJob& job, SharedScene& shared, const std::ve
     for (int f : order)
         if (!kept.count(f)) toRender.push_back(f);
 
-    Rank0Sinks sinks;
-    sinks.mp4 = std::make_unique<AsyncSink>(std::make_unique<Mp4Sink>(job.output, width, height, job.mp4), 4);
-    if (!job.framesDir.empty())
-        sinks.png = std::make_unique<AsyncSink>(std::make_unique<PngSink>(job.framesDir, width, height), 4);
-
     anim::Timeline timeline = anim::Timeline::fromScene(shared.scene);
+    Rank0Sinks sinks;
+    OutputSinks out = makeOutputSinks(job, [timeline](int f) { return timeline.frameTime(f); });
+    sinks.mp4 = std::make_unique<AsyncSink>(std::move(out.video), 4);
+    if (out.frames) sinks.png = std::make_unique<AsyncSink>(std::move(out.frames), 4);
+
     const bool rank0Renders = ranks <= 2;  // with more ranks, rank 0's core serves the master and encoder
     const int renderers = rank0Renders ? ranks : ranks - 1;
     MasterConfig cfg;
@@ -209,15 +217,15 @@ int runRank0(MpiTransport& t, RenderJob& job, SharedScene& shared, const std::ve
     } else {
         sched = makeFrameScheduler(toRender, width, height, renderers * cfg.credits + 2);
     }
-    FrameAssembler assembler(width, height, order, kept);
+    FrameAssembler assembler(width, height, order, kept, job.layout());
     std::unique_ptr<RenderEngine> local;
-    if (rank0Renders) local = std::make_unique<RenderEngine>(std::move(shared.scene), timeline, job.settings, threads);
+    if (rank0Renders) local = std::make_unique<RenderEngine>(std::move(shared.scene), timeline, job.settings, threads, job.exrFrames);
 
     int encodedKept = 0;
     auto emit = [&](ReadyFrame& rf) {
         if (rf.onDisk) {
             int w = 0, h = 0;
-            rf.rgb = readImageRgb8(framePngPath(job.framesDir, rf.frame), w, h);
+            rf.rgb = readImage8(framePngPath(job.framesDir, rf.frame), w, h, job.layout().channels);
             if (w != width || h != height) throw std::runtime_error(framePngPath(job.framesDir, rf.frame) + ": wrong size");
             ++encodedKept;
         }
@@ -323,7 +331,7 @@ int runRank0(MpiTransport& t, RenderJob& job, SharedScene& shared, const std::ve
         s.extra["scene_bytes"] = double(shared.bundleBytes);
         s.extraText["mode_reason"] = job.modeWhy;
         s.extraText["rank0_renders"] = rank0Renders ? "yes" : "no";
-        s.extraText["encoder"] = job.mp4.lossless ? "libx264rgb qp 0" : "libx264 crf " + std::to_string(job.mp4.crf) + " " + job.mp4.preset;
+        s.extraText["encoder"] = job.video.describe;
         writeStatsJson(job.statsPath, s);
     }
     return 0;
@@ -331,9 +339,11 @@ int runRank0(MpiTransport& t, RenderJob& job, SharedScene& shared, const std::ve
 
 int runWorkerRank(MpiTransport& t, const RenderJob& job, SharedScene& shared) {
     try {
-        const RenderSettings settings = decodeWorkerJob(shared.job, shared.scene.timelineJson);
+        WorkerOutputs outputs;
+        const RenderSettings settings = decodeWorkerJob(shared.job, shared.scene.timelineJson, &outputs);
+        applyBackground(outputs.background, shared.scene);
         anim::Timeline timeline = anim::Timeline::fromScene(shared.scene);
-        RenderEngine engine(std::move(shared.scene), timeline, settings, threadsForRank(job, t));
+        RenderEngine engine(std::move(shared.scene), timeline, settings, threadsForRank(job, t), outputs.linear != 0);
         // A silent master: leave now, as MPI_Finalize would wait for rank 0 forever.
         const int code = runWorker(t, engine, std::max(4.0, 2.0 * job.workerTimeout));
         if (code == kMasterSilentExit) std::_Exit(1);
@@ -375,7 +385,8 @@ int runRender(const std::vector<std::string>& args) {
             t, job.scenePath,
             [&] {
                 checkWritableFile(job.output);
-                if (!job.statsPath.empty()) checkWritableFile(job.statsPath);
+                for (const std::string* f : {&job.statsPath, &job.contactSheet, &job.poster})
+                    if (!f->empty()) checkWritableFile(*f);
             },
             [&](Scene& scene, const FileBundle& inputs) {
                 decideJob(job, p, scene, inputs, t.size(), threadsNote);

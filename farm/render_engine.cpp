@@ -1,14 +1,15 @@
 #include "render_engine.h"
 
 #include <chrono>
+#include <cstring>
 
 #include "image.h"
 #include "render.h"
 
 namespace rf::farm {
 
-RenderEngine::RenderEngine(Scene scene, anim::Timeline timeline, RenderSettings settings, int threads)
-    : scene_(std::move(scene)), timeline_(std::move(timeline)), settings_(settings), threads_(std::max(1, threads)) {
+RenderEngine::RenderEngine(Scene scene, anim::Timeline timeline, RenderSettings settings, int threads, bool linear)
+    : scene_(std::move(scene)), timeline_(std::move(timeline)), settings_(settings), threads_(std::max(1, threads)), linear_(linear) {
     thread_ = std::thread([this] { loop(); });
 }
 
@@ -76,7 +77,7 @@ void RenderEngine::loop() {
             current_ = item.frame;
         }
         try {
-            TileResult r = render(scene_, timeline_, settings_, threads_, item, appliedFrame_);
+            TileResult r = render(scene_, timeline_, settings_, threads_, item, appliedFrame_, linear_);
             std::lock_guard<std::mutex> lock(mutex_);
             results_.push_back(std::move(r));
             current_ = -1;
@@ -92,7 +93,7 @@ void RenderEngine::loop() {
 }
 
 TileResult RenderEngine::render(Scene& scene, const anim::Timeline& tl, const RenderSettings& s, int threads,
-                                const WorkItem& item, int& appliedFrame) {
+                                const WorkItem& item, int& appliedFrame, bool linear) {
     const auto t0 = std::chrono::steady_clock::now();
     if (appliedFrame != item.frame) {
         // The timeline overwrites absolute state, so frames may come in any order.
@@ -107,17 +108,34 @@ TileResult RenderEngine::render(Scene& scene, const anim::Timeline& tl, const Re
 
     TileResult out;
     out.item = item;
-    out.rgb.resize(size_t(rect.pixels()) * 3);
+    out.layout.channels = scene.transparentBackground ? 4 : 3;
+    out.layout.linear = linear;
+    const size_t pixels = size_t(rect.pixels());
+    out.rgb.resize(out.layout.bytes(pixels));
+    const int ch = out.layout.channels;
+    uint8_t* linearPlane = linear ? out.rgb.data() + out.layout.linearOffset(pixels) : nullptr;
     std::vector<RayStats> perThread(size_t(std::max(1, threads)));
     parallelFor(int(subs.size()), threads, [&](int i, int thread) {
         const TileRect& t = subs[size_t(i)];
-        std::vector<float> buf(size_t(t.pixels()) * 3);
-        renderTile(scene, scene.camera, t, s, item.frame, buf.data(), perThread[size_t(thread)]);
-        // The same per-channel mapping as toRgb8, so tiles assemble into the identical frame.
+        std::vector<float> buf(size_t(t.pixels()) * 3), alpha(ch == 4 ? size_t(t.pixels()) : 0);
+        renderTile(scene, scene.camera, t, s, item.frame, buf.data(), perThread[size_t(thread)], ch == 4 ? alpha.data() : nullptr);
+        // The same per-pixel mappings as toRgb8 and toRgba8, so tiles assemble into the identical frame.
         for (int y = 0; y < t.height(); ++y) {
-            uint8_t* dst = out.rgb.data() + 3 * (size_t(t.y0 - rect.y0 + y) * rect.width() + size_t(t.x0 - rect.x0));
+            const size_t row = size_t(t.y0 - rect.y0 + y) * rect.width() + size_t(t.x0 - rect.x0);
+            uint8_t* dst = out.rgb.data() + ch * row;
             const float* src = buf.data() + 3 * size_t(y) * t.width();
-            for (int k = 0; k < 3 * t.width(); ++k) dst[k] = toByte(srgbEncode(toneMap(src[k], s.toneMap)));
+            if (ch == 4) {
+                for (int x = 0; x < t.width(); ++x) toRgba8Pixel(src + 3 * x, alpha[size_t(y) * t.width() + x], s.toneMap, dst + 4 * x);
+            } else {
+                for (int k = 0; k < 3 * t.width(); ++k) dst[k] = toByte(srgbEncode(toneMap(src[k], s.toneMap)));
+            }
+            if (!linearPlane) continue;
+            std::vector<float> lin(size_t(t.width()) * 4);
+            for (int x = 0; x < t.width(); ++x) {
+                for (int c = 0; c < 3; ++c) lin[4 * x + c] = src[3 * x + c];
+                lin[4 * x + 3] = ch == 4 ? alpha[size_t(y) * t.width() + x] : 1.f;
+            }
+            std::memcpy(linearPlane + 4 * sizeof(float) * row, lin.data(), lin.size() * sizeof(float));
         }
     });
     for (const RayStats& r : perThread) out.rays += r;

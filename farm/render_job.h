@@ -4,7 +4,9 @@
 #include <string>
 #include <vector>
 
+#include "background_option.h"
 #include "cli.h"
+#include "messages.h"
 #include "mp4_sink.h"
 #include "scheduler.h"
 #include "settings.h"
@@ -13,7 +15,7 @@ namespace rf::farm {
 
 struct RenderJob {
     std::string scenePath;
-    std::string output;          ///< the MP4
+    std::string output;          ///< the video (.mp4, .webm, .mov, .gif)
     std::string framesDir;       ///< "" with --no-frames
     std::string statsPath;
     RenderSettings settings;
@@ -25,12 +27,21 @@ struct RenderJob {
     Mode mode = Mode::Frame;
     std::string modeWhy;
     bool resume = false;
-    Mp4Options mp4;
+    Mp4Options mp4;              ///< the video's options (all containers but GIF)
+    VideoFormat video;           ///< what the output's name and the options chose
+    cli::BackgroundChoice background;  ///< --background
+    bool transparent = false;    ///< decided: the background is transparent (RGBA frames)
+    bool exrFrames = false;      ///< --frames-format exr: linear half-float EXR frames too
+    std::string contactSheet;    ///< --contact-sheet FILE.png, "" if not asked for
+    std::string poster;          ///< --poster FILE.png, "" if not asked for
+    int posterFrame = -1;        ///< --poster-frame (timeline index), -1: the first frame
     int threads = 0;             ///< --threads (0: share the node's cores among its ranks)
     double workerTimeout = 10.0;
     int tileSize = 128;          ///< pixel mode's work-item size (split again into 16x16 on the rank)
 
     std::vector<int> frames() const;
+    /// How every rank lays out the pixels of this job's tiles and frames.
+    PixelLayout layout() const { return {transparent ? 4 : 3, exrFrames}; }
     /// Identifies what a frames directory holds, for --resume.
     std::string identity() const;
 };
@@ -47,7 +58,13 @@ void parseFrameRange(const std::string& text, int n, int& first, int& last);
 /// What the workers need (settings, the timeline as rank 0 adjusted it), as bytes for the scene
 /// broadcast, and back.
 std::string encodeWorkerJob(const RenderJob& j, const std::string& timelineJson);
-RenderSettings decodeWorkerJob(const std::string& bytes, std::string& timelineJson);
+/// outputs (if given) gets what shapes the workers' results: the background and whether the
+/// linear plane is wanted.
+struct WorkerOutputs {
+    cli::BackgroundChoice background;
+    int32_t linear = 0;
+};
+RenderSettings decodeWorkerJob(const std::string& bytes, std::string& timelineJson, WorkerOutputs* outputs = nullptr);
 
 /// The scene's timeline section with its frame rate set to fps (--fps): frames are sampled at
 /// that rate. A bare model's default turntable gets {"turntable": {"fps": fps}}.
