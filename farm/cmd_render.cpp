@@ -126,7 +126,8 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
         job.video = videoFormatOf(job.output, job.mp4);
         note = checkMp4Options(job.settings.width, job.settings.height, job.mp4, job.output);
     } catch (const std::invalid_argument& e) {
-        throw UsageError(job.output + ": " + e.what());
+        const std::string what = e.what();  // an option's own error leads with the option
+        throw UsageError(what.rfind("--", 0) == 0 ? what : job.output + ": " + what);
     }
     if (!note.empty()) std::cerr << "rayfarm: note: " << note << "\n";
 
