@@ -92,4 +92,23 @@ bool ArgParser::sizeValue(const std::string& name, int& w, int& h) const {
     return true;
 }
 
+void declareSceneOptions(ArgParser& p) {
+    for (const char* o : {"--environment", "--environment-rotation", "--environment-intensity"}) p.option(o);
+}
+
+SceneOptions sceneOptions(const ArgParser& p) {
+    SceneOptions o;
+    if (auto f = p.value("--environment")) {
+        if (f->empty()) throw UsageError("--environment: expected an .hdr or .exr file");
+        o.environment = EnvironmentSpec{*f, 0.f, 1.f};
+    }
+    if (p.has("--environment-rotation")) o.environmentRotation = float(p.doubleValue("--environment-rotation", 0.0));
+    if (p.has("--environment-intensity")) {
+        const double k = p.doubleValue("--environment-intensity", 1.0);
+        if (k < 0.0) throw UsageError("--environment-intensity: expected a number >= 0");
+        o.environmentIntensity = float(k);
+    }
+    return o;
+}
+
 }  // namespace rf::cli

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "cli.h"
+#include "exposure_meter.h"
 #include "errors.h"
 #include "frame_assembler.h"
 #include "image.h"
@@ -113,6 +114,7 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, int ranks, cons
         scene.timelineJson = timelineWithFps(scene.timelineJson, bareModel, job.fpsOption);
     }
     const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    resolveAutoExposure(scene, tl, job.settings, job.threads);
     job.timelineFrames = tl.frameCount();
     job.timelineFps = tl.fps();
     job.first = 0;
@@ -379,7 +381,8 @@ int runRender(const std::vector<std::string>& args) {
             [&](Scene& scene) {
                 decideJob(job, p, scene, t.size(), threadsNote);
                 return encodeWorkerJob(job, scene.timelineJson);
-            });
+            },
+            sceneOptions(p));
     } catch (const PeerFailed& e) {
         return e.code();
     } catch (const std::exception& e) {

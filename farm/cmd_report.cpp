@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cli.h"
+#include "exposure_meter.h"
 #include "mp4_sink.h"
 #include "output_check.h"
 #include "report_plot.h"
@@ -32,7 +33,7 @@ const char* kReportHelp =
     "  --size WxH              image size (default: the scene's)\n"
     "  --target-psnr DB        the error the summary answers for (default 30)\n"
     "  --threads N             worker threads (default: all cores)\n"
-    "  --spp N, --depth N, --min-weight W, --tonemap T\n"
+    "  --spp N, --depth N, --min-weight W, --tonemap T, --exposure EV|auto\n"
     "                          the default setting the sweep is centred on (default: the scene's)\n"
     "  --grid ofat|full        one factor at a time around the default (ofat, default) or every\n"
     "                          combination (full: |spp| x |depth| x |min weight| renders)\n"
@@ -114,9 +115,10 @@ std::vector<float> weightList(const ArgParser& p, const std::string& name, std::
 int runReport(const std::vector<std::string>& args) {
     ArgParser p("report");
     for (const char* o : {"--out", "--frame", "--size", "--target-psnr", "--threads", "--spp", "--depth",
-                          "--min-weight", "--tonemap", "--grid", "--sweep-spp", "--sweep-depth", "--sweep-min-weight",
+                          "--min-weight", "--tonemap", "--exposure", "--grid", "--sweep-spp", "--sweep-depth", "--sweep-min-weight",
                           "--ref-spp", "--ref-depth", "--video-frames", "--video-crf", "--video-preset"})
         p.option(o);
+    declareSceneOptions(p);
     p.flag("--stability");
     p.flag("--no-video");
     p.flag("--help");
@@ -172,7 +174,7 @@ int runReport(const std::vector<std::string>& args) {
     ensureWritableDir(*out);
 
     DiskFileSource fs;
-    Scene scene = loadScene(scenePath, fs);
+    Scene scene = loadScene(scenePath, fs, sceneOptions(p));
     for (const std::string& note : scene.notes) std::fprintf(stderr, "rayfarm: note: %s\n", note.c_str());
     const anim::Timeline timeline = anim::Timeline::fromScene(scene);
     o.frame = p.intValue("--frame", 0, 0, 1 << 30);
@@ -183,6 +185,7 @@ int runReport(const std::vector<std::string>& args) {
 
     RenderSettings settings = scene.settings;
     applyQualityOptions(p, settings);
+    resolveAutoExposure(scene, timeline, settings, p.intValue("--threads", 0, 0, 4096));
     o.sweep.base = {settings.spp, settings.maxDepth, settings.minWeight};
 
     const bool video = !p.has("--no-video");

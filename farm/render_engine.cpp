@@ -113,11 +113,11 @@ TileResult RenderEngine::render(Scene& scene, const anim::Timeline& tl, const Re
         const TileRect& t = subs[size_t(i)];
         std::vector<float> buf(size_t(t.pixels()) * 3);
         renderTile(scene, scene.camera, t, s, item.frame, buf.data(), perThread[size_t(thread)]);
-        // The same per-channel mapping as toRgb8, so tiles assemble into the identical frame.
+        // The same mapping as toRgb8, so tiles assemble into the identical frame.
+        const float scale = exposureScale(s.exposure);
         for (int y = 0; y < t.height(); ++y) {
             uint8_t* dst = out.rgb.data() + 3 * (size_t(t.y0 - rect.y0 + y) * rect.width() + size_t(t.x0 - rect.x0));
-            const float* src = buf.data() + 3 * size_t(y) * t.width();
-            for (int k = 0; k < 3 * t.width(); ++k) dst[k] = toByte(srgbEncode(toneMap(src[k], s.toneMap)));
+            toSrgb8(buf.data() + 3 * size_t(y) * t.width(), size_t(t.width()), s.toneMap, scale, dst);
         }
     });
     for (const RayStats& r : perThread) out.rays += r;
