@@ -6,14 +6,14 @@
 #include <thread>
 
 #include "sampler.h"
-#include "whitted.h"
+#include "integrator.h"
 
 namespace rf {
 
 void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, const RenderSettings& settings,
                 int frame, float* out, RayStats& stats, float* alpha) {
     const CameraRays rays(camera, settings.width, settings.height);
-    const WhittedTracer tracer(scene, settings);
+    const std::unique_ptr<Integrator> integrator = makeIntegrator(scene, settings);
     const int n = std::max(1, static_cast<int>(std::lround(std::sqrt(static_cast<double>(std::max(1, settings.spp))))));
     const float invN = 1.f / n;
     const float invSpp = 1.f / (n * n);
@@ -35,7 +35,7 @@ void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, 
                     }
                     const Ray r = rays.generate(x + (sx + jx) * invN, y + (sy + jy) * invN);
                     bool hit = false;
-                    Color c = tracer.tracePrimary(r, local, alpha ? &hit : nullptr);
+                    Color c = integrator->Li(r, local, alpha ? &hit : nullptr);
                     hits += hit;
                     if (!isFinite(c)) {
                         c = Color(0.f);

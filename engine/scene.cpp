@@ -2,6 +2,8 @@
 
 #include <cstring>
 
+#include "material_eval.h"
+
 namespace rf {
 
 namespace {
@@ -134,13 +136,13 @@ void Scene::applyNodeTransforms(int model, const std::vector<DMat4>& renderFromN
 bool Scene::triangleAlphaPasses(uint32_t tri, const TriangleHit& h) const {
     const TriangleMesh& mesh = meshes[triMesh_[tri]];
     const Material& mat = materials[mesh.material];
-    float alpha = mat.alpha;
-    if (mat.baseColorTexture >= 0 && !mesh.uvs.empty()) {
-        const uint32_t* idx = &mesh.indices[3 * triLocal_[tri]];
-        const Vec2 uv = h.b0 * mesh.uvs[idx[0]] + h.b1 * mesh.uvs[idx[1]] + h.b2 * mesh.uvs[idx[2]];
-        alpha *= sampleTexture(textures[mat.baseColorTexture], uv).a;
-    }
-    return alpha >= mat.alphaCutoff;
+    // The same lookup as shading (material_eval.h): the texCoord set and KHR_texture_transform
+    // the material names, so the cut-out traversal sees is the one the picture shows.
+    Vec2 uv0(0.f), uv1(0.f);
+    const uint32_t* idx = &mesh.indices[3 * triLocal_[tri]];
+    if (!mesh.uvs.empty()) uv0 = h.b0 * mesh.uvs[idx[0]] + h.b1 * mesh.uvs[idx[1]] + h.b2 * mesh.uvs[idx[2]];
+    if (!mesh.uvs1.empty()) uv1 = h.b0 * mesh.uvs1[idx[0]] + h.b1 * mesh.uvs1[idx[1]] + h.b2 * mesh.uvs1[idx[2]];
+    return materialAlpha(textures, mat, uv0, uv1) >= mat.alphaCutoff;
 }
 
 bool Scene::intersectSlot(uint32_t slot, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit, uint32_t skip) const {

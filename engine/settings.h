@@ -9,6 +9,8 @@ enum class ToneMap {
     PbrNeutral,  ///< Khronos PBR Neutral: exact below 0.76, hue-preserving roll-off above (glTF default)
 };
 enum class ShadingModel { Phong, BlinnPhong };
+/// Which Integrator (engine/integrator.h) turns rays into radiance.
+enum class IntegratorKind { Whitted };
 
 struct RenderSettings {
     int width = 640;
@@ -21,6 +23,7 @@ struct RenderSettings {
     bool autoExposure = false;   ///< meter exposure once per film (the CLI resolves it into exposure)
     ShadingModel shading = ShadingModel::Phong;
     int tileSize = 32;
+    IntegratorKind integrator = IntegratorKind::Whitted;
 };
 
 }  // namespace rf

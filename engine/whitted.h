@@ -2,31 +2,31 @@
 /// The seed's recursive (Whitted) tracer: ambient + Lambert + Phong per light with distance
 /// attenuation, hard shadows, mirror reflection and Snell refraction, a depth limit and the
 /// rule that prunes secondary rays whose weight would not show.
+#include <vector>
+
+#include "integrator.h"
 #include "scene.h"
-#include "stats.h"
 
 namespace rf {
 
-class WhittedTracer {
+class WhittedTracer final : public Integrator {
 public:
     WhittedTracer(const Scene& scene, const RenderSettings& settings);
 
-    /// Radiance along a primary ray (counted as primary). *hit (if given): whether it met
-    /// geometry. With a transparent background a miss gives black.
-    Color tracePrimary(const Ray& r, RayStats& stats, bool* hit = nullptr) const;
+    /// Radiance along a primary ray (counted as primary); see Integrator::Li.
+    Color Li(const Ray& r, RayStats& stats, bool* hit) const override;
 
     /// Local illumination at a surface point seen along direction d (the seed's Phong formula).
     /// weight: what the result is worth in the pixel; a light whose term would count for no
     /// more than settings.minWeight there is left out, shadow ray and all.
     Color shade(const SurfaceInteraction& si, const Vec3& d, RayStats& stats, const Color& weight = Color(1.f)) const;
 
-    /// Base colour of the material at the surface point (checker, texture, factor).
-    Color baseColor(const SurfaceInteraction& si, float* alpha = nullptr) const;
-
 private:
     Color trace(const Ray& r, int depth, const Color& weight, RayStats& stats, uint32_t skip = Scene::kNoPrim) const;
     /// trace() once the ray's closest hit is known.
     Color traceHit(const Ray& r, const Hit& hit, int depth, const Color& weight, RayStats& stats) const;
+    /// The Phong (or Blinn–Phong) specular term k_spec·x^n for light direction l.
+    float specular(const Material& m, int material, const Vec3& ns, const Vec3& l, const Vec3& V) const;
 
     const Scene& scene_;
     RenderSettings settings_;

@@ -1,0 +1,30 @@
+#pragma once
+/// The tracer seam: "radiance along a ray", after pbrt-v4's RayIntegrator::Li and Mitsuba 3's
+/// Integrator::sample(). renderTile generates camera rays and asks an Integrator for their
+/// radiance; which integrator runs is part of RenderSettings, so it travels with the job to
+/// every rank. Material models (the seed's Phong, glTF's metallic-roughness) live inside an
+/// integrator's shading, not beside it as second renderers.
+#include <memory>
+
+#include "ray.h"
+#include "settings.h"
+#include "stats.h"
+#include "vec_math.h"
+
+namespace rf {
+
+class Scene;
+
+class Integrator {
+public:
+    virtual ~Integrator() = default;
+    /// Radiance arriving at the camera along primary ray r; counts the rays it traces in stats.
+    /// *hit (if not null) gets whether r met geometry: the pixel's coverage (alpha). With a
+    /// transparent background a primary ray that misses brings no radiance.
+    virtual Color Li(const Ray& r, RayStats& stats, bool* hit) const = 0;
+};
+
+/// The integrator settings.integrator names, over scene (which must outlive it).
+std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const RenderSettings& settings);
+
+}  // namespace rf

@@ -1,0 +1,35 @@
+#pragma once
+/// The material lookup at a surface point: which texture coordinates a texture reads, its
+/// KHR_texture_transform, and the factor × texture products. Shading and the alpha-MASK test
+/// during traversal both read materials through here, so they cannot disagree.
+#include "material.h"
+#include "texture.h"
+
+namespace rf {
+
+class Scene;
+struct SurfaceInteraction;
+
+/// The coordinates texture slot t reads at a point with TEXCOORD_0 = uv0 and TEXCOORD_1 = uv1:
+/// the set t.texCoord names, through t's transform.
+inline Vec2 textureUv(const TextureTransform& t, Vec2 uv0, Vec2 uv1) {
+    return applyTextureTransform(t, t.texCoord == 1 ? uv1 : uv0);
+}
+
+/// The base-colour texture's RGBA at (uv0, uv1); white where m has none.
+Vec4 baseColorTexel(const std::vector<Texture>& textures, const Material& m, Vec2 uv0, Vec2 uv1);
+
+/// Alpha factor × texture alpha: what the alpha-MASK test compares with the cut-off.
+inline float materialAlpha(const std::vector<Texture>& textures, const Material& m, Vec2 uv0, Vec2 uv1) {
+    return m.baseColorTexture >= 0 ? m.alpha * baseColorTexel(textures, m, uv0, uv1).a : m.alpha;
+}
+
+/// Base colour of the material at a surface point (checker, texture, factor); *alpha gets the
+/// alpha factor × texture alpha when asked for.
+Color baseColor(const Scene& scene, const SurfaceInteraction& si, float* alpha = nullptr);
+
+/// The tangent-space normal of m's normal texture at (uv0, uv1), scaled by normalScale in x and
+/// y as glTF defines it (not normalised). Only for materials with a normal texture.
+Vec3 normalTextureSample(const std::vector<Texture>& textures, const Material& m, Vec2 uv0, Vec2 uv1);
+
+}  // namespace rf
