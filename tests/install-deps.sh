@@ -9,6 +9,7 @@ packages=(
   libopenmpi-dev openmpi-bin                                  # farm/: MPI
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev # farm/: H.264 MP4 through FFmpeg
   libgtest-dev libbenchmark-dev                               # tests and benchmarks
+  libembree-dev                                               # tests/bench/embree_bench: equal-work traversal reference (never linked into rayfarm)
   assimp-testmodels                                           # real glTF files the tests render
   ffmpeg                                                      # ffprobe, to check videos independently
   python3 procps                                              # farm MPI tests: stats JSON, pgrep for ranks
