@@ -57,6 +57,7 @@ public:
     LoopbackTransport(LoopbackHub& hub, int rank) : hub_(hub), rank_(rank) {}
     int rank() const override { return rank_; }
     int size() const override { return hub_.size(); }
+    int ranksOnThisNode() const override { return hub_.size(); }  // every rank is a thread here
     void send(int dest, int tag, std::string bytes) override { hub_.post(dest, {rank_, tag, std::move(bytes)}); }
     bool poll(Message& out) override { return hub_.take(rank_, 0, out, false); }
     bool flush(double) override { return true; }

@@ -127,7 +127,7 @@ MasterOutcome Master::run() {
         return out_;
     };
     for (;;) {
-        if (interruptSignal()) {
+        if (interruptSignal() || (cfg_.cancel && cfg_.cancel->load())) {
             for (WorkerState& w : workers_) w.answeredAfterInterrupt = false;
             if (local_) local_->cancelQueued();
             return finish(RunEnd::Interrupted, "");

@@ -2,6 +2,7 @@
 /// The master loop on rank 0: hands out work from a scheduler to the workers (and to rank 0's
 /// own render engine when it renders too), gathers results into the frame assembler, passes
 /// finished frames on in order, and watches every worker's heartbeat.
+#include <atomic>
 #include <chrono>
 #include <functional>
 #include <string>
@@ -22,6 +23,8 @@ struct MasterConfig {
     bool liveProgress = false;
     bool quiet = false;           ///< no progress lines (tests)
     int totalFrames = 0;          ///< frames in the output, for progress
+    /// The caller's stop request (a viewer's cancel button): read like a signal, ends Interrupted.
+    const std::atomic<bool>* cancel = nullptr;
 };
 
 enum class RunEnd { Done, Interrupted, WorkerLost, Failed };

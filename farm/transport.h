@@ -35,6 +35,8 @@ public:
     virtual bool flush(double timeoutSeconds) = 0;
     /// Collective: every rank ends with root's bytes (any size; sent in chunks below 2 GiB).
     virtual void broadcast(std::string& bytes, int root) = 0;
+    /// Ranks sharing this rank's node (for sharing its cores among them).
+    virtual int ranksOnThisNode() const { return 1; }
 };
 
 /// MPI_COMM_WORLD, with MPI_ERRORS_RETURN so a failing peer becomes a TransportError rather than
@@ -50,8 +52,7 @@ public:
     bool flush(double timeoutSeconds) override;
     void broadcast(std::string& bytes, int root) override;
 
-    /// Ranks sharing this rank's node (for sharing its cores among them).
-    int ranksOnThisNode() const { return localRanks_; }
+    int ranksOnThisNode() const override { return localRanks_; }
     /// Largest chunk one MPI_Bcast carries; tests lower it to exercise chunking.
     static void setBroadcastChunk(int64_t bytes);
     /// Ends every rank at once (a worker is lost, nothing better left to do).

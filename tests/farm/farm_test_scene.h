@@ -1,9 +1,14 @@
 #pragma once
 // A small turntable scene for the farm tests, loaded from memory as the workers load theirs.
+#include <cstdint>
+#include <map>
 #include <string>
+#include <vector>
 
 #include "file_source.h"
+#include "render_engine.h"
 #include "scene_loader.h"
+#include "timeline.h"
 
 namespace rf::testing {
 
@@ -35,6 +40,18 @@ inline FileBundle farmSceneBundle() {
 inline Scene loadFarmScene() {
     BundleFileSource fs(farmSceneBundle());
     return loadScene("farm_test.json", fs);
+}
+
+// The reference: each frame rendered whole, on one thread, by the function every mode reduces to.
+inline std::map<int, std::vector<uint8_t>> referenceFarmFrames() {
+    Scene scene = loadFarmScene();
+    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    const RenderSettings s = scene.settings;
+    std::map<int, std::vector<uint8_t>> out;
+    int applied = -1;
+    for (int f = tl.frameCount() - 1; f >= 0; --f)  // backwards: order must not matter
+        out[f] = farm::RenderEngine::render(scene, tl, s, 1, {f, {0, 0, s.width, s.height}}, applied).rgb;
+    return out;
 }
 
 }  // namespace rf::testing

@@ -78,25 +78,13 @@ FarmRun runFarm(int ranks, Mode mode, bool rank0Renders, int threads = 1) {
     return run;
 }
 
-// The reference: each frame rendered whole, on one thread, by the function every mode reduces to.
-std::map<int, std::vector<uint8_t>> referenceFrames() {
-    Scene scene = rf::testing::loadFarmScene();
-    const anim::Timeline tl = anim::Timeline::fromScene(scene);
-    const RenderSettings s = scene.settings;
-    std::map<int, std::vector<uint8_t>> out;
-    int applied = -1;
-    for (int f = tl.frameCount() - 1; f >= 0; --f)  // backwards: order must not matter
-        out[f] = RenderEngine::render(scene, tl, s, 1, {f, {0, 0, s.width, s.height}}, applied).rgb;
-    return out;
-}
-
 }  // namespace
 
 TEST(Master, TestSceneIsAnAnimatedTimeline) {
     Scene scene = rf::testing::loadFarmScene();
     const anim::Timeline tl = anim::Timeline::fromScene(scene);
     ASSERT_EQ(tl.frameCount(), 6);
-    const auto ref = referenceFrames();
+    const auto ref = rf::testing::referenceFarmFrames();
     EXPECT_NE(ref.at(0), ref.at(3));  // the camera moved: frames differ, so mix-ups would show
 }
 
@@ -118,7 +106,7 @@ TEST_P(MasterModes, FramesAreBitIdenticalToOneRendererAndInOrder) {
     const FarmCase c = GetParam();
     const FarmRun run = runFarm(c.ranks, c.mode, c.rank0Renders, c.threads);
     ASSERT_EQ(run.outcome.end, RunEnd::Done) << run.outcome.message;
-    const auto ref = referenceFrames();
+    const auto ref = rf::testing::referenceFarmFrames();
     ASSERT_EQ(run.frames.size(), ref.size());
     for (size_t i = 0; i < run.order.size(); ++i) EXPECT_EQ(run.order[i], int(i));
     for (const auto& [f, rgb] : ref) EXPECT_TRUE(run.frames.at(f) == rgb) << "frame " << f << " differs";

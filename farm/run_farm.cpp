@@ -1,0 +1,292 @@
+#include "run_farm.h"
+
+#include <csignal>
+#include <cstdio>
+#include <set>
+#include <thread>
+
+#include "frame_assembler.h"
+#include "image.h"
+#include "interrupt.h"
+#include "master.h"
+#include "mp4_sink.h"
+#include "png_sink.h"
+#include "render.h"
+#include "render_engine.h"
+#include "timeline.h"
+#include "worker.h"
+
+namespace rf::farm {
+
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double secondsBetween(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+
+/// The frames of the output, and which of them an earlier run left in the frames directory.
+struct FramePlan {
+    std::vector<int> order;     ///< every frame of the output, in order
+    std::set<int> kept;         ///< read back from disk (--resume)
+    std::vector<int> toRender;  ///< the rest, in order
+};
+
+FramePlan planFrames(const RenderJob& job, const std::function<void(const std::string&)>& log) {
+    FramePlan p;
+    p.order = job.frames();
+    if (job.resume) {
+        std::vector<int> corrupt;
+        p.kept = findKeptFrames(job.framesDir, p.order, job.settings.width, job.settings.height, &corrupt);
+        for (int f : corrupt)
+            log("note: " + framePngPath(job.framesDir, f) + ": does not match the checksum recorded when it was written; rendering it again");
+        char line[256];
+        std::snprintf(line, sizeof line, "resume: %zu of %zu frames kept in %s, %zu to render", p.kept.size(),
+                      p.order.size(), job.framesDir.c_str(), p.order.size() - p.kept.size());
+        log(line);
+    }
+    for (int f : p.order)
+        if (!p.kept.count(f)) p.toRender.push_back(f);
+    return p;
+}
+
+/// Pixel or frame scheduler, sized so every renderer's credits can be filled.
+std::unique_ptr<Scheduler> makeScheduler(const RenderJob& job, std::vector<int> toRender, int renderers, int credits) {
+    const int width = job.settings.width, height = job.settings.height;
+    if (job.mode != Mode::Pixel) return makeFrameScheduler(std::move(toRender), width, height, renderers * credits + 2);
+    // Big tiles mean fewer messages; small frames still get enough tiles to keep every rank's
+    // hands full.
+    int tile = job.tileSize;
+    while (tile > 16 && int(makeTiles(width, height, tile).size()) < 2 * renderers * credits) tile /= 2;
+    const int tilesPerFrame = int(makeTiles(width, height, tile).size());
+    const int window = 2 + (renderers * credits + tilesPerFrame - 1) / tilesPerFrame;
+    return makePixelScheduler(std::move(toRender), width, height, tile, window);
+}
+
+/// The sinks, each on its own thread.
+struct AsyncSinks {
+    std::unique_ptr<AsyncSink> video, frames;
+
+    explicit AsyncSinks(FarmSinks s) {
+        if (!s.video) throw std::invalid_argument("runFarm: a video sink is required");
+        video = std::make_unique<AsyncSink>(std::move(s.video), 4);
+        if (s.frames) frames = std::make_unique<AsyncSink>(std::move(s.frames), 4);
+    }
+    /// Closes both (the PNG frames first: they are what a resume needs); rethrows the first error.
+    void close() {
+        std::exception_ptr first;
+        for (AsyncSink* s : {frames.get(), video.get()}) {
+            if (!s) continue;
+            try {
+                s->close();
+            } catch (...) {
+                if (!first) first = std::current_exception();
+            }
+        }
+        if (first) std::rethrow_exception(first);
+    }
+};
+
+/// One run on rank 0: the parts runFarm wires together, and the steps after the master's loop.
+class FarmRun {
+public:
+    FarmRun(Transport& t, const RenderJob& job, const FarmOptions& opts, FarmSinks sinks)
+        : t_(t), job_(job), opts_(opts), sinks_(std::move(sinks)) {}
+
+    FarmOutcome run(SharedScene& shared);
+
+private:
+    MasterConfig masterConfig(int totalFrames) const;
+    void emit(ReadyFrame& rf, int total);
+    MasterOutcome runMaster(Master& master);
+    std::string closeSinks(Master& master, const MasterOutcome& o);
+    FarmOutcome conclude(Master& master, const MasterOutcome& o, const std::string& silent, const SharedScene& shared);
+    RunStats stats(const MasterOutcome& o, Clock::time_point end, const SharedScene& shared) const;
+
+    Transport& t_;
+    const RenderJob& job_;
+    const FarmOptions& opts_;
+    AsyncSinks sinks_;
+    bool rank0Renders_ = false;
+    int framesPassed_ = 0, encodedKept_ = 0;
+    Clock::time_point end_{};
+};
+
+MasterConfig FarmRun::masterConfig(int totalFrames) const {
+    MasterConfig cfg;
+    cfg.workerTimeout = job_.workerTimeout;
+    // Pixel mode: a 64x64 tile renders in about a millisecond, as long as a round trip to rank 0,
+    // so each rank holds more of them to never wait for the next.
+    cfg.credits = job_.mode == Mode::Pixel ? 4 : 2;
+    cfg.liveProgress = opts_.liveProgress;
+    cfg.quiet = opts_.quiet;
+    cfg.totalFrames = totalFrames;
+    cfg.cancel = opts_.cancel;
+    return cfg;
+}
+
+void FarmRun::emit(ReadyFrame& rf, int total) {
+    const int width = job_.settings.width, height = job_.settings.height;
+    if (rf.onDisk) {
+        int w = 0, h = 0;
+        rf.rgb = readImageRgb8(framePngPath(job_.framesDir, rf.frame), w, h);
+        if (w != width || h != height) throw std::runtime_error(framePngPath(job_.framesDir, rf.frame) + ": wrong size");
+        ++encodedKept_;
+    }
+    sinks_.video->write(rf.frame, rf.rgb);
+    ++framesPassed_;
+    if (opts_.onFrame) opts_.onFrame(FarmProgress{rf.frame, framesPassed_, total, rf.onDisk, &rf.rgb});
+}
+
+MasterOutcome FarmRun::runMaster(Master& master) {
+    try {
+        return master.run();
+    } catch (...) {
+        master.stopWorkers();
+        throw;
+    }
+}
+
+/// Closes the sinks. After an interrupt, under mpirun SIGKILL follows SIGTERM within about a
+/// second: the video is finished first, and meanwhile the master finds out whether a worker's
+/// death is why we were signalled; returns that worker's description, or "".
+std::string FarmRun::closeSinks(Master& master, const MasterOutcome& o) {
+    if (o.end != RunEnd::Interrupted) {
+        try {
+            sinks_.close();
+        } catch (...) {
+            master.stopWorkers();
+            throw;
+        }
+        return "";
+    }
+    std::exception_ptr closeError;
+    std::thread closer([&] {
+        try {
+            sinks_.close();
+        } catch (...) {
+            closeError = std::current_exception();
+        }
+    });
+    // A cancel is the caller's wish: no worker died for it.
+    std::string silent;
+    if (t_.size() > 1 && interruptSignal()) silent = master.findSilentWorker(0.5);
+    closer.join();
+    if (closeError) std::rethrow_exception(closeError);
+    return silent;
+}
+
+FarmOutcome FarmRun::run(SharedScene& shared) {
+    const int ranks = t_.size();
+    rank0Renders_ = ranks <= 2;  // with more ranks, rank 0's core serves the master and encoder
+    const int renderers = rank0Renders_ ? ranks : ranks - 1;
+    const FramePlan plan = planFrames(job_, opts_.log);
+    const MasterConfig cfg = masterConfig(int(plan.order.size()));
+    std::unique_ptr<Scheduler> sched = makeScheduler(job_, plan.toRender, renderers, cfg.credits);
+    FrameAssembler assembler(job_.settings.width, job_.settings.height, plan.order, plan.kept);
+    anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, job_.fpsOption);
+    std::unique_ptr<RenderEngine> local;
+    if (rank0Renders_) local = std::make_unique<RenderEngine>(std::move(shared.scene), timeline, job_.settings, opts_.threads);
+
+    const int total = int(plan.order.size());
+    Master master(t_, *sched, assembler, local.get(), [&](ReadyFrame& rf) { emit(rf, total); }, cfg);
+    if (sinks_.frames)
+        master.onFrameComplete([&](int frame, const std::vector<uint8_t>& rgb) { sinks_.frames->write(frame, rgb); });
+    const MasterOutcome o = runMaster(master);
+    const std::string silent = closeSinks(master, o);
+    end_ = Clock::now();
+    local.reset();
+    return conclude(master, o, silent, shared);
+}
+
+FarmOutcome FarmRun::conclude(Master& master, const MasterOutcome& o, const std::string& silent, const SharedScene& shared) {
+    FarmOutcome out;
+    const int encoded = sinks_.video->framesDone();
+    out.videoHolds = "the video " + job_.output + " holds " +
+                     (encoded ? "frames " + frameSpan(job_.first, job_.first + encoded - 1) : std::string("no frames")) +
+                     " of " + frameSpan(job_.first, job_.last);
+    out.stats = stats(o, end_, shared);
+    if (o.end == RunEnd::WorkerLost || !silent.empty()) {
+        // The lost worker cannot be told to stop, and mpirun waits for it: the caller aborts.
+        out.end = FarmEnd::WorkerLost;
+        out.error = silent.empty() ? o.message : silent;
+        out.abortRanks = t_.size() > 1;
+        if (opts_.onEnd) opts_.onEnd(out);
+        return out;
+    }
+    if (o.end == RunEnd::Interrupted) {
+        out.signal = interruptSignal();
+        out.end = out.signal ? FarmEnd::Interrupted : FarmEnd::Cancelled;
+        if (opts_.onEnd) opts_.onEnd(out);  // before the workers hear: SIGKILL is near
+        master.stopWorkers();
+        return out;
+    }
+    master.stopWorkers();
+    if (o.end == RunEnd::Failed) throw std::runtime_error(o.message + "; " + out.videoHolds);
+    if (!job_.statsPath.empty()) writeStatsJson(job_.statsPath, out.stats);
+    if (opts_.onEnd) opts_.onEnd(out);
+    return out;
+}
+
+RunStats FarmRun::stats(const MasterOutcome& o, Clock::time_point end, const SharedScene& shared) const {
+    RunStats s;
+    s.frames = sinks_.video->framesDone();
+    const auto firstDispatch = o.firstDispatch == Clock::time_point{} ? opts_.wallStart : o.firstDispatch;
+    s.renderSeconds = secondsBetween(firstDispatch, std::max(sinks_.video->lastDone(), o.firstDispatch));
+    s.sustainedFps = s.renderSeconds > 0.0 ? s.frames / s.renderSeconds : 0.0;
+    s.wallSeconds = secondsBetween(opts_.wallStart, end);
+    s.encodeSeconds = sinks_.video->busySeconds();
+    s.width = job_.settings.width;
+    s.height = job_.settings.height;
+    s.mode = job_.mode == Mode::Pixel ? "pixel" : "frame";
+    s.ranks = t_.size();
+    s.threadsPerRank = opts_.threads;
+    s.rays = o.rays;
+    s.perRank = o.perRank;
+    s.extra["frames_rendered"] = double(s.frames - encodedKept_);
+    s.extra["frames_kept"] = double(encodedKept_);
+    s.extra["video_fps"] = job_.mp4.fps;
+    s.extra["encoder_share"] = s.renderSeconds > 0 ? s.encodeSeconds / s.renderSeconds : 0.0;
+    s.extra["png_s"] = sinks_.frames ? sinks_.frames->busySeconds() : 0.0;
+    s.extra["load_s"] = shared.loadSeconds;
+    s.extra["scene_bytes"] = double(shared.bundleBytes);
+    s.extraText["mode_reason"] = job_.modeWhy;
+    s.extraText["rank0_renders"] = rank0Renders_ ? "yes" : "no";
+    s.extraText["encoder"] =
+        job_.mp4.lossless ? "libx264rgb qp 0" : "libx264 crf " + std::to_string(job_.mp4.crf) + " " + job_.mp4.preset;
+    return s;
+}
+
+}  // namespace
+
+std::string frameSpan(int first, int last) {
+    return first == last ? std::to_string(first) : std::to_string(first) + "–" + std::to_string(last);
+}
+
+FarmSinks sinksForJob(const RenderJob& job) {
+    FarmSinks s;
+    s.video = std::make_unique<Mp4Sink>(job.output, job.settings.width, job.settings.height, job.mp4);
+    if (!job.framesDir.empty()) s.frames = std::make_unique<PngSink>(job.framesDir, job.settings.width, job.settings.height);
+    return s;
+}
+
+FarmOutcome runFarm(Transport& t, const RenderJob& job, SharedScene& shared, FarmSinks sinks, const FarmOptions& opts) {
+    FarmOptions o = opts;
+    if (!o.log) o.log = [](const std::string& line) { std::fprintf(stderr, "rayfarm: %s\n", line.c_str()); };
+    FarmRun run(t, job, o, std::move(sinks));
+    return run.run(shared);
+}
+
+int runFarmWorker(Transport& t, SharedScene& shared, double fpsOption, int threads, double masterTimeout) {
+    try {
+        const RenderSettings settings = decodeWorkerJob(shared.job);
+        // Every rank parsed the same options, so the worker's timeline matches rank 0's.
+        anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, fpsOption);
+        RenderEngine engine(std::move(shared.scene), timeline, settings, threads);
+        return runWorker(t, engine, masterTimeout);
+    } catch (const std::exception& e) {
+        reportWorkerError(t, e.what());
+        return 1;
+    }
+}
+
+}  // namespace rf::farm

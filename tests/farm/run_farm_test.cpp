@@ -1,0 +1,155 @@
+// The farm entry point over the in-process transport, as a viewer would call it: the scene is
+// shared by broadcast, workers serve through runFarmWorker, frames reach the caller's sink and
+// progress callback in order and bit-identical to one renderer; a cancel flag stops the run with
+// the finished frames kept.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <thread>
+
+#include "farm_test_scene.h"
+#include "loopback_transport.h"
+#include "render_engine.h"
+#include "run_farm.h"
+#include "timeline.h"
+
+using namespace rf;
+using namespace rf::farm;
+
+namespace {
+
+/// Keeps what it is given, in arrival order, in storage the test owns (runFarm owns the sink).
+class CollectingSink : public FrameSink {
+public:
+    explicit CollectingSink(std::vector<std::pair<int, std::vector<uint8_t>>>& out) : out_(out) {}
+    void write(int frame, const std::vector<uint8_t>& rgb) override { out_.emplace_back(frame, rgb); }
+    void close() override {}
+
+private:
+    std::vector<std::pair<int, std::vector<uint8_t>>>& out_;
+};
+
+std::string writeSceneFile() {
+    const std::string dir = std::string(RAYFARM_TEST_OUT) + "/run_farm";
+    std::filesystem::create_directories(dir);
+    const std::string path = dir + "/farm_test.json";
+    std::ofstream(path) << rf::testing::kFarmSceneJson;
+    return path;
+}
+
+/// The job rank 0 decides for the test scene: every frame, the given mode, no files.
+RenderJob jobFor(const Scene& scene, Mode mode) {
+    RenderJob job;
+    job.output = "memory.mp4";
+    job.settings = scene.settings;
+    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    job.timelineFrames = tl.frameCount();
+    job.first = 0;
+    job.last = tl.frameCount() - 1;
+    job.mode = mode;
+    job.tileSize = 16;
+    return job;
+}
+
+struct LoopbackRun {
+    FarmOutcome outcome;
+    std::vector<std::pair<int, std::vector<uint8_t>>> video, frames;
+    std::vector<FarmProgress> progress;  ///< rgb pointers cleared: they are valid only during the call
+};
+
+/// ranks loopback ranks; rank 0 calls runFarm, the others runFarmWorker. cancelAfter > 0 sets
+/// the cancel flag from the progress callback once that many frames went out.
+LoopbackRun runLoopbackFarm(int ranks, Mode mode, int cancelAfter = 0) {
+    const std::string path = writeSceneFile();
+    LoopbackHub hub(ranks);
+    std::vector<std::thread> workers;
+    std::vector<int> workerCodes(size_t(ranks), -1);
+    for (int r = 1; r < ranks; ++r)
+        workers.emplace_back([&, r] {
+            LoopbackTransport t(hub, r);
+            SharedScene s = shareScene(t, path, nullptr, nullptr);
+            workerCodes[size_t(r)] = runFarmWorker(t, s, 0.0, 1, 20.0);
+        });
+    LoopbackTransport t(hub, 0);
+    RenderJob job;
+    SharedScene shared = shareScene(t, path, nullptr, [&](Scene& scene, const FileBundle&) {
+        job = jobFor(scene, mode);
+        return encodeWorkerJob(job);
+    });
+    LoopbackRun run;
+    std::atomic<bool> cancel{false};
+    FarmSinks sinks;
+    sinks.video = std::make_unique<CollectingSink>(run.video);
+    sinks.frames = std::make_unique<CollectingSink>(run.frames);
+    FarmOptions opts;
+    opts.quiet = true;
+    opts.cancel = &cancel;
+    opts.onFrame = [&](const FarmProgress& p) {
+        EXPECT_TRUE(p.rgb && p.rgb->size() == size_t(job.settings.width * job.settings.height * 3));
+        FarmProgress copy = p;
+        copy.rgb = nullptr;
+        run.progress.push_back(copy);
+        if (cancelAfter > 0 && p.framesDone >= cancelAfter) cancel = true;
+    };
+    run.outcome = runFarm(t, job, shared, std::move(sinks), opts);
+    for (auto& w : workers) w.join();
+    for (int r = 1; r < ranks; ++r) EXPECT_EQ(workerCodes[size_t(r)], 0) << "rank " << r;
+    return run;
+}
+
+}  // namespace
+
+class RunFarmModes : public ::testing::TestWithParam<std::pair<int, Mode>> {};
+
+TEST_P(RunFarmModes, FramesReachTheSinksInOrderAndMatchOneRenderer) {
+    const auto [ranks, mode] = GetParam();
+    const LoopbackRun run = runLoopbackFarm(ranks, mode);
+    ASSERT_EQ(run.outcome.end, FarmEnd::Done) << run.outcome.error;
+    const auto ref = rf::testing::referenceFarmFrames();
+    ASSERT_EQ(run.video.size(), ref.size());
+    ASSERT_EQ(run.progress.size(), ref.size());
+    for (size_t i = 0; i < run.video.size(); ++i) {
+        EXPECT_EQ(run.video[i].first, int(i));
+        EXPECT_TRUE(run.video[i].second == ref.at(int(i))) << "frame " << i << " differs from one renderer";
+        EXPECT_EQ(run.progress[i].frame, int(i));
+        EXPECT_EQ(run.progress[i].framesDone, int(i) + 1);
+        EXPECT_EQ(run.progress[i].framesTotal, int(ref.size()));
+        EXPECT_FALSE(run.progress[i].kept);
+    }
+    std::map<int, std::vector<uint8_t>> frames(run.frames.begin(), run.frames.end());
+    EXPECT_EQ(frames, ref);  // the frames sink saw every frame once, with the same pixels
+    EXPECT_EQ(run.outcome.stats.frames, int(ref.size()));
+    EXPECT_EQ(run.outcome.stats.ranks, ranks);
+    EXPECT_GT(run.outcome.stats.rays.primary, 0u);
+    EXPECT_EQ(run.outcome.videoHolds, "the video memory.mp4 holds frames 0–5 of 0–5");
+}
+
+INSTANTIATE_TEST_SUITE_P(Farm, RunFarmModes,
+                         ::testing::Values(std::pair{1, Mode::Frame}, std::pair{2, Mode::Pixel}, std::pair{3, Mode::Frame}));
+
+TEST(RunFarm, CancelFlagStopsTheRunKeepingTheFramesDone) {
+    const LoopbackRun run = runLoopbackFarm(1, Mode::Frame, 2);
+    EXPECT_EQ(run.outcome.end, FarmEnd::Cancelled);
+    EXPECT_EQ(run.outcome.signal, 0);
+    EXPECT_FALSE(run.outcome.abortRanks);
+    // The flag is read between scheduling steps: frames already complete may still go out.
+    ASSERT_GE(run.video.size(), 2u);
+    EXPECT_LT(run.video.size(), 6u);
+    EXPECT_EQ(run.outcome.stats.frames, int(run.video.size()));
+    const auto ref = rf::testing::referenceFarmFrames();
+    for (const auto& [f, rgb] : run.video) EXPECT_TRUE(rgb == ref.at(f)) << "frame " << f;
+    EXPECT_EQ(run.outcome.videoHolds,
+              "the video memory.mp4 holds frames 0–" + std::to_string(run.video.size() - 1) + " of 0–5");
+}
+
+TEST(RunFarm, MissingVideoSinkIsRefused) {
+    LoopbackHub hub(1);
+    LoopbackTransport t(hub, 0);
+    SharedScene shared;
+    shared.scene = rf::testing::loadFarmScene();
+    const RenderJob job = jobFor(shared.scene, Mode::Frame);
+    EXPECT_THROW(runFarm(t, job, shared, FarmSinks{}, FarmOptions{}), std::invalid_argument);
+}
