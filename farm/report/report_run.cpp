@@ -15,6 +15,48 @@
 
 namespace rf::report {
 
+namespace {
+
+/// Renders the reference once (the slowest render by far; its time is only for orientation),
+/// writes reference.png and fills rep.reference; returns its 8-bit pixels.
+std::vector<uint8_t> renderReference(const Scene& scene, const RenderSettings& settings, const QualityReportOptions& o,
+                                     QualityReport& rep) {
+    const int w = settings.width, h = settings.height;
+    if (o.progress)
+        std::fprintf(stderr, "rayfarm: report: reference %s at %dx%d ...\n", describe(o.reference).c_str(), w, h);
+    const RenderSettings refSettings = withQuality(settings, o.reference);
+    const TimedRender ref = renderTimed(scene, refSettings, o.frame, o.threads, 0.0, 1);
+    const std::vector<uint8_t> ref8 = toRgb8(ref.image, settings.toneMap);
+    writePng(rep.referencePath, w, h, ref8);
+    rep.reference.q = o.reference;
+    rep.reference.factor = "reference";
+    rep.reference.seconds = ref.seconds;
+    rep.reference.repeats = ref.repeats;
+    rep.reference.rays = ref.rays;
+    rep.reference.error = compareRgb8(ref8, ref8, w, h);
+    if (o.progress) std::fprintf(stderr, "rayfarm: report: reference took %.2f s\n", ref.seconds);
+    return ref8;
+}
+
+/// Renders the default setting to default.png and its error against the reference, in false
+/// colour, to errorImagePath; returns the error scale used.
+double writeDefaultImages(const Scene& scene, const RenderSettings& settings, const QualityReportOptions& o,
+                          const std::vector<uint8_t>& ref8, const std::string& errorImagePath) {
+    const int w = settings.width, h = settings.height;
+    const std::filesystem::path dir(o.outDir);
+    const RenderSettings defSettings = withQuality(settings, o.sweep.base);
+    RayStats rays;
+    const Image def = renderFrame(scene, scene.camera, defSettings, o.frame, o.threads, rays);
+    const std::vector<uint8_t> def8 = toRgb8(def, settings.toneMap);
+    writePng((dir / "default.png").string(), w, h, def8);
+    // Scaled to the 99th percentile, so a few extreme pixels do not leave the rest black.
+    const double scale = std::max(errorQuantileRgb8(def8, ref8, w, h, 0.99), 1.0 / 255.0);
+    writePng(errorImagePath, w, h, falseColorErrorRgb8(def8, ref8, w, h, scale));
+    return scale;
+}
+
+}  // namespace
+
 QualityReport runQualityReport(const Scene& scene, const RenderSettings& settings, const QualityReportOptions& o) {
     namespace fs = std::filesystem;
     const fs::path dir(o.outDir);
@@ -26,21 +68,7 @@ QualityReport runQualityReport(const Scene& scene, const RenderSettings& setting
     rep.referencePath = (dir / "reference.png").string();
     const int w = settings.width, h = settings.height;
 
-    if (o.progress)
-        std::fprintf(stderr, "rayfarm: report: reference %s at %dx%d ...\n", describe(o.reference).c_str(), w, h);
-    const RenderSettings refSettings = withQuality(settings, o.reference);
-    // One run: the reference is the slowest render by far, and its time is only for orientation.
-    const TimedRender ref = renderTimed(scene, refSettings, o.frame, o.threads, 0.0, 1);
-    const std::vector<uint8_t> ref8 = toRgb8(ref.image, settings.toneMap);
-    writePng(rep.referencePath, w, h, ref8);
-    rep.reference.q = o.reference;
-    rep.reference.factor = "reference";
-    rep.reference.seconds = ref.seconds;
-    rep.reference.repeats = ref.repeats;
-    rep.reference.rays = ref.rays;
-    rep.reference.error = compareRgb8(ref8, ref8, w, h);
-    if (o.progress) std::fprintf(stderr, "rayfarm: report: reference took %.2f s\n", ref.seconds);
-
+    const std::vector<uint8_t> ref8 = renderReference(scene, settings, o, rep);
     rep.rows = runSweep(scene, settings, o.sweep, ref8, o.frame, o.threads, [&](int i, int n, const SweepRow& r) {
         if (o.progress)
             std::fprintf(stderr, "rayfarm: report: [%d/%d] %s: %.4g s, PSNR %.2f dB, SSIM %.4f\n", i, n,
@@ -48,22 +76,13 @@ QualityReport runQualityReport(const Scene& scene, const RenderSettings& setting
     });
     writeReportCsv(rep.csvPath, rep.reference, rep.rows);
 
-    // The default setting's picture and where it differs from the reference.
-    const RenderSettings defSettings = withQuality(settings, o.sweep.base);
-    RayStats rays;
-    const Image def = renderFrame(scene, scene.camera, defSettings, o.frame, o.threads, rays);
-    const std::vector<uint8_t> def8 = toRgb8(def, settings.toneMap);
-    writePng((dir / "default.png").string(), w, h, def8);
-    // Scaled to the 99th percentile, so a few extreme pixels do not leave the rest black.
-    const double scale = std::max(errorQuantileRgb8(def8, ref8, w, h, 0.99), 1.0 / 255.0);
-    writePng(rep.errorImagePath, w, h, falseColorErrorRgb8(def8, ref8, w, h, scale));
-
+    const double scale = writeDefaultImages(scene, settings, o, ref8, rep.errorImagePath);
     if (o.plot)
         plotErrorVsTime(rep.rows, o.sceneName + ": error against run time, " + std::to_string(w) + "x" +
                                       std::to_string(h) + ", frame " + std::to_string(o.frame),
                         (dir / "error_vs_time.gp").string(), rep.plotPath);
 
-    rep.rayNotes = missingRayKinds(ref.rays, scene);
+    rep.rayNotes = missingRayKinds(rep.reference.rays, scene);
     SummaryInfo info;
     info.sceneName = o.sceneName;
     info.frame = o.frame;

@@ -29,7 +29,7 @@ std::string shortName(const QualitySetting& q) {
     return buf;
 }
 
-void point(std::ostringstream& s, const SweepRow& r) {
+void point(std::ostream& s, const SweepRow& r) {
     char buf[160];
     std::snprintf(buf, sizeof buf, "%.6g %.6g \"%s\"\n", r.seconds, std::max(r.error.rmse, kRmseFloor),
                   shortName(r.q).c_str());
@@ -59,14 +59,10 @@ std::string findOnPath(const std::string& name) {
     return "";
 }
 
-std::string gnuplotScript(const std::vector<SweepRow>& rows, const std::string& title, const std::string& pngPath) {
-    std::ostringstream s;
-    s << "# Error against run time, written by rayfarm report. Re-draw with: gnuplot THIS_FILE\n";
-    s << "set terminal pngcairo size 960,640 enhanced font 'DejaVu Sans,10'\n";
-    s << "set output " << gnuplotQuote(pngPath) << "\n";
-    s << "set title " << gnuplotQuote(title) << " noenhanced\n";
-    s << "set logscale xy\nset xlabel 'render time (s, fastest of repeats)'\n";
-    s << "set ylabel 'RMSE against the reference (8-bit sRGB, 0..1)'\n";
+namespace {
+
+/// Log axes over the rows' time and error, with a second (PSNR) axis on the right.
+void writeAxes(std::ostream& s, const std::vector<SweepRow>& rows) {
     // gnuplot cannot link a log axis to another, so the PSNR axis is a second log axis over the
     // same range, with tics placed where RMSE = 10^(−PSNR/20).
     double lo = 1e300, hi = 0.0, tlo = 1e300, thi = 0.0;
@@ -96,7 +92,11 @@ std::string gnuplotScript(const std::vector<SweepRow>& rows, const std::string& 
     s << "set grid xtics ytics mxtics mytics lc rgb '#dddddd'\n";
     s << "set key outside right top box opaque noenhanced\n";
     s << "set format x '%g'\nset format y '%g'\n";
+}
 
+/// The data blocks (one per swept factor, the front, its labels, the default) and the plot
+/// clauses that draw them.
+std::vector<std::string> writeDataBlocks(std::ostream& s, const std::vector<SweepRow>& rows) {
     std::map<std::string, std::vector<const SweepRow*>> byFactor;
     std::vector<const SweepRow*> front;
     for (const SweepRow& r : rows) {
@@ -134,6 +134,21 @@ std::string gnuplotScript(const std::vector<SweepRow>& rows, const std::string& 
     plots.push_back("$front using 1:2 with linespoints lw 2 lc rgb '#d62728' pt 7 ps 0.8 title 'Pareto front'");
     plots.push_back("$frontlabels using 1:2:3 with labels offset 0.8,0.8 left font ',8' tc rgb '#d62728' notitle");
     plots.push_back("$default using 1:2 with points pt 6 ps 3.5 lw 2 lc rgb 'black' title 'default setting'");
+    return plots;
+}
+
+}  // namespace
+
+std::string gnuplotScript(const std::vector<SweepRow>& rows, const std::string& title, const std::string& pngPath) {
+    std::ostringstream s;
+    s << "# Error against run time, written by rayfarm report. Re-draw with: gnuplot THIS_FILE\n";
+    s << "set terminal pngcairo size 960,640 enhanced font 'DejaVu Sans,10'\n";
+    s << "set output " << gnuplotQuote(pngPath) << "\n";
+    s << "set title " << gnuplotQuote(title) << " noenhanced\n";
+    s << "set logscale xy\nset xlabel 'render time (s, fastest of repeats)'\n";
+    s << "set ylabel 'RMSE against the reference (8-bit sRGB, 0..1)'\n";
+    writeAxes(s, rows);
+    const std::vector<std::string> plots = writeDataBlocks(s, rows);
     s << "plot ";
     for (size_t i = 0; i < plots.size(); ++i) s << (i ? ", \\\n     " : "") << plots[i];
     s << "\n";

@@ -105,45 +105,24 @@ std::vector<float> weightList(const ArgParser& p, const std::string& name, std::
     return out;
 }
 
-}  // namespace
+/// report --stability: the catalogue's cases to stability.md and .csv; status 1 if one fails.
+int runStabilityCommand(const ArgParser& p, const std::string& out, int threads) {
+    if (!p.positional().empty()) throw UsageError("report --stability: takes no SCENE");
+    ensureWritableDir(out);
+    const report::StabilityReport rep = report::runStabilityReport(out, threads);
+    std::fprintf(stderr, "rayfarm: report: %d of %d stability cases pass; wrote %s and %s\n", rep.passed(),
+                 rep.counted(), rep.markdownPath.c_str(), rep.csvPath.c_str());
+    return rep.passed() == rep.counted() ? 0 : 1;  // scripts and CI can act on a failing case
+}
 
-int runReport(const std::vector<std::string>& args) {
-    ArgParser p("report");
-    for (const char* o : {"--out", "--frame", "--size", "--target-psnr", "--threads", "--spp", "--depth",
-                          "--min-weight", "--tonemap", "--grid", "--sweep-spp", "--sweep-depth", "--sweep-min-weight",
-                          "--ref-spp", "--ref-depth", "--video-frames", "--video-crf", "--video-preset"})
-        p.option(o);
-    p.flag("--stability");
-    p.flag("--no-video");
-    p.flag("--help");
-    p.flag("-h");
-    p.parse(args);
-    if (p.has("--help") || p.has("-h")) {
-        std::fputs(kReportHelp, stdout);
-        return 0;
-    }
-    const auto out = p.value("--out");
-    if (!out) throw UsageError("report: --out DIR is required (see rayfarm report --help)");
-    const int threads = p.intValue("--threads", 0, 0, 4096);
-
-    if (p.has("--stability")) {
-        if (!p.positional().empty()) throw UsageError("report --stability: takes no SCENE");
-        ensureWritableDir(*out);
-        const report::StabilityReport rep = report::runStabilityReport(*out, threads);
-        std::fprintf(stderr, "rayfarm: report: %d of %d stability cases pass; wrote %s and %s\n", rep.passed(),
-                     rep.counted(), rep.markdownPath.c_str(), rep.csvPath.c_str());
-        return rep.passed() == rep.counted() ? 0 : 1;  // scripts and CI can act on a failing case
-    }
-
-    if (p.positional().size() != 1) throw UsageError("report: expected one SCENE or MODEL (see rayfarm report --help)");
-    const std::string scenePath = p.positional()[0];
-    const double target = p.doubleValue("--target-psnr", 30.0);
-    if (!std::isfinite(target)) throw UsageError("--target-psnr: expected a finite number of dB");
-
+/// The sweep and reference options (not yet the base settings, which need the scene).
+report::QualityReportOptions qualityOptions(const ArgParser& p, const std::string& out, int threads,
+                                            const std::string& scenePath) {
     report::QualityReportOptions o;
-    o.outDir = *out;
+    o.outDir = out;
     o.threads = threads;
-    o.targetPsnr = target;
+    o.targetPsnr = p.doubleValue("--target-psnr", 30.0);
+    if (!std::isfinite(o.targetPsnr)) throw UsageError("--target-psnr: expected a finite number of dB");
     o.sceneName = std::filesystem::path(scenePath).filename().string();
     o.sweep.spp = intList(p, "--sweep-spp", o.sweep.spp, 1, 4096, true);
     o.sweep.depth = intList(p, "--sweep-depth", o.sweep.depth, 1, 64, false);
@@ -156,44 +135,83 @@ int runReport(const std::vector<std::string>& args) {
     if (const std::string e = sppProblem(o.reference.spp); !e.empty()) throw UsageError("--ref-spp: " + e);
     o.reference.maxDepth = p.intValue("--ref-depth", 16, 1, 64);
     o.reference.minWeight = 0.f;
+    return o;
+}
+
+report::VideoReportOptions videoOptions(const ArgParser& p, const std::string& out, int threads) {
     report::VideoReportOptions vo;
-    vo.outDir = *out;
+    vo.outDir = out;
     vo.threads = threads;
     vo.frames = p.intValue("--video-frames", vo.frames, 1, 100000);
     vo.sweep.crf = intList(p, "--video-crf", vo.sweep.crf, 0, 51, false);
     if (auto v = p.value("--video-preset")) vo.sweep.presets = splitList("--video-preset", *v);
+    return vo;
+}
+
+/// Refuses a preset the encoder does not know before any rendering; notes the padding once.
+void checkVideoPresets(const report::VideoReportOptions& vo, const RenderSettings& settings) {
+    for (const std::string& preset : vo.sweep.presets) {
+        farm::Mp4Options mo;
+        mo.preset = preset;
+        try {
+            const std::string note = checkMp4Options(settings.width, settings.height, mo);
+            if (!note.empty() && preset == vo.sweep.presets.front())
+                std::fprintf(stderr, "rayfarm: note: video sweep: %s\n", note.c_str());
+        } catch (const std::invalid_argument& e) {
+            throw UsageError(std::string("--video-preset: ") + e.what());
+        }
+    }
+}
+
+/// The scene at --frame, checked against its timeline.
+Scene sceneAtFrame(const ArgParser& p, const std::string& scenePath, anim::Timeline& timeline, int& frame) {
+    DiskFileSource fs;
+    Scene scene = loadScene(scenePath, fs);
+    for (const std::string& note : scene.notes) std::fprintf(stderr, "rayfarm: note: %s\n", note.c_str());
+    timeline = anim::Timeline::fromScene(scene);
+    frame = p.intValue("--frame", 0, 0, 1 << 30);
+    if (frame >= timeline.frameCount())
+        throw UsageError("--frame: " + scenePath + " has " + std::to_string(timeline.frameCount()) +
+                         " frame(s), numbered from 0; got " + std::to_string(frame));
+    timeline.applyFrame(scene, frame);
+    return scene;
+}
+
+}  // namespace
+
+int runReport(const std::vector<std::string>& args) {
+    ArgParser p("report");
+    for (const char* o : {"--out", "--frame", "--size", "--target-psnr", "--threads", "--spp", "--depth",
+                          "--min-weight", "--tonemap", "--grid", "--sweep-spp", "--sweep-depth", "--sweep-min-weight",
+                          "--ref-spp", "--ref-depth", "--video-frames", "--video-crf", "--video-preset"})
+        p.option(o);
+    for (const char* f : {"--stability", "--no-video", "--help", "-h"}) p.flag(f);
+    p.parse(args);
+    if (p.has("--help") || p.has("-h")) {
+        std::fputs(kReportHelp, stdout);
+        return 0;
+    }
+    const auto out = p.value("--out");
+    if (!out) throw UsageError("report: --out DIR is required (see rayfarm report --help)");
+    const int threads = p.intValue("--threads", 0, 0, 4096);
+    if (p.has("--stability")) return runStabilityCommand(p, *out, threads);
+
+    if (p.positional().size() != 1) throw UsageError("report: expected one SCENE or MODEL (see rayfarm report --help)");
+    const std::string scenePath = p.positional()[0];
+    report::QualityReportOptions o = qualityOptions(p, *out, threads, scenePath);
+    const report::VideoReportOptions vo = videoOptions(p, *out, threads);
     // Fail before hours of rendering, not after.
     if (report::findOnPath("gnuplot").empty())
         throw std::runtime_error("report: gnuplot not found on PATH (install the Debian package gnuplot-nox)");
     ensureWritableDir(*out);
 
-    DiskFileSource fs;
-    Scene scene = loadScene(scenePath, fs);
-    for (const std::string& note : scene.notes) std::fprintf(stderr, "rayfarm: note: %s\n", note.c_str());
-    const anim::Timeline timeline = anim::Timeline::fromScene(scene);
-    o.frame = p.intValue("--frame", 0, 0, 1 << 30);
-    if (o.frame >= timeline.frameCount())
-        throw UsageError("--frame: " + scenePath + " has " + std::to_string(timeline.frameCount()) +
-                         " frame(s), numbered from 0; got " + std::to_string(o.frame));
-    timeline.applyFrame(scene, o.frame);
-
+    anim::Timeline timeline;
+    Scene scene = sceneAtFrame(p, scenePath, timeline, o.frame);
     RenderSettings settings = scene.settings;
     applyQualityOptions(p, settings);
     o.sweep.base = {settings.spp, settings.maxDepth, settings.minWeight};
-
     const bool video = !p.has("--no-video");
-    if (video)
-        for (const std::string& preset : vo.sweep.presets) {
-            farm::Mp4Options mo;
-            mo.preset = preset;
-            try {
-                const std::string note = checkMp4Options(settings.width, settings.height, mo);
-                if (!note.empty() && preset == vo.sweep.presets.front())
-                    std::fprintf(stderr, "rayfarm: note: video sweep: %s\n", note.c_str());
-            } catch (const std::invalid_argument& e) {
-                throw UsageError(std::string("--video-preset: ") + e.what());
-            }
-        }
+    if (video) checkVideoPresets(vo, settings);
 
     const report::QualityReport rep = report::runQualityReport(scene, settings, o);
     std::fprintf(stderr, "rayfarm: report: %d renders; wrote %s, %s, %s\n", int(rep.rows.size()) + 1,

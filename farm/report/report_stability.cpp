@@ -1,6 +1,7 @@
 #include "report_stability.h"
 
 #include "report_csv.h"
+#include "stability_cases.h"
 
 #include <cmath>
 #include <cstdio>
@@ -77,6 +78,13 @@ std::string stabilityCsv(const std::vector<StabilityCase>& cases) {
         s += csvField(c.id) + "," + csvField(c.name) + "," + csvField(c.measured) + "," + num(c.error) + "," +
              num(c.tolerance) + "," + csvField(c.unit) + "," + verdict(c) + "\n";
     return s;
+}
+
+std::vector<StabilityCase> runStabilityCases(int threads) {
+    std::vector<StabilityCase> out = stability::engineCases(threads);
+    runTimelineCases(out);
+    frameTimeCases(out);
+    return out;
 }
 
 StabilityReport runStabilityReport(const std::string& outDir, int threads) {

@@ -5,19 +5,12 @@
 #include <string>
 #include <vector>
 
+#include "stability_case.h"
+
 namespace rf::report {
 
-/// One row of the stability table.
-struct StabilityCase {
-    std::string id;        ///< number in the catalogue ("21"), so a reader can look up the why
-    std::string name;      ///< what was set up
-    std::string measured;  ///< the figure, in words ("99.98% of pixels within 1/255")
-    double error = 0.0;    ///< the measured error in the unit of tolerance
-    double tolerance = 0.0;
-    std::string unit;      ///< of error and tolerance
-    bool pass = false;
-    bool informative = false;  ///< shows what a naive method does: not counted as pass/fail
-};
+/// One row of the stability table (defined with the engine's cases, engine/stability/).
+using stability::StabilityCase;
 
 struct StabilityReport {
     std::vector<StabilityCase> cases;
@@ -26,12 +19,17 @@ struct StabilityReport {
     int counted() const;  ///< cases that are not merely informative
 };
 
-/// Every case, in catalogue order. threads: 0 for all cores.
+/// Every case, in catalogue order: the engine's (engine/stability/), the timeline's, then the
+/// frame times. threads: 0 for all cores.
 std::vector<StabilityCase> runStabilityCases(int threads);
 
 /// The timeline cases (#23–#29: short-path slerp, slerp edges, turntable yaw, CUBICSPLINE,
 /// key rules, Catmull–Rom duplicates, degenerate lookAt), appended to out.
 void runTimelineCases(std::vector<StabilityCase>& out);
+
+/// #30: the time of frame 100000 at 30 fps from its index, with the accumulated sum a naive
+/// player computes as an informative contrast.
+void frameTimeCases(std::vector<StabilityCase>& out);
 
 /// The table as Markdown and as CSV.
 std::string stabilityMarkdown(const std::vector<StabilityCase>& cases);

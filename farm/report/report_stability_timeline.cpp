@@ -1,25 +1,22 @@
-// Timeline cases of `rayfarm report --stability` (catalogue #23–#29), measured through anim/'s
+// Timeline cases of `rayfarm report --stability` (catalogue #23–#30), measured through anim/'s
 // key tracks and turntable and the engine's lookAt.
 #include <cmath>
 #include <cstdio>
 #include <limits>
 
 #include "camera.h"
+#include "frame_time.h"
 #include "keyframes.h"
 #include "report_stability.h"
 #include "turntable.h"
 
 namespace rf::report {
 
+using stability::formatValue;
+
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-std::string fmt(const char* f, double v) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, f, v);
-    return buf;
-}
 
 StabilityCase check(const std::string& id, const std::string& name, const std::string& measured, double error,
                     double tolerance, const std::string& unit) {
@@ -43,7 +40,7 @@ void shortPath(std::vector<StabilityCase>& out) {
     track.addKey(0.0, q0, anim::Interp::Linear);
     track.addKey(1.0, q1, anim::Interp::Linear);
     const double a = angleDeg(track.evaluateQuat(0.5));
-    out.push_back(check("23", "21° key pair stored sign-flipped, half way", fmt("%.6f° turned (short path: 10.5°)", a),
+    out.push_back(check("23", "21° key pair stored sign-flipped, half way", formatValue("%.6f° turned (short path: 10.5°)", a),
                         std::abs(a - 10.5), 1e-9, "degrees"));
 }
 
@@ -68,7 +65,7 @@ void slerpEdges(std::vector<StabilityCase>& out) {
         }
     }
     out.push_back(check("24", "slerp at a·b = 1, 1−1e-7, −1+1e-7, −1",
-                        fmt("worst norm error %.2g", worstNorm) + fmt(", worst turn error %.2g°", worstTurn),
+                        formatValue("worst norm error %.2g", worstNorm) + formatValue(", worst turn error %.2g°", worstTurn),
                         finite ? std::max(worstNorm, worstTurn) : INFINITY, 1e-6, "(norm or °)"));
 }
 
@@ -84,7 +81,7 @@ void turntableQuarter(std::vector<StabilityCase>& out) {
     const int n = t.frameCount();
     const double yaw = t.yawAtFrame(n / 4) * 180.0 / kPi;
     out.push_back(check("25", "turntable of " + std::to_string(n) + " frames: yaw at frame N/4",
-                        fmt("%.12f°", yaw), std::abs(yaw - 90.0), 1e-9, "degrees"));
+                        formatValue("%.12f°", yaw), std::abs(yaw - 90.0), 1e-9, "degrees"));
 }
 
 void cubicSpline(std::vector<StabilityCase>& out) {
@@ -94,7 +91,7 @@ void cubicSpline(std::vector<StabilityCase>& out) {
     track.addKey(2.0, &v1, anim::Interp::Hermite, &m, nullptr);
     const double v = track.evaluateScalar(0.5);
     out.push_back(check("26", "CUBICSPLINE keys 0→16 over 2 s, tangents 8/s, at 0.5 s",
-                        fmt("v = %.12g (4.0; unscaled tangents give 3.25)", v), std::abs(v - 4.0), 1e-12, ""));
+                        formatValue("v = %.12g (4.0; unscaled tangents give 3.25)", v), std::abs(v - 4.0), 1e-12, ""));
 }
 
 void keyRules(std::vector<StabilityCase>& out) {
@@ -149,7 +146,7 @@ void lookAtDegenerate(std::vector<StabilityCase>& out) {
         worst = std::isfinite(e) ? std::max(worst, e) : INFINITY;
     }
     out.push_back(check("29", "lookAt with forward ∥ up, eye = target",
-                        fmt("worst |det−1| or off-orthogonality %.2g", worst), worst, 1e-5, ""));
+                        formatValue("worst |det−1| or off-orthogonality %.2g", worst), worst, 1e-5, ""));
 }
 
 }  // namespace
@@ -162,6 +159,20 @@ void runTimelineCases(std::vector<StabilityCase>& out) {
     keyRules(out);
     catmullRomDuplicates(out);
     lookAtDegenerate(out);
+}
+
+void frameTimeCases(std::vector<StabilityCase>& out) {
+    const double t = anim::frameTime(0.0, 30.0, 100000);
+    const double expect = 100000.0 / 30.0;
+    // The accumulated sum a naive player computes, for contrast.
+    double acc = 0.0;
+    for (int i = 0; i < 100000; ++i) acc += 1.0 / 30.0;
+    StabilityCase c{"30", "time of frame 100000 at 30 fps, from the index", formatValue("%.12f s", t), std::abs(t - expect),
+                    0.0, "s", false, false};
+    c.pass = t == expect;
+    out.push_back(c);
+    out.push_back({"30", "the same accumulated frame by frame (naive)", formatValue("%.12f s", acc), std::abs(acc - expect),
+                   0.0, "s", false, true});
 }
 
 }  // namespace rf::report

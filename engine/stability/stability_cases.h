@@ -1,0 +1,42 @@
+#pragma once
+/// The catalogue's cases the engine can measure alone, each defined once: the engine's tests
+/// assert them and `rayfarm report --stability` tabulates them. Each function appends its
+/// rows (a case may add an informative naive contrast); threads: 0 for all cores.
+#include <string>
+#include <vector>
+
+#include "scene.h"
+#include "stability_case.h"
+
+namespace rf::stability {
+
+/// #1: a sphere of radius 0.1 hit by rays from x = −400, −1e4, −1e7 (relative t error).
+void farSmallSphere(std::vector<StabilityCase>& out);
+/// #3: a unit sphere seen from far away and farther with the field of view scaled to match:
+/// flat-shaded from 10 and 1000, lit from 1000 and 1e5 (% of pixels off by more than 1/255).
+void distanceInvariance(std::vector<StabilityCase>& out, int threads);
+/// #4: a ray onto the shared diagonal of two triangles.
+void triangleSeam(std::vector<StabilityCase>& out);
+/// #5: a closed icosphere: a grid of rays plus rays at every vertex and edge; none may miss.
+void watertight(std::vector<StabilityCase>& out);
+/// #11: a lit plane seen from 1e6 away has no self-shadowed pixel.
+void selfShadowAtRange(std::vector<StabilityCase>& out, int threads);
+/// #12: spheres of radius 1 and 1 + 4e-5: a ray spawned inward from the outer one stops at the
+/// inner one, within 1e-6 of the gap.
+void thinGap(std::vector<StabilityCase>& out);
+/// #14: a point light 1e-3 above a plane still lights it.
+void lightJustAbovePlane(std::vector<StabilityCase>& out, int threads);
+/// #21: the whole scene scaled by 1e-4 and by 1e5 against scale 1.
+void scaleSweep(std::vector<StabilityCase>& out, int threads);
+/// #22: a scene file translated to x = 6.4e6 against the same at the origin, plus the naive
+/// contrast in float world coordinates (informative).
+void translatedModel(std::vector<StabilityCase>& out, int threads);
+
+/// The scene file translatedModel loads, its positions moved by dx along x (for tests of the
+/// loader's rebasing itself).
+Scene translatedScene(double dx);
+
+/// Every case above, in catalogue order.
+std::vector<StabilityCase> engineCases(int threads);
+
+}  // namespace rf::stability
