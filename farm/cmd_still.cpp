@@ -36,6 +36,47 @@ const char* kStillHelp =
     "  --camera N        look through the model's glTF camera N instead of the scene camera\n"
     "  --background B    transparent (a PNG with alpha: coverage, anti-aliased edges included),\n"
     "                    #RRGGBB (sRGB) or R,G,B (linear); default: the scene's\n";
+
+/// Sets the scene to the still's moment and returns its frame index (the noise seed). The still
+/// is one frame of the scene's film: frame 0 unless --frame or --time says otherwise.
+int applyStillTime(const ArgParser& p, Scene& scene) {
+    const anim::Timeline timeline = anim::Timeline::fromScene(scene);
+    if (p.has("--frame") && p.has("--time")) throw UsageError("still: give --frame or --time, not both");
+    int frame = p.intValue("--frame", 0, 0, timeline.frameCount() - 1);
+    if (p.has("--time")) {
+        const double t = p.doubleValue("--time", 0.0);
+        const double f = std::round((t - timeline.frameTime(0)) * timeline.fps());
+        frame = f > 0.0 ? static_cast<int>(std::min(f, 2e9)) : 0;
+        timeline.apply(scene, t);
+    } else {
+        timeline.applyFrame(scene, frame);
+    }
+    return frame;
+}
+
+struct StillTimes {
+    double loadS, renderS, wallS;
+};
+
+void writeStillStats(const std::string& path, const Scene& scene, const RenderSettings& settings, int threads,
+                     const RayStats& rays, const StillTimes& t) {
+    RunStats s;
+    s.frames = 1;
+    s.width = settings.width;
+    s.height = settings.height;
+    s.mode = "still";
+    s.threadsPerRank = threads;
+    s.wallSeconds = t.wallS;
+    s.renderSeconds = t.renderS;
+    s.sustainedFps = 1.0 / std::max(t.renderS, 1e-9);
+    s.rays = rays;
+    s.perRank.push_back({0, t.renderS, 1, 0});
+    s.extra["load_s"] = t.loadS;
+    s.extra["triangles"] = static_cast<double>(scene.triangleCount());
+    s.extraText["bvh"] = scene.usesBvh() ? "yes" : "no (scene too small to profit)";
+    writeStatsJson(path, s);
+}
+
 }  // namespace
 
 int runStill(const std::vector<std::string>& args) {
@@ -62,18 +103,7 @@ int runStill(const std::vector<std::string>& args) {
     Scene scene = loadScene(scenePath, fs);
     for (const std::string& note : scene.notes) printLine("note", note);
     applyBackground(background, scene);
-    // The still is one frame of the scene's film: frame 0 unless --frame or --time says otherwise.
-    const anim::Timeline timeline = anim::Timeline::fromScene(scene);
-    if (p.has("--frame") && p.has("--time")) throw UsageError("still: give --frame or --time, not both");
-    int frame = p.intValue("--frame", 0, 0, timeline.frameCount() - 1);
-    if (p.has("--time")) {
-        const double t = p.doubleValue("--time", 0.0);
-        const double f = std::round((t - timeline.frameTime(0)) * timeline.fps());
-        frame = f > 0.0 ? static_cast<int>(std::min(f, 2e9)) : 0;
-        timeline.apply(scene, t);
-    } else {
-        timeline.applyFrame(scene, frame);
-    }
+    const int frame = applyStillTime(p, scene);
     // A glTF camera replaces the timeline's camera; the rest of the frame (model animation,
     // lights) still follows the timeline.
     if (p.has("--camera")) useGltfCamera(scene, p.intValue("--camera", 0, 0, 1 << 20));
@@ -94,23 +124,9 @@ int runStill(const std::vector<std::string>& args) {
                  settings.width, settings.height, settings.spp, settings.maxDepth, renderS,
                  rays.total() / std::max(renderS, 1e-9) * 1e-6);
     if (rays.nonFinite) std::fprintf(stderr, "rayfarm: note: %llu non-finite samples replaced by black\n", (unsigned long long)rays.nonFinite);
-    if (auto st = p.value("--stats")) {
-        RunStats s;
-        s.frames = 1;
-        s.width = settings.width;
-        s.height = settings.height;
-        s.mode = "still";
-        s.threadsPerRank = threads > 0 ? threads : hardwareThreads();
-        s.wallSeconds = wallS;
-        s.renderSeconds = renderS;
-        s.sustainedFps = 1.0 / std::max(renderS, 1e-9);
-        s.rays = rays;
-        s.perRank.push_back({0, renderS, 1, 0});
-        s.extra["load_s"] = std::chrono::duration<double>(t1 - t0).count();
-        s.extra["triangles"] = static_cast<double>(scene.triangleCount());
-        s.extraText["bvh"] = scene.usesBvh() ? "yes" : "no (scene too small to profit)";
-        writeStatsJson(*st, s);
-    }
+    if (auto st = p.value("--stats"))
+        writeStillStats(*st, scene, settings, threads > 0 ? threads : hardwareThreads(), rays,
+                        {std::chrono::duration<double>(t1 - t0).count(), renderS, wallS});
     return 0;
 }
 

@@ -117,9 +117,50 @@ void Master::keepAlive(Clock::time_point now) {
     }
 }
 
+bool Master::gather() {
+    bool progressed = false;
+    try {
+        Message m;
+        while (t_.poll(m)) {
+            handle(m);
+            progressed = true;
+        }
+        if (local_) {
+            while (auto r = local_->takeResult()) {
+                accept(0, *r);
+                progressed = true;
+            }
+            if (const std::string err = local_->error(); !err.empty()) failure_ = "rank 0: " + err;
+        }
+    } catch (const std::exception& e) {
+        if (failure_.empty()) failure_ = e.what();
+    }
+    return progressed;
+}
+
+std::string Master::lostWorker(Clock::time_point now) const {
+    for (const WorkerState& w : workers_) {
+        if (w.rank == 0) continue;
+        const double silent = std::chrono::duration<double>(now - w.lastHeard).count();
+        if (silent > cfg_.workerTimeout) {
+            char buf[64];
+            std::snprintf(buf, sizeof buf, "%.1f", silent);
+            return "rank " + std::to_string(w.rank) + " stopped answering (silent for " + buf + " s) " + describeBusy(w);
+        }
+    }
+    return "";
+}
+
+std::vector<int> Master::renderingFrames() const {
+    std::vector<int> rankFrames(workers_.size(), -1);
+    for (const WorkerState& w : workers_)
+        if (!w.outstanding.empty()) rankFrames[size_t(w.rank)] = w.outstanding.front().frame;
+    if (!local_ && !rankFrames.empty()) rankFrames.erase(rankFrames.begin());
+    return rankFrames;
+}
+
 MasterOutcome Master::run() {
     Progress progress(cfg_.totalFrames, cfg_.liveProgress);
-    std::vector<int> rankFrames;
     auto finish = [&](RunEnd end, std::string msg) {
         if (!cfg_.quiet) progress.finish();
         out_.end = end;
@@ -134,22 +175,7 @@ MasterOutcome Master::run() {
         }
         keepAlive(Clock::now());
         bool progressed = handOut();
-        try {
-            Message m;
-            while (t_.poll(m)) {
-                handle(m);
-                progressed = true;
-            }
-            if (local_) {
-                while (auto r = local_->takeResult()) {
-                    accept(0, *r);
-                    progressed = true;
-                }
-                if (const std::string err = local_->error(); !err.empty()) failure_ = "rank 0: " + err;
-            }
-        } catch (const std::exception& e) {
-            if (failure_.empty()) failure_ = e.what();
-        }
+        progressed |= gather();
         if (!failure_.empty()) return finish(RunEnd::Failed, failure_);
 
         ReadyFrame rf;
@@ -167,23 +193,8 @@ MasterOutcome Master::run() {
         // encoder queue) never counts against a worker.
         const auto now = Clock::now();
         keepAlive(now);  // emit may have blocked, or this process been stopped, since the top
-        for (WorkerState& w : workers_) {
-            if (w.rank == 0) continue;
-            const double silent = std::chrono::duration<double>(now - w.lastHeard).count();
-            if (silent > cfg_.workerTimeout) {
-                char buf[64];
-                std::snprintf(buf, sizeof buf, "%.1f", silent);
-                return finish(RunEnd::WorkerLost, "rank " + std::to_string(w.rank) + " stopped answering (silent for " +
-                                                      buf + " s) " + describeBusy(w));
-            }
-        }
-        if (!cfg_.quiet) {
-            rankFrames.assign(workers_.size(), -1);
-            for (const WorkerState& w : workers_)
-                if (!w.outstanding.empty()) rankFrames[size_t(w.rank)] = w.outstanding.front().frame;
-            if (!local_ && !rankFrames.empty()) rankFrames.erase(rankFrames.begin());
-            progress.update(asm_.popped(), rankFrames);
-        }
+        if (std::string lost = lostWorker(now); !lost.empty()) return finish(RunEnd::WorkerLost, std::move(lost));
+        if (!cfg_.quiet) progress.update(asm_.popped(), renderingFrames());
         if (!progressed) {
             if (local_) {
                 if (auto r = local_->takeResult(0.0005)) accept(0, *r);

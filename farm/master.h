@@ -70,6 +70,12 @@ private:
     void handle(const Message& m);
     void accept(int rank, const TileResult& r);
     bool handOut();
+    /// Reads every waiting message and local result; false if there was none.
+    bool gather();
+    /// The message for the first busy worker silent past the timeout, or "".
+    std::string lostWorker(std::chrono::steady_clock::time_point now) const;
+    /// For progress: the frame each rendering rank is on (-1: idle).
+    std::vector<int> renderingFrames() const;
     std::string describeBusy(const WorkerState& w) const;
 
     Transport& t_;

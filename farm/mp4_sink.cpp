@@ -88,6 +88,13 @@ struct Mp4Sink::Impl {
         (void)flushing;
     }
 
+    /// The muxer, the H.264 encoder and its stream, tagged BT.709.
+    void openEncoder(const Mp4Options& o);
+    /// The file at path, and the MP4 header with the index up front (faststart).
+    void openFile();
+    /// The frame the RGB pixels are converted into, and the converter (not for lossless RGB).
+    void allocFrame(bool lossless);
+
     void release() {
         if (sws) sws_freeContext(sws);
         sws = nullptr;
@@ -102,6 +109,91 @@ struct Mp4Sink::Impl {
     }
 };
 
+void Mp4Sink::Impl::openEncoder(const Mp4Options& o) {
+    Impl& m = *this;
+    int rc = avformat_alloc_output_context2(&m.fmt, nullptr, "mp4", path.c_str());
+    if (rc < 0 || !m.fmt) m.fail("cannot set up the MP4 muxer", rc);
+    const AVCodec* codec = avcodec_find_encoder_by_name(o.lossless ? "libx264rgb" : "libx264");
+    if (!codec) m.fail("no libx264 encoder in this FFmpeg", 0);
+    m.stream = avformat_new_stream(m.fmt, nullptr);
+    m.ctx = avcodec_alloc_context3(codec);
+    if (!m.stream || !m.ctx) m.fail("out of memory", 0);
+
+    const AVRational rate = av_d2q(o.fps, 1001000);
+    m.ctx->width = m.encW;
+    m.ctx->height = m.encH;
+    m.ctx->framerate = rate;
+    m.ctx->time_base = av_inv_q(rate);
+    m.ctx->sample_aspect_ratio = {1, 1};
+    // One x264 thread: x264's output depends on its thread count, and "auto" follows the CPU
+    // affinity mpirun gives rank 0, so the same frames would encode differently at another
+    // rank count (and a --resume would not reproduce the video). One thread of the veryfast
+    // preset encodes 640x360 at about 270 fps, far above what the farm renders.
+    m.ctx->thread_count = 1;
+    if (o.lossless) {
+        m.ctx->pix_fmt = AV_PIX_FMT_RGB24;
+        m.ctx->color_range = AVCOL_RANGE_JPEG;
+        m.ctx->colorspace = AVCOL_SPC_RGB;
+    } else {
+        m.ctx->pix_fmt = AV_PIX_FMT_YUV420P;
+        m.ctx->color_range = AVCOL_RANGE_MPEG;
+        m.ctx->colorspace = AVCOL_SPC_BT709;
+    }
+    // Primaries and transfer tagged BT.709 (the sRGB primaries; players treat the sRGB curve as
+    // BT.709 in practice), so every player shows the same colours.
+    m.ctx->color_primaries = AVCOL_PRI_BT709;
+    m.ctx->color_trc = AVCOL_TRC_BT709;
+    if (m.fmt->oformat->flags & AVFMT_GLOBALHEADER) m.ctx->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
+
+    AVDictionary* copts = nullptr;
+    av_dict_set(&copts, "preset", o.preset.c_str(), 0);
+    if (o.lossless) av_dict_set(&copts, "qp", "0", 0);
+    else av_dict_set(&copts, "crf", std::to_string(o.crf).c_str(), 0);
+    rc = avcodec_open2(m.ctx, codec, &copts);
+    av_dict_free(&copts);
+    if (rc < 0) m.fail("cannot open the H.264 encoder", rc);
+    rc = avcodec_parameters_from_context(m.stream->codecpar, m.ctx);
+    if (rc < 0) m.fail("cannot set stream parameters", rc);
+    m.stream->time_base = m.ctx->time_base;
+    m.stream->avg_frame_rate = rate;
+    m.stream->r_frame_rate = rate;
+}
+
+void Mp4Sink::Impl::openFile() {
+    Impl& m = *this;
+    int rc = avio_open(&m.fmt->pb, path.c_str(), AVIO_FLAG_WRITE);
+    if (rc < 0) m.fail("cannot open for writing", rc);
+    AVDictionary* fopts = nullptr;
+    av_dict_set(&fopts, "movflags", "+faststart", 0);
+    rc = avformat_write_header(m.fmt, &fopts);
+    av_dict_free(&fopts);
+    if (rc < 0) m.fail("cannot write the MP4 header", rc);
+}
+
+void Mp4Sink::Impl::allocFrame(bool lossless) {
+    Impl& m = *this;
+    m.frame = av_frame_alloc();
+    m.pkt = av_packet_alloc();
+    if (!m.frame || !m.pkt) m.fail("out of memory", 0);
+    m.frame->format = m.ctx->pix_fmt;
+    m.frame->width = m.encW;
+    m.frame->height = m.encH;
+    m.frame->color_range = m.ctx->color_range;
+    m.frame->colorspace = m.ctx->colorspace;
+    m.frame->color_primaries = m.ctx->color_primaries;
+    m.frame->color_trc = m.ctx->color_trc;
+    const int rc = av_frame_get_buffer(m.frame, 0);
+    if (rc < 0) m.fail("out of memory", rc);
+    if (!lossless) {
+        m.sws = sws_getContext(m.encW, m.encH, AV_PIX_FMT_RGB24, m.encW, m.encH, AV_PIX_FMT_YUV420P,
+                               SWS_BILINEAR | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT, nullptr, nullptr, nullptr);
+        if (!m.sws) m.fail("cannot set up RGB to YUV conversion", 0);
+        // Full-range RGB in, BT.709 matrix and limited (TV) range out, matching the tags above.
+        const int* bt709 = sws_getCoefficients(SWS_CS_ITU709);
+        sws_setColorspaceDetails(m.sws, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16);
+    }
+}
+
 Mp4Sink::Mp4Sink(const std::string& path, int width, int height, const Mp4Options& o) : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     m.path = path;
@@ -110,81 +202,9 @@ Mp4Sink::Mp4Sink(const std::string& path, int width, int height, const Mp4Option
     mp4EncodedSize(width, height, o, m.encW, m.encH);
     av_log_set_level(AV_LOG_ERROR);  // x264's per-run statistics are noise on the farm's stderr
     try {
-        int rc = avformat_alloc_output_context2(&m.fmt, nullptr, "mp4", path.c_str());
-        if (rc < 0 || !m.fmt) m.fail("cannot set up the MP4 muxer", rc);
-        const AVCodec* codec = avcodec_find_encoder_by_name(o.lossless ? "libx264rgb" : "libx264");
-        if (!codec) m.fail("no libx264 encoder in this FFmpeg", 0);
-        m.stream = avformat_new_stream(m.fmt, nullptr);
-        m.ctx = avcodec_alloc_context3(codec);
-        if (!m.stream || !m.ctx) m.fail("out of memory", 0);
-
-        const AVRational rate = av_d2q(o.fps, 1001000);
-        m.ctx->width = m.encW;
-        m.ctx->height = m.encH;
-        m.ctx->framerate = rate;
-        m.ctx->time_base = av_inv_q(rate);
-        m.ctx->sample_aspect_ratio = {1, 1};
-        // One x264 thread: x264's output depends on its thread count, and "auto" follows the CPU
-        // affinity mpirun gives rank 0, so the same frames would encode differently at another
-        // rank count (and a --resume would not reproduce the video). One thread of the veryfast
-        // preset encodes 640x360 at about 270 fps, far above what the farm renders.
-        m.ctx->thread_count = 1;
-        if (o.lossless) {
-            m.ctx->pix_fmt = AV_PIX_FMT_RGB24;
-            m.ctx->color_range = AVCOL_RANGE_JPEG;
-            m.ctx->colorspace = AVCOL_SPC_RGB;
-        } else {
-            m.ctx->pix_fmt = AV_PIX_FMT_YUV420P;
-            m.ctx->color_range = AVCOL_RANGE_MPEG;
-            m.ctx->colorspace = AVCOL_SPC_BT709;
-        }
-        // Primaries and transfer tagged BT.709 (the sRGB primaries; players treat the sRGB curve as
-        // BT.709 in practice), so every player shows the same colours.
-        m.ctx->color_primaries = AVCOL_PRI_BT709;
-        m.ctx->color_trc = AVCOL_TRC_BT709;
-        if (m.fmt->oformat->flags & AVFMT_GLOBALHEADER) m.ctx->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
-
-        AVDictionary* copts = nullptr;
-        av_dict_set(&copts, "preset", o.preset.c_str(), 0);
-        if (o.lossless) av_dict_set(&copts, "qp", "0", 0);
-        else av_dict_set(&copts, "crf", std::to_string(o.crf).c_str(), 0);
-        rc = avcodec_open2(m.ctx, codec, &copts);
-        av_dict_free(&copts);
-        if (rc < 0) m.fail("cannot open the H.264 encoder", rc);
-        rc = avcodec_parameters_from_context(m.stream->codecpar, m.ctx);
-        if (rc < 0) m.fail("cannot set stream parameters", rc);
-        m.stream->time_base = m.ctx->time_base;
-        m.stream->avg_frame_rate = rate;
-        m.stream->r_frame_rate = rate;
-
-        rc = avio_open(&m.fmt->pb, path.c_str(), AVIO_FLAG_WRITE);
-        if (rc < 0) m.fail("cannot open for writing", rc);
-        AVDictionary* fopts = nullptr;
-        av_dict_set(&fopts, "movflags", "+faststart", 0);
-        rc = avformat_write_header(m.fmt, &fopts);
-        av_dict_free(&fopts);
-        if (rc < 0) m.fail("cannot write the MP4 header", rc);
-
-        m.frame = av_frame_alloc();
-        m.pkt = av_packet_alloc();
-        if (!m.frame || !m.pkt) m.fail("out of memory", 0);
-        m.frame->format = m.ctx->pix_fmt;
-        m.frame->width = m.encW;
-        m.frame->height = m.encH;
-        m.frame->color_range = m.ctx->color_range;
-        m.frame->colorspace = m.ctx->colorspace;
-        m.frame->color_primaries = m.ctx->color_primaries;
-        m.frame->color_trc = m.ctx->color_trc;
-        rc = av_frame_get_buffer(m.frame, 0);
-        if (rc < 0) m.fail("out of memory", rc);
-        if (!o.lossless) {
-            m.sws = sws_getContext(m.encW, m.encH, AV_PIX_FMT_RGB24, m.encW, m.encH, AV_PIX_FMT_YUV420P,
-                                   SWS_BILINEAR | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT, nullptr, nullptr, nullptr);
-            if (!m.sws) m.fail("cannot set up RGB to YUV conversion", 0);
-            // Full-range RGB in, BT.709 matrix and limited (TV) range out, matching the tags above.
-            const int* bt709 = sws_getCoefficients(SWS_CS_ITU709);
-            sws_setColorspaceDetails(m.sws, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16);
-        }
+        m.openEncoder(o);
+        m.openFile();
+        m.allocFrame(o.lossless);
     } catch (...) {
         m.release();
         throw;
