@@ -164,6 +164,31 @@ int reportOutcome(int ranks, const RenderJob& job, const FarmOutcome& o, const s
     return 0;
 }
 
+/// Rank 0 after the scene is shared: runFarm with the job's sinks, then the outcome's lines. It
+/// takes the MPI transport for abort(): a lost worker cannot be stopped any other way.
+int runRank0(MpiTransport& t, const RenderJob& job, SharedScene& shared, const std::vector<std::string>& args,
+             Clock::time_point wallStart) {
+    for (const std::string& note : shared.scene.notes) std::cerr << "rayfarm: note: " << note << "\n";
+    FarmOptions opts;
+    opts.threads = threadsForRank(job, t);
+    opts.liveProgress = stderrIsTerminal();
+    opts.wallStart = wallStart;
+    int code = 0;
+    opts.onEnd = [&](const FarmOutcome& o) { code = reportOutcome(t.size(), job, o, args); };
+    FarmSinks sinks = sinksForJob(job);
+    FarmOutcome o;
+    try {
+        o = runFarm(t, job, shared, std::move(sinks), opts);
+    } catch (const std::exception& e) {
+        // A failed write (a full disk) keeps the frames done so far: say how to go on.
+        if (job.framesDir.empty()) throw;
+        throw std::runtime_error(std::string(e.what()) + "; finished frames are in " + job.framesDir +
+                                 "; to resume: " + resumeCommand(args, t.size()));
+    }
+    if (o.abortRanks) t.abort(code);  // a lost worker cannot be stopped politely, and mpirun waits for it
+    return code;
+}
+
 }  // namespace
 
 int runRender(const std::vector<std::string>& args) {
@@ -212,25 +237,7 @@ int runRender(const std::vector<std::string>& args) {
         return code;
     }
 
-    for (const std::string& note : shared.scene.notes) std::cerr << "rayfarm: note: " << note << "\n";
-    FarmOptions opts;
-    opts.threads = threadsForRank(job, t);
-    opts.liveProgress = stderrIsTerminal();
-    opts.wallStart = wallStart;
-    int code = 0;
-    opts.onEnd = [&](const FarmOutcome& o) { code = reportOutcome(t.size(), job, o, args); };
-    FarmSinks sinks = sinksForJob(job);
-    FarmOutcome o;
-    try {
-        o = runFarm(t, job, shared, std::move(sinks), opts);
-    } catch (const std::exception& e) {
-        // A failed write (a full disk) keeps the frames done so far: say how to go on.
-        if (job.framesDir.empty()) throw;
-        throw std::runtime_error(std::string(e.what()) + "; finished frames are in " + job.framesDir +
-                                 "; to resume: " + resumeCommand(args, t.size()));
-    }
-    if (o.abortRanks) t.abort(code);  // a lost worker cannot be stopped politely, and mpirun waits for it
-    return code;
+    return runRank0(t, job, shared, args, wallStart);
 }
 
 }  // namespace rf::cli
