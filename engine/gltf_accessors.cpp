@@ -95,6 +95,43 @@ ByteSpan bufferViewSpan(const tinygltf::Model& model, int view, const std::strin
     return ByteSpan{data.data() + bv.byteOffset, bv.byteLength};
 }
 
+namespace {
+
+/// Overwrites the elements a sparse accessor names (after the dense bufferView, or zeros).
+void applySparse(const tinygltf::Model& model, const tinygltf::Accessor& a, const std::string& w, const std::string& file,
+                 AccessorData& out) {
+    const int csize = componentSize(a.componentType);
+    const int comps = out.components;
+    const uint64_t elemSize = uint64_t(csize) * comps;
+    const std::string ws = w + ".sparse";
+    if (a.sparse.count < 0 || size_t(a.sparse.count) > a.count)
+        throw InputError(file, ws + ".count: " + std::to_string(a.sparse.count) + " outside [0, " + std::to_string(a.count) + "]");
+    const uint64_t n = uint64_t(a.sparse.count);
+    const int itype = a.sparse.indices.componentType;
+    if (itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+        itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+        throw InputError(file, ws + ".indices.componentType: expected an unsigned integer type");
+    if (a.sparse.indices.byteOffset < 0 || a.sparse.values.byteOffset < 0) throw InputError(file, ws + ": negative byteOffset");
+    const ByteSpan ispan = bufferViewSpan(model, a.sparse.indices.bufferView, file);
+    const ByteSpan vspan = bufferViewSpan(model, a.sparse.values.bufferView, file);
+    const int isize = componentSize(itype);
+    checkRange(ispan, uint64_t(a.sparse.indices.byteOffset), n, isize, isize, file, ws + ".indices");
+    checkRange(vspan, uint64_t(a.sparse.values.byteOffset), n, elemSize, elemSize, file, ws + ".values");
+    const unsigned char* ip = ispan.data + a.sparse.indices.byteOffset;
+    const unsigned char* vp = vspan.data + a.sparse.values.byteOffset;
+    for (uint64_t k = 0; k < n; ++k) {
+        // Integer decode: indices above 2^24 would not survive a trip through float.
+        uint32_t target = 0;
+        std::memcpy(&target, ip + k * isize, size_t(isize));  // little-endian: low bytes first
+        if (target >= a.count)
+            throw InputError(file, ws + ".indices[" + std::to_string(k) + "]: index outside the accessor's " + std::to_string(a.count) + " elements");
+        for (int c = 0; c < comps; ++c)
+            out.values[target * comps + c] = decodeComponent(vp + k * elemSize + size_t(c) * csize, a.componentType, a.normalized);
+    }
+}
+
+}  // namespace
+
 AccessorData readAccessor(const tinygltf::Model& model, int index, const std::string& file, const std::vector<int>& types) {
     const std::string w = accName(index);
     if (index < 0 || size_t(index) >= model.accessors.size()) throw InputError(file, w + ": no such accessor");
@@ -129,33 +166,7 @@ AccessorData readAccessor(const tinygltf::Model& model, int index, const std::st
             for (int c = 0; c < comps; ++c) *dst++ = decodeComponent(base + size_t(c) * csize, a.componentType, a.normalized);
     }
 
-    if (a.sparse.isSparse) {
-        const std::string ws = w + ".sparse";
-        if (a.sparse.count < 0 || size_t(a.sparse.count) > a.count)
-            throw InputError(file, ws + ".count: " + std::to_string(a.sparse.count) + " outside [0, " + std::to_string(a.count) + "]");
-        const uint64_t n = uint64_t(a.sparse.count);
-        const int itype = a.sparse.indices.componentType;
-        if (itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
-            itype != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
-            throw InputError(file, ws + ".indices.componentType: expected an unsigned integer type");
-        if (a.sparse.indices.byteOffset < 0 || a.sparse.values.byteOffset < 0) throw InputError(file, ws + ": negative byteOffset");
-        const ByteSpan ispan = bufferViewSpan(model, a.sparse.indices.bufferView, file);
-        const ByteSpan vspan = bufferViewSpan(model, a.sparse.values.bufferView, file);
-        const int isize = componentSize(itype);
-        checkRange(ispan, uint64_t(a.sparse.indices.byteOffset), n, isize, isize, file, ws + ".indices");
-        checkRange(vspan, uint64_t(a.sparse.values.byteOffset), n, elemSize, elemSize, file, ws + ".values");
-        const unsigned char* ip = ispan.data + a.sparse.indices.byteOffset;
-        const unsigned char* vp = vspan.data + a.sparse.values.byteOffset;
-        for (uint64_t k = 0; k < n; ++k) {
-            // Integer decode: indices above 2^24 would not survive a trip through float.
-            uint32_t target = 0;
-            std::memcpy(&target, ip + k * isize, size_t(isize));  // little-endian: low bytes first
-            if (target >= a.count)
-                throw InputError(file, ws + ".indices[" + std::to_string(k) + "]: index outside the accessor's " + std::to_string(a.count) + " elements");
-            for (int c = 0; c < comps; ++c)
-                out.values[target * comps + c] = decodeComponent(vp + k * elemSize + size_t(c) * csize, a.componentType, a.normalized);
-        }
-    }
+    if (a.sparse.isSparse) applySparse(model, a, w, file, out);
     return out;
 }
 

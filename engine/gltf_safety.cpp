@@ -97,43 +97,30 @@ std::string uriProblem(const std::string& uri) {
     return "";
 }
 
-PreflightResult preflight(const std::string& path, const std::string& bytes) {
-    PreflightResult r;
-    std::string jsonText;
-    if (bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0) {
-        r.binary = true;
-        if (bytes.size() < 20) throw InputError(path, "truncated GLB header");
-        const uint32_t version = readU32(bytes, 4);
-        if (version == 1) refuseGltf1(path, "GLB container version 1");
-        if (version != 2) throw InputError(path, "unsupported GLB container version " + std::to_string(version));
-        const uint32_t length = readU32(bytes, 8);
-        if (length > bytes.size()) throw InputError(path, "GLB header says " + std::to_string(length) + " bytes, file has " + std::to_string(bytes.size()));
-        const uint32_t chunkLen = readU32(bytes, 12), chunkType = readU32(bytes, 16);
-        if (chunkType != 0x4E4F534Au) throw InputError(path, "first GLB chunk is not JSON");
-        if (uint64_t(chunkLen) + 20 > length) throw InputError(path, "GLB JSON chunk runs past the end of the file");
-        jsonText.assign(bytes, 20, chunkLen);
-        const uint64_t next = 20 + uint64_t(chunkLen);
-        if (next < length) {
-            if (next + 8 > length) throw InputError(path, "truncated GLB BIN chunk header");
-            const uint32_t binLen = readU32(bytes, size_t(next));
-            if (next + 8 + binLen > length) throw InputError(path, "GLB BIN chunk runs past the end of the file");
-        }
-    } else {
-        jsonText = bytes;
-    }
+namespace {
 
-    // tinygltf parses `extras` recursively: refuse deep nesting before it (or anyone) recurses.
-    if (std::string p = jsonDepthProblem(jsonText); !p.empty()) throw InputError(path, p);
-    json doc;
-    try {
-        doc = json::parse(jsonText);
-    } catch (const json::exception& e) {
-        throw InputError(path, std::string("not valid glTF JSON: ") + e.what());
+/// The JSON chunk of a GLB container, after checking its header and chunk lengths.
+std::string glbJsonChunk(const std::string& path, const std::string& bytes) {
+    if (bytes.size() < 20) throw InputError(path, "truncated GLB header");
+    const uint32_t version = readU32(bytes, 4);
+    if (version == 1) refuseGltf1(path, "GLB container version 1");
+    if (version != 2) throw InputError(path, "unsupported GLB container version " + std::to_string(version));
+    const uint32_t length = readU32(bytes, 8);
+    if (length > bytes.size()) throw InputError(path, "GLB header says " + std::to_string(length) + " bytes, file has " + std::to_string(bytes.size()));
+    const uint32_t chunkLen = readU32(bytes, 12), chunkType = readU32(bytes, 16);
+    if (chunkType != 0x4E4F534Au) throw InputError(path, "first GLB chunk is not JSON");
+    if (uint64_t(chunkLen) + 20 > length) throw InputError(path, "GLB JSON chunk runs past the end of the file");
+    const uint64_t next = 20 + uint64_t(chunkLen);
+    if (next < length) {
+        if (next + 8 > length) throw InputError(path, "truncated GLB BIN chunk header");
+        const uint32_t binLen = readU32(bytes, size_t(next));
+        if (next + 8 + binLen > length) throw InputError(path, "GLB BIN chunk runs past the end of the file");
     }
-    if (!doc.is_object()) throw InputError(path, "not valid glTF: the top level is not a JSON object");
-    if (std::string d = duplicateJsonKey(jsonText); !d.empty())
-        r.notes.push_back(d + ": duplicate JSON key; tinygltf keeps one of them");
+    return bytes.substr(20, chunkLen);
+}
 
+/// The top-level checks on the parsed document: version, required extensions, buffer sizes, URIs.
+void checkDocument(const std::string& path, const json& doc) {
     // glTF 1.0 keeps its arrays as dictionaries and often says version "1.0" (or a number).
     if (doc.contains("asset") && doc["asset"].is_object() && doc["asset"].contains("version")) {
         const json& v = doc["asset"]["version"];
@@ -171,6 +158,28 @@ PreflightResult preflight(const std::string& path, const std::string& bytes) {
         const json& is = doc["images"];
         for (size_t i = 0; i < is.size(); ++i) checkUri(path, is[i], "images[" + std::to_string(i) + "]");
     }
+}
+
+}  // namespace
+
+PreflightResult preflight(const std::string& path, const std::string& bytes) {
+    PreflightResult r;
+    r.binary = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
+    const std::string jsonText = r.binary ? glbJsonChunk(path, bytes) : bytes;
+
+    // tinygltf parses `extras` recursively: refuse deep nesting before it (or anyone) recurses.
+    if (std::string p = jsonDepthProblem(jsonText); !p.empty()) throw InputError(path, p);
+    json doc;
+    try {
+        doc = json::parse(jsonText);
+    } catch (const json::exception& e) {
+        throw InputError(path, std::string("not valid glTF JSON: ") + e.what());
+    }
+    if (!doc.is_object()) throw InputError(path, "not valid glTF: the top level is not a JSON object");
+    if (std::string d = duplicateJsonKey(jsonText); !d.empty())
+        r.notes.push_back(d + ": duplicate JSON key; tinygltf keeps one of them");
+
+    checkDocument(path, doc);
     return r;
 }
 
