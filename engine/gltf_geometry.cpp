@@ -135,90 +135,86 @@ std::vector<Vec4> generateTangents(const std::vector<Vec3>& pos, const std::vect
     return out;
 }
 
-bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int primIndex, const std::string& file, PrimitiveGeometry& out) {
-    const tinygltf::Primitive& p = model.meshes[size_t(meshIndex)].primitives[size_t(primIndex)];
-    const std::string w = "meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(primIndex) + "]";
-    const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
-    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
-        if (mode >= 0 && mode <= 3) return false;  // points and lines
-        throw InputError(file, w + ".mode: " + std::to_string(mode) + " is not a glTF primitive mode");
-    }
-    const int posAcc = attribute(p, "POSITION");
-    if (posAcc < 0) throw InputError(file, w + ": no POSITION attribute");
-    const AccessorData pos = readAccessor(model, posAcc, file, {TINYGLTF_TYPE_VEC3});
-    TriangleMesh& m = out.mesh;
-    m.positions.resize(pos.count);
-    std::vector<uint8_t> finite(pos.count, 1);
-    const DeclaredBounds declared = declaredBounds(model.accessors[size_t(posAcc)]);
-    out.boundsMissing = !declared.present;
-    for (size_t i = 0; i < pos.count; ++i) {
-        m.positions[i] = Vec3(pos.at(i, 0), pos.at(i, 1), pos.at(i, 2));
-        const bool outside = isFinite(m.positions[i]) && !declared.contain(m.positions[i]);
-        out.outsideBounds += outside;
-        if (!isFinite(m.positions[i]) || outside) {  // a corrupt vertex: its triangles are dropped
-            finite[i] = 0;
-            m.positions[i] = Vec3(0.f);
-        }
-    }
-    const size_t nv = pos.count;
-    auto sameCount = [&](const AccessorData& d, const char* what) {
+namespace {
+
+/// One primitive being read: where it is in the file, for messages, and its vertex count.
+struct PrimitiveReader {
+    const tinygltf::Model& model;
+    const tinygltf::Primitive& p;
+    const std::string& file;
+    std::string w;  ///< "meshes[i].primitives[j]"
+    size_t nv = 0;
+
+    AccessorData read(int accessor, int type, const char* what) const {
+        const AccessorData d = readAccessor(model, accessor, file, {type});
         if (d.count != nv)
             throw InputError(file, w + ": " + what + " has " + std::to_string(d.count) + " elements, POSITION has " + std::to_string(nv));
-    };
-    if (int a = attribute(p, "NORMAL"); a >= 0) {
-        const AccessorData d = readAccessor(model, a, file, {TINYGLTF_TYPE_VEC3});
-        sameCount(d, "NORMAL");
-        m.normals = toVectors<Vec3>(d);
-    }
-    if (int a = attribute(p, "TEXCOORD_0"); a >= 0) {
-        const AccessorData d = readAccessor(model, a, file, {TINYGLTF_TYPE_VEC2});
-        sameCount(d, "TEXCOORD_0");
-        m.uvs = toVectors<Vec2>(d);
-    }
-    if (int a = attribute(p, "TEXCOORD_1"); a >= 0) {
-        const AccessorData d = readAccessor(model, a, file, {TINYGLTF_TYPE_VEC2});
-        sameCount(d, "TEXCOORD_1");
-        m.uvs1 = toVectors<Vec2>(d);
-    }
-    if (int a = attribute(p, "TANGENT"); a >= 0) {
-        const AccessorData d = readAccessor(model, a, file, {TINYGLTF_TYPE_VEC4});
-        sameCount(d, "TANGENT");
-        m.tangents = toVectors<Vec4>(d);
+        return d;
     }
 
-    std::vector<uint32_t> order;
-    if (p.indices >= 0) {
-        order = readIndices(model, p.indices, file);
-        for (size_t i = 0; i < order.size(); ++i)
-            if (order[i] >= nv)
-                throw InputError(file, w + ".indices: index " + std::to_string(order[i]) + " at position " + std::to_string(i) +
-                                           " is out of range (" + std::to_string(nv) + " vertices)");
-    } else {
-        order.resize(nv);
-        for (uint32_t i = 0; i < nv; ++i) order[i] = i;
-    }
-    if (mode == TINYGLTF_MODE_TRIANGLES) out.leftoverIndices = order.size() % 3;
-    const std::vector<uint32_t> tris = unroll(order, mode);
-
-    for (size_t k = 0; k < p.targets.size(); ++k) {
-        const auto& target = p.targets[k];
-        std::vector<Vec3> dp, dn;
-        if (auto it = target.find("POSITION"); it != target.end()) {
-            const AccessorData d = readAccessor(model, it->second, file, {TINYGLTF_TYPE_VEC3});
-            sameCount(d, "a morph target POSITION");
-            dp = toVectors<Vec3>(d);
+    /// POSITION, with corrupt vertices (non-finite, or outside the accessor's declared min/max)
+    /// zeroed and flagged in finite so their triangles are dropped.
+    void positions(PrimitiveGeometry& out, std::vector<uint8_t>& finite) {
+        const int posAcc = attribute(p, "POSITION");
+        if (posAcc < 0) throw InputError(file, w + ": no POSITION attribute");
+        const AccessorData pos = readAccessor(model, posAcc, file, {TINYGLTF_TYPE_VEC3});
+        nv = pos.count;
+        std::vector<Vec3>& P = out.mesh.positions;
+        P.resize(nv);
+        finite.assign(nv, 1);
+        const DeclaredBounds declared = declaredBounds(model.accessors[size_t(posAcc)]);
+        out.boundsMissing = !declared.present;
+        for (size_t i = 0; i < nv; ++i) {
+            P[i] = Vec3(pos.at(i, 0), pos.at(i, 1), pos.at(i, 2));
+            const bool outside = isFinite(P[i]) && !declared.contain(P[i]);
+            out.outsideBounds += outside;
+            if (!isFinite(P[i]) || outside) {
+                finite[i] = 0;
+                P[i] = Vec3(0.f);
+            }
         }
-        if (auto it = target.find("NORMAL"); it != target.end()) {
-            const AccessorData d = readAccessor(model, it->second, file, {TINYGLTF_TYPE_VEC3});
-            sameCount(d, "a morph target NORMAL");
-            dn = toVectors<Vec3>(d);
-        }
-        if (dp.empty()) dp.assign(nv, Vec3(0.f));
-        m.morphPositions.push_back(std::move(dp));
-        m.morphNormals.push_back(std::move(dn));
     }
 
-    // Drop triangles with a non-finite corner, repeated corners or zero area (in double).
+    void attributes(TriangleMesh& m) const {
+        if (int a = attribute(p, "NORMAL"); a >= 0) m.normals = toVectors<Vec3>(read(a, TINYGLTF_TYPE_VEC3, "NORMAL"));
+        if (int a = attribute(p, "TEXCOORD_0"); a >= 0) m.uvs = toVectors<Vec2>(read(a, TINYGLTF_TYPE_VEC2, "TEXCOORD_0"));
+        if (int a = attribute(p, "TEXCOORD_1"); a >= 0) m.uvs1 = toVectors<Vec2>(read(a, TINYGLTF_TYPE_VEC2, "TEXCOORD_1"));
+        if (int a = attribute(p, "TANGENT"); a >= 0) m.tangents = toVectors<Vec4>(read(a, TINYGLTF_TYPE_VEC4, "TANGENT"));
+    }
+
+    /// The vertex order (indices, or 0…n−1), checked against the vertex count.
+    std::vector<uint32_t> order() const {
+        std::vector<uint32_t> o;
+        if (p.indices >= 0) {
+            o = readIndices(model, p.indices, file);
+            for (size_t i = 0; i < o.size(); ++i)
+                if (o[i] >= nv)
+                    throw InputError(file, w + ".indices: index " + std::to_string(o[i]) + " at position " + std::to_string(i) +
+                                               " is out of range (" + std::to_string(nv) + " vertices)");
+        } else {
+            o.resize(nv);
+            for (uint32_t i = 0; i < nv; ++i) o[i] = i;
+        }
+        return o;
+    }
+
+    void morphTargets(TriangleMesh& m) const {
+        for (const auto& target : p.targets) {
+            std::vector<Vec3> dp, dn;
+            if (auto it = target.find("POSITION"); it != target.end())
+                dp = toVectors<Vec3>(read(it->second, TINYGLTF_TYPE_VEC3, "a morph target POSITION"));
+            if (auto it = target.find("NORMAL"); it != target.end())
+                dn = toVectors<Vec3>(read(it->second, TINYGLTF_TYPE_VEC3, "a morph target NORMAL"));
+            if (dp.empty()) dp.assign(nv, Vec3(0.f));
+            m.morphPositions.push_back(std::move(dp));
+            m.morphNormals.push_back(std::move(dn));
+        }
+    }
+};
+
+/// Keeps the triangles whose corners are finite, distinct and span a non-zero area (in double).
+void keepGoodTriangles(const std::vector<uint32_t>& tris, const std::vector<uint8_t>& finite, PrimitiveGeometry& out) {
+    TriangleMesh& m = out.mesh;
     m.indices.reserve(tris.size());
     for (size_t t = 0; t + 2 < tris.size(); t += 3) {
         const uint32_t a = tris[t], b = tris[t + 1], c = tris[t + 2];
@@ -233,6 +229,26 @@ bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int primIndex, 
         }
         m.indices.insert(m.indices.end(), {a, b, c});
     }
+}
+
+}  // namespace
+
+bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int primIndex, const std::string& file, PrimitiveGeometry& out) {
+    const tinygltf::Primitive& p = model.meshes[size_t(meshIndex)].primitives[size_t(primIndex)];
+    PrimitiveReader r{model, p, file, "meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(primIndex) + "]"};
+    const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+        if (mode >= 0 && mode <= 3) return false;  // points and lines
+        throw InputError(file, r.w + ".mode: " + std::to_string(mode) + " is not a glTF primitive mode");
+    }
+    TriangleMesh& m = out.mesh;
+    std::vector<uint8_t> finite;
+    r.positions(out, finite);
+    r.attributes(m);
+    const std::vector<uint32_t> order = r.order();
+    if (mode == TINYGLTF_MODE_TRIANGLES) out.leftoverIndices = order.size() % 3;
+    r.morphTargets(m);
+    keepGoodTriangles(unroll(order, mode), finite, out);
     if (m.normals.empty()) {
         // Indexed: smooth, area-weighted per vertex. Non-indexed: every triangle owns its
         // vertices, so the same sum gives flat normals.

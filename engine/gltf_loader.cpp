@@ -305,6 +305,16 @@ private:
         }
     }
 
+    /// Primitives and triangles the load left out, summed over the model for its notes.
+    struct DropCounts {
+        size_t degenerate = 0, nonFinite = 0, generated = 0, unplaced = 0;
+    };
+    SceneGraph sceneGraph(const DMat4& renderFromModel) const;
+    void addNodeMeshes(Scene& scene, int node, const DMat4& renderFromNode, int modelIndex, bool dynamic,
+                       MaterialBuilder& materials, DropCounts& dropped);
+    void addNodeLightAndCamera(Scene& scene, int node, const DMat4& renderFromNode);
+    void noteDrops(const DropCounts& d);
+
     std::string path_;
     tinygltf::Model model_;
     std::vector<std::string> notes_;
@@ -317,9 +327,8 @@ private:
     bool skippedPointsLines_ = false;
 };
 
-void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel) {
-    const DMat4 renderFromModel = glm::translate(DMat4(1.0), -scene.renderOrigin) * worldFromModel;
-    const int modelIndex = int(scene.models.size());
+/// The node hierarchy with its rest transforms and animations, for animated nodes to follow.
+SceneGraph GltfModel::sceneGraph(const DMat4& renderFromModel) const {
     SceneGraph graph;
     graph.source = path_;
     graph.renderFromModel = renderFromModel;
@@ -339,71 +348,94 @@ void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel) {
         graph.nodes.push_back(std::move(sn));
     }
     graph.animations = animations_;
-    scene.models.push_back(std::move(graph));
+    return graph;
+}
 
-    // A node moves if it, or any ancestor, is animated (order_ lists parents first).
-    std::vector<uint8_t> dynamic(model_.nodes.size(), 0);
-    for (int i : order_) dynamic[size_t(i)] = animatedNode_[size_t(i)] || (parent_[size_t(i)] >= 0 && dynamic[size_t(parent_[size_t(i)])]);
-
-    MaterialBuilder materials(scene, model_, path_);
-    size_t degenerate = 0, nonFinite = 0, generated = 0, unplaced = 0;
-    for (int node : order_) {
-        const tinygltf::Node& n = model_.nodes[size_t(node)];
-        const DMat4 renderFromNode = renderFromModel * modelFromNode_[size_t(node)];
-        if (n.mesh >= 0) {
-            const tinygltf::Mesh& gm = model_.meshes[size_t(n.mesh)];
-            for (size_t p = 0; p < gm.primitives.size(); ++p) {
-                const PrimitiveGeometry* g = primitive(n.mesh, int(p));
-                if (!g) continue;
-                degenerate += g->droppedDegenerate;
-                nonFinite += g->droppedNonFinite;
-                generated += g->generatedNormals;
-                if (g->mesh.indices.empty()) continue;
-                TriangleMesh m = g->mesh;
-                m.name = gm.name;
-                if (dynamic[size_t(node)]) {
-                    m.model = modelIndex;
-                    m.node = node;
-                    m.objectPositions = m.positions;
-                    m.objectNormals = m.normals;
-                    m.objectTangents = m.tangents;
-                }
-                if (!placePrimitive(m, renderFromNode, defaultWeights(node))) {
-                    ++unplaced;
-                    continue;
-                }
-                if (!dynamic[size_t(node)]) {
-                    m.morphPositions.clear();
-                    m.morphNormals.clear();
-                }
-                m.material = materials.materialFor(g->gltfMaterial);
-                scene.meshes.push_back(std::move(m));
-            }
+/// The node's mesh primitives, placed in render space; an animated node's keep their object
+/// space copies so the timeline can move them.
+void GltfModel::addNodeMeshes(Scene& scene, int node, const DMat4& renderFromNode, int modelIndex, bool dynamic,
+                              MaterialBuilder& materials, DropCounts& dropped) {
+    const tinygltf::Node& n = model_.nodes[size_t(node)];
+    if (n.mesh < 0) return;
+    const tinygltf::Mesh& gm = model_.meshes[size_t(n.mesh)];
+    for (size_t p = 0; p < gm.primitives.size(); ++p) {
+        const PrimitiveGeometry* g = primitive(n.mesh, int(p));
+        if (!g) continue;
+        dropped.degenerate += g->droppedDegenerate;
+        dropped.nonFinite += g->droppedNonFinite;
+        dropped.generated += g->generatedNormals;
+        if (g->mesh.indices.empty()) continue;
+        TriangleMesh m = g->mesh;
+        m.name = gm.name;
+        if (dynamic) {
+            m.model = modelIndex;
+            m.node = node;
+            m.objectPositions = m.positions;
+            m.objectNormals = m.normals;
+            m.objectTangents = m.tangents;
         }
-        if (auto it = n.extensions.find("KHR_lights_punctual"); it != n.extensions.end() && it->second.Has("light")) {
-            const tinygltf::Value& li = it->second.Get("light");
-            const int idx = li.IsInt() ? li.Get<int>() : -1;
-            if (idx < 0 || size_t(idx) >= model_.lights.size())
-                throw InputError(path_, "nodes[" + std::to_string(node) + "]: no light " + std::to_string(idx));
-            scene.lights.push_back(punctualLight(model_.lights[size_t(idx)], renderFromNode, path_, idx));
+        if (!placePrimitive(m, renderFromNode, defaultWeights(node))) {
+            ++dropped.unplaced;
+            continue;
         }
-        if (n.camera >= 0) {
-            if (size_t(n.camera) >= model_.cameras.size())
-                throw InputError(path_, "nodes[" + std::to_string(node) + "].camera: no such camera");
-            if (auto c = perspectiveCamera(model_.cameras[size_t(n.camera)], renderFromNode)) scene.gltfCameras.push_back(*c);
-            else notes_.push_back("cameras[" + std::to_string(n.camera) + "]: " + model_.cameras[size_t(n.camera)].type + " cameras are not supported; skipped");
+        if (!dynamic) {
+            m.morphPositions.clear();
+            m.morphNormals.clear();
         }
+        m.material = materials.materialFor(g->gltfMaterial);
+        scene.meshes.push_back(std::move(m));
     }
-    if (degenerate) notes_.push_back(std::to_string(degenerate) + " degenerate triangles dropped");
-    if (nonFinite) notes_.push_back(std::to_string(nonFinite) + " triangles with non-finite or out-of-bounds positions dropped");
-    if (generated) notes_.push_back("normals generated for " + std::to_string(generated) + " primitives");
-    if (unplaced) notes_.push_back(std::to_string(unplaced) + " primitives dropped: their node scales them to nothing or to infinity");
+}
+
+/// The node's KHR_lights_punctual light and camera, if it has them.
+void GltfModel::addNodeLightAndCamera(Scene& scene, int node, const DMat4& renderFromNode) {
+    const tinygltf::Node& n = model_.nodes[size_t(node)];
+    if (auto it = n.extensions.find("KHR_lights_punctual"); it != n.extensions.end() && it->second.Has("light")) {
+        const tinygltf::Value& li = it->second.Get("light");
+        const int idx = li.IsInt() ? li.Get<int>() : -1;
+        if (idx < 0 || size_t(idx) >= model_.lights.size())
+            throw InputError(path_, "nodes[" + std::to_string(node) + "]: no light " + std::to_string(idx));
+        scene.lights.push_back(punctualLight(model_.lights[size_t(idx)], renderFromNode, path_, idx));
+    }
+    if (n.camera >= 0) {
+        if (size_t(n.camera) >= model_.cameras.size())
+            throw InputError(path_, "nodes[" + std::to_string(node) + "].camera: no such camera");
+        if (auto c = perspectiveCamera(model_.cameras[size_t(n.camera)], renderFromNode)) scene.gltfCameras.push_back(*c);
+        else notes_.push_back("cameras[" + std::to_string(n.camera) + "]: " + model_.cameras[size_t(n.camera)].type + " cameras are not supported; skipped");
+    }
+}
+
+/// What the load dropped or left out, as notes.
+void GltfModel::noteDrops(const DropCounts& d) {
+    if (d.degenerate) notes_.push_back(std::to_string(d.degenerate) + " degenerate triangles dropped");
+    if (d.nonFinite) notes_.push_back(std::to_string(d.nonFinite) + " triangles with non-finite or out-of-bounds positions dropped");
+    if (d.generated) notes_.push_back("normals generated for " + std::to_string(d.generated) + " primitives");
+    if (d.unplaced) notes_.push_back(std::to_string(d.unplaced) + " primitives dropped: their node scales them to nothing or to infinity");
     if (skippedPointsLines_) notes_.push_back("points and lines are not rendered; skipped");
     if (!model_.skins.empty()) notes_.push_back("skins are not supported: skinned meshes drawn in their bind pose");
     static const std::set<std::string> known = {"KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_transmission",
                                                 "KHR_materials_ior", "KHR_lights_punctual", "KHR_mesh_quantization"};
     for (const std::string& e : model_.extensionsUsed)
         if (!known.count(e) && e.rfind("KHR_materials_", 0) != 0) notes_.push_back("extension " + e + " ignored");
+}
+
+void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel) {
+    const DMat4 renderFromModel = glm::translate(DMat4(1.0), -scene.renderOrigin) * worldFromModel;
+    const int modelIndex = int(scene.models.size());
+    scene.models.push_back(sceneGraph(renderFromModel));
+
+    // A node moves if it, or any ancestor, is animated (order_ lists parents first).
+    std::vector<uint8_t> dynamic(model_.nodes.size(), 0);
+    for (int i : order_) dynamic[size_t(i)] = animatedNode_[size_t(i)] || (parent_[size_t(i)] >= 0 && dynamic[size_t(parent_[size_t(i)])]);
+
+    MaterialBuilder materials(scene, model_, path_);
+    DropCounts dropped;
+    for (int node : order_) {
+        const DMat4 renderFromNode = renderFromModel * modelFromNode_[size_t(node)];
+        addNodeMeshes(scene, node, renderFromNode, modelIndex, dynamic[size_t(node)] != 0, materials, dropped);
+        addNodeLightAndCamera(scene, node, renderFromNode);
+    }
+    noteDrops(dropped);
     for (const std::string& n : notes_) scene.notes.push_back(path_ + ": " + n);
 }
 
