@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <regex>
 #include <sched.h>
 
 #include "cli.h"
@@ -75,20 +74,6 @@ std::string describeThreads(const RenderJob& job, const Transport& t) {
     if (cpusAllowed() < hardwareThreads())
         s += " (bound by mpirun to " + std::to_string(cpusAllowed()) + " of " + std::to_string(hardwareThreads()) + " CPUs)";
     return s;
-}
-
-/// A fresh run starts from an empty frames directory: frames left by an earlier job must not be
-/// mistaken for this one's by a later --resume.
-void prepareFramesDir(const std::string& dir) {
-    ensureWritableDir(dir);
-    const bool ours = std::filesystem::exists(std::filesystem::path(dir) / "rayfarm-frames.json");
-    static const std::regex framePattern(R"(frame_\d{6}\.png(\.part)?)");
-    std::vector<std::filesystem::path> old;
-    for (const auto& e : std::filesystem::directory_iterator(dir))
-        if (std::regex_match(e.path().filename().string(), framePattern)) old.push_back(e.path());
-    if (!old.empty() && !ours)
-        throw UsageError(dir + ": holds frame PNGs that rayfarm did not write; choose another --frames-dir");
-    for (const auto& p : old) std::filesystem::remove(p);
 }
 
 /// Rank 0's part of makeJob: everything decided from the options and the loaded scene, checked

@@ -23,6 +23,9 @@ enum Tag : int {
     kTagViewWork = 21,      ///< window → rank: view::ViewWork (a camera, an epoch, a rectangle)
     kTagViewTile = 22,      ///< rank → window: view::ViewTile (8-bit RGB of the rectangle)
     kTagViewTimeline = 23,  ///< window → rank: the timeline JSON to play from now on (keys changed)
+    /// window → rank: leave the view loop and serve a film render (runFarm's kTagWork items)
+    /// until kTagStop, then come back; payload in farm/view/film_render.h
+    kTagFilm = 24,
 };
 
 /// How often a worker says it is alive, even while its threads render a long frame.

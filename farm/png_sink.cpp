@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include <fcntl.h>
@@ -15,6 +16,7 @@
 #include "cli.h"
 #include "digest.h"
 #include "file_write.h"
+#include "output_check.h"
 
 namespace rf::farm {
 
@@ -157,5 +159,18 @@ std::set<int> findKeptFrames(const std::string& dir, const std::vector<int>& fra
     }
     return kept;
 }
+
+void prepareFramesDir(const std::string& dir) {
+    ensureWritableDir(dir);
+    const bool ours = std::filesystem::exists(std::filesystem::path(dir) / "rayfarm-frames.json");
+    static const std::regex framePattern(R"(frame_\d{6}\.png(\.part)?)");
+    std::vector<std::filesystem::path> old;
+    for (const auto& e : std::filesystem::directory_iterator(dir))
+        if (std::regex_match(e.path().filename().string(), framePattern)) old.push_back(e.path());
+    if (!old.empty() && !ours)
+        throw cli::UsageError(dir + ": holds frame PNGs that rayfarm did not write; choose another --frames-dir");
+    for (const auto& p : old) std::filesystem::remove(p);
+}
+
 
 }  // namespace rf::farm

@@ -42,6 +42,11 @@ void writeFramesManifest(const std::string& dir, const std::string& identity, co
 /// line that names the setting or the input file that changed.
 void checkFramesManifest(const std::string& dir, const std::string& identity, const std::map<std::string, std::string>& inputs);
 
+/// A fresh run starts from an empty frames directory: frames left by an earlier job must not be
+/// mistaken for this one's by a later --resume. Creates dir if needed; throws cli::UsageError
+/// when it holds frame PNGs without rayfarm's manifest (someone else's files).
+void prepareFramesDir(const std::string& dir);
+
 /// Frames of `frames` already in dir as complete PNGs of width × height whose SHA-256 matches
 /// the one recorded when they were written. Frames present but failing that check are listed
 /// in `corrupt` (they are rendered again).

@@ -34,8 +34,10 @@ MpiTransport::MpiTransport() {
     MPI_Initialized(&initialized);
     if (!initialized) {
         int provided = 0;
-        // Only the main thread of each rank calls MPI; render and encoder threads never do.
-        MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+        // One thread at a time calls MPI; render and encoder threads never do. SERIALIZED, not
+        // FUNNELED: the viewer hands the transport to its film thread (runFarm) while its
+        // window thread stays away from it.
+        MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
     }
     MPI_Comm_set_errhandler(MPI_COMM_WORLD, MPI_ERRORS_RETURN);
     // Tests shrink the broadcast chunk so that a small scene goes out in many pieces, as one

@@ -40,7 +40,7 @@ public:
 };
 
 /// MPI_COMM_WORLD, with MPI_ERRORS_RETURN so a failing peer becomes a TransportError rather than
-/// an abort deep inside MPI. Only the thread that created it may use it (MPI_THREAD_FUNNELED).
+/// an abort deep inside MPI. One thread at a time may use it (MPI_THREAD_SERIALIZED).
 class MpiTransport : public Transport {
 public:
     MpiTransport();

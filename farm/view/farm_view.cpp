@@ -36,6 +36,14 @@ uint64_t FarmView::request(const ViewRequest& r) {
     return epoch_;
 }
 
+void FarmView::resumeAfterFilm() {
+    // Tiles out before the film were dropped by the ranks; the film's messages were runFarm's.
+    const auto now = Clock::now();
+    for (auto& [rank, n] : inFlight_) n = 0;
+    for (auto& [rank, when] : heard_) when = now;
+    active_ = false;
+}
+
 void FarmView::setTimeline(const anim::Timeline&, const std::string& timelineJson) {
     // Messages from rank 0 arrive in order, so the next work item already sees it.
     for (int r = 1; r < t_.size(); ++r) t_.send(r, farm::kTagViewTimeline, timelineJson);

@@ -28,6 +28,7 @@ public:
     int ranks() const override { return t_.size(); }
     void step() override;
     bool wantsSteps() const override { return true; }
+    void resumeAfterFilm() override;
 
     static constexpr int kWorkTile = 64;
     static constexpr int kInFlightPerRank = 3;

@@ -2,12 +2,11 @@
 // its keyed timeline.
 #include <QCoreApplication>
 #include <QListWidget>
-#include <QProcess>
 #include <QProgressBar>
 #include <QPushButton>
 #include <QTimer>
+#include <algorithm>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 
@@ -17,18 +16,6 @@
 
 namespace rf::view {
 
-namespace {
-/// The environment for a child rayfarm: without the MPI launcher's variables, so that a child
-/// of a rank under mpirun starts as a process of its own, not as another member of the job.
-QProcessEnvironment childEnvironment() {
-    QProcessEnvironment env = QProcessEnvironment::systemEnvironment();
-    for (const QString& k : env.keys())
-        if (k.startsWith("OMPI_") || k.startsWith("PMIX_") || k.startsWith("OPAL_")) env.remove(k);
-    env.insert("OMPI_ALLOW_RUN_AS_ROOT", "1");
-    env.insert("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1");
-    return env;
-}
-}  // namespace
 
 void ViewWindow::addKey() {
     const double t = timeline_.frameTime(frame_);
@@ -69,17 +56,23 @@ void ViewWindow::refreshKeys() {
     }
 }
 
+Scene ViewWindow::keyedScene(std::string& timelineJson) const {
+    Scene keyed = scene_;
+    if (!keys_.empty())
+        keyed.timeline = std::make_shared<const nlohmann::json>(nlohmann::json{{"timeline", keyedTimeline(keys_, scene_, film_)}});
+    timelineJson = keyed.timeline ? keyed.timeline->dump() : std::string();
+    return keyed;
+}
+
 void ViewWindow::rebuildTimeline() {
     // The window plays the keys through the same parser and evaluator `render` will use on the
     // saved file, so the path on screen is the path rendered.
-    std::string json = scene_.timeline ? scene_.timeline->dump() : std::string();
+    std::string json;
     if (keys_.empty()) {
         timeline_ = sceneTimeline_;
+        json = scene_.timeline ? scene_.timeline->dump() : std::string();
     } else {
-        Scene keyed = scene_;
-        keyed.timeline = std::make_shared<const nlohmann::json>(nlohmann::json{{"timeline", keyedTimeline(keys_, scene_, film_)}});
-        json = keyed.timeline->dump();
-        timeline_ = anim::Timeline::fromScene(keyed);
+        timeline_ = anim::Timeline::fromScene(keyedScene(json));
     }
     renderer_->setTimeline(timeline_, json);
     dirty_ = true;
@@ -108,87 +101,87 @@ void ViewWindow::save() {
 namespace rf::view {
 
 void ViewWindow::renderFilm() {
-    if (renderProc_) {  // the button reads Cancel while a render runs
+    if (filmRender_) {  // the button reads Cancel while a render runs
         cancelRender();
         return;
     }
-    // With keys the film is the saved scene's; without, the scene's own film at the window's
-    // picture settings.
-    std::string scene = options_.scenePath;
-    QStringList args;
+    // With keys the film is the saved scene's (so `render` of that file continues it); without,
+    // the scene's own film. Either way at the window's picture settings, through runFarm on the
+    // ranks this window renders with.
+    FilmRequest req;
+    req.scenePath = options_.scenePath;
     if (!keys_.empty()) {
         save();
         if (message_.rfind("saved ", 0) != 0) return;
-        scene = options_.savePath;
-        renderTotal_ = film_.frames;
-    } else {
-        const std::string size = std::to_string(settings_.width) + "x" + std::to_string(settings_.height);
-        args << "--size" << QString::fromStdString(size) << "--spp" << QString::number(settings_.spp) << "--depth"
-             << QString::number(settings_.maxDepth);
-        renderTotal_ = sceneTimeline_.frameCount();
+        req.scenePath = options_.savePath;
     }
+    req.scene = keyedScene(req.timelineJson);
+    req.settings = settings_;
     const std::filesystem::path base = std::filesystem::path(options_.savePath).replace_extension();
-    renderOutput_ = base.string() + ".mp4";
-    renderFramesDir_ = base.string() + ".frames";
-    args.prepend(QString::fromStdString(renderFramesDir_));
-    args.prepend("--frames-dir");
-    args.prepend(QString::fromStdString(renderOutput_));
-    args.prepend("-o");
-    args.prepend(QString::fromStdString(scene));
-    args.prepend("render");
-    if (renderResumable_) args << "--resume";  // the frames of the cancelled run are kept
-    renderProc_ = new QProcess(this);
-    renderProc_->setProcessChannelMode(QProcess::ForwardedChannels);
-    renderProc_->setProcessEnvironment(childEnvironment());
-    connect(renderProc_, &QProcess::finished, this, [this](int code, QProcess::ExitStatus st) {
-        renderEnded(st == QProcess::NormalExit ? code : 1);
-    });
-    renderCancelled_ = false;
-    renderProc_->start(QCoreApplication::applicationFilePath(), args);
+    renderOutput_ = req.output = base.string() + ".mp4";
+    renderFramesDir_ = req.framesDir = base.string() + ".frames";
+    req.resume = renderResumable_;  // the frames of the cancelled run are kept
+    req.threads = std::max(1, threads());
+    renderTotal_ = timeline_.frameCount();
+
+    FilmCallbacks cb;
+    cb.onFrame = [this](int done, int total) {
+        QMetaObject::invokeMethod(this, [this, done, total] {
+            renderBar_->setRange(0, std::max(1, total));
+            renderBar_->setValue(done);
+        }, Qt::QueuedConnection);
+    };
+    cb.log = [](const std::string& line) { std::fprintf(stderr, "rayfarm: %s\n", line.c_str()); };
+    cb.onEnd = [this](const FilmEnd& end) {
+        QMetaObject::invokeMethod(this, [this, end] { renderEnded(end); }, Qt::QueuedConnection);
+    };
+    // While the film renders the window asks for no frames: the ranks (and the transport)
+    // belong to runFarm until it returns.
+    if (playing_) togglePlay();
+    filmRender_ = std::make_unique<FilmRender>(options_.transport, std::move(req), std::move(cb));
     renderButton_->setText("Cancel render (Ctrl+R)");
     renderBar_->setRange(0, std::max(1, renderTotal_));
     renderBar_->setValue(0);
-    if (!renderTimer_) {
-        renderTimer_ = new QTimer(this);
-        connect(renderTimer_, &QTimer::timeout, this, [this] { renderProgress(); });
-    }
-    renderTimer_->start(250);
     message_ = "rendering " + renderOutput_;
+    std::fprintf(stderr, "rayfarm: view: rendering %s through the farm (%d rank%s)\n", renderOutput_.c_str(),
+                 renderer_->ranks(), renderer_->ranks() == 1 ? "" : "s");
     updateStatus();
 }
 
-void ViewWindow::renderProgress() {
-    // Frames count as done once their PNG is in the frames directory (render writes each one
-    // whole, under a .part name first).
-    int done = 0;
+void ViewWindow::cancelRender() {
+    // Like Ctrl-C for render: the MP4 is closed on the frames done and their PNGs are kept.
+    if (filmRender_) filmRender_->cancel();
+}
+
+void ViewWindow::renderEnded(const FilmEnd& end) {
+    const bool cancelled = filmRender_ && filmRender_->cancelled();
+    filmRender_.reset();  // its thread has returned from runFarm: join it
+    renderButton_->setText("Render MP4 (Ctrl+R)");
+    renderResumable_ = end.kind != FilmEnd::Done;
+    int kept = 0;
     std::error_code ec;
     for (const auto& e : std::filesystem::directory_iterator(renderFramesDir_, ec))
-        if (e.path().extension() == ".png" && e.path().filename().string().rfind("frame_", 0) == 0) ++done;
-    renderBar_->setValue(std::min(done, renderBar_->maximum()));
-}
-
-void ViewWindow::cancelRender() {
-    if (!renderProc_) return;
-    // Ctrl-C for render: it closes the video on the frames done and keeps their PNGs.
-    renderCancelled_ = true;
-    ::kill(static_cast<pid_t>(renderProc_->processId()), SIGINT);
-    renderProc_->waitForFinished(5000);
-}
-
-void ViewWindow::renderEnded(int status) {
-    renderTimer_->stop();
-    renderProgress();
-    renderProc_->deleteLater();
-    renderProc_ = nullptr;
-    renderButton_->setText("Render MP4 (Ctrl+R)");
-    renderResumable_ = renderCancelled_ || status != 0;
-    if (status == 0 && !renderCancelled_) {
+        if (e.path().extension() == ".png" && e.path().filename().string().rfind("frame_", 0) == 0) ++kept;
+    if (end.kind == FilmEnd::Done) {
+        renderBar_->setValue(renderBar_->maximum());
         message_ = "rendered " + renderOutput_;
+    } else if (end.kind == FilmEnd::RankLost) {
+        // The lost rank cannot be told to stop: the session ends with the window.
+        reportedError_ = true;
+        message_ = "render stopped: " + end.message;
+        std::fprintf(stderr, "rayfarm: error: view: %s; the session stops (close the window)\n", end.message.c_str());
+        updateStatus();
+        return;
     } else {
-        message_ = std::string(renderCancelled_ ? "render cancelled" : "render failed") + ": " +
-                   std::to_string(renderBar_->value()) + " frames kept in " + renderFramesDir_ + "; Render resumes";
+        message_ = std::string(cancelled ? "render cancelled" : "render failed: " + end.message) + ": " +
+                   std::to_string(kept) + " frames kept in " + renderFramesDir_ + "; Render resumes";
     }
     std::fprintf(stderr, "rayfarm: view: %s\n", message_.c_str());
+    renderer_->resumeAfterFilm();
+    movingInFlight_ = 0;  // a moving frame asked for before the film never came back
+    dirty_ = true;
+    pump();
+    sendRest();
     updateStatus();
 }
 

@@ -24,6 +24,9 @@ public:
     /// millisecond or so when wantsSteps().
     virtual void step() {}
     virtual bool wantsSteps() const { return false; }
+    /// After a film render borrowed the ranks (nothing was stepped meanwhile): forget the work
+    /// that was out and start listening afresh.
+    virtual void resumeAfterFilm() {}
 };
 
 }  // namespace rf::view

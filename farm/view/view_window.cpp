@@ -111,6 +111,7 @@ void ViewWindow::startRenderer() {
         stepTimer_ = new QTimer(this);
         stepTimer_->setInterval(1);
         connect(stepTimer_, &QTimer::timeout, this, [this] {
+            if (filmRender_) return;  // runFarm has the transport
             renderer_->step();
             if (!renderer_->error().empty() && !reportedError_) {
                 // A rank died or failed: say so in the window (and on stderr), render no more.
@@ -254,7 +255,7 @@ void ViewWindow::setFrame(int frame, bool fromInput) {
 void ViewWindow::pump() {
     // One moving frame in flight at a time: newer input waits for it and then goes out as one
     // request, rather than cancelling every frame before it reaches the screen.
-    if (!dirty_ || movingInFlight_ != 0) return;
+    if (!dirty_ || movingInFlight_ != 0 || filmRender_) return;
     ViewRequest r{camera_, frame_, true, follow_, pendingInput_};
     lastEpoch_ = movingInFlight_ = renderer_->request(r);
     pendingInput_.reset();
@@ -262,7 +263,7 @@ void ViewWindow::pump() {
 }
 
 void ViewWindow::sendRest() {
-    if (playing_) return;
+    if (playing_ || filmRender_) return;
     if (dirty_ || movingInFlight_ != 0) {  // still moving: rest after the last moving frame
         restTimer_->start(50);
         return;
@@ -318,6 +319,7 @@ void ViewWindow::closeEvent(QCloseEvent* e) {
     playTimer_->stop();
     if (stepTimer_) stepTimer_->stop();
     cancelRender();  // a film render started here ends with the window, its frames kept
+    filmRender_.reset();
     const int threads = this->threads(), ranks = renderer_ ? renderer_->ranks() : 1;
     renderer_.reset();  // cancels the pass in flight and joins the render thread
     if (!options_.statsPath.empty()) {

@@ -9,11 +9,11 @@
 #include <string>
 
 #include "camera_keys.h"
+#include "film_render.h"
 #include "view_backend.h"
 #include "view_stats.h"
 
 class QLabel;
-class QProcess;
 class QProgressBar;
 class QListWidget;
 class QPushButton;
@@ -74,10 +74,12 @@ private:
     void deleteKey(int row);
     void save();
     void rebuildTimeline();
+    /// scene_ with the keys' timeline in place (the scene's own without keys), and that
+    /// timeline as JSON for the other ranks.
+    Scene keyedScene(std::string& timelineJson) const;
     void renderFilm();
     void cancelRender();
-    void renderProgress();
-    void renderEnded(int status);
+    void renderEnded(const FilmEnd& end);
     int threads() const { return renderer_ ? renderer_->threads() : 0; }
     double nowS() const;
     std::string ranksText() const;
@@ -118,14 +120,12 @@ private:
     QTimer* restTimer_ = nullptr;
     QTimer* playTimer_ = nullptr;
     QTimer* stepTimer_ = nullptr;  ///< drives a farm backend's messages
-    // The Render action: `rayfarm render` of the saved scene as a child process.
-    QProcess* renderProc_ = nullptr;
+    // The Render action: the film through runFarm on this window's ranks (film_render.h).
+    std::unique_ptr<FilmRender> filmRender_;
     QPushButton* renderButton_ = nullptr;
     QProgressBar* renderBar_ = nullptr;
-    QTimer* renderTimer_ = nullptr;
     std::string renderFramesDir_, renderOutput_;
     int renderTotal_ = 0;
-    bool renderCancelled_ = false;
     bool renderResumable_ = false;  ///< the last render was cancelled and the keys did not change since
     bool reportedError_ = false;
     friend class ImageView;

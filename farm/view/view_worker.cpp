@@ -3,20 +3,27 @@
 #include <atomic>
 #include <chrono>
 #include <deque>
+#include <optional>
 #include <thread>
 
 #include <nlohmann/json.hpp>
 
 #include "image.h"
+#include "film_render.h"
 #include "messages.h"
+#include "render_engine.h"
+#include "render_job.h"
 #include "render.h"
 #include "view_messages.h"
+#include "worker.h"
 
 namespace rf::view {
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
+/// A film worker whose rank 0 is silent this long leaves (runWorker's masterTimeout).
+constexpr double kFilmMasterTimeout = 20.0;
 
 struct WorkerState {
     farm::Transport& t;
@@ -29,14 +36,18 @@ struct WorkerState {
     std::deque<ViewWork> queue;
     uint64_t newest = 0;
     bool stop = false;
+    std::optional<std::string> film;  ///< kTagFilm's payload, to serve before anything else
     Clock::time_point lastBeat = Clock::now();
 
     /// Takes every waiting message; true if one of them makes `epoch` stale.
     bool drain(uint64_t epoch) {
         farm::Message m;
-        while (t.poll(m)) {
+        while (!film && t.poll(m)) {  // after kTagFilm the film's own messages follow: leave them
             if (m.tag == farm::kTagStop) {
                 stop = true;
+            } else if (m.tag == farm::kTagFilm) {
+                film = std::move(m.bytes);
+                queue.clear();  // the window asks for no view while the film renders
             } else if (m.tag == farm::kTagViewWork) {
                 const ViewWork w = decodeViewWork(m.bytes);
                 if (w.epoch > newest) {
@@ -53,7 +64,7 @@ struct WorkerState {
             }
         }
         beat();
-        return stop || newest > epoch;
+        return stop || film || newest > epoch;
     }
 
     void beat() {
@@ -93,6 +104,19 @@ struct WorkerState {
     }
 };
 
+/// Serves runFarm's work items for the film with the farm's own worker loop, over the scene as
+/// loaded with the window's timeline; returns runWorker's status (0: rank 0 said stop).
+int serveFilm(WorkerState& st) {
+    std::string workerJob, timelineJson;
+    decodeFilmStart(*st.film, workerJob, timelineJson);
+    st.film.reset();
+    Scene keyed = st.pristine;
+    keyed.timeline = timelineJson.empty() ? nullptr : std::make_shared<const nlohmann::json>(nlohmann::json::parse(timelineJson));
+    anim::Timeline timeline = anim::Timeline::fromScene(keyed);
+    farm::RenderEngine engine(std::move(keyed), timeline, farm::decodeWorkerJob(workerJob), st.threads);
+    return farm::runWorker(st.t, engine, kFilmMasterTimeout);
+}
+
 }  // namespace
 
 int runViewWorker(farm::Transport& t, Scene scene, RenderSettings settings, int threads) {
@@ -101,6 +125,10 @@ int runViewWorker(farm::Transport& t, Scene scene, RenderSettings settings, int 
         while (!st.stop) {
             st.drain(0);
             if (st.stop) break;
+            if (st.film) {
+                if (const int code = serveFilm(st); code != 0) return code;
+                continue;
+            }
             if (st.queue.empty()) {
                 std::this_thread::sleep_for(std::chrono::microseconds(300));
                 continue;

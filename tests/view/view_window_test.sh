@@ -8,7 +8,8 @@
 #   no-display   without a display: one error line naming render and still, exit 2
 #   still SCENE  the window's picture at rest equals `still`'s PNG (exact: 0 differing pixels)
 #   author SCENE a drag changes the picture; K then Ctrl+S writes a scene that `render` accepts,
-#                whose frame 0 equals the window exactly; Ctrl+R renders the film, Ctrl+R
+#                whose frame 0 equals the window exactly; Ctrl+R renders the film (runFarm on
+#                the window's own ranks, no child process), Ctrl+R
 #                again cancels it keeping frames, a third Ctrl+R resumes to the whole film (MP4
 #                frame count checked with ffprobe); Ctrl+Q ends the process with status 0
 #                within 2 s and leaves no rayfarm process; --stats has the frames shown
@@ -128,6 +129,19 @@ wait_equal() {
     fail "$name: window differs from $ref in $n pixels after ${secs} s (see $WORK/$name.diff.png)"
 }
 
+# Orbit: a left drag across the picture; true once the window differs from $1 (within 10 s).
+drag_changes() {
+    xdotool mousemove --window "$WID" 40 45 mousedown 1
+    for i in $(seq 12); do xdotool mousemove --window "$WID" $((40 + 5 * i)) $((45 + i)); sleep 0.03; done
+    xdotool mouseup 1
+    for _ in $(seq 40); do
+        grab moved.png
+        [ "$(differing moved.png "$1")" != 0 ] && return 0
+        sleep 0.25
+    done
+    return 1
+}
+
 scene=$1
 case "$CASE" in
 still)
@@ -141,17 +155,7 @@ author)
     rm -f saved.json stats.json
     start_view "$scene" --size $SIZE --spp 4 -o "$PWD/saved.json" --stats "$PWD/stats.json"
     wait_equal still.png 60 start
-    # Orbit: left drag across the picture.
-    xdotool mousemove --window "$WID" 40 45 mousedown 1
-    for i in $(seq 12); do xdotool mousemove --window "$WID" $((40 + 5 * i)) $((45 + i)); sleep 0.03; done
-    xdotool mouseup 1
-    moved=
-    for _ in $(seq 40); do
-        grab moved.png
-        [ "$(differing moved.png still.png)" != 0 ] && { moved=1; break; }
-        sleep 0.25
-    done
-    [ -n "$moved" ] || fail "a left drag did not change the picture"
+    drag_changes still.png || fail "a left drag did not change the picture"
     # Key the new camera at t = 0 and save.
     xdotool windowfocus --sync "$WID" key k
     sleep 0.3
@@ -164,10 +168,15 @@ author)
     wait_equal saved.frames/frame_000000.png 60 keyed
     # Render the film from the window (Ctrl+R), cancel it after a frame, render again: it
     # resumes from the kept frames and the MP4 holds the whole film.
+    cp saved.frames/frame_000000.png cli0.png
     rm -rf saved.frames saved.mp4
     frames=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['timeline']['frames'])" saved.json)
     xdotool windowfocus --sync "$WID" key ctrl+r
     for _ in $(seq 240); do [ -n "$(ls saved.frames/frame_*.png 2>/dev/null)" ] && break; sleep 0.05; done
+    # The film goes through runFarm on the window's own ranks, not through a child process.
+    pgrep -f "$RAYFARM render" >/dev/null && fail "the Render action started a child render: $(pgrep -af "$RAYFARM render")"
+    np=${VIEW_NP:-1}
+    grep -q "rayfarm: view: rendering .* through the farm ($np rank" view.log || fail "no film through the farm on $np rank(s): $(tail -3 view.log)"
     xdotool key ctrl+r
     for _ in $(seq 100); do grep -q "rayfarm: view: render cancelled" view.log && break; sleep 0.1; done
     grep -q "rayfarm: view: render cancelled" view.log || fail "no cancelled render: $(tail -3 view.log)"
@@ -179,6 +188,16 @@ author)
     grep -q "rayfarm: view: rendered" view.log || fail "the resumed render did not finish: $(tail -3 view.log)"
     n=$(ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames -of csv=p=0 saved.mp4)
     [ "$n" = "$frames" ] || fail "the rendered MP4 holds $n frames, the film $frames"
+    # The window's film is render's film: its first (kept) and last (resumed) frames equal the
+    # command line's, pixel for pixel.
+    last=$(printf 'frame_%06d.png' $((frames - 1)))
+    "$RAYFARM" render saved.json -o last.mp4 --frames $((frames - 1)):$((frames - 1)) --frames-dir last.frames 2>render.log ||
+        fail "render of the last frame: $(tail -1 render.log)"
+    [ "$(differing saved.frames/frame_000000.png cli0.png)" = 0 ] || fail "the window's film frame 0 differs from render's"
+    [ "$(differing saved.frames/$last last.frames/$last)" = 0 ] || fail "the window's film $last differs from render's"
+    # After the film the ranks serve the window again: a drag changes the picture.
+    grab before_drag.png
+    drag_changes before_drag.png || fail "a drag after the film render did not change the picture"
     # Close: the process ends with status 0 within 2 s and leaves nothing behind.
     ours=$(descendants $VIEW)
     close_view 2 view
