@@ -5,7 +5,6 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <iostream>
 #include <sched.h>
 
 #include "cli.h"
@@ -94,7 +93,7 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
     } catch (const std::invalid_argument& e) {
         throw UsageError(e.what());
     }
-    if (!note.empty()) std::cerr << "rayfarm: note: " << note << "\n";
+    if (!note.empty()) printLine("note", note);
 
     const int frames = job.last - job.first + 1;
     const int renderers = ranks <= 2 ? ranks : ranks - 1;
@@ -153,7 +152,7 @@ int reportOutcome(int ranks, const RenderJob& job, const FarmOutcome& o, const s
 /// takes the MPI transport for abort(): a lost worker cannot be stopped any other way.
 int runRank0(MpiTransport& t, const RenderJob& job, SharedScene& shared, const std::vector<std::string>& args,
              Clock::time_point wallStart) {
-    for (const std::string& note : shared.scene.notes) std::cerr << "rayfarm: note: " << note << "\n";
+    for (const std::string& note : shared.scene.notes) printLine("note", note);  // one write() a line: mpirun interleaves ranks by write
     FarmOptions opts;
     opts.threads = threadsForRank(job, t);
     opts.liveProgress = stderrIsTerminal();
