@@ -174,7 +174,10 @@ author)
     xdotool windowfocus --sync "$WID" key ctrl+r
     for _ in $(seq 240); do [ -n "$(ls saved.frames/frame_*.png 2>/dev/null)" ] && break; sleep 0.05; done
     # The film goes through runFarm on the window's own ranks, not through a child process.
-    pgrep -f "$RAYFARM render" >/dev/null && fail "the Render action started a child render: $(pgrep -af "$RAYFARM render")"
+    # Only the window's own process tree counts: other tests may run `rayfarm render` meanwhile.
+    for pid in $(descendants "$VIEW"); do
+        ps -o args= -p "$pid" | grep -q "$RAYFARM render" && fail "the Render action started a child render: $(ps -o args= -p "$pid")"
+    done
     np=${VIEW_NP:-1}
     grep -q "rayfarm: view: rendering .* through the farm ($np rank" view.log || fail "no film through the farm on $np rank(s): $(tail -3 view.log)"
     xdotool key ctrl+r
