@@ -96,6 +96,7 @@ void FarmView::take(const farm::Message& m) {
     const ViewTile tile = decodeViewTile(m.bytes);
     if (tile.work.epoch != epoch_ || tile.work.spp != passes_[pass_] || tile.work.width != frame_.width) return;
     --inFlight_[m.source];
+    frame_.camera = tile.work.camera;  // the timeline's camera when following it, as rendered
     const TileRect& r = tile.work.rect;
     for (int y = 0; y < r.height(); ++y)
         std::memcpy(&frame_.rgb[(size_t(r.y0 + y) * frame_.width + r.x0) * 3], &tile.rgb[size_t(y) * r.width() * 3],

@@ -31,7 +31,8 @@ struct ViewWork {
     Camera camera;
 };
 
-/// Rank → rank 0: the rect's 8-bit RGB (toRgb8 of renderTile's output).
+/// Rank → rank 0: the rect's 8-bit RGB (toRgb8 of renderTile's output); work.camera is the
+/// camera rendered (the timeline's at work.frame when work.followTimeline).
 struct ViewTile {
     ViewWork work;
     std::vector<uint8_t> rgb;

@@ -73,13 +73,15 @@ struct WorkerState {
         lastBeat = Clock::now();
     }
 
-    /// Renders w's rectangle; false when newer work cancelled it.
-    bool render(const ViewWork& w, std::vector<uint8_t>& rgb) {
+    /// Renders w's rectangle; false when newer work cancelled it. Sets camera to the camera
+    /// rendered (the timeline's when following it), which the window's drags start from.
+    bool render(const ViewWork& w, std::vector<uint8_t>& rgb, Camera& camera) {
         if (w.frame != appliedFrame) {
             timeline.applyFrame(scene, w.frame);
             appliedFrame = w.frame;
         }
         const Camera cam = w.followTimeline ? scene.camera : w.camera;
+        camera = cam;
         RenderSettings s = settings;
         s.spp = w.spp;
         s.width = w.width;
@@ -137,7 +139,7 @@ int runViewWorker(farm::Transport& t, Scene scene, RenderSettings settings, int 
             st.queue.pop_front();
             if (w.epoch < st.newest) continue;
             ViewTile tile{w, {}};
-            if (st.render(w, tile.rgb)) t.send(0, farm::kTagViewTile, encodeViewTile(tile));
+            if (st.render(w, tile.rgb, tile.work.camera)) t.send(0, farm::kTagViewTile, encodeViewTile(tile));
         }
         t.flush(1.0);
         return 0;

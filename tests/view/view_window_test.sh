@@ -13,6 +13,11 @@
 #                again cancels it keeping frames, a third Ctrl+R resumes to the whole film (MP4
 #                frame count checked with ffprobe); Ctrl+Q ends the process with status 0
 #                within 2 s and leaves no rayfarm process; --stats has the frames shown
+#   interact SCENE  middle and shift drags pan (the same pan, unlike an orbit), the wheel
+#                zooms, F frames, T tints: each changes the picture, and R (or T again)
+#                restores still's picture exactly; F twice from the same camera gives the same
+#                picture; Right shows frame 1 exactly as still --frame 1; Space plays (the picture
+#                keeps changing) and pauses; Home shows frame 0 again
 #   preview SCENE  render --preview opens a window on the frames as they complete; closing it
 #                mid-render leaves the render to finish (status 0, every frame); a window on the
 #                finished frames directory (view --watch) shows the last frame exactly
@@ -140,6 +145,35 @@ drag_changes() {
         sleep 0.25
     done
     return 1
+}
+
+psnr() {  # PSNR in dB between two images (ImageMagick; "inf" reads as a large number)
+    compare -metric PSNR "$1" "$2" null: 2>&1 | cut -d' ' -f1 | sed 's/^inf$/999/'
+}
+
+# Grabs until two grabs 0.5 s apart are equal (the picture at rest), as $1.png.
+settle() {
+    grab "$1.png"
+    for _ in $(seq 60); do
+        sleep 0.5
+        grab "$1.next.png"
+        [ "$(differing "$1.next.png" "$1.png")" = 0 ] && return 0
+        mv "$1.next.png" "$1.png"
+    done
+    fail "$1: the picture did not come to rest in 30 s"
+}
+
+# drag BUTTON MODIFIER NAME: a drag across the picture with BUTTON (1 left, 2 middle) and
+# MODIFIER held ("" for none); the picture at rest afterwards is NAME.png; then R.
+drag() {
+    xdotool windowfocus --sync "$WID"
+    [ -n "$2" ] && xdotool keydown "$2"
+    xdotool mousemove --window "$WID" 40 45 mousedown "$1"
+    for i in $(seq 12); do xdotool mousemove --window "$WID" $((40 + 5 * i)) $((45 + i)); sleep 0.03; done
+    xdotool mouseup "$1"
+    [ -n "$2" ] && xdotool keyup "$2"
+    settle "$3"
+    xdotool key r
 }
 
 scene=$1
@@ -274,6 +308,50 @@ killed-rank)
         alive "$pid" && fail "process $pid of the session left behind: $(ps -o pid=,stat=,args= -p "$pid")"
     done
     echo "ok: $(grep 'stopped answering' view.log); closed with status $STATUS"
+    ;;
+interact)
+    "$RAYFARM" still "$scene" --size $SIZE --spp 4 -o still.png 2>/dev/null || fail "still"
+    "$RAYFARM" still "$scene" --size $SIZE --spp 4 --frame 1 -o still1.png 2>/dev/null || fail "still --frame 1"
+    [ "$(differing still.png still1.png)" != 0 ] || fail "frames 0 and 1 of $scene look alike: no playback to see"
+    start_view "$scene" --size $SIZE --spp 4
+    wait_equal still.png 60 start
+    # Each move changes the picture, R returns exactly to the timeline's camera.
+    drag 2 "" pan_middle;  wait_equal still.png 30 reset_pan_middle
+    drag 1 shift pan_shift; wait_equal still.png 30 reset_pan_shift
+    drag 1 "" orbit;       wait_equal still.png 30 reset_orbit
+    for p in pan_middle pan_shift; do [ "$(differing $p.png still.png)" != 0 ] || fail "$p did not change the picture"; done
+    # Middle and shift drags are the same pan (up to rounding as motion events group
+    # differently): PSNR ≥ 30 dB between them, and both far from an orbit of the same motion.
+    close_pans=$(psnr pan_middle.png pan_shift.png)
+    far=$(psnr pan_shift.png orbit.png)
+    awk -v a="$close_pans" -v b="$far" 'BEGIN { exit !(a >= 30 && b < a) }' ||
+        fail "middle vs shift pan: $close_pans dB; shift pan vs orbit: $far dB (a pan should be the pan)"
+    xdotool mousemove --window "$WID" 80 45 click 4 click 4 click 4  # wheel: zoom in
+    settle zoom
+    [ "$(differing zoom.png still.png)" != 0 ] || fail "the wheel did not change the picture"
+    xdotool key r; wait_equal still.png 30 reset_zoom
+    # F frames the model: a new picture, the same one every time from the same camera.
+    xdotool windowfocus --sync "$WID" key f; settle framed
+    [ "$(differing framed.png still.png)" != 0 ] || fail "F did not change the picture"
+    xdotool key r; wait_equal still.png 30 reset_framed
+    xdotool key f; wait_equal framed.png 30 framed_again
+    xdotool key r; wait_equal still.png 30 reset_framed2
+    # T tints tiles by rank and T again removes the tint.
+    xdotool key t; settle tinted
+    [ "$(differing tinted.png still.png)" != 0 ] || fail "T did not tint the picture"
+    xdotool key t; wait_equal still.png 30 untinted
+    # The timeline: Right steps to frame 1 (still --frame 1 exactly); Space plays (the picture
+    # keeps changing); Space pauses; Home returns to frame 0.
+    xdotool key Right; wait_equal still1.png 30 frame1
+    xdotool key space
+    for i in $(seq 8); do grab play_$i.png; sleep 0.25; done
+    xdotool key space
+    distinct=$(md5sum play_*.png | cut -d' ' -f1 | sort -u | wc -l)
+    [ "$distinct" -ge 4 ] || fail "playing showed $distinct different pictures in 2 s"
+    xdotool key Home; wait_equal still.png 30 home
+    close_view 5 view
+    [ $STATUS -eq 0 ] || fail "view exited with status $STATUS: $(cat view.log)"
+    echo "ok: middle/shift pan, orbit, wheel, F, R, T change or restore the picture; pans $close_pans dB apart; playback showed $distinct pictures"
     ;;
 *) fail "unknown case $CASE" ;;
 esac
