@@ -15,6 +15,7 @@
 #include "errors.h"
 #include "file_source.h"
 #include "gltf_loader.h"
+#include "interrupt.h"
 #include "output_check.h"
 #include "scene_loader.h"
 #include "render.h"
@@ -162,6 +163,7 @@ int runFarmView(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job) {
     }
     o.transport = &t;
     o.threads = job.threads;
+    farm::installInterruptHandlers();  // mpirun's SIGTERM: the window names the dead rank first
     const int status = runWindow(p, o, job, std::move(shared.scene));
     // A lost rank cannot be stopped politely and MPI_Finalize would wait for it: end them all.
     if (status != 0) t.abort(status);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <thread>
 
 #include "messages.h"
 
@@ -42,6 +43,26 @@ void FarmView::resumeAfterFilm() {
     for (auto& [rank, n] : inFlight_) n = 0;
     for (auto& [rank, when] : heard_) when = now;
     active_ = false;
+}
+
+std::string FarmView::findSilentRank(double seconds) {
+    std::map<int, bool> answered;
+    for (int r = 1; r < t_.size(); ++r) answered[r] = false;
+    const auto end = Clock::now() + std::chrono::duration<double>(seconds);
+    while (Clock::now() < end) {
+        farm::Message m;
+        try {
+            while (t_.poll(m))
+                if (m.tag == farm::kTagHeartbeat && farm::decodeHeartbeat(m.bytes).signalled) answered[m.source] = true;
+        } catch (const std::exception&) {
+            // A failing receive says as much as silence.
+        }
+        if (std::all_of(answered.begin(), answered.end(), [](const auto& a) { return a.second; })) return "";
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    for (const auto& [rank, ok] : answered)
+        if (!ok) return "rank " + std::to_string(rank);
+    return "";
 }
 
 void FarmView::setTimeline(const anim::Timeline&, const std::string& timelineJson) {

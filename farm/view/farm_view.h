@@ -29,6 +29,10 @@ public:
     void step() override;
     bool wantsSteps() const override { return true; }
     void resumeAfterFilm() override;
+    /// After mpirun's SIGTERM (it ends the whole job when a rank dies): listens up to
+    /// `seconds` for every rank's signalled heartbeat and returns "rank N" for the first that
+    /// stays silent (the one that died), or "" if all answered (a plain Ctrl-C).
+    std::string findSilentRank(double seconds) override;
 
     static constexpr int kWorkTile = 64;
     static constexpr int kInFlightPerRank = 3;

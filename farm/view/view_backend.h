@@ -27,6 +27,9 @@ public:
     /// After a film render borrowed the ranks (nothing was stepped meanwhile): forget the work
     /// that was out and start listening afresh.
     virtual void resumeAfterFilm() {}
+    /// After a SIGTERM from mpirun: the rank that did not answer it within `seconds` ("rank N"),
+    /// or "" (all answered, or there are no other ranks).
+    virtual std::string findSilentRank(double /*seconds*/) { return ""; }
 };
 
 }  // namespace rf::view

@@ -23,6 +23,7 @@
 #include "farm_view.h"
 #include "orbit_camera.h"
 #include "view_renderer.h"
+#include "interrupt.h"
 
 namespace rf::view {
 
@@ -111,7 +112,8 @@ void ViewWindow::startRenderer() {
         stepTimer_ = new QTimer(this);
         stepTimer_->setInterval(1);
         connect(stepTimer_, &QTimer::timeout, this, [this] {
-            if (filmRender_) return;  // runFarm has the transport
+            if (filmRender_) return;  // runFarm has the transport (and watches for signals)
+            if (farm::interruptSignal()) return endOnSignal();
             renderer_->step();
             if (!renderer_->error().empty() && !reportedError_) {
                 // A rank died or failed: say so in the window (and on stderr), render no more.
@@ -127,6 +129,23 @@ void ViewWindow::startRenderer() {
     dirty_ = true;
     pump();
     sendRest();
+}
+
+void ViewWindow::endOnSignal() {
+    // Under mpirun a SIGTERM means mpirun is ending the job, usually because a rank died (it
+    // does not wait for rank 0 to notice), and SIGKILL follows within a second: name the dead
+    // rank now, on the status line and on stderr, and leave before the kill.
+    stepTimer_->stop();
+    playTimer_->stop();
+    const std::string lost = renderer_->findSilentRank(0.5);
+    reportedError_ = true;
+    message_ = lost.empty() ? "interrupted: mpirun ended the session"
+                            : lost + " stopped answering (it died, and mpirun ends the whole session with it)";
+    updateStatus();
+    status_->repaint();
+    std::fprintf(stderr, "rayfarm: error: view: %s\n", message_.c_str());
+    std::fflush(stderr);
+    std::_Exit(lost.empty() ? 130 : 1);  // MPI_Finalize would wait for the dead rank
 }
 
 void ViewWindow::buildUi() {

@@ -59,6 +59,7 @@ protected:
 
 private:
     void startRenderer();
+    [[noreturn]] void endOnSignal();
     void togglePlay();
     void buildUi();
     void addShortcuts();

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "image.h"
+#include "interrupt.h"
 #include "film_render.h"
 #include "messages.h"
 #include "render_engine.h"
@@ -36,6 +37,7 @@ struct WorkerState {
     std::deque<ViewWork> queue;
     uint64_t newest = 0;
     bool stop = false;
+    bool signalled = false;  ///< SIGTERM/SIGINT: stopped without rank 0's word
     std::optional<std::string> film;  ///< kTagFilm's payload, to serve before anything else
     Clock::time_point lastBeat = Clock::now();
 
@@ -68,6 +70,14 @@ struct WorkerState {
     }
 
     void beat() {
+        if (farm::interruptSignal()) {
+            // mpirun ends the job (a rank died, or Ctrl-C): say we live, so rank 0 can tell
+            // which rank did not, and render nothing more. SIGKILL follows within a second.
+            t.send(0, farm::kTagHeartbeat, farm::encodeHeartbeat({appliedFrame, 1}));
+            t.flush(0.5);
+            stop = signalled = true;
+            return;
+        }
         if (Clock::now() - lastBeat < std::chrono::duration<double>(farm::kHeartbeatSeconds)) return;
         t.send(0, farm::kTagHeartbeat, farm::encodeHeartbeat({appliedFrame, 0}));
         lastBeat = Clock::now();
@@ -122,6 +132,7 @@ int serveFilm(WorkerState& st) {
 }  // namespace
 
 int runViewWorker(farm::Transport& t, Scene scene, RenderSettings settings, int threads) {
+    farm::installInterruptHandlers();
     WorkerState st{t, scene, scene, anim::Timeline::fromScene(scene), settings, std::max(1, threads)};
     try {
         while (!st.stop) {
@@ -142,7 +153,7 @@ int runViewWorker(farm::Transport& t, Scene scene, RenderSettings settings, int 
             if (st.render(w, tile.rgb, tile.work.camera)) t.send(0, farm::kTagViewTile, encodeViewTile(tile));
         }
         t.flush(1.0);
-        return 0;
+        return st.signalled ? 130 : 0;
     } catch (const farm::TransportError&) {
         return 1;  // rank 0 is gone; mpirun reports it
     } catch (const std::exception& e) {

@@ -26,6 +26,9 @@
 #                non-zero within 5 s) and leaves no process. mpirun runs with
 #                --mca orte_abort_on_non_zero_status 0; by default it kills rank 0 with the
 #                dead rank before anything can be said.
+#   killed-rank-default SCENE  (VIEW_NP=3) the same under mpirun's defaults, which end every
+#                rank when one dies: rank 0 names the dead rank (by which rank fails to answer
+#                mpirun's SIGTERM) in one error line, and the session is gone within 5 s
 # Exit 77 (ctest SKIP) only when this rayfarm was built without Qt 6 (no viewer to test).
 set -uo pipefail
 RAYFARM=$1 WORK=$2 CASE=$3
@@ -352,6 +355,36 @@ interact)
     close_view 5 view
     [ $STATUS -eq 0 ] || fail "view exited with status $STATUS: $(cat view.log)"
     echo "ok: middle/shift pan, orbit, wheel, F, R, T change or restore the picture; pans $close_pans dB apart; playback showed $distinct pictures"
+    ;;
+killed-rank-default)
+    # As killed-rank, under mpirun's defaults: mpirun ends every rank as soon as one dies
+    # (SIGTERM, then SIGKILL 1 s later); rank 0 must name the dead rank before it goes.
+    [ -n "${VIEW_NP:-}" ] || fail "killed-rank-default runs under mpirun (VIEW_NP=3)"
+    start_view "$scene" --size 320x180 --spp 1024
+    sleep 1
+    victim=
+    for pid in $(descendants $VIEW); do
+        [ "$(ps -o comm= -p "$pid")" = rayfarm ] && victim=$pid
+    done
+    [ -n "$victim" ] || fail "no rank found under mpirun"
+    rank=$(tr '\0' '\n' </proc/"$victim"/environ | sed -n 's/^OMPI_COMM_WORLD_RANK=//p')
+    [ -n "$rank" ] && [ "$rank" != 0 ] || fail "process $victim is not a worker rank (rank '$rank')"
+    ours=$(descendants $VIEW)
+    kill -9 "$victim"
+    for _ in $(seq 100); do kill -0 $VIEW 2>/dev/null || break; sleep 0.05; done
+    kill -0 $VIEW 2>/dev/null && fail "mpirun still runs 5 s after rank $rank died"
+    wait $VIEW
+    STATUS=$?
+    VIEW=
+    [ $STATUS -ne 0 ] || fail "a session that lost a rank exited 0"
+    grep -q "^rayfarm: error: view: rank $rank stopped answering" view.log ||
+        fail "rank 0 did not name the dead rank $rank: $(cat view.log)"
+    [ "$(grep -c '^rayfarm: error: view:' view.log)" = 1 ] || fail "more than one error line: $(cat view.log)"
+    sleep 1
+    for pid in $ours; do
+        alive "$pid" && fail "process $pid of the session left behind: $(ps -o pid=,stat=,args= -p "$pid")"
+    done
+    echo "ok: $(grep '^rayfarm: error: view:' view.log); mpirun exited $STATUS"
     ;;
 *) fail "unknown case $CASE" ;;
 esac
