@@ -47,9 +47,12 @@ using Publish = std::function<void(ViewFrame&&)>;
 /// spp of the refinement passes at rest: n = 1, 2, 4, ... up to √target, always ending at target.
 std::vector<int> refinementSpp(int targetSpp);
 
-/// Divisor of the target size for the next moving frame: holds about 30 fps by halving the
-/// resolution when a frame took over 30 ms, and doubling it back when the next size up would
-/// still take under 20 ms. 1, 2 or 4.
+/// What a moving frame may take: about two of them pass between an input and its picture.
+inline constexpr double kMovingFrameMs = 20.0;
+
+/// Divisor of the target size for the next moving frame: halves the resolution when a frame
+/// took over kMovingFrameMs, and doubles it back when the next size up (4× the pixels) would
+/// still take under 3/4 of it. 1, 2 or 4.
 int nextMovingScale(int scale, double frameMs);
 
 }  // namespace rf::view

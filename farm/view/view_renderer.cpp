@@ -18,8 +18,10 @@ std::vector<int> refinementSpp(int targetSpp) {
 }
 
 int nextMovingScale(int scale, double ms) {
-    if (ms > 30.0 && scale < 4) return scale * 2;
-    if (ms * 4.0 < 20.0 && scale > 1) return scale / 2;
+    // Input that arrives while a moving frame renders waits for it and then for its own frame:
+    // latency is about two frame times, so 20 ms frames keep it near the 50 ms target.
+    if (ms > kMovingFrameMs && scale < 4) return scale * 2;
+    if (ms * 4.0 < 0.75 * kMovingFrameMs && scale > 1) return scale / 2;
     return scale;
 }
 
