@@ -21,6 +21,15 @@ void check(int rc, const std::string& what) {
     throw TransportError(what + ": " + std::string(msg, len));
 }
 
+/// Whether a launcher (mpirun/mpiexec of Open MPI or MPICH, srun with PMI or PMIx) started this
+/// process. A plain `rayfarm render` is one rank of one; it skips MPI_Init, whose singleton
+/// start-up (forking Open MPI's orted) costs about a second, as long as a short film renders.
+bool launchedByMpi() {
+    for (const char* v : {"OMPI_COMM_WORLD_SIZE", "PMIX_RANK", "PMI_RANK", "PMI_SIZE"})
+        if (std::getenv(v)) return true;
+    return false;
+}
+
 }  // namespace
 
 struct MpiTransport::Pending {
@@ -32,6 +41,10 @@ struct MpiTransport::Pending {
 MpiTransport::MpiTransport() {
     int initialized = 0;
     MPI_Initialized(&initialized);
+    if (!initialized && !launchedByMpi()) {
+        solo_ = true;  // rank 0 of 1: nothing to send, receive or broadcast
+        return;
+    }
     if (!initialized) {
         int provided = 0;
         // One thread at a time calls MPI; render and encoder threads never do. SERIALIZED, not
@@ -57,6 +70,7 @@ MpiTransport::~MpiTransport() { finalize(); }
 void MpiTransport::finalize() {
     if (finalized_) return;
     finalized_ = true;
+    if (solo_) return;
     flush(2.0);
     for (auto& p : pending_) MPI_Request_free(&p->request);
     pending_.clear();
@@ -66,6 +80,7 @@ void MpiTransport::finalize() {
 }
 
 void MpiTransport::abort(int code) {
+    if (solo_) std::_Exit(code);
     MPI_Abort(MPI_COMM_WORLD, code);
     std::_Exit(code);
 }
@@ -73,6 +88,7 @@ void MpiTransport::abort(int code) {
 void MpiTransport::setBroadcastChunk(int64_t bytes) { gBroadcastChunk = std::max<int64_t>(1, bytes); }
 
 void MpiTransport::send(int dest, int tag, std::string bytes) {
+    if (solo_) throw TransportError("send to rank " + std::to_string(dest) + ": this process is the only rank");
     if (bytes.size() > size_t(INT_MAX)) throw TransportError("message to rank " + std::to_string(dest) + " exceeds 2 GiB");
     auto p = std::make_unique<Pending>();
     p->bytes = std::move(bytes);
@@ -92,6 +108,7 @@ void MpiTransport::progressSends() {
 }
 
 bool MpiTransport::poll(Message& out) {
+    if (solo_) return false;
     progressSends();
     int flag = 0;
     MPI_Status st;
@@ -122,6 +139,7 @@ bool MpiTransport::flush(double timeoutSeconds) {
 }
 
 void MpiTransport::broadcast(std::string& bytes, int root) {
+    if (solo_) return;  // the only rank already holds root's bytes
     uint64_t n = bytes.size();
     check(MPI_Bcast(&n, 1, MPI_UINT64_T, root, MPI_COMM_WORLD), "broadcast");
     if (rank_ != root) bytes.resize(n);

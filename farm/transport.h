@@ -40,7 +40,9 @@ public:
 };
 
 /// MPI_COMM_WORLD, with MPI_ERRORS_RETURN so a failing peer becomes a TransportError rather than
-/// an abort deep inside MPI. One thread at a time may use it (MPI_THREAD_SERIALIZED).
+/// an abort deep inside MPI. A process no MPI launcher started is rank 0 of 1 and never
+/// initialises MPI (its singleton start-up costs a second). One thread at a time may use it
+/// (MPI_THREAD_SERIALIZED).
 class MpiTransport : public Transport {
 public:
     MpiTransport();
@@ -65,6 +67,7 @@ private:
     void progressSends();
     int rank_ = 0, size_ = 1, localRanks_ = 1;
     bool finalized_ = false;
+    bool solo_ = false;  ///< not started by an MPI launcher: one rank, MPI never initialised
     std::deque<std::unique_ptr<Pending>> pending_;
 };
 
