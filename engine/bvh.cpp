@@ -108,6 +108,85 @@ void Bvh::refit(const std::vector<Aabb>& primBounds) {
     collapse();
 }
 
+namespace {
+
+/// The cheapest binned SAH split of items[begin, end): the bin boundary (split after bin `bin`
+/// on `axis`) and its cost, sum of child area × count. bin < 0: no axis has two non-empty sides.
+struct SahSplit {
+    int axis = 0;
+    int bin = -1;
+    float cost = kInf;
+};
+
+template <typename Item>
+SahSplit findSahSplit(const std::vector<Item>& items, uint32_t begin, uint32_t end, const Aabb& cbox, int defaultAxis) {
+    SahSplit best;
+    best.axis = defaultAxis;
+    struct Bin {
+        Aabb box;
+        uint32_t n = 0;
+    } bins[3][kBins];
+    Vec3 scale3(0.f);
+    for (int ax = 0; ax < 3; ++ax) {
+        const float span = cbox.hi[ax] - cbox.lo[ax];
+        scale3[ax] = (span > 0.f && std::isfinite(span)) ? kBins / span : 0.f;
+    }
+    // One pass over the items fills the bins of all three axes.
+    for (uint32_t i = begin; i < end; ++i) {
+        for (int ax = 0; ax < 3; ++ax) {
+            const int bi = binIndex((items[i].centroid[ax] - cbox.lo[ax]) * scale3[ax]);
+            bins[ax][bi].box.grow(items[i].box);
+            ++bins[ax][bi].n;
+        }
+    }
+    for (int ax = 0; ax < 3; ++ax) {
+        if (scale3[ax] == 0.f) continue;  // all centroids share this coordinate
+        float rightArea[kBins];
+        uint32_t rightCount[kBins];
+        Aabb acc;
+        uint32_t n = 0;
+        for (int i = kBins - 1; i > 0; --i) {
+            acc.grow(bins[ax][i].box);
+            n += bins[ax][i].n;
+            rightArea[i] = acc.area();
+            rightCount[i] = n;
+        }
+        acc = Aabb{};
+        n = 0;
+        for (int i = 0; i < kBins - 1; ++i) {
+            acc.grow(bins[ax][i].box);
+            n += bins[ax][i].n;
+            if (n == 0 || rightCount[i + 1] == 0) continue;
+            const float cost = acc.area() * n + rightArea[i + 1] * rightCount[i + 1];
+            if (cost < best.cost) {  // strict: ties keep the earlier axis, so builds are deterministic
+                best.cost = cost;
+                best.bin = i;
+                best.axis = ax;
+            }
+        }
+    }
+    return best;
+}
+
+}  // namespace
+
+uint32_t Bvh::partition(std::vector<BuildItem>& items, uint32_t begin, uint32_t end, const Aabb& cbox, int axis, int bin) {
+    const float lo = cbox.lo[axis], scale = kBins / (cbox.hi[axis] - lo);
+    uint32_t* idx = primIndex_.data();
+    // Items and their primitive indices move together.
+    uint32_t l = begin, r = end;
+    while (l < r) {
+        if (binIndex((items[l].centroid[axis] - lo) * scale) <= bin) {
+            ++l;
+        } else {
+            --r;
+            std::swap(items[l], items[r]);
+            std::swap(idx[l], idx[r]);
+        }
+    }
+    return l;
+}
+
 uint32_t Bvh::buildRecursive(std::vector<BuildItem>& items, uint32_t begin, uint32_t end, int maxLeaf, int depth) {
     const uint32_t nodeIndex = static_cast<uint32_t>(nodes_.size());
     nodes_.emplace_back();
@@ -130,74 +209,14 @@ uint32_t Bvh::buildRecursive(std::vector<BuildItem>& items, uint32_t begin, uint
     uint32_t mid = begin;
     const float spanLongest = cbox.hi[axis] - cbox.lo[axis];
     if (spanLongest > 0.f && std::isfinite(spanLongest) && depth < kMaxDepth - 16) {
-        float bestCost = kInf;
-        int bestSplit = -1;
-        struct Bin {
-            Aabb box;
-            uint32_t n = 0;
-        } bins[3][kBins];
-        Vec3 scale3(0.f);
-        for (int ax = 0; ax < 3; ++ax) {
-            const float span = cbox.hi[ax] - cbox.lo[ax];
-            scale3[ax] = (span > 0.f && std::isfinite(span)) ? kBins / span : 0.f;
-        }
-        // One pass over the items fills the bins of all three axes.
-        for (uint32_t i = begin; i < end; ++i) {
-            for (int ax = 0; ax < 3; ++ax) {
-                const int bi = binIndex((items[i].centroid[ax] - cbox.lo[ax]) * scale3[ax]);
-                bins[ax][bi].box.grow(items[i].box);
-                ++bins[ax][bi].n;
-            }
-        }
-        for (int ax = 0; ax < 3; ++ax) {
-            if (scale3[ax] == 0.f) continue;  // all centroids share this coordinate
-            float rightArea[kBins];
-            uint32_t rightCount[kBins];
-            Aabb acc;
-            uint32_t n = 0;
-            for (int i = kBins - 1; i > 0; --i) {
-                acc.grow(bins[ax][i].box);
-                n += bins[ax][i].n;
-                rightArea[i] = acc.area();
-                rightCount[i] = n;
-            }
-            acc = Aabb{};
-            n = 0;
-            for (int i = 0; i < kBins - 1; ++i) {
-                acc.grow(bins[ax][i].box);
-                n += bins[ax][i].n;
-                if (n == 0 || rightCount[i + 1] == 0) continue;
-                const float cost = acc.area() * n + rightArea[i + 1] * rightCount[i + 1];
-                if (cost < bestCost) {  // strict: ties keep the earlier axis, so builds are deterministic
-                    bestCost = cost;
-                    bestSplit = i;
-                    axis = ax;
-                }
-            }
-        }
-        const float lo = cbox.lo[axis], scale = kBins / (cbox.hi[axis] - lo);
-        auto binOf = [&](const BuildItem& it) {
-            return binIndex((it.centroid[axis] - lo) * scale);
-        };
+        const SahSplit split = findSahSplit(items, begin, end, cbox, axis);
+        axis = split.axis;
         const float leafCost = box.area() * count;
-        const float splitCost = kTraversalCost * box.area() + bestCost;
-        if (bestSplit >= 0 && (splitCost < leafCost || count > static_cast<uint32_t>(maxLeaf))) {
-            uint32_t* idx = primIndex_.data();
-            // Partition items and their primitive indices together.
-            uint32_t l = begin, r = end;
-            while (l < r) {
-                if (binOf(items[l]) <= bestSplit) {
-                    ++l;
-                } else {
-                    --r;
-                    std::swap(items[l], items[r]);
-                    std::swap(idx[l], idx[r]);
-                }
-            }
-            mid = l;
-        } else if (count <= static_cast<uint32_t>(maxLeaf)) {
+        const float splitCost = kTraversalCost * box.area() + split.cost;
+        if (split.bin >= 0 && (splitCost < leafCost || count > static_cast<uint32_t>(maxLeaf)))
+            mid = partition(items, begin, end, cbox, axis, split.bin);
+        else if (count <= static_cast<uint32_t>(maxLeaf))
             return makeLeaf();
-        }
     } else if (count <= static_cast<uint32_t>(maxLeaf)) {
         return makeLeaf();
     }

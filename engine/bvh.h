@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "aabb.h"
+#include "simd4.h"
 
 namespace rf {
 
@@ -49,7 +50,23 @@ public:
     /// As traverse, but leaf gets the slot (position in primIndex()) so callers can keep
     /// primitive data in leaf order and read it without an indirection.
     template <typename LeafFn>
-    bool traverseSlots(const Ray& ray, float tMax, bool anyHit, LeafFn&& leaf) const;
+    bool traverseSlots(const Ray& ray, float tMax, bool anyHit, LeafFn&& leaf) const {
+        return traverseLeaves(ray, tMax, anyHit, [&](uint32_t first, uint32_t count, float& tm) {
+            bool hit = false;
+            for (uint32_t i = first; i < first + count; ++i) {
+                if (leaf(i, tm)) {
+                    hit = true;
+                    if (anyHit) return true;
+                }
+            }
+            return hit;
+        });
+    }
+
+    /// As traverseSlots, but leaf(first, count, tMax) gets a whole leaf (slots first..first+count)
+    /// and must test its primitives in slot order, so callers can test several at once.
+    template <typename LeafFn>
+    bool traverseLeaves(const Ray& ray, float tMax, bool anyHit, LeafFn&& leaf) const;
 
 private:
     struct BuildItem {
@@ -57,6 +74,9 @@ private:
         Vec3 centroid;
     };
     uint32_t buildRecursive(std::vector<BuildItem>& items, uint32_t begin, uint32_t end, int maxLeaf, int depth);
+    /// Moves items[begin, end) whose centroid falls in bins 0..bin of axis before the others
+    /// (primIndex_ alongside); returns the first of the others.
+    uint32_t partition(std::vector<BuildItem>& items, uint32_t begin, uint32_t end, const Aabb& cbox, int axis, int bin);
     /// Collapses the binary tree into nodes4_ (children of a binary node's grandchildren).
     void collapse();
     uint32_t collapseNode(uint32_t node2);
@@ -67,18 +87,16 @@ private:
 };
 
 template <typename LeafFn>
-bool Bvh::traverseSlots(const Ray& ray, float tMax, bool anyHit, LeafFn&& leaf) const {
+bool Bvh::traverseLeaves(const Ray& ray, float tMax, bool anyHit, LeafFn&& leaf) const {
     if (nodes4_.empty()) return false;
-    typedef float F4 __attribute__((vector_size(16)));
-    typedef int I4 __attribute__((vector_size(16)));
     const RayBoxPrecomp pre(ray);
     F4 o[3], inv[3];
     for (int a = 0; a < 3; ++a) {
-        o[a] = F4{pre.o[a], pre.o[a], pre.o[a], pre.o[a]};
-        inv[a] = F4{pre.invD[a], pre.invD[a], pre.invD[a], pre.invD[a]};
+        o[a] = splat4(pre.o[a]);
+        inv[a] = splat4(pre.invD[a]);
     }
     const float widen = 1.f + 2.f * gamma(3);
-    const F4 widenV = {widen, widen, widen, widen};
+    const F4 widenV = splat4(widen);
     // Entries: a node (count 0) or a leaf range, with the entry distance of its box.
     struct Entry {
         uint32_t ref;
@@ -90,19 +108,16 @@ bool Bvh::traverseSlots(const Ray& ray, float tMax, bool anyHit, LeafFn&& leaf) 
     bool hitAny = false;
     for (;;) {
         if (cur.count > 0) {
-            const uint32_t end = cur.ref + cur.count;
-            for (uint32_t i = cur.ref; i < end; ++i) {
-                if (leaf(i, tMax)) {
-                    hitAny = true;
-                    if (anyHit) return true;
-                }
+            if (leaf(cur.ref, uint32_t(cur.count), tMax)) {
+                hitAny = true;
+                if (anyHit) return true;
             }
         } else {
             const Bvh4Node& n = nodes4_[cur.ref];
             // The scalar slab test of intersectAabb, four boxes at a time: swap only when
             // tNear > tFar, so a NaN (0·inf on a slab the origin lies in) leaves the bound as is.
-            F4 t0 = {0.f, 0.f, 0.f, 0.f};
-            F4 t1 = {tMax, tMax, tMax, tMax};
+            F4 t0 = splat4(0.f);
+            F4 t1 = splat4(tMax);
             for (int a = 0; a < 3; ++a) {
                 F4 lo, hi;
                 __builtin_memcpy(&lo, n.lo[a], sizeof lo);
@@ -114,16 +129,28 @@ bool Bvh::traverseSlots(const Ray& ray, float tMax, bool anyHit, LeafFn&& leaf) 
                 t0 = (tNear > t0) ? tNear : t0;
                 t1 = (tFar < t1) ? tFar : t1;
             }
-            const I4 hit = t0 <= t1;
-            int idx[4], k = 0;
-            for (int c = 0; c < 4; ++c)
-                if (((n.valid >> c) & 1u) && hit[c]) idx[k++] = c;
-            if (k > 0) {
-                for (int i = 1; i < k; ++i)  // insertion sort, descending entry distance
-                    for (int j = i; j > 0 && t0[idx[j]] > t0[idx[j - 1]]; --j) std::swap(idx[j], idx[j - 1]);
+            uint32_t mask = laneMask(t0 <= t1) & n.valid;
+            if (mask != 0) {
+                auto entry = [&](int c) { return Entry{n.child[c], n.count[c], t0[c]}; };
+                const int c0 = __builtin_ctz(mask);
+                mask &= mask - 1;
+                if (mask == 0) {  // one child hit: no ordering to do
+                    cur = entry(c0);
+                    continue;
+                }
+                // Nearest first; among equal entry distances the higher child index first, the
+                // order of the stable descending insertion sort this replaces (ties between
+                // equally near hits in different leaves resolve the same way).
+                int idx[4] = {c0, 0, 0, 0}, k = 1;
+                for (; mask; mask &= mask - 1) {
+                    const int c = __builtin_ctz(mask);
+                    int j = k++;
+                    for (; j > 0 && t0[c] > t0[idx[j - 1]]; --j) idx[j] = idx[j - 1];
+                    idx[j] = c;
+                }
                 // The farther ones wait on the stack; the nearest is visited now.
-                for (int i = 0; i < k - 1; ++i) stack[sp++] = {n.child[idx[i]], n.count[idx[i]], t0[idx[i]]};
-                cur = {n.child[idx[k - 1]], n.count[idx[k - 1]], t0[idx[k - 1]]};
+                for (int i = 0; i < k - 1; ++i) stack[sp++] = entry(idx[i]);
+                cur = entry(idx[k - 1]);
                 continue;
             }
         }

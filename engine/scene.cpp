@@ -88,6 +88,35 @@ void Scene::fillSlotData() {
         if (p >= nTri) continue;
         for (int k = 0; k < 3; ++k) slotVerts_[3 * i + k] = triVerts_[3 * p + k];
     }
+    leafTris_.build(bvh_, slotVerts_, [&](uint32_t slot) { return slotPrim_[slot] < nTri; });
+}
+
+bool Scene::intersectLeaf(uint32_t first, uint32_t count, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit,
+                          uint32_t skip, bool anyHit) const {
+    bool found = false;
+    uint32_t b = leafTris_.firstBlock(first);
+    if (b == LeafTriangles::kNone) {
+        for (uint32_t s = first; s < first + count; ++s)
+            if (slotPrim_[s] != skip && intersectSlot(s, r, wr, tMax, hit, skip)) {
+                found = true;
+                if (anyHit) return true;
+            }
+        return found;
+    }
+    // Triangles only: the four-wide pre-test rules most of them out; the rest go through the
+    // scalar test in slot order, as above.
+    for (uint32_t s = first; s < first + count; s += 4, ++b) {
+        uint32_t m = watertightCandidates4(wr, leafTris_.block(b));
+        if (first + count - s < 4) m &= (1u << (first + count - s)) - 1u;
+        for (; m; m &= m - 1) {
+            const uint32_t slot = s + static_cast<uint32_t>(__builtin_ctz(m));
+            if (slotPrim_[slot] != skip && intersectSlot(slot, r, wr, tMax, hit, skip)) {
+                found = true;
+                if (anyHit) return true;
+            }
+        }
+    }
+    return found;
 }
 
 void Scene::refit() {
@@ -180,21 +209,6 @@ bool Scene::intersectSlot(uint32_t slot, const Ray& r, const WatertightRay& wr, 
     return true;
 }
 
-namespace {
-typedef float F4 __attribute__((vector_size(16)));
-typedef int I4 __attribute__((vector_size(16)));
-/// Lane signs as four bits (movmskps where SSE is there, a loop elsewhere).
-inline uint32_t laneMask(I4 m) {
-#if defined(__SSE__)
-    return static_cast<uint32_t>(__builtin_ia32_movmskps(reinterpret_cast<F4>(m)));
-#else
-    uint32_t r = 0;
-    for (int i = 0; i < 4; ++i) r |= uint32_t(m[i] & 1) << i;
-    return r;
-#endif
-}
-}  // namespace
-
 uint32_t Scene::sphereCandidates(const Ray& r, float tMax, uint32_t* sure) const {
     // The float test of sphereMayHit for all lanes at once, without branches or divisions
     // (a·v = a·f − b·d). GCC/Clang vector extensions: SSE2 on any x86-64, NEON elsewhere.
@@ -281,8 +295,8 @@ bool Scene::intersect(const Ray& r, Hit& hit, uint32_t skip) const {
     }
     const WatertightRay wr = nTri ? WatertightRay(r) : WatertightRay();
     if (useBvh_) {
-        found |= bvh_.traverseSlots(r, tMax, false, [&](uint32_t slot, float& tm) {
-            return slotPrim_[slot] != skip && intersectSlot(slot, r, wr, tm, hit, skip);
+        found |= bvh_.traverseLeaves(r, tMax, false, [&](uint32_t first, uint32_t count, float& tm) {
+            return intersectLeaf(first, count, r, wr, tm, hit, skip, false);
         });
     } else {
         for (uint32_t p = 0; p < nTri; ++p) found |= intersectSlot(p, r, wr, tMax, hit, skip);
@@ -331,8 +345,8 @@ bool Scene::occluded(const Ray& r, float tMax, uint32_t skip) const {
     const WatertightRay wr = nTri ? WatertightRay(r) : WatertightRay();
     Hit scratch;
     if (useBvh_)
-        return bvh_.traverseSlots(r, tMax, true, [&](uint32_t slot, float& tm) {
-            return slotPrim_[slot] != skip && intersectSlot(slot, r, wr, tm, scratch, skip);
+        return bvh_.traverseLeaves(r, tMax, true, [&](uint32_t first, uint32_t count, float& tm) {
+            return intersectLeaf(first, count, r, wr, tm, scratch, skip, true);
         });
     float tm = tMax;
     for (uint32_t p = 0; p < nTri; ++p)

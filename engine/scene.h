@@ -18,6 +18,7 @@
 #include "shapes.h"
 #include "texture.h"
 #include "triangle.h"
+#include "triangle4.h"
 
 namespace rf {
 
@@ -111,6 +112,9 @@ public:
 
 private:
     bool intersectSlot(uint32_t slot, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit, uint32_t skip) const;
+    /// The slots of one BVH leaf in order (closest hit, or the first hit with anyHit).
+    bool intersectLeaf(uint32_t first, uint32_t count, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit,
+                       uint32_t skip, bool anyHit) const;
     /// The sphere (scene-wide prim id) a ray marked kFromInside starts in, or kNoPrim.
     static uint32_t insidePrim(uint32_t skip) { return (skip != kNoPrim && (skip & kFromInside)) ? skip & ~kFromInside : kNoPrim; }
     bool triangleAlphaPasses(uint32_t tri, const TriangleHit& h) const;
@@ -134,6 +138,7 @@ private:
     /// leaves contiguously: the primitive id and, for triangles, the three vertices.
     std::vector<uint32_t> slotPrim_;
     std::vector<Vec3> slotVerts_;
+    LeafTriangles leafTris_;  ///< the same triangles, four per block, for the leaf pre-test
     /// Brute-force sphere pre-test, structure of arrays padded to kBvhThreshold lanes.
     float sphX_[kBvhThreshold] = {}, sphY_[kBvhThreshold] = {}, sphZ_[kBvhThreshold] = {};
     float sphReach_[kBvhThreshold] = {};  ///< radius plus its centre's share of the float error
