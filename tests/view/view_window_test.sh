@@ -24,8 +24,8 @@
 #   killed-rank SCENE  (VIEW_NP=3) rank 2 is killed while it renders: the window stays and names
 #                it on its status line and stderr; Ctrl+Q then ends the session (mpirun exits
 #                non-zero within 5 s) and leaves no process. mpirun runs with
-#                --mca orte_abort_on_non_zero_status 0; by default it kills rank 0 with the
-#                dead rank before anything can be said.
+#                --mca orte_abort_on_non_zero_status 0, so the window outlives the dead rank
+#                (killed-rank-default covers mpirun's defaults).
 #   killed-rank-default SCENE  (VIEW_NP=3) the same under mpirun's defaults, which end every
 #                rank when one dies: rank 0 names the dead rank (by which rank fails to answer
 #                mpirun's SIGTERM) in one error line, and the session is gone within 5 s
