@@ -413,10 +413,9 @@ void GltfModel::noteDrops(const DropCounts& d) {
     if (d.unplaced) notes_.push_back(std::to_string(d.unplaced) + " primitives dropped: their node scales them to nothing or to infinity");
     if (skippedPointsLines_) notes_.push_back("points and lines are not rendered; skipped");
     if (!model_.skins.empty()) notes_.push_back("skins are not supported: skinned meshes drawn in their bind pose");
-    static const std::set<std::string> known = {"KHR_texture_transform", "KHR_materials_emissive_strength", "KHR_materials_transmission",
-                                                "KHR_materials_ior", "KHR_lights_punctual", "KHR_mesh_quantization"};
+    // Material extensions are noted per material, where they are met.
     for (const std::string& e : model_.extensionsUsed)
-        if (!known.count(e) && e.rfind("KHR_materials_", 0) != 0) notes_.push_back("extension " + e + " ignored");
+        if (!isSupportedExtension(e) && e.rfind("KHR_materials_", 0) != 0) notes_.push_back("extension " + e + " ignored");
 }
 
 void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel) {

@@ -10,12 +10,6 @@ namespace rf::gltf {
 
 namespace {
 
-/// Extensions whose effect the mapping below includes.
-bool knownMaterialExtension(const std::string& name) {
-    return name == "KHR_materials_emissive_strength" || name == "KHR_materials_transmission" ||
-           name == "KHR_materials_ior" || name == "KHR_texture_transform";
-}
-
 double number(const tinygltf::Value& v, const char* key, double fallback) {
     if (!v.IsObject() || !v.Has(key)) return fallback;
     const tinygltf::Value& x = v.Get(key);
@@ -130,7 +124,7 @@ Material MaterialBuilder::convert(const tinygltf::Material& gm, const std::strin
         if (name == "KHR_materials_emissive_strength") emissiveStrength = float(std::max(0.0, number(value, "emissiveStrength", 1.0)));
         else if (name == "KHR_materials_transmission") transmission = clamp01(number(value, "transmissionFactor", 0.0));
         else if (name == "KHR_materials_ior") m.ior = float(std::clamp(number(value, "ior", 1.5), 1.0, 10.0));
-        else if (!knownMaterialExtension(name)) note("material extension " + name + " ignored");
+        else if (!isSupportedExtension(name)) note("material extension " + name + " ignored");
     }
     if (gm.emissiveFactor.size() == 3)
         m.emission = emissiveStrength * Color(clamp01(gm.emissiveFactor[0]), clamp01(gm.emissiveFactor[1]), clamp01(gm.emissiveFactor[2]));
@@ -175,37 +169,54 @@ int MaterialBuilder::textureFor(int index, bool srgb, const std::string& where) 
     if (auto it = textures_.find(key); it != textures_.end()) return it->second;
     textures_[key] = -1;
 
+    std::optional<Texture> t = decodeImage(image, srgb);
+    if (!t) return -1;
+    ++decodedImages_;
+    if (sampler >= 0) {
+        const tinygltf::Sampler& s = model_.samplers[size_t(sampler)];
+        t->wrapS = wrapOf(s.wrapS);
+        t->wrapT = wrapOf(s.wrapT);
+        t->filter = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ? Filter::Nearest : Filter::Linear;
+    }
+    const int id = int(scene_.textures.size());
+    scene_.textures.push_back(std::move(*t));
+    textures_[key] = id;
+    return id;
+}
+
+std::optional<ByteSpan> MaterialBuilder::encodedImage(int image, const std::string& wi) {
     const tinygltf::Image& gi = model_.images[size_t(image)];
-    const std::string wi = "images[" + std::to_string(image) + "]";
-    const unsigned char* bytes = nullptr;
-    size_t size = 0;
     try {
-        if (gi.bufferView >= 0) {
-            const ByteSpan span = bufferViewSpan(model_, gi.bufferView, file_);
-            bytes = span.data;
-            size = span.size;
-        } else if (gi.width == -1) {
-            bytes = gi.image.data();
-            size = gi.image.size();
-        }
+        if (gi.bufferView >= 0) return bufferViewSpan(model_, gi.bufferView, file_);
+        if (gi.width == -1) return ByteSpan{gi.image.data(), gi.image.size()};  // kept encoded by the loader
     } catch (const std::exception& e) {
         note(wi + ": " + e.what() + "; texture ignored");
-        return -1;
+        return std::nullopt;
     }
+    return ByteSpan{};
+}
+
+std::optional<Texture> MaterialBuilder::decodeImage(int image, bool srgb) {
+    const tinygltf::Image& gi = model_.images[size_t(image)];
+    const std::string wi = "images[" + std::to_string(image) + "]";
+    const auto enc = encodedImage(image, wi);
+    if (!enc) return std::nullopt;
+    const unsigned char* bytes = enc->data;
+    const size_t size = enc->size;
     int w = 0, h = 0, comp = 0;
     if (!bytes || size == 0 || size > Limits::kMaxImageBytes ||
         !stbi_info_from_memory(bytes, int(size), &w, &h, &comp)) {
         note(wi + (gi.uri.empty() ? std::string() : " \"" + gi.uri + "\"") + ": image missing or not decodable; texture ignored");
-        return -1;
+        return std::nullopt;
     }
     if (w <= 0 || h <= 0 || w > Limits::kMaxImageSide || h > Limits::kMaxImageSide) {
         note(wi + ": image of " + std::to_string(w) + "x" + std::to_string(h) + " is over the size limit; texture ignored");
-        return -1;
+        return std::nullopt;
     }
     unsigned char* px = stbi_load_from_memory(bytes, int(size), &w, &h, &comp, 4);
     if (!px) {
         note(wi + ": cannot decode image (" + std::string(stbi_failure_reason()) + "); texture ignored");
-        return -1;
+        return std::nullopt;
     }
     Texture t;
     t.width = w;
@@ -217,17 +228,7 @@ int MaterialBuilder::textureFor(int index, bool srgb, const std::string& where) 
     for (size_t i = 0; i < t.texels.size(); ++i)
         t.texels[i] = Vec4(lut[px[4 * i]], lut[px[4 * i + 1]], lut[px[4 * i + 2]], px[4 * i + 3] / 255.f);
     stbi_image_free(px);
-    ++decodedImages_;
-    if (sampler >= 0) {
-        const tinygltf::Sampler& s = model_.samplers[size_t(sampler)];
-        t.wrapS = wrapOf(s.wrapS);
-        t.wrapT = wrapOf(s.wrapT);
-        t.filter = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ? Filter::Nearest : Filter::Linear;
-    }
-    const int id = int(scene_.textures.size());
-    scene_.textures.push_back(std::move(t));
-    textures_[key] = id;
-    return id;
+    return t;
 }
 
 }  // namespace rf::gltf

@@ -2,12 +2,14 @@
 /// glTF metallic-roughness materials mapped onto the engine's Phong/Whitted material, and
 /// textures decoded lazily: only images that a material some drawn primitive uses are decoded.
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <tuple>
 
 #include <tiny_gltf.h>
 
+#include "gltf_accessors.h"
 #include "scene.h"
 
 namespace rf::gltf {
@@ -27,6 +29,11 @@ private:
     Material convert(const tinygltf::Material& gm, const std::string& where);
     /// Scene texture for glTF texture `index`, decoded on first use; −1 if it cannot be used.
     int textureFor(int index, bool srgb, const std::string& where);
+    /// The image's encoded bytes (a bufferView, or kept encoded by the loader); {nullptr, 0} when
+    /// it has none, nullopt (with a note) when its bufferView is unusable.
+    std::optional<ByteSpan> encodedImage(int image, const std::string& wi);
+    /// The image decoded to linear RGBA texels; nullopt, with a note, when it cannot be used.
+    std::optional<Texture> decodeImage(int image, bool srgb);
     void readTransform(const tinygltf::ExtensionMap& ext, int texCoord, TextureTransform& t);
     void note(const std::string& text);
 

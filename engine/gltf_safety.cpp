@@ -15,14 +15,6 @@ namespace {
 
 using json = nlohmann::json;
 
-/// Extensions the loader understands; a file that requires anything else is refused.
-const std::set<std::string>& supportedRequired() {
-    static const std::set<std::string> s = {"KHR_texture_transform", "KHR_materials_emissive_strength",
-                                            "KHR_materials_transmission", "KHR_materials_ior",
-                                            "KHR_lights_punctual", "KHR_mesh_quantization"};
-    return s;
-}
-
 uint32_t readU32(const std::string& b, size_t at) {
     uint32_t v;
     std::memcpy(&v, b.data() + at, 4);
@@ -137,7 +129,7 @@ void checkDocument(const std::string& path, const json& doc) {
         for (const json& e : doc["extensionsRequired"]) {
             if (!e.is_string()) continue;
             const std::string name = e.get<std::string>();
-            if (!supportedRequired().count(name))
+            if (!isSupportedExtension(name))
                 throw InputError(path, "requires extension " + name + ", which rayfarm does not support");
         }
     }
@@ -161,6 +153,13 @@ void checkDocument(const std::string& path, const json& doc) {
 }
 
 }  // namespace
+
+bool isSupportedExtension(const std::string& name) {
+    static const std::set<std::string> s = {"KHR_texture_transform", "KHR_materials_emissive_strength",
+                                            "KHR_materials_transmission", "KHR_materials_ior",
+                                            "KHR_lights_punctual", "KHR_mesh_quantization"};
+    return s.count(name) != 0;
+}
 
 PreflightResult preflight(const std::string& path, const std::string& bytes) {
     PreflightResult r;

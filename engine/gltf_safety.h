@@ -44,6 +44,10 @@ struct PreflightResult {
 /// Checks the raw file before tinygltf parses it; throws InputError(path, …) on a glTF 1.0 file,
 /// a malformed GLB header, invalid JSON, an unsupported required extension, a URI that leaves
 /// the folder, or a buffer or data URI over the caps.
+/// The glTF extensions whose effect rayfarm renders: a file may require them (others are
+/// refused by preflight), and using them draws no "ignored" note. The one list of them.
+bool isSupportedExtension(const std::string& name);
+
 PreflightResult preflight(const std::string& path, const std::string& bytes);
 
 /// tinygltf file-system callbacks that only open files inside `folder` and read them through a
