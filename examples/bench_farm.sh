@@ -7,6 +7,9 @@
 # mpirun binds each rank to one core when it starts two or fewer, so "1 rank" is one core and
 # "2 ranks" two. Runs use --no-frames (the MP4 only); one extra run shows the cost of keeping
 # PNG frames (the default). Targets: >= 30 fps for the engine turntable, speed-up >= 1.8.
+# Ranks go from 1 to the machine's cores; speedup.png (gnuplot; SPEEDUP_PNG, default
+# examples/speedup.png) plots sustained fps and speed-up against ranks for both modes, with the
+# ideal line.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
@@ -18,6 +21,9 @@ if [ ! -x "$bin" ]; then
 fi
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 engine=/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb
+cores=$(nproc 2>/dev/null || echo 2)
+[ "$cores" -ge 2 ] || cores=2
+png=${SPEEDUP_PNG:-examples/speedup.png}
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 
@@ -32,14 +38,14 @@ echo "bench_farm: $(nproc) CPUs, $(grep -m1 'model name' /proc/cpuinfo | cut -d:
 for scene in whitted engine; do
   if [ $scene = whitted ]; then args=(scenes/whitted.json --fps 120 --frames 0:119); else args=("$engine"); fi
   for mode in pixel frame; do
-    for np in 1 2; do run "${scene}_${mode}_$np" "$np" "$mode" "${args[@]}" --no-frames; done
+    for ((np = 1; np <= cores; np++)); do run "${scene}_${mode}_$np" "$np" "$mode" "${args[@]}" --no-frames; done
   done
 done
 run engine_frame_2_png 2 frame "$engine"
 
-python3 - "$tmp" <<'PY'
+python3 - "$tmp" "$cores" <<'PY'
 import json, sys, os
-d = sys.argv[1]
+d, cores = sys.argv[1], int(sys.argv[2])
 def s(n): return json.load(open(os.path.join(d, n + ".json")))
 print(f"{'scene':9}{'mode':7}{'frames':>7}{'fps 1 rank':>12}{'fps 2 ranks':>13}{'speed-up':>10}{'encoder share (1/2)':>22}{'Mrays/s (2)':>13}")
 for scene in ("whitted", "engine"):
@@ -51,4 +57,39 @@ for scene in ("whitted", "engine"):
 p = s("engine_frame_2_png")
 print(f"engine frame mode, 2 ranks, keeping PNG frames (the default): {p['sustained_fps']:.2f} fps "
       f"(PNG writer busy {p['png_s']:.2f} s of {p['render_s']:.2f} s)")
+# Columns for gnuplot: ranks, then fps and speed-up over 1 rank for each scene and mode.
+with open(os.path.join(d, "speedup.dat"), "w") as f:
+    f.write("# ranks" + "".join(f" {s_}_{m}_fps {s_}_{m}_speedup" for s_ in ("whitted", "engine") for m in ("pixel", "frame")) + "\n")
+    for n in range(1, cores + 1):
+        row = [str(n)]
+        for scene in ("whitted", "engine"):
+            for mode in ("pixel", "frame"):
+                one, here = s(f"{scene}_{mode}_1")["sustained_fps"], s(f"{scene}_{mode}_{n}")["sustained_fps"]
+                row += [f"{here:.3f}", f"{here / one:.3f}"]
+        f.write(" ".join(row) + "\n")
 PY
+gnuplot <<GP
+set terminal pngcairo size 1100,420 font ",10"
+set output "$png"
+set multiplot layout 1,2 title "rayfarm render, 640x360, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //') ($cores cores), load $(cut -d' ' -f1 /proc/loadavg)"
+set xlabel "ranks (mpirun -np)"
+set xtics 1
+set xrange [0.8:$cores + 0.2]
+set key top left
+set grid
+set ylabel "sustained frames per second"
+set yrange [0:*]
+plot "$tmp/speedup.dat" u 1:6 w lp lt 1 lw 2 pt 7 t "2CylinderEngine, pixel mode", \
+     "" u 1:8 w lp lt 2 lw 2 pt 5 t "2CylinderEngine, frame mode", \
+     "" u 1:2 w lp lt 3 lw 2 pt 6 t "whitted, pixel mode", \
+     "" u 1:4 w lp lt 4 lw 2 pt 4 t "whitted, frame mode"
+set ylabel "speed-up over 1 rank"
+set yrange [0:$cores + 0.5]
+plot x w l lw 1 dt 2 lc rgb "black" t "ideal", \
+     "$tmp/speedup.dat" u 1:7 w lp lt 1 lw 2 pt 7 t "2CylinderEngine, pixel mode", \
+     "" u 1:9 w lp lt 2 lw 2 pt 5 t "2CylinderEngine, frame mode", \
+     "" u 1:3 w lp lt 3 lw 2 pt 6 t "whitted, pixel mode", \
+     "" u 1:5 w lp lt 4 lw 2 pt 4 t "whitted, frame mode"
+unset multiplot
+GP
+echo "bench_farm: wrote $png; load afterwards $(cut -d' ' -f1-3 /proc/loadavg)"

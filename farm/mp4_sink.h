@@ -12,7 +12,7 @@ namespace rf::farm {
 struct Mp4Options {
     double fps = 30.0;
     int crf = 18;                       ///< x264 constant rate factor, 0–51
-    std::string preset = "veryfast";    ///< x264 preset
+    std::string preset = "ultrafast";   ///< x264 preset (README: same PSNR as veryfast, 4x the speed)
     /// libx264rgb at qp 0: the RGB frames decode back bit for bit (High 4:4:4 Predictive; not
     /// every player plays it: for reference comparisons).
     bool lossless = false;

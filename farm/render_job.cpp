@@ -31,7 +31,7 @@ const char* kRenderHelp =
     "  --resume          render only the frames missing from the frames directory, then encode\n"
     "                    the whole video again (the same settings are required)\n"
     "  --crf N           x264 quality, 0-51 (default 18; lower is better)\n"
-    "  --preset P        x264 preset, ultrafast ... placebo (default veryfast)\n"
+    "  --preset P        x264 preset, ultrafast ... placebo (default ultrafast)\n"
     "  --lossless        RGB H.264 at qp 0: decodes to the PNG frames bit for bit (not every\n"
     "                    player plays it; for reference comparisons)\n"
     "  --threads N       render threads per rank (default: the node's cores shared by its ranks)\n"
@@ -70,7 +70,7 @@ RenderJob jobFromOptions(const cli::ArgParser& p) {
         throw UsageError("--mode: expected pixel, frame or auto, got \"" + j.modeOption + "\"");
     j.resume = p.has("--resume");
     j.mp4.crf = p.intValue("--crf", 18, 0, 51);
-    j.mp4.preset = p.value("--preset").value_or("veryfast");
+    j.mp4.preset = p.value("--preset").value_or("ultrafast");
     j.mp4.lossless = p.has("--lossless");
     if (j.mp4.lossless && p.has("--crf")) throw UsageError("--lossless and --crf contradict each other");
     j.threads = p.intValue("--threads", 0, 0, 4096);
