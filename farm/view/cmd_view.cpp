@@ -66,9 +66,14 @@ const char* kNoDisplay = "view: no display to open a window on (DISPLAY is not s
 // Qt reports a display it cannot open through qFatal, after a few warning lines: say it in one
 // line in rayfarm's words and leave with the usage status instead.
 void qtMessages(QtMsgType type, const QMessageLogContext&, const QString& msg) {
+    // The fatal message is generic ("no Qt platform plugin could be initialized"); the warning
+    // before it says why (e.g. "could not connect to display :0"), so it goes in the line too.
+    static QString lastWarning;
+    if (type == QtWarningMsg) lastWarning = msg.section('\n', 0, 0);
     if (type == QtFatalMsg) {
+        const QString why = lastWarning.isEmpty() ? msg.section('\n', 0, 0) : lastWarning + ": " + msg.section('\n', 0, 0);
         std::fprintf(stderr, "rayfarm: error: view: cannot open a window (%s); use 'rayfarm render' or 'rayfarm still'\n",
-                     msg.section('\n', 0, 0).toLocal8Bit().constData());
+                     why.toLocal8Bit().constData());
         std::fflush(stderr);
         _exit(2);
     }
