@@ -23,6 +23,11 @@ Master::Master(Transport& t, Scheduler& s, FrameAssembler& a, RenderEngine* loca
     }
 }
 
+std::string Master::who(int rank) const {
+    const std::string host = t_.host(rank);
+    return "rank " + std::to_string(rank) + (host.empty() ? "" : " on " + host);
+}
+
 std::string Master::describeBusy(const WorkerState& w) const {
     if (w.outstanding.empty()) return "while idle";
     // Items run in the order given: the first is the one being rendered, the rest wait.
@@ -71,7 +76,7 @@ void Master::handle(const Message& m) {
         w.reportedFrame = decodeHeartbeat(m.bytes).currentFrame;
         break;
     case kTagError:
-        failure_ = "rank " + std::to_string(m.source) + ": " + m.bytes;
+        failure_ = who(m.source) + ": " + m.bytes;
         break;
     default:
         break;
@@ -145,7 +150,7 @@ std::string Master::lostWorker(Clock::time_point now) const {
         if (silent > cfg_.workerTimeout) {
             char buf[64];
             std::snprintf(buf, sizeof buf, "%.1f", silent);
-            return "rank " + std::to_string(w.rank) + " stopped answering (silent for " + buf + " s) " + describeBusy(w);
+            return who(w.rank) + " stopped answering (silent for " + buf + " s) " + describeBusy(w);
         }
     }
     return "";
@@ -223,7 +228,7 @@ std::string Master::findSilentWorker(double seconds) {
             }
         if (!silent) return "";
         if (Clock::now() > end)
-            return "rank " + std::to_string(silent->rank) + " stopped answering " + describeBusy(*silent) +
+            return who(silent->rank) + " stopped answering " + describeBusy(*silent) +
                    " (it probably died: mpirun stops the whole job when a rank does)";
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }

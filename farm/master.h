@@ -77,6 +77,7 @@ private:
     /// For progress: the frame each rendering rank is on (-1: idle).
     std::vector<int> renderingFrames() const;
     std::string describeBusy(const WorkerState& w) const;
+    std::string who(int rank) const;  // "rank 2 on node7"
 
     Transport& t_;
     Scheduler& sched_;

@@ -1,9 +1,11 @@
 #include "transport.h"
 
+#include <algorithm>
 #include <chrono>
 #include <climits>
 #include <cstdlib>
 #include <thread>
+#include <vector>
 
 #include <mpi.h>
 
@@ -38,6 +40,11 @@ struct MpiTransport::Pending {
     int dest = 0;
 };
 
+struct MpiTransport::Incoming {
+    Message msg;
+    MPI_Request request = MPI_REQUEST_NULL;
+};
+
 MpiTransport::MpiTransport() {
     int initialized = 0;
     MPI_Initialized(&initialized);
@@ -58,6 +65,14 @@ MpiTransport::MpiTransport() {
     if (const char* c = std::getenv("RAYFARM_BROADCAST_CHUNK")) setBroadcastChunk(std::atoll(c));
     MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
     MPI_Comm_size(MPI_COMM_WORLD, &size_);
+    // Every rank's host name, once, so that a lost rank can be named with its host.
+    char name[MPI_MAX_PROCESSOR_NAME] = {};
+    int len = 0;
+    MPI_Get_processor_name(name, &len);
+    std::vector<char> all(size_t(size_) * MPI_MAX_PROCESSOR_NAME);
+    if (MPI_Allgather(name, MPI_MAX_PROCESSOR_NAME, MPI_CHAR, all.data(), MPI_MAX_PROCESSOR_NAME, MPI_CHAR, MPI_COMM_WORLD) ==
+        MPI_SUCCESS)
+        for (int r = 0; r < size_; ++r) hosts_.emplace_back(&all[size_t(r) * MPI_MAX_PROCESSOR_NAME]);
     MPI_Comm node;
     if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node) == MPI_SUCCESS) {
         MPI_Comm_size(node, &localRanks_);
@@ -74,6 +89,11 @@ void MpiTransport::finalize() {
     flush(2.0);
     for (auto& p : pending_) MPI_Request_free(&p->request);
     pending_.clear();
+    for (auto& in : incoming_) {
+        MPI_Cancel(&in->request);
+        MPI_Request_free(&in->request);
+    }
+    incoming_.clear();
     int fin = 0;
     MPI_Finalized(&fin);
     if (!fin) MPI_Finalize();
@@ -81,9 +101,16 @@ void MpiTransport::finalize() {
 
 void MpiTransport::abort(int code) {
     if (solo_) std::_Exit(code);
+    // MPI_Abort may wait on a host cut off from the network; the user's shell must not.
+    std::thread([code] {
+        std::this_thread::sleep_for(std::chrono::seconds(3));
+        std::_Exit(code);
+    }).detach();
     MPI_Abort(MPI_COMM_WORLD, code);
     std::_Exit(code);
 }
+
+std::string MpiTransport::host(int rank) const { return rank >= 0 && rank < int(hosts_.size()) ? hosts_[size_t(rank)] : ""; }
 
 void MpiTransport::setBroadcastChunk(int64_t bytes) { gBroadcastChunk = std::max<int64_t>(1, bytes); }
 
@@ -110,18 +137,42 @@ void MpiTransport::progressSends() {
 bool MpiTransport::poll(Message& out) {
     if (solo_) return false;
     progressSends();
-    int flag = 0;
-    MPI_Status st;
-    check(MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &st), "probe");
-    if (!flag) return false;
-    int count = 0;
-    check(MPI_Get_count(&st, MPI_BYTE, &count), "message size");
-    out.source = st.MPI_SOURCE;
-    out.tag = st.MPI_TAG;
-    out.bytes.resize(size_t(count));
-    check(MPI_Recv(out.bytes.data(), count, MPI_BYTE, st.MPI_SOURCE, st.MPI_TAG, MPI_COMM_WORLD, MPI_STATUS_IGNORE),
-          "receive from rank " + std::to_string(st.MPI_SOURCE));
-    return true;
+    // Every message that has begun to arrive gets a nonblocking receive. A blocking MPI_Recv
+    // after a probe would wait forever for the rest of a large message whose sender's link was
+    // cut; this way that sender just stays silent and the caller's timeout notices.
+    for (int started = 0; started < 64; ++started) {
+        int flag = 0;
+        MPI_Message handle;
+        MPI_Status st;
+        check(MPI_Improbe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &handle, &st), "probe");
+        if (!flag) break;
+        int count = 0;
+        check(MPI_Get_count(&st, MPI_BYTE, &count), "message size");
+        auto in = std::make_unique<Incoming>();
+        in->msg.source = st.MPI_SOURCE;
+        in->msg.tag = st.MPI_TAG;
+        in->msg.bytes.resize(size_t(count));
+        check(MPI_Imrecv(in->msg.bytes.data(), count, MPI_BYTE, &handle, &in->request),
+              "receive from rank " + std::to_string(st.MPI_SOURCE));
+        incoming_.push_back(std::move(in));
+    }
+    // Hand out the oldest finished message whose sender has no older one still arriving, so each
+    // sender's messages keep their order.
+    std::vector<int> unfinished;
+    for (auto it = incoming_.begin(); it != incoming_.end(); ++it) {
+        const int source = (*it)->msg.source;
+        if (std::find(unfinished.begin(), unfinished.end(), source) != unfinished.end()) continue;
+        int done = 0;
+        check(MPI_Test(&(*it)->request, &done, MPI_STATUS_IGNORE), "receive from rank " + std::to_string(source));
+        if (!done) {
+            unfinished.push_back(source);
+            continue;
+        }
+        out = std::move((*it)->msg);
+        incoming_.erase(it);
+        return true;
+    }
+    return false;
 }
 
 bool MpiTransport::flush(double timeoutSeconds) {

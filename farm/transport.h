@@ -6,6 +6,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace rf::farm {
 
@@ -37,6 +38,8 @@ public:
     virtual void broadcast(std::string& bytes, int root) = 0;
     /// Ranks sharing this rank's node (for sharing its cores among them).
     virtual int ranksOnThisNode() const { return 1; }
+    /// The host a rank runs on, for messages about it ("" if unknown).
+    virtual std::string host(int /*rank*/) const { return {}; }
 };
 
 /// MPI_COMM_WORLD, with MPI_ERRORS_RETURN so a failing peer becomes a TransportError rather than
@@ -53,22 +56,27 @@ public:
     bool poll(Message& out) override;
     bool flush(double timeoutSeconds) override;
     void broadcast(std::string& bytes, int root) override;
+    std::string host(int rank) const override;
 
     int ranksOnThisNode() const override { return localRanks_; }
     /// Largest chunk one MPI_Bcast carries; tests lower it to exercise chunking.
     static void setBroadcastChunk(int64_t bytes);
-    /// Ends every rank at once (a worker is lost, nothing better left to do).
+    /// Ends every rank at once (a worker is lost, nothing better left to do). Leaves this
+    /// process within a few seconds even if MPI_Abort cannot reach every host.
     [[noreturn]] void abort(int code);
     /// Ends MPI normally (also done by the destructor).
     void finalize();
 
 private:
     struct Pending;
+    struct Incoming;
     void progressSends();
     int rank_ = 0, size_ = 1, localRanks_ = 1;
+    std::vector<std::string> hosts_;  // by rank
     bool finalized_ = false;
     bool solo_ = false;  ///< not started by an MPI launcher: one rank, MPI never initialised
     std::deque<std::unique_ptr<Pending>> pending_;
+    std::deque<std::unique_ptr<Incoming>> incoming_;  // receives begun, in arrival order
 };
 
 }  // namespace rf::farm

@@ -174,7 +174,7 @@ killed-worker)
     set +e; wait "$pid"; rc=$?; set -e
     took=$(python3 -c "import sys,time; print(round(time.time()-float(sys.argv[1]),2))" "$start")
     [ "$rc" -ne 0 ] || fail "run with a killed worker exited 0"
-    grep -Eq "rayfarm: error: rank 1 .*frame" kill.log || { cat kill.log; fail "no message naming rank 1 and its frame"; }
+    grep -Eq "rayfarm: error: rank 1 on [^ ]+ .*frame" kill.log || { cat kill.log; fail "no message naming rank 1 and its frame"; }
     python3 -c "import sys; sys.exit(float(sys.argv[1]) > 10)" "$took" || fail "took $took s to stop (bound 10 s)"
     read -r frames w h rate < <(probe kill.mp4)
     echo "killed-worker: stopped in $took s: $(grep 'rayfarm: error' kill.log); MP4 plays $frames frames"
@@ -191,7 +191,7 @@ stalled-worker)
     set +e; wait "$pid"; rc=$?; set -e
     took=$(python3 -c "import sys,time; print(round(time.time()-float(sys.argv[1]),2))" "$start")
     [ "$rc" -ne 0 ] || fail "run with a stalled worker exited 0"
-    grep -Eq "rayfarm: error: rank 2 stopped answering .*frame" stall.log || { cat stall.log; fail "no message naming rank 2 and its frame"; }
+    grep -Eq "rayfarm: error: rank 2 on [^ ]+ stopped answering .*frame" stall.log || { cat stall.log; fail "no message naming rank 2 and its frame"; }
     python3 -c "import sys; sys.exit(float(sys.argv[1]) > 10)" "$took" || fail "took $took s to stop (bound: 2 s timeout + 8 s)"
     echo "stalled-worker: stopped in $took s: $(grep 'rayfarm: error' stall.log)"
     ;;
