@@ -13,6 +13,7 @@
 #include "png_sink.h"
 #include "render.h"
 #include "render_engine.h"
+#include "signal_deadline.h"
 #include "timeline.h"
 #include "worker.h"
 
@@ -97,7 +98,9 @@ public:
 private:
     MasterConfig masterConfig(int totalFrames) const;
     void emit(ReadyFrame& rf, int total);
-    MasterOutcome runMaster(Master& master);
+    MasterOutcome runMaster(Master& master, SignalDeadline& deadline);
+    int lastWords();
+    std::string videoHolds() const;
     std::string closeSinks(Master& master, const MasterOutcome& o);
     FarmOutcome conclude(Master& master, const MasterOutcome& o, const std::string& silent, const SharedScene& shared);
     RunStats stats(const MasterOutcome& o, Clock::time_point end, const SharedScene& shared) const;
@@ -137,13 +140,41 @@ void FarmRun::emit(ReadyFrame& rf, int total) {
     if (opts_.onFrame) opts_.onFrame(FarmProgress{rf.frame, framesPassed_, total, rf.onDisk, &rf.rgb});
 }
 
-MasterOutcome FarmRun::runMaster(Master& master) {
+/// The master's loop. Its end is claimed from the deadline's watchdog, which otherwise winds the
+/// run down by itself (lastWords) when a signal finds this thread held inside MPI.
+MasterOutcome FarmRun::runMaster(Master& master, SignalDeadline& deadline) {
     try {
-        return master.run();
+        MasterOutcome o = master.run();
+        if (!deadline.claim()) deadline.waitForEnd();
+        return o;
     } catch (...) {
+        if (!deadline.claim()) deadline.waitForEnd();
         master.stopWorkers();
         throw;
     }
+}
+
+/// On the watchdog's thread, the main one being held inside MPI: the video is closed with the
+/// frames done so far, and onEnd hears of the interrupt. Returns the exit status.
+int FarmRun::lastWords() {
+    try {
+        sinks_.close();
+    } catch (...) {
+        // The video is as complete as it gets; the user must still hear how the run ended.
+    }
+    FarmOutcome out;
+    out.videoHolds = videoHolds();
+    out.signal = interruptSignal();
+    out.end = FarmEnd::Interrupted;
+    if (opts_.onEnd) opts_.onEnd(out);
+    return out.signal == SIGINT ? 130 : 143;
+}
+
+std::string FarmRun::videoHolds() const {
+    const int encoded = sinks_.video->framesDone();
+    return "the video " + job_.output + " holds " +
+           (encoded ? "frames " + frameSpan(job_.first, job_.first + encoded - 1) : std::string("no frames")) + " of " +
+           frameSpan(job_.first, job_.last);
 }
 
 /// Closes the sinks. After an interrupt, under mpirun SIGKILL follows SIGTERM within about a
@@ -191,7 +222,9 @@ FarmOutcome FarmRun::run(SharedScene& shared) {
     Master master(t_, *sched, assembler, local.get(), [&](ReadyFrame& rf) { emit(rf, total); }, cfg);
     if (sinks_.frames)
         master.onFrameComplete([&](int frame, const std::vector<uint8_t>& rgb) { sinks_.frames->write(frame, rgb); });
-    const MasterOutcome o = runMaster(master);
+    // mpirun's SIGKILL follows its SIGTERM within about a second (signal_deadline.h).
+    SignalDeadline deadline(0.25, [this] { return lastWords(); });
+    const MasterOutcome o = runMaster(master, deadline);
     const std::string silent = closeSinks(master, o);
     end_ = Clock::now();
     local.reset();
@@ -200,10 +233,7 @@ FarmOutcome FarmRun::run(SharedScene& shared) {
 
 FarmOutcome FarmRun::conclude(Master& master, const MasterOutcome& o, const std::string& silent, const SharedScene& shared) {
     FarmOutcome out;
-    const int encoded = sinks_.video->framesDone();
-    out.videoHolds = "the video " + job_.output + " holds " +
-                     (encoded ? "frames " + frameSpan(job_.first, job_.first + encoded - 1) : std::string("no frames")) +
-                     " of " + frameSpan(job_.first, job_.last);
+    out.videoHolds = videoHolds();
     out.stats = stats(o, end_, shared);
     if (o.end == RunEnd::WorkerLost || !silent.empty()) {
         // The lost worker cannot be told to stop, and mpirun waits for it: the caller aborts.
