@@ -17,6 +17,7 @@ packages=(
   clang                                                       # libFuzzer + ASan/UBSan harnesses (tests/fuzz)
   qt6-base-dev                                                # rayfarm view: the Qt 6 Widgets window
   xvfb xdotool imagemagick                                    # view tests: X server, real mouse/keys, window grabs
+  iproute2                                                    # tests/multihost: namespaces, bridge, veth cables (ip)
   "$@"
 )
 

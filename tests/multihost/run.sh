@@ -1,0 +1,136 @@
+#!/usr/bin/env bash
+# rayfarm across three real network stacks: `bash tests/multihost/run.sh [RAYFARM] [WORK_DIR]`.
+# Three network namespaces on a bridge (hosts.sh) play three hosts; Open MPI starts its daemons
+# on them through netns_agent.sh in place of ssh, and every byte goes over TCP on 10.123.0.0/24.
+#   1. pixel and frame mode on 3 hosts give PNGs bit-identical to one process;
+#   2. kill -9 of the worker on farm2: the run stops, naming rank 1 and farm2;
+#   3. farm3's link cut mid-run: the shell gets control back within 15 s, the run names rank 2
+#      and farm3, the video is playable, and farm3's processes end by themselves within 30 s;
+#   4. --resume on the two hosts left gives a video identical to one uninterrupted run.
+# Prints one summary line. Removes namespaces, bridge and name files even when a step fails;
+# /etc/hosts is never touched (checked). Needs root; exits 77 (skipped) without it.
+set -euo pipefail
+SRC=$(cd "$(dirname "$0")/../.." && pwd)
+RAYFARM=$(realpath "${1:-$SRC/build/bin/rayfarm}")
+WORK=${2:-$SRC/build/test-output/multihost}
+SCENE=$SRC/scenes/flight.json
+
+if [ "$(id -u)" -ne 0 ] || ! command -v ip > /dev/null || ! command -v unshare > /dev/null; then
+    echo "multihost: skipped: needs root, iproute2 and unshare to make network namespaces" >&2
+    exit 77
+fi
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 HWLOC_COMPONENTS=-gl
+source "$SRC/tests/multihost/hosts.sh"
+hosts_sum=$(sha256sum /etc/hosts)
+finish() {
+    local rc=$?
+    hosts_down
+    [ "$(sha256sum /etc/hosts)" = "$hosts_sum" ] || { echo "FAIL: /etc/hosts changed" >&2; rc=1; }
+    exit $rc
+}
+trap finish EXIT
+trap 'exit 130' INT
+trap 'exit 143' TERM
+
+fail() { echo "FAIL: $*" >&2; exit 1; }
+now() { date +%s.%N; }
+since() { python3 -c "import sys,time; print(round(time.time()-float(sys.argv[1]),1))" "$1"; }
+within() { python3 -c "import sys; sys.exit(not float(sys.argv[1]) <= float(sys.argv[2]))" "$1" "$2"; }
+
+rm -rf "$WORK"
+mkdir -p "$WORK"
+cd "$WORK"
+printf 'farm1 slots=1\nfarm2 slots=1\nfarm3 slots=1\n' > hosts3
+printf 'farm1 slots=1\nfarm2 slots=1\n' > hosts2
+# TCP only, on the namespaces' own addresses. The OOB keepalive lets mpirun (and the daemon on a
+# cut-off host) notice a dead link in seconds; Open MPI's default is 300 s + 9 × 20 s.
+MCA=(--mca plm_rsh_agent "$AGENT" --mca btl tcp,self --mca btl_tcp_if_include "$SUBNET"
+     --mca oob_tcp_if_include "$SUBNET" --mca oob_tcp_keepalive_time 2
+     --mca oob_tcp_keepalive_intvl 1 --mca oob_tcp_keepalive_probes 3)
+farm() {  # hostfile np rayfarm-args...: mpirun on farm1, as a user logged in there would start it
+    local hf=$1 np=$2
+    shift 2
+    on_host farm1 mpirun --hostfile "$hf" -np "$np" "${MCA[@]}" "$RAYFARM" "$@"
+}
+pngs_md5() { (cd "$1" && md5sum frame_*.png); }
+frames_in() { ffprobe -v error -select_streams v:0 -count_frames -show_entries stream=nb_read_frames -of csv=p=0 "$1"; }
+decoded_md5() { ffmpeg -v error -i "$1" -f framemd5 -pix_fmt rgb24 - | grep -v '^#' | awk -F, '{print $NF}'; }
+wait_for_pngs() {  # dir count
+    for _ in $(seq 600); do
+        [ "$(ls "$1" 2> /dev/null | grep -c '^frame_.*\.png$')" -ge "$2" ] && return 0
+        sleep 0.1
+    done
+    fail "fewer than $2 frames in $1 after 60 s"
+}
+pid_of_rank() {  # host rank -> pid of rayfarm's rank on that host
+    local p
+    for p in $(host_pids "$1"); do
+        [ "$(cat /proc/"$p"/comm 2> /dev/null)" = rayfarm ] || continue
+        tr '\0' '\n' < /proc/"$p"/environ 2> /dev/null | grep -qx "OMPI_COMM_WORLD_RANK=$2" && { echo "$p"; return; }
+    done
+}
+
+start=$(now)
+hosts_up
+[ "$(on_host farm3 hostname)" = farm3 ] || fail "farm3 does not call itself farm3"
+
+# 1. Bit-identical to one process, in both modes.
+small=(render "$SCENE" --size 160x90 --frames 0:11)
+"$RAYFARM" "${small[@]}" -o one.mp4 2> one.log || { cat one.log; fail "one-process run failed"; }
+for mode in pixel frame; do
+    farm hosts3 3 "${small[@]}" --mode "$mode" -o "$mode.mp4" 2> "$mode.log" || { cat "$mode.log"; fail "$mode run on 3 hosts failed"; }
+    cmp -s <(pngs_md5 one.frames) <(pngs_md5 "$mode.frames") || fail "$mode mode on 3 hosts: PNGs differ from one process"
+    [ "$(frames_in "$mode.mp4")" = 12 ] || fail "$mode mode on 3 hosts: the MP4 does not hold 12 frames"
+done
+echo "multihost: pixel and frame mode on farm1-3: 12 PNGs bit-identical to one process"
+
+# 2. A remote worker killed.
+long=(render "$SCENE" --size 320x180 --spp 16 --frames 0:47 --timeout 3 --lossless)
+farm hosts3 3 "${long[@]}" -o kill.mp4 2> kill.log &
+job=$!
+wait_for_pngs kill.frames 2
+victim=$(pid_of_rank farm2 1)
+[ -n "$victim" ] || fail "rank 1 is not on farm2"
+t0=$(now)
+kill -9 "$victim"
+set +e; wait "$job"; rc=$?; set -e
+kill_s=$(since "$t0")
+[ "$rc" -ne 0 ] || fail "a run whose worker was killed exited 0"
+# rank 0 names the lost rank itself, or, when Open MPI held it inside MPI (a broken TCP peer
+# reported through mpirun), mpirun does; either way rank 0 must leave a playable video.
+grep -Eq "rayfarm: error: rank 1 on farm2 .*frame|process rank 1 with PID [0-9]+ on node farm2 exited on signal 9" kill.log ||
+    { cat kill.log; fail "the stop does not name rank 1 on farm2"; }
+grep -Eq "^rayfarm: (error|interrupted).*the video kill.mp4 holds frames .*\(playable\)" kill.log || { cat kill.log; fail "rank 0 did not finish the video"; }
+within "$kill_s" 10 || fail "took $kill_s s to stop after kill -9 (bound 10 s)"
+played=$(frames_in kill.mp4)
+[ "$played" -ge 1 ] || fail "the video of the killed run does not play"
+echo "multihost: kill -9 of rank 1 on farm2: stopped in $kill_s s, MP4 plays $played frames:" \
+     "$(grep -Eo 'rank 1 on farm2 .{0,60}|process rank 1 with PID [0-9]+ on node farm2 exited on signal 9' kill.log | head -1)"
+
+# 3. farm3's cable pulled mid-run (issue 14 #6).
+farm hosts3 3 "${long[@]}" -o cut.mp4 2> cut.log &
+job=$!
+wait_for_pngs cut.frames 3
+t0=$(now)
+cut_link farm3
+set +e; wait "$job"; rc=$?; set -e
+shell_s=$(since "$t0")
+for _ in $(seq 300); do [ -z "$(host_pids farm3)" ] && break; sleep 0.1; done
+gone_s=$(since "$t0")
+[ -z "$(host_pids farm3)" ] && within "$gone_s" 30 ||
+    fail "processes still on farm3 $gone_s s after its link went down: $(host_pids farm3 | xargs -r ps -o comm= -p | tr '\n' ' ')"
+[ "$rc" -ne 0 ] || fail "a run that lost a host exited 0"
+within "$shell_s" 15 || fail "mpirun returned $shell_s s after the cut (bound 15 s)"
+grep -Eq "rayfarm: error: rank 2 on farm3 stopped answering" cut.log || { cat cut.log; fail "the stop does not name rank 2 on farm3"; }
+played=$(frames_in cut.mp4)
+kept=$(ls cut.frames | grep -c '^frame_.*\.png$')
+[ "$played" -ge 1 ] && [ "$played" -le "$kept" ] || fail "after the cut the MP4 plays $played frames, $kept PNGs kept"
+echo "multihost: farm3 cut off: shell back in $shell_s s, farm3 empty in $gone_s s, MP4 plays $played frames, $kept kept"
+
+# 4. Resume on the hosts left, against one uninterrupted process.
+farm hosts2 2 "${long[@]}" -o cut.mp4 --resume 2> resume.log || { cat resume.log; fail "resume on farm1-2 failed"; }
+grep -q "rayfarm: resume: $kept of 48 frames kept" resume.log || { cat resume.log; fail "resume did not keep the $kept frames"; }
+"$RAYFARM" "${long[@]}" -o whole.mp4 2> whole.log || { cat whole.log; fail "uninterrupted run failed"; }
+cmp -s <(decoded_md5 whole.mp4) <(decoded_md5 cut.mp4) || fail "the resumed video differs from an uninterrupted run"
+echo "multihost: PASS in $(since "$start") s: 3 hosts bit-identical to 1 process; killed worker stopped in $kill_s s;" \
+     "cut host: shell back in $shell_s s, its processes gone in $gone_s s, $kept frames kept; resume on 2 hosts identical (lossless)"
