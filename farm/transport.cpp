@@ -1,5 +1,7 @@
 #include "transport.h"
 
+#include "launcher_reaper.h"
+
 #include <algorithm>
 #include <chrono>
 #include <climits>
@@ -101,7 +103,9 @@ void MpiTransport::finalize() {
 
 void MpiTransport::abort(int code) {
     if (solo_) std::_Exit(code);
-    // MPI_Abort may wait on a host cut off from the network; the user's shell must not.
+    // MPI_Abort, and mpirun after it, may wait on a host cut off from the network; the user's
+    // shell must not.
+    armLauncherReaper(kLauncherGraceSeconds);
     std::thread([code] {
         std::this_thread::sleep_for(std::chrono::seconds(3));
         std::_Exit(code);

@@ -48,6 +48,9 @@ public:
 /// (MPI_THREAD_SERIALIZED).
 class MpiTransport : public Transport {
 public:
+    /// How long mpirun gets to end the job after rank 0 aborts (it takes well under a second
+    /// when every host answers).
+    static constexpr double kLauncherGraceSeconds = 2.5;
     MpiTransport();
     ~MpiTransport() override;
     int rank() const override { return rank_; }
@@ -62,7 +65,8 @@ public:
     /// Largest chunk one MPI_Bcast carries; tests lower it to exercise chunking.
     static void setBroadcastChunk(int64_t bytes);
     /// Ends every rank at once (a worker is lost, nothing better left to do). Leaves this
-    /// process within a few seconds even if MPI_Abort cannot reach every host.
+    /// process within a few seconds even if MPI_Abort cannot reach every host, and ends mpirun
+    /// kLauncherGraceSeconds later if it still waits for one (launcher_reaper.h).
     [[noreturn]] void abort(int code);
     /// Ends MPI normally (also done by the destructor).
     void finalize();

@@ -33,9 +33,13 @@ trap 'exit 130' INT
 trap 'exit 143' TERM
 
 fail() { echo "FAIL: $*" >&2; exit 1; }
-now() { date +%s.%N; }
-since() { python3 -c "import sys,time; print(round(time.time()-float(sys.argv[1]),1))" "$1"; }
-within() { python3 -c "import sys; sys.exit(not float(sys.argv[1]) <= float(sys.argv[2]))" "$1" "$2"; }
+now() { echo "$EPOCHREALTIME"; }
+since() { awk -v a="$1" -v b="${2:-$EPOCHREALTIME}" 'BEGIN { printf "%.1f\n", b - a }'; }
+within() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a <= b) }'; }
+# Runs a command in the background and notes when it ends (in $1.end), so that the time the
+# shell got control back is measured, not the time this script got round to looking.
+timed_bg() { local tag=$1; shift; { rc=0; "$@" || rc=$?; echo $rc > "$tag.rc"; echo "$EPOCHREALTIME" > "$tag.end"; } & }
+ended() { cat "$1.rc"; }
 
 rm -rf "$WORK"
 mkdir -p "$WORK"
@@ -44,13 +48,12 @@ printf 'farm1 slots=1\nfarm2 slots=1\nfarm3 slots=1\n' > hosts3
 printf 'farm1 slots=1\nfarm2 slots=1\n' > hosts2
 # TCP only, on the namespaces' own addresses. The OOB keepalive lets mpirun (and the daemon on a
 # cut-off host) notice a dead link in seconds; Open MPI's default is 300 s + 9 × 20 s.
-MCA=(--mca plm_rsh_agent "$AGENT" --mca btl tcp,self --mca btl_tcp_if_include "$SUBNET"
-     --mca oob_tcp_if_include "$SUBNET" --mca oob_tcp_keepalive_time 2
-     --mca oob_tcp_keepalive_intvl 1 --mca oob_tcp_keepalive_probes 3)
+MCA=(--mca plm_rsh_agent "$AGENT" --mca btl tcp,self --mca btl_tcp_if_include "$SUBNET" --mca oob_tcp_if_include "$SUBNET")
+KEEPALIVE=(--mca oob_tcp_keepalive_time 2 --mca oob_tcp_keepalive_intvl 1 --mca oob_tcp_keepalive_probes 3)
 farm() {  # hostfile np rayfarm-args...: mpirun on farm1, as a user logged in there would start it
     local hf=$1 np=$2
     shift 2
-    on_host farm1 mpirun --hostfile "$hf" -np "$np" "${MCA[@]}" "$RAYFARM" "$@"
+    on_host farm1 mpirun --hostfile "$hf" -np "$np" "${MCA[@]}" "${KEEPALIVE[@]}" "$RAYFARM" "$@"
 }
 pngs_md5() { (cd "$1" && md5sum frame_*.png); }
 frames_in() { ffprobe -v error -select_streams v:0 -count_frames -show_entries stream=nb_read_frames -of csv=p=0 "$1"; }
@@ -86,15 +89,16 @@ echo "multihost: pixel and frame mode on farm1-3: 12 PNGs bit-identical to one p
 
 # 2. A remote worker killed.
 long=(render "$SCENE" --size 320x180 --spp 16 --frames 0:47 --timeout 3 --lossless)
-farm hosts3 3 "${long[@]}" -o kill.mp4 2> kill.log &
+timed_bg kill farm hosts3 3 "${long[@]}" -o kill.mp4 2> kill.log
 job=$!
 wait_for_pngs kill.frames 2
 victim=$(pid_of_rank farm2 1)
 [ -n "$victim" ] || fail "rank 1 is not on farm2"
 t0=$(now)
 kill -9 "$victim"
-set +e; wait "$job"; rc=$?; set -e
-kill_s=$(since "$t0")
+wait "$job" || true
+rc=$(ended kill)
+kill_s=$(since "$t0" "$(cat kill.end)")
 [ "$rc" -ne 0 ] || fail "a run whose worker was killed exited 0"
 # rank 0 names the lost rank itself, or, when Open MPI held it inside MPI (a broken TCP peer
 # reported through mpirun), mpirun does; either way rank 0 must leave a playable video.
@@ -107,14 +111,49 @@ played=$(frames_in kill.mp4)
 echo "multihost: kill -9 of rank 1 on farm2: stopped in $kill_s s, MP4 plays $played frames:" \
      "$(grep -Eo 'rank 1 on farm2 .{0,60}|process rank 1 with PID [0-9]+ on node farm2 exited on signal 9' kill.log | head -1)"
 
+# 3a. farm3's cable pulled, Open MPI at its default keepalive (a user's plain mpirun). rank 0
+# names the lost host; mpirun would wait minutes for its daemon on farm3, so rank 0's reaper ends
+# it; the worker on farm3 leaves its silent master by itself (after 2 x 3 s). Open MPI's daemon
+# there lingers until its own keepalive (minutes): it is ended here, and counted.
+saved=("${KEEPALIVE[@]}")
+KEEPALIVE=()
+timed_bg cut0 farm hosts3 3 "${long[@]}" -o cut0.mp4 2> cut0.log
+job=$!
+wait_for_pngs cut0.frames 3
+t0=$(now)
+cut_link farm3
+named_s=""
+for _ in $(seq 300); do
+    [ -z "$named_s" ] && grep -q "rank 2 on farm3 stopped answering" cut0.log && named_s=$(since "$t0")
+    [ -z "$(pid_of_rank farm3 2)" ] && break
+    sleep 0.1
+done
+worker_s=$(since "$t0")
+[ -z "$(pid_of_rank farm3 2)" ] && within "$worker_s" 12 || fail "rank 2 still runs on farm3 $worker_s s after the cut (bound 2 x 3 s + 6 s)"
+( sleep 30; kill -9 $(host_pids farm1) 2> /dev/null ) &  # a guard, should the test fail
+guard=$!
+wait "$job" || true
+[ -f cut0.end ] || fail "default keepalive: mpirun had not returned 30 s after the cut"
+shell0_s=$(since "$t0" "$(cat cut0.end)")
+kill "$guard" 2> /dev/null || true
+grep -q "rayfarm: error: rank 2 on farm3 stopped answering" cut0.log || { cat cut0.log; fail "default keepalive: no line naming rank 2 on farm3"; }
+within "$shell0_s" 15 || fail "default keepalive: mpirun returned $shell0_s s after the cut (bound 15 s)"
+left=$(host_pids farm3 | xargs -r ps -o comm= -p | sort | uniq -c | xargs)
+kill -9 $(host_pids farm2) $(host_pids farm3) 2> /dev/null || true
+ip link set "$(host_port farm3)" up
+KEEPALIVE=("${saved[@]}")
+echo "multihost: farm3 cut off, default keepalive: named after ${named_s:-?} s, shell back in $shell0_s s, farm3's worker left by itself in $worker_s s;" \
+     "left on farm3: ${left:-nothing}"
+
 # 3. farm3's cable pulled mid-run (issue 14 #6).
-farm hosts3 3 "${long[@]}" -o cut.mp4 2> cut.log &
+timed_bg cut farm hosts3 3 "${long[@]}" -o cut.mp4 2> cut.log
 job=$!
 wait_for_pngs cut.frames 3
 t0=$(now)
 cut_link farm3
-set +e; wait "$job"; rc=$?; set -e
-shell_s=$(since "$t0")
+wait "$job" || true
+rc=$(ended cut)
+shell_s=$(since "$t0" "$(cat cut.end)")
 for _ in $(seq 300); do [ -z "$(host_pids farm3)" ] && break; sleep 0.1; done
 gone_s=$(since "$t0")
 [ -z "$(host_pids farm3)" ] && within "$gone_s" 30 ||
