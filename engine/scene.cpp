@@ -265,6 +265,9 @@ uint32_t Scene::sphereCandidates(const Ray& r, float tMax, uint32_t* sure) const
     return mask;
 }
 
+// One function on purpose, though past 60 lines: it is every ray's first call, and the order it
+// tries things in (the inside-sphere exit, planes to bound tMax, then the BVH or the flat lists)
+// is the whole point of it; split, that order would hide across files.
 bool Scene::intersect(const Ray& r, Hit& hit, uint32_t skip) const {
     float tMax = r.tMax;
     bool found = false;
