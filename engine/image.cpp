@@ -83,10 +83,14 @@ void writePng(const std::string& path, int width, int height, const std::vector<
 }
 
 std::vector<uint8_t> readImageRgb8(const std::string& path, int& width, int& height) {
+    return readImage8(path, width, height, 3);
+}
+
+std::vector<uint8_t> readImage8(const std::string& path, int& width, int& height, int channels) {
     int comp = 0;
-    unsigned char* data = stbi_load(path.c_str(), &width, &height, &comp, 3);
+    unsigned char* data = stbi_load(path.c_str(), &width, &height, &comp, channels);
     if (!data) throw std::runtime_error(path + ": cannot read image (" + stbi_failure_reason() + ")");
-    std::vector<uint8_t> out(data, data + size_t(width) * height * 3);
+    std::vector<uint8_t> out(data, data + size_t(width) * height * channels);
     stbi_image_free(data);
     return out;
 }

@@ -107,8 +107,9 @@ void renderRect(const Scene& scene, const Camera& camera, const RenderSettings& 
     const size_t stride = size_t(rect.width());
     parallelFor(static_cast<int>(subs.size()), threads, [&](int i, int thread) {
         const TileRect& t = subs[size_t(i)];
-        std::vector<float> rgb(size_t(t.pixels()) * 3), alpha(out.alpha ? size_t(t.pixels()) : 0);
-        renderTile(scene, camera, t, settings, frame, rgb.data(), perThread[size_t(thread)], out.alpha ? alpha.data() : nullptr);
+        const bool wantAlpha = out.alpha || out.rgba8;
+        std::vector<float> rgb(size_t(t.pixels()) * 3), alpha(wantAlpha ? size_t(t.pixels()) : 0);
+        renderTile(scene, camera, t, settings, frame, rgb.data(), perThread[size_t(thread)], wantAlpha ? alpha.data() : nullptr);
         const size_t w = size_t(t.width());
         for (int y = 0; y < t.height(); ++y) {
             const size_t at = size_t(t.y0 - rect.y0 + y) * stride + size_t(t.x0 - rect.x0);
@@ -118,6 +119,8 @@ void renderRect(const Scene& scene, const Camera& camera, const RenderSettings& 
             // Encoded here, on the rendering thread: sRGB's pow per channel is a sizeable share
             // of a cheap frame, and would otherwise run on one core after the render.
             if (out.rgb8) encodeRgb8(src, 3 * w, settings.toneMap, out.rgb8 + 3 * at);
+            for (size_t x = 0; out.rgba8 && x < w; ++x)
+                toRgba8Pixel(src + 3 * x, alpha[size_t(y) * w + x], settings.toneMap, out.rgba8 + 4 * (at + x));
         }
     });
     for (const RayStats& r : perThread) stats += r;

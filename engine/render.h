@@ -37,6 +37,8 @@ struct RectBuffers {
     float* linear = nullptr;  ///< 3 floats a pixel: linear radiance (as renderTile)
     float* alpha = nullptr;   ///< 1 float a pixel: coverage (as renderTile)
     uint8_t* rgb8 = nullptr;  ///< 3 bytes a pixel: tone-mapped and sRGB-encoded (encodeRgb8)
+    /// 4 bytes a pixel: straight RGBA (toRgba8Pixel), for a transparent background's frames.
+    uint8_t* rgba8 = nullptr;
 };
 
 /// The one frame loop: renders rect of frame `frame` on `threads` threads (0: all cores), which

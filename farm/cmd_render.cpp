@@ -7,6 +7,7 @@
 #include <fstream>
 #include <sched.h>
 
+#include "background_option.h"
 #include "cli.h"
 #include "interrupt.h"
 #include "launch_command.h"
@@ -14,6 +15,7 @@
 #include "png_sink.h"
 #include "preview_spawn.h"
 #include "progress.h"
+#include "image.h"
 #include "render.h"
 #include "render_job.h"
 #include "run_farm.h"
@@ -75,6 +77,27 @@ std::string describeThreads(const RenderJob& job, const Transport& t) {
     return s;
 }
 
+/// The outputs' part of decideJob: the background (the scene's transparency decides the frames'
+/// alpha), the video format from the output's name and the options, the poster's frame.
+void decideOutputs(RenderJob& job, Scene& scene) {
+    applyBackground(job.background, scene);
+    job.transparent = scene.transparentBackground;
+    job.mp4.channels = job.layout().channels;
+    // A format without alpha lays the frames over the background colour, as the scene shows it.
+    for (int c = 0; c < 3; ++c) job.mp4.flattenOver[c] = toByte(srgbEncode(toneMap(scene.background[c], job.settings.toneMap)));
+    if (job.posterFrame >= 0 && (job.posterFrame < job.first || job.posterFrame > job.last))
+        throw UsageError("--poster-frame: expected a frame from " + std::to_string(job.first) + " to " + std::to_string(job.last));
+    std::string note;
+    try {
+        videoFormatOf(job.output, job.mp4);  // throws on what the format cannot do
+        note = checkMp4Options(job.settings.width, job.settings.height, job.mp4, job.output);
+    } catch (const std::invalid_argument& e) {
+        const std::string what = e.what();  // an option's own error leads with the option
+        throw UsageError(what.rfind("--", 0) == 0 ? what : job.output + ": " + what);
+    }
+    if (!note.empty()) printLine("note", note);
+}
+
 /// Rank 0's part of makeJob: everything decided from the options and the loaded scene, checked
 /// before any rendering.
 void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundle& inputs, int ranks, const std::string& threadsNote) {
@@ -87,13 +110,7 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
     job.last = job.timelineFrames - 1;
     if (auto f = p.value("--frames")) parseFrameRange(*f, job.timelineFrames, job.first, job.last);
     job.mp4.fps = tl.isStill() && job.fpsOption > 0.0 ? job.fpsOption : tl.fps();
-    std::string note;
-    try {
-        note = checkMp4Options(job.settings.width, job.settings.height, job.mp4);
-    } catch (const std::invalid_argument& e) {
-        throw UsageError(e.what());
-    }
-    if (!note.empty()) printLine("note", note);
+    decideOutputs(job, scene);
 
     const int frames = job.last - job.first + 1;
     const int renderers = ranks <= 2 ? ranks : ranks - 1;
@@ -159,7 +176,8 @@ int runRank0(MpiTransport& t, const RenderJob& job, SharedScene& shared, const s
     opts.wallStart = wallStart;
     int code = 0;
     opts.onEnd = [&](const FarmOutcome& o) { code = reportOutcome(t.size(), job, o, args); };
-    FarmSinks sinks = sinksForJob(job);
+    const anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, job.fpsOption);
+    FarmSinks sinks = sinksForJob(job, [timeline](int f) { return timeline.frameTime(f); });
     FarmOutcome o;
     try {
         o = runFarm(t, job, shared, std::move(sinks), opts);
@@ -201,7 +219,8 @@ int runRender(const std::vector<std::string>& args) {
             t, job.scenePath,
             [&] {
                 checkWritableFile(job.output);
-                if (!job.statsPath.empty()) checkWritableFile(job.statsPath);
+                for (const std::string* f : {&job.statsPath, &job.contactSheet, &job.poster})
+                    if (!f->empty()) checkWritableFile(*f);
             },
             [&](Scene& scene, const FileBundle& inputs) {
                 decideJob(job, p, scene, inputs, t.size(), threadsNote);

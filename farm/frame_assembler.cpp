@@ -6,8 +6,8 @@
 
 namespace rf::farm {
 
-FrameAssembler::FrameAssembler(int width, int height, std::vector<int> order, std::set<int> onDisk)
-    : width_(width), height_(height), order_(std::move(order)), onDisk_(std::move(onDisk)) {
+FrameAssembler::FrameAssembler(int width, int height, std::vector<int> order, std::set<int> onDisk, PixelLayout layout)
+    : width_(width), height_(height), layout_(layout), order_(std::move(order)), onDisk_(std::move(onDisk)) {
     for (int f : order_)
         if (!onDisk_.count(f)) wanted_.insert(f);
 }
@@ -18,22 +18,29 @@ bool FrameAssembler::add(const TileResult& r) {
     if (!wanted_.count(r.item.frame)) throw std::runtime_error(where + ": result for a frame not being rendered");
     if (t.x0 < 0 || t.y0 < 0 || t.x1 > width_ || t.y1 > height_ || t.width() <= 0 || t.height() <= 0)
         throw std::runtime_error(where + ": tile outside the image");
-    if (r.rgb.size() != size_t(t.pixels()) * 3) throw std::runtime_error(where + ": tile has the wrong pixel count");
+    if (!(r.layout == layout_)) throw std::runtime_error(where + ": tile has another pixel layout than the job's");
+    if (r.rgb.size() != layout_.bytes(size_t(t.pixels()))) throw std::runtime_error(where + ": tile has the wrong pixel count");
+    const size_t framePixels = size_t(width_) * height_;
     auto [it, fresh] = partial_.try_emplace(r.item.frame);
     Partial& p = it->second;
     if (fresh) {
-        p.rgb.assign(size_t(width_) * height_ * 3, 0);
-        p.covered.assign(size_t(width_) * height_, 0);
+        p.rgb.assign(layout_.bytes(framePixels), 0);
+        p.covered.assign(framePixels, 0);
         p.remaining = 1LL * width_ * height_;
     }
+    // Each plane row by row: the 8-bit plane, then the linear one if present.
+    const size_t ch = size_t(layout_.channels), lin = 4 * sizeof(float);
+    const uint8_t* srcLinear = r.rgb.data() + layout_.linearOffset(size_t(t.pixels()));
+    uint8_t* dstLinear = p.rgb.data() + layout_.linearOffset(framePixels);
     for (int y = t.y0; y < t.y1; ++y) {
         uint8_t* cov = p.covered.data() + size_t(y) * width_ + t.x0;
         for (int x = 0; x < t.width(); ++x) {
             if (cov[x]) throw std::runtime_error(where + ": tile covers pixels already rendered");
             cov[x] = 1;
         }
-        std::memcpy(p.rgb.data() + 3 * (size_t(y) * width_ + t.x0), r.rgb.data() + 3 * size_t(y - t.y0) * t.width(),
-                    3 * size_t(t.width()));
+        const size_t dstPixel = size_t(y) * width_ + t.x0, srcPixel = size_t(y - t.y0) * t.width();
+        std::memcpy(p.rgb.data() + ch * dstPixel, r.rgb.data() + ch * srcPixel, ch * size_t(t.width()));
+        if (layout_.linear) std::memcpy(dstLinear + lin * dstPixel, srcLinear + lin * srcPixel, lin * size_t(t.width()));
     }
     p.remaining -= t.pixels();
     return p.remaining == 0;

@@ -13,13 +13,14 @@ namespace rf::farm {
 struct ReadyFrame {
     int frame = 0;
     bool onDisk = false;        ///< kept from an earlier run: the caller reads it back
-    std::vector<uint8_t> rgb;   ///< width × height × 3 bytes unless onDisk
+    std::vector<uint8_t> rgb;   ///< the frame in the assembler's PixelLayout unless onDisk
 };
 
 class FrameAssembler {
 public:
     /// order: every frame of the output in order; onDisk: those kept from an earlier run.
-    FrameAssembler(int width, int height, std::vector<int> order, std::set<int> onDisk);
+    /// Every result must come in `layout`.
+    FrameAssembler(int width, int height, std::vector<int> order, std::set<int> onDisk, PixelLayout layout = {});
 
     /// Copies a result into its frame; returns true if that completed the frame. Throws
     /// std::runtime_error if it does not belong to a frame being rendered, lies outside the image
@@ -43,6 +44,7 @@ private:
         long long remaining = 0;
     };
     int width_, height_;
+    PixelLayout layout_;
     std::vector<int> order_;
     std::set<int> onDisk_;
     std::set<int> wanted_;

@@ -2,6 +2,22 @@
 
 namespace rf::farm {
 
+void TeeSink::write(int frame, const std::vector<uint8_t>& pixels) {
+    for (auto& s : sinks_) s->write(frame, pixels);
+}
+
+void TeeSink::close() {
+    std::exception_ptr first;
+    for (auto& s : sinks_) {
+        try {
+            s->close();
+        } catch (...) {
+            if (!first) first = std::current_exception();
+        }
+    }
+    if (first) std::rethrow_exception(first);
+}
+
 AsyncSink::AsyncSink(std::unique_ptr<FrameSink> inner, int capacity)
     : inner_(std::move(inner)), capacity_(std::max(1, capacity)) {
     thread_ = std::thread([this] { loop(); });

@@ -24,6 +24,18 @@ public:
     virtual void close() = 0;
 };
 
+/// Hands every frame to several sinks in turn (the video and the contact sheet, the PNG and the
+/// EXR frames). close() closes them all and rethrows the first error.
+class TeeSink : public FrameSink {
+public:
+    explicit TeeSink(std::vector<std::unique_ptr<FrameSink>> sinks) : sinks_(std::move(sinks)) {}
+    void write(int frame, const std::vector<uint8_t>& pixels) override;
+    void close() override;
+
+private:
+    std::vector<std::unique_ptr<FrameSink>> sinks_;
+};
+
 /// Runs a sink on its own thread. write() returns at once unless `capacity` frames are already
 /// waiting; an error on the thread is rethrown by the next write() or by close().
 class AsyncSink : public FrameSink {

@@ -13,7 +13,7 @@ namespace {
 // The ray counters travel as the whole RayStats, so a counter added to it arrives too.
 struct ResultHeader {
     int32_t frame, x0, y0, x1, y1;
-    int32_t pad = 0;
+    int32_t layout = 0;  ///< channels | linear << 8
     double busySeconds;
     RayStats rays;
 };
@@ -50,7 +50,8 @@ WorkItem decodeWorkItem(const std::string& bytes) {
 }
 
 std::string encodeTileResult(const TileResult& r) {
-    ResultHeader h{r.item.frame, r.item.rect.x0, r.item.rect.y0, r.item.rect.x1, r.item.rect.y1, 0, r.busySeconds, r.rays};
+    ResultHeader h{r.item.frame, r.item.rect.x0, r.item.rect.y0, r.item.rect.x1, r.item.rect.y1,
+                   r.layout.channels | int32_t(r.layout.linear) << 8, r.busySeconds, r.rays};
     std::string out = bytesOf(h);
     out.append(reinterpret_cast<const char*>(r.rgb.data()), r.rgb.size());
     return out;
@@ -62,9 +63,14 @@ TileResult decodeTileResult(const std::string& bytes) {
     std::memcpy(&h, bytes.data(), sizeof h);
     TileResult r;
     r.item = {h.frame, {h.x0, h.y0, h.x1, h.y1}};
+    r.layout.channels = h.layout & 0xff;
+    r.layout.linear = (h.layout >> 8) & 1;
+    if ((r.layout.channels != 3 && r.layout.channels != 4) || (h.layout >> 9) != 0)
+        throw std::runtime_error("malformed result message: unknown pixel layout");
     // In 64 bits: a corrupt rectangle must not overflow int (TileRect::pixels) on the way.
     const int64_t w = int64_t(h.x1) - h.x0, hgt = int64_t(h.y1) - h.y0;
-    if (w <= 0 || hgt <= 0 || w > (1 << 20) || hgt > (1 << 20) || uint64_t(bytes.size() - sizeof h) != uint64_t(w * hgt * 3))
+    if (w <= 0 || hgt <= 0 || w > (1 << 20) || hgt > (1 << 20) ||
+        uint64_t(bytes.size() - sizeof h) != uint64_t(r.layout.bytes(size_t(w * hgt))))
         throw std::runtime_error("malformed result message: pixel count does not match its rectangle");
     r.busySeconds = h.busySeconds;
     r.rays = h.rays;

@@ -39,12 +39,27 @@ struct WorkItem {
     TileRect rect;
 };
 
-/// A rendered work item: tone-mapped, sRGB-encoded 8-bit RGB, rect.pixels() × 3 bytes.
+/// How the pixel bytes of a tile or frame are laid out: a plane of tone-mapped, sRGB-encoded
+/// 8-bit pixels (RGB, or straight RGBA when the background is transparent), then, when linear
+/// frames (EXR) are asked for, a plane of linear premultiplied RGBA floats. Every rank knows
+/// the layout from the job; rank 0 checks it on every result.
+struct PixelLayout {
+    int32_t channels = 3;  ///< 3 or 4 in the 8-bit plane
+    bool linear = false;
+
+    size_t bytes(size_t pixels) const { return pixels * (size_t(channels) + (linear ? 4 * sizeof(float) : 0)); }
+    /// Where the linear plane starts in a buffer of `pixels` pixels.
+    size_t linearOffset(size_t pixels) const { return pixels * size_t(channels); }
+    bool operator==(const PixelLayout& o) const { return channels == o.channels && linear == o.linear; }
+};
+
+/// A rendered work item: rect.pixels() pixels in `layout`.
 struct TileResult {
     WorkItem item;
     double busySeconds = 0.0;  ///< wall time the worker's threads spent on it
     RayStats rays;
-    std::vector<uint8_t> rgb;
+    PixelLayout layout;
+    std::vector<uint8_t> rgb;  ///< layout.bytes(rect.pixels()) bytes
 };
 
 /// A worker's sign of life. signalled: the worker received SIGINT/SIGTERM (mpirun forwards

@@ -8,6 +8,7 @@ extern "C" {
 #include <libavformat/avformat.h>
 #include <libavutil/imgutils.h>
 #include <libavutil/opt.h>
+#include <libavutil/pixdesc.h>
 #include <libswscale/swscale.h>
 }
 
@@ -15,32 +16,35 @@ namespace rf::farm {
 
 namespace {
 
-const char* kPresets[] = {"ultrafast", "superfast", "veryfast", "faster", "fast",
-                          "medium",    "slow",      "slower",   "veryslow", "placebo"};
-
-std::string avError(int rc) {
-    char buf[AV_ERROR_MAX_STRING_SIZE] = {0};
-    av_strerror(rc, buf, sizeof buf);
-    return buf;
+VideoRequest requestOf(const std::string& path, const Mp4Options& o) {
+    VideoRequest r;
+    r.path = path;
+    r.codec = o.codec;
+    r.crf = o.lossless ? -1 : o.crf;
+    r.preset = o.preset;
+    r.lossless = o.lossless;
+    r.alpha = o.channels == 4;
+    return r;
 }
 
 }  // namespace
 
-void mp4EncodedSize(int width, int height, const Mp4Options& o, int& encW, int& encH) {
-    encW = o.lossless ? width : width + (width & 1);
-    encH = o.lossless ? height : height + (height & 1);
+VideoFormat videoFormatOf(const std::string& path, const Mp4Options& o) { return videoFormatFor(requestOf(path, o)); }
+
+void mp4EncodedSize(int width, int height, const Mp4Options& o, int& encW, int& encH, const std::string& path) {
+    const bool even = videoFormatOf(path, o).evenSize;
+    encW = even ? width + (width & 1) : width;
+    encH = even ? height + (height & 1) : height;
 }
 
-std::string checkMp4Options(int width, int height, const Mp4Options& o) {
-    const char* encoder = o.lossless ? "libx264rgb" : "libx264";
-    if (!avcodec_find_encoder_by_name(encoder))
-        throw std::invalid_argument(std::string("this FFmpeg has no ") + encoder + " encoder (Debian's libavcodec has it)");
-    bool known = false;
-    for (const char* p : kPresets) known = known || o.preset == p;
-    if (!known) throw std::invalid_argument("--preset: expected an x264 preset (ultrafast … medium … placebo), got \"" + o.preset + "\"");
+std::string checkMp4Options(int width, int height, const Mp4Options& o, const std::string& path) {
     if (!(o.fps > 0.0 && o.fps <= 1000.0)) throw std::invalid_argument("--fps: expected a rate above 0 and up to 1000");
+    const VideoFormat f = videoFormatOf(path, o);
+    std::string note;
+    if (o.channels == 4 && !f.alpha)
+        note = path + " cannot carry alpha: its frames are laid over the background colour (PNG frames keep alpha; .webm and .mov carry it)";
     int w = 0, h = 0;
-    mp4EncodedSize(width, height, o, w, h);
+    mp4EncodedSize(width, height, o, w, h, path);
     // FFmpeg's own size limit (about 268 million pixels with padding): refused here, before any
     // rendering, rather than by the encoder after the first frame.
     const int logLevel = av_log_get_level();
@@ -51,31 +55,41 @@ std::string checkMp4Options(int width, int height, const Mp4Options& o) {
         throw std::invalid_argument("--size " + std::to_string(width) + "x" + std::to_string(height) +
                                     ": too large for FFmpeg's video encoders ((width+128)·(height+128) must stay below 2^28)");
     if (w != width || h != height)
-        return "the video is " + std::to_string(w) + "x" + std::to_string(h) + " (yuv420p needs even sizes: the last " +
-               (w != width ? std::string("column") : std::string("")) + (w != width && h != height ? " and " : "") +
-               (h != height ? std::string("row") : std::string("")) + " is repeated); the PNG frames keep " +
-               std::to_string(width) + "x" + std::to_string(height);
-    return "";
+        note += std::string(note.empty() ? "" : "; ") + "the video is " + std::to_string(w) + "x" + std::to_string(h) + " (" +
+                f.pixFmt + " needs even sizes: the last " + (w != width ? std::string("column") : std::string("")) +
+                (w != width && h != height ? " and " : "") + (h != height ? std::string("row") : std::string("")) +
+                " is repeated); the PNG frames keep " + std::to_string(width) + "x" + std::to_string(height);
+    return note;
+}
+
+void flattenRgba(const uint8_t* rgba, size_t pixels, const uint8_t over[3], uint8_t* rgb) {
+    for (size_t i = 0; i < pixels; ++i) {
+        const unsigned a = rgba[4 * i + 3];
+        for (int c = 0; c < 3; ++c) rgb[3 * i + c] = uint8_t((rgba[4 * i + c] * a + over[c] * (255 - a) + 127) / 255);
+    }
 }
 
 struct Mp4Sink::Impl {
     std::string path;
     int width = 0, height = 0, encW = 0, encH = 0;
+    int channels = 3;        ///< of the frames coming in
+    int srcChannels = 3;     ///< of what goes to swscale (RGBA only when the format keeps alpha)
+    uint8_t over[3] = {0, 0, 0};
     AVFormatContext* fmt = nullptr;
     AVCodecContext* ctx = nullptr;
     AVStream* stream = nullptr;
     SwsContext* sws = nullptr;
     AVFrame* frame = nullptr;
     AVPacket* pkt = nullptr;
-    std::vector<uint8_t> padded;
+    std::vector<uint8_t> flat, padded;
     int64_t nextPts = 0;
     bool closed = false;
 
     [[noreturn]] void fail(const std::string& what, int rc) {
-        throw std::runtime_error(path + ": " + what + (rc < 0 ? ": " + avError(rc) : std::string()));
+        throw std::runtime_error(path + ": " + what + (rc < 0 ? ": " + avErrorText(rc) : std::string()));
     }
 
-    void drain(bool flushing) {
+    void drain() {
         for (;;) {
             int rc = avcodec_receive_packet(ctx, pkt);
             if (rc == AVERROR(EAGAIN) || rc == AVERROR_EOF) return;
@@ -85,15 +99,7 @@ struct Mp4Sink::Impl {
             rc = av_interleaved_write_frame(fmt, pkt);  // takes ownership of the packet's data
             if (rc < 0) fail("writing failed", rc);
         }
-        (void)flushing;
     }
-
-    /// The muxer, the H.264 encoder and its stream, tagged BT.709.
-    void openEncoder(const Mp4Options& o);
-    /// The file at path, and the MP4 header with the index up front (faststart).
-    void openFile();
-    /// The frame the RGB pixels are converted into, and the converter (not for lossless RGB).
-    void allocFrame(bool lossless);
 
     void release() {
         if (sws) sws_freeContext(sws);
@@ -107,91 +113,89 @@ struct Mp4Sink::Impl {
             fmt = nullptr;
         }
     }
+
+    void openEncoder(const VideoFormat& vf, const Mp4Options& o);
+    void openFile(const VideoFormat& vf);
+    void makeConverter(AVPixelFormat pix);
+    const uint8_t* prepare(const std::vector<uint8_t>& in);
 };
 
-void Mp4Sink::Impl::openEncoder(const Mp4Options& o) {
-    Impl& m = *this;
-    int rc = avformat_alloc_output_context2(&m.fmt, nullptr, "mp4", path.c_str());
-    if (rc < 0 || !m.fmt) m.fail("cannot set up the MP4 muxer", rc);
-    const AVCodec* codec = avcodec_find_encoder_by_name(o.lossless ? "libx264rgb" : "libx264");
-    if (!codec) m.fail("no libx264 encoder in this FFmpeg", 0);
-    m.stream = avformat_new_stream(m.fmt, nullptr);
-    m.ctx = avcodec_alloc_context3(codec);
-    if (!m.stream || !m.ctx) m.fail("out of memory", 0);
+void Mp4Sink::Impl::openEncoder(const VideoFormat& vf, const Mp4Options& o) {
+    int rc = avformat_alloc_output_context2(&fmt, nullptr, vf.muxer.c_str(), path.c_str());
+    if (rc < 0 || !fmt) fail("cannot set up the " + vf.muxer + " muxer", rc);
+    const AVCodec* codec = avcodec_find_encoder_by_name(vf.encoder.c_str());
+    if (!codec) fail("no " + vf.encoder + " encoder in this FFmpeg", 0);
+    stream = avformat_new_stream(fmt, nullptr);
+    ctx = avcodec_alloc_context3(codec);
+    if (!stream || !ctx) fail("out of memory", 0);
 
     const AVRational rate = av_d2q(o.fps, 1001000);
-    m.ctx->width = m.encW;
-    m.ctx->height = m.encH;
-    m.ctx->framerate = rate;
-    m.ctx->time_base = av_inv_q(rate);
-    m.ctx->sample_aspect_ratio = {1, 1};
-    // One x264 thread: x264's output depends on its thread count, and "auto" follows the CPU
-    // affinity mpirun gives rank 0, so the same frames would encode differently at another
-    // rank count (and a --resume would not reproduce the video). One thread of the ultrafast
-    // preset encodes 640x360 at several hundred fps, far above what the farm renders.
-    m.ctx->thread_count = 1;
-    if (o.lossless) {
-        m.ctx->pix_fmt = AV_PIX_FMT_RGB24;
-        m.ctx->color_range = AVCOL_RANGE_JPEG;
-        m.ctx->colorspace = AVCOL_SPC_RGB;
-    } else {
-        m.ctx->pix_fmt = AV_PIX_FMT_YUV420P;
-        m.ctx->color_range = AVCOL_RANGE_MPEG;
-        m.ctx->colorspace = AVCOL_SPC_BT709;
-    }
+    const AVPixelFormat pix = av_get_pix_fmt(vf.pixFmt.c_str());
+    ctx->width = encW;
+    ctx->height = encH;
+    ctx->framerate = rate;
+    ctx->time_base = av_inv_q(rate);
+    ctx->sample_aspect_ratio = {1, 1};
+    // One encoder thread: x264's (and libvpx's) output depends on the thread count, and "auto"
+    // follows the CPU affinity mpirun gives rank 0, so the same frames would encode differently
+    // at another rank count (and a --resume would not reproduce the video). One thread of x264's
+    // ultrafast preset encodes 640x360 at several hundred fps, far above what the farm renders.
+    ctx->thread_count = 1;
+    ctx->pix_fmt = pix;
+    const bool rgb = (av_pix_fmt_desc_get(pix)->flags & AV_PIX_FMT_FLAG_RGB) != 0;
+    ctx->color_range = rgb ? AVCOL_RANGE_JPEG : AVCOL_RANGE_MPEG;
+    ctx->colorspace = rgb ? AVCOL_SPC_RGB : AVCOL_SPC_BT709;
     // Primaries and transfer tagged BT.709 (the sRGB primaries; players treat the sRGB curve as
     // BT.709 in practice), so every player shows the same colours.
-    m.ctx->color_primaries = AVCOL_PRI_BT709;
-    m.ctx->color_trc = AVCOL_TRC_BT709;
-    if (m.fmt->oformat->flags & AVFMT_GLOBALHEADER) m.ctx->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
+    ctx->color_primaries = AVCOL_PRI_BT709;
+    ctx->color_trc = AVCOL_TRC_BT709;
+    if (fmt->oformat->flags & AVFMT_GLOBALHEADER) ctx->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
 
     AVDictionary* copts = nullptr;
-    av_dict_set(&copts, "preset", o.preset.c_str(), 0);
-    if (o.lossless) av_dict_set(&copts, "qp", "0", 0);
-    else av_dict_set(&copts, "crf", std::to_string(o.crf).c_str(), 0);
-    rc = avcodec_open2(m.ctx, codec, &copts);
+    for (const auto& [k, v] : vf.encoderOptions) av_dict_set(&copts, k.c_str(), v.c_str(), 0);
+    rc = avcodec_open2(ctx, codec, &copts);
     av_dict_free(&copts);
-    if (rc < 0) m.fail("cannot open the H.264 encoder", rc);
-    rc = avcodec_parameters_from_context(m.stream->codecpar, m.ctx);
-    if (rc < 0) m.fail("cannot set stream parameters", rc);
-    m.stream->time_base = m.ctx->time_base;
-    m.stream->avg_frame_rate = rate;
-    m.stream->r_frame_rate = rate;
+    if (rc < 0) fail("cannot open the " + vf.encoder + " encoder", rc);
+    rc = avcodec_parameters_from_context(stream->codecpar, ctx);
+    if (rc < 0) fail("cannot set stream parameters", rc);
+    stream->time_base = ctx->time_base;
+    stream->avg_frame_rate = rate;
+    stream->r_frame_rate = rate;
+    // WebM signals VP9 alpha (coded as BlockAdditional side data) with AlphaMode on the track.
+    if (vf.alpha && vf.container == Container::Webm) av_dict_set(&stream->metadata, "alpha_mode", "1", 0);
 }
 
-void Mp4Sink::Impl::openFile() {
-    Impl& m = *this;
-    int rc = avio_open(&m.fmt->pb, path.c_str(), AVIO_FLAG_WRITE);
-    if (rc < 0) m.fail("cannot open for writing", rc);
+void Mp4Sink::Impl::openFile(const VideoFormat& vf) {
+    int rc = avio_open(&fmt->pb, path.c_str(), AVIO_FLAG_WRITE);
+    if (rc < 0) fail("cannot open for writing", rc);
     AVDictionary* fopts = nullptr;
-    av_dict_set(&fopts, "movflags", "+faststart", 0);
-    rc = avformat_write_header(m.fmt, &fopts);
+    if (vf.container == Container::Mp4 || vf.container == Container::Mov) av_dict_set(&fopts, "movflags", "+faststart", 0);
+    rc = avformat_write_header(fmt, &fopts);
     av_dict_free(&fopts);
-    if (rc < 0) m.fail("cannot write the MP4 header", rc);
+    if (rc < 0) fail("cannot write the " + vf.muxer + " header", rc);
 }
 
-void Mp4Sink::Impl::allocFrame(bool lossless) {
-    Impl& m = *this;
-    m.frame = av_frame_alloc();
-    m.pkt = av_packet_alloc();
-    if (!m.frame || !m.pkt) m.fail("out of memory", 0);
-    m.frame->format = m.ctx->pix_fmt;
-    m.frame->width = m.encW;
-    m.frame->height = m.encH;
-    m.frame->color_range = m.ctx->color_range;
-    m.frame->colorspace = m.ctx->colorspace;
-    m.frame->color_primaries = m.ctx->color_primaries;
-    m.frame->color_trc = m.ctx->color_trc;
-    const int rc = av_frame_get_buffer(m.frame, 0);
-    if (rc < 0) m.fail("out of memory", rc);
-    if (!lossless) {
-        m.sws = sws_getContext(m.encW, m.encH, AV_PIX_FMT_RGB24, m.encW, m.encH, AV_PIX_FMT_YUV420P,
-                               SWS_BILINEAR | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT, nullptr, nullptr, nullptr);
-        if (!m.sws) m.fail("cannot set up RGB to YUV conversion", 0);
-        // Full-range RGB in, BT.709 matrix and limited (TV) range out, matching the tags above.
-        const int* bt709 = sws_getCoefficients(SWS_CS_ITU709);
-        sws_setColorspaceDetails(m.sws, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16);
-    }
+void Mp4Sink::Impl::makeConverter(AVPixelFormat pix) {
+    frame = av_frame_alloc();
+    pkt = av_packet_alloc();
+    if (!frame || !pkt) fail("out of memory", 0);
+    frame->format = pix;
+    frame->width = encW;
+    frame->height = encH;
+    frame->color_range = ctx->color_range;
+    frame->colorspace = ctx->colorspace;
+    frame->color_primaries = ctx->color_primaries;
+    frame->color_trc = ctx->color_trc;
+    int rc = av_frame_get_buffer(frame, 0);
+    if (rc < 0) fail("out of memory", rc);
+    if (pix == AV_PIX_FMT_RGB24) return;  // lossless RGB: copied as it is
+    const AVPixelFormat src = srcChannels == 4 ? AV_PIX_FMT_RGBA : AV_PIX_FMT_RGB24;
+    sws = sws_getContext(encW, encH, src, encW, encH, pix, SWS_BILINEAR | SWS_ACCURATE_RND | SWS_FULL_CHR_H_INT, nullptr,
+                         nullptr, nullptr);
+    if (!sws) fail("cannot set up the RGB to YUV conversion", 0);
+    // Full-range RGB in, BT.709 matrix and limited (TV) range out, matching the tags above.
+    const int* bt709 = sws_getCoefficients(SWS_CS_ITU709);
+    sws_setColorspaceDetails(sws, bt709, 1, bt709, 0, 0, 1 << 16, 1 << 16);
 }
 
 Mp4Sink::Mp4Sink(const std::string& path, int width, int height, const Mp4Options& o) : impl_(std::make_unique<Impl>()) {
@@ -199,12 +203,21 @@ Mp4Sink::Mp4Sink(const std::string& path, int width, int height, const Mp4Option
     m.path = path;
     m.width = width;
     m.height = height;
-    mp4EncodedSize(width, height, o, m.encW, m.encH);
-    av_log_set_level(AV_LOG_ERROR);  // x264's per-run statistics are noise on the farm's stderr
+    m.channels = o.channels;
+    std::memcpy(m.over, o.flattenOver, 3);
+    av_log_set_level(AV_LOG_ERROR);  // the encoders' per-run statistics are noise on the farm's stderr
     try {
-        m.openEncoder(o);
-        m.openFile();
-        m.allocFrame(o.lossless);
+        VideoFormat vf;
+        try {
+            vf = videoFormatOf(path, o);
+        } catch (const std::invalid_argument& e) {
+            m.fail(e.what(), 0);
+        }
+        m.srcChannels = vf.alpha ? 4 : 3;
+        mp4EncodedSize(width, height, o, m.encW, m.encH, path);
+        m.openEncoder(vf, o);
+        m.openFile(vf);
+        m.makeConverter(m.ctx->pix_fmt);
     } catch (...) {
         m.release();
         throw;
@@ -220,36 +233,49 @@ Mp4Sink::~Mp4Sink() {
     impl_->release();
 }
 
+/// The frame as encW × encH pixels of srcChannels: flattened if the format has no alpha, padded
+/// if the size had to be made even.
+const uint8_t* Mp4Sink::Impl::prepare(const std::vector<uint8_t>& in) {
+    const size_t pixels = size_t(width) * height;
+    const uint8_t* src = in.data();
+    if (channels == 4 && srcChannels == 3) {
+        flat.resize(pixels * 3);
+        flattenRgba(src, pixels, over, flat.data());
+        src = flat.data();
+    }
+    if (encW == width && encH == height) return src;
+    // Repeat the last column and row rather than adding black, so chroma at the edge is not smeared.
+    const size_t ch = size_t(srcChannels);
+    padded.resize(size_t(encW) * encH * ch);
+    for (int y = 0; y < encH; ++y) {
+        const uint8_t* row = src + ch * size_t(std::min(y, height - 1)) * width;
+        uint8_t* dst = padded.data() + ch * size_t(y) * encW;
+        std::memcpy(dst, row, ch * size_t(width));
+        for (int x = width; x < encW; ++x) std::memcpy(dst + ch * x, row + ch * (width - 1), ch);
+    }
+    return padded.data();
+}
+
 void Mp4Sink::write(int, const std::vector<uint8_t>& rgb) {
     Impl& m = *impl_;
     if (m.closed) throw std::runtime_error(m.path + ": write after close");
-    if (rgb.size() != size_t(m.width) * m.height * 3) throw std::runtime_error(m.path + ": frame has the wrong size");
-    const uint8_t* src = rgb.data();
-    if (m.encW != m.width || m.encH != m.height) {
-        // Repeat the last column and row rather than adding black, so chroma at the edge is not smeared.
-        m.padded.resize(size_t(m.encW) * m.encH * 3);
-        for (int y = 0; y < m.encH; ++y) {
-            const uint8_t* row = rgb.data() + 3 * size_t(std::min(y, m.height - 1)) * m.width;
-            uint8_t* dst = m.padded.data() + 3 * size_t(y) * m.encW;
-            std::memcpy(dst, row, 3 * size_t(m.width));
-            for (int x = m.width; x < m.encW; ++x) std::memcpy(dst + 3 * x, row + 3 * (m.width - 1), 3);
-        }
-        src = m.padded.data();
-    }
+    if (rgb.size() < size_t(m.width) * m.height * m.channels) throw std::runtime_error(m.path + ": frame has the wrong size");
+    const uint8_t* src = m.prepare(rgb);
     int rc = av_frame_make_writable(m.frame);
     if (rc < 0) m.fail("out of memory", rc);
+    const int stride = m.srcChannels * m.encW;
     if (m.sws) {
         const uint8_t* planes[1] = {src};
-        const int strides[1] = {3 * m.encW};
+        const int strides[1] = {stride};
         sws_scale(m.sws, planes, strides, 0, m.encH, m.frame->data, m.frame->linesize);
     } else {
         for (int y = 0; y < m.encH; ++y)
-            std::memcpy(m.frame->data[0] + size_t(y) * m.frame->linesize[0], src + 3 * size_t(y) * m.encW, 3 * size_t(m.encW));
+            std::memcpy(m.frame->data[0] + size_t(y) * m.frame->linesize[0], src + size_t(y) * stride, size_t(stride));
     }
     m.frame->pts = m.nextPts++;
     rc = avcodec_send_frame(m.ctx, m.frame);
     if (rc < 0) m.fail("encoding failed", rc);
-    m.drain(false);
+    m.drain();
 }
 
 void Mp4Sink::close() {
@@ -258,9 +284,9 @@ void Mp4Sink::close() {
     m.closed = true;
     int rc = avcodec_send_frame(m.ctx, nullptr);
     if (rc < 0 && rc != AVERROR_EOF) m.fail("encoding failed", rc);
-    m.drain(true);
+    m.drain();
     rc = av_write_trailer(m.fmt);
-    if (rc < 0) m.fail("cannot finish the MP4", rc);
+    if (rc < 0) m.fail("cannot finish the " + std::string(m.fmt->oformat->name), rc);
     rc = avio_closep(&m.fmt->pb);
     if (rc < 0) m.fail("cannot close", rc);
 }

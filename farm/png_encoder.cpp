@@ -12,7 +12,7 @@ extern "C" {
 namespace rf::farm {
 
 struct PngEncoder::Impl {
-    int width = 0, height = 0;
+    int width = 0, height = 0, channels = 3;
     AVCodecContext* ctx = nullptr;
     AVFrame* frame = nullptr;
     AVPacket* pkt = nullptr;
@@ -23,10 +23,12 @@ struct PngEncoder::Impl {
     }
 };
 
-PngEncoder::PngEncoder(int width, int height) : impl_(std::make_unique<Impl>()) {
+PngEncoder::PngEncoder(int width, int height, int channels) : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     m.width = width;
     m.height = height;
+    m.channels = channels;
+    const AVPixelFormat pix = channels == 4 ? AV_PIX_FMT_RGBA : AV_PIX_FMT_RGB24;
     const AVCodec* codec = avcodec_find_encoder(AV_CODEC_ID_PNG);
     if (!codec) throw std::runtime_error("this FFmpeg has no PNG encoder");
     m.ctx = avcodec_alloc_context3(codec);
@@ -35,13 +37,13 @@ PngEncoder::PngEncoder(int width, int height) : impl_(std::make_unique<Impl>()) 
     if (!m.ctx || !m.frame || !m.pkt) throw std::runtime_error("out of memory");
     m.ctx->width = width;
     m.ctx->height = height;
-    m.ctx->pix_fmt = AV_PIX_FMT_RGB24;
+    m.ctx->pix_fmt = pix;
     m.ctx->time_base = {1, 25};
     m.ctx->compression_level = 1;
     m.ctx->thread_count = 1;
     av_opt_set(m.ctx->priv_data, "pred", "sub", 0);
     if (avcodec_open2(m.ctx, codec, nullptr) < 0) throw std::runtime_error("cannot open the PNG encoder");
-    m.frame->format = AV_PIX_FMT_RGB24;
+    m.frame->format = pix;
     m.frame->width = width;
     m.frame->height = height;
     if (av_frame_get_buffer(m.frame, 0) < 0) throw std::runtime_error("out of memory");
@@ -51,10 +53,11 @@ PngEncoder::~PngEncoder() = default;
 
 std::string PngEncoder::encode(const std::vector<uint8_t>& rgb) {
     Impl& m = *impl_;
-    if (rgb.size() != size_t(m.width) * m.height * 3) throw std::runtime_error("PNG frame has the wrong size");
+    const size_t row = size_t(m.channels) * m.width;
+    if (rgb.size() < row * m.height) throw std::runtime_error("PNG frame has the wrong size");
     if (av_frame_make_writable(m.frame) < 0) throw std::runtime_error("out of memory");
     for (int y = 0; y < m.height; ++y)
-        std::memcpy(m.frame->data[0] + size_t(y) * m.frame->linesize[0], rgb.data() + 3 * size_t(y) * m.width, 3 * size_t(m.width));
+        std::memcpy(m.frame->data[0] + size_t(y) * m.frame->linesize[0], rgb.data() + row * y, row);
     if (avcodec_send_frame(m.ctx, m.frame) < 0) throw std::runtime_error("PNG encoding failed");
     if (avcodec_receive_packet(m.ctx, m.pkt) < 0) throw std::runtime_error("PNG encoding failed");
     std::string out(reinterpret_cast<const char*>(m.pkt->data), size_t(m.pkt->size));

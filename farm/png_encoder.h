@@ -11,13 +11,14 @@ namespace rf::farm {
 
 class PngEncoder {
 public:
-    /// Throws std::runtime_error if FFmpeg has no PNG encoder.
-    PngEncoder(int width, int height);
+    /// channels: 3 (RGB) or 4 (straight RGBA). Throws std::runtime_error if FFmpeg has no PNG
+    /// encoder.
+    PngEncoder(int width, int height, int channels = 3);
     ~PngEncoder();
     PngEncoder(const PngEncoder&) = delete;
     PngEncoder& operator=(const PngEncoder&) = delete;
 
-    /// width × height × 3 bytes of RGB to a complete PNG file image.
+    /// width × height × channels bytes (more are ignored) to a complete PNG file image.
     std::string encode(const std::vector<uint8_t>& rgb);
 
 private:

@@ -26,14 +26,15 @@ const char* kChecksums = "rayfarm-frames.sha256";  ///< "HEX  frame_NNNNNN.png" 
 
 uint32_t bigEndian(const unsigned char* p) { return uint32_t(p[0]) << 24 | uint32_t(p[1]) << 16 | uint32_t(p[2]) << 8 | p[3]; }
 
-bool isCompletePng(const std::string& path, int width, int height) {
+bool isCompletePng(const std::string& path, int width, int height, int channels) {
     std::ifstream f(path, std::ios::binary);
     if (!f) return false;
-    unsigned char head[24];
+    unsigned char head[26];
     if (!f.read(reinterpret_cast<char*>(head), sizeof head)) return false;
     static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
     if (std::memcmp(head, sig, 8) != 0 || std::memcmp(head + 12, "IHDR", 4) != 0) return false;
     if (bigEndian(head + 16) != uint32_t(width) || bigEndian(head + 20) != uint32_t(height)) return false;
+    if (head[24] != 8 || head[25] != (channels == 4 ? 6 : 2)) return false;  // 8-bit RGB (2) or RGBA (6)
     unsigned char tail[12];
     f.seekg(-12, std::ios::end);
     if (!f.read(reinterpret_cast<char*>(tail), sizeof tail)) return false;
@@ -50,7 +51,7 @@ std::string framePngPath(const std::string& dir, int frame) {
 void PngSink::write(int frame, const std::vector<uint8_t>& rgb) {
     const std::string path = framePngPath(dir_, frame);
     const std::string tmp = path + ".part";
-    if (!encoder_) encoder_ = std::make_unique<PngEncoder>(width_, height_);
+    if (!encoder_) encoder_ = std::make_unique<PngEncoder>(width_, height_, channels_);
     const std::string png = encoder_->encode(rgb);
     // No fsync per frame (it would stall the sink at 30 fps); write and close are checked,
     // and the resume check verifies each kept frame's digest anyway.
@@ -145,7 +146,7 @@ std::string readAll(const std::string& path) {
 }  // namespace
 
 std::set<int> findKeptFrames(const std::string& dir, const std::vector<int>& frames, int width, int height,
-                             std::vector<int>* corrupt) {
+                             std::vector<int>* corrupt, int channels) {
     const std::map<std::string, std::string> recorded = recordedDigests(dir);
     std::set<int> kept;
     for (int f : frames) {
@@ -153,7 +154,7 @@ std::set<int> findKeptFrames(const std::string& dir, const std::vector<int>& fra
         if (!std::filesystem::exists(path)) continue;
         const auto it = recorded.find(std::filesystem::path(path).filename().string());
         // A middle bit flipped keeps header and IEND intact: only the digest tells.
-        const bool good = isCompletePng(path, width, height) && it != recorded.end() && sha256Hex(readAll(path)) == it->second;
+        const bool good = isCompletePng(path, width, height, channels) && it != recorded.end() && sha256Hex(readAll(path)) == it->second;
         if (good) kept.insert(f);
         else if (corrupt) corrupt->push_back(f);
     }
@@ -163,7 +164,7 @@ std::set<int> findKeptFrames(const std::string& dir, const std::vector<int>& fra
 void prepareFramesDir(const std::string& dir) {
     ensureWritableDir(dir);
     const bool ours = std::filesystem::exists(std::filesystem::path(dir) / "rayfarm-frames.json");
-    static const std::regex framePattern(R"(frame_\d{6}\.png(\.part)?)");
+    static const std::regex framePattern(R"(frame_\d{6}\.(png|exr)(\.part)?)");
     std::vector<std::filesystem::path> old;
     for (const auto& e : std::filesystem::directory_iterator(dir))
         if (std::regex_match(e.path().filename().string(), framePattern)) old.push_back(e.path());

@@ -20,13 +20,15 @@ std::string framePngPath(const std::string& dir, int frame);
 /// checksum list.
 class PngSink : public FrameSink {
 public:
-    PngSink(std::string dir, int width, int height) : dir_(std::move(dir)), width_(width), height_(height) {}
+    /// channels: the 8-bit plane's, 3 (RGB) or 4 (straight RGBA); a linear plane after it is ignored.
+    PngSink(std::string dir, int width, int height, int channels = 3)
+        : dir_(std::move(dir)), width_(width), height_(height), channels_(channels) {}
     void write(int frame, const std::vector<uint8_t>& rgb) override;
     void close() override {}
 
 private:
     std::string dir_;
-    int width_, height_;
+    int width_, height_, channels_;
     std::unique_ptr<PngEncoder> encoder_;  ///< made on the sink's thread, at the first frame
 };
 
@@ -49,8 +51,8 @@ void prepareFramesDir(const std::string& dir);
 
 /// Frames of `frames` already in dir as complete PNGs of width × height whose SHA-256 matches
 /// the one recorded when they were written. Frames present but failing that check are listed
-/// in `corrupt` (they are rendered again).
+/// in `corrupt` (they are rendered again). channels: 3 (RGB PNGs) or 4 (RGBA).
 std::set<int> findKeptFrames(const std::string& dir, const std::vector<int>& frames, int width, int height,
-                             std::vector<int>* corrupt = nullptr);
+                             std::vector<int>* corrupt = nullptr, int channels = 3);
 
 }  // namespace rf::farm

@@ -1,14 +1,29 @@
 #include "render_engine.h"
 
 #include <chrono>
+#include <cstring>
 
 #include "image.h"
 #include "render.h"
 
 namespace rf::farm {
 
-RenderEngine::RenderEngine(Scene scene, anim::Timeline timeline, RenderSettings settings, int threads)
-    : scene_(std::move(scene)), timeline_(std::move(timeline)), settings_(settings), threads_(std::max(1, threads)) {
+namespace {
+
+/// The linear plane of a PixelLayout: premultiplied RGBA floats, interleaved (alpha 1 where the
+/// background is not transparent). Copied byte-wise: the plane need not be float-aligned.
+void appendLinearPlane(const std::vector<float>& rgb, const std::vector<float>& alpha, bool transparent, uint8_t* dst) {
+    const size_t pixels = alpha.size();
+    for (size_t i = 0; i < pixels; ++i) {
+        const float px[4] = {rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2], transparent ? alpha[i] : 1.f};
+        std::memcpy(dst + i * sizeof px, px, sizeof px);
+    }
+}
+
+}  // namespace
+
+RenderEngine::RenderEngine(Scene scene, anim::Timeline timeline, RenderSettings settings, int threads, bool linear)
+    : scene_(std::move(scene)), timeline_(std::move(timeline)), settings_(settings), threads_(std::max(1, threads)), linear_(linear) {
     thread_ = std::thread([this] { loop(); });
 }
 
@@ -76,7 +91,7 @@ void RenderEngine::loop() {
             current_ = item.frame;
         }
         try {
-            TileResult r = render(scene_, timeline_, settings_, threads_, item, appliedFrame_);
+            TileResult r = render(scene_, timeline_, settings_, threads_, item, appliedFrame_, linear_);
             std::lock_guard<std::mutex> lock(mutex_);
             results_.push_back(std::move(r));
             current_ = -1;
@@ -92,7 +107,7 @@ void RenderEngine::loop() {
 }
 
 TileResult RenderEngine::render(Scene& scene, const anim::Timeline& tl, const RenderSettings& s, int threads,
-                                const WorkItem& item, int& appliedFrame) {
+                                const WorkItem& item, int& appliedFrame, bool linear) {
     const auto t0 = std::chrono::steady_clock::now();
     if (appliedFrame != item.frame) {
         // The timeline overwrites absolute state, so frames may come in any order.
@@ -104,8 +119,16 @@ TileResult RenderEngine::render(Scene& scene, const anim::Timeline& tl, const Re
     const int sub = rect.pixels() <= 128 * 128 ? 16 : std::max(8, s.tileSize);
     TileResult out;
     out.item = item;
-    out.rgb.resize(size_t(rect.pixels()) * 3);
-    renderRect(scene, scene.camera, s, item.frame, rect, threads, sub, {nullptr, nullptr, out.rgb.data()}, out.rays);
+    out.layout.channels = scene.transparentBackground ? 4 : 3;
+    out.layout.linear = linear;
+    const size_t pixels = size_t(rect.pixels());
+    out.rgb.resize(out.layout.bytes(pixels));
+    RectBuffers buffers;
+    (out.layout.channels == 4 ? buffers.rgba8 : buffers.rgb8) = out.rgb.data();
+    std::vector<float> rgbLinear(linear ? 3 * pixels : 0), alpha(linear ? pixels : 0);
+    if (linear) buffers.linear = rgbLinear.data(), buffers.alpha = alpha.data();
+    renderRect(scene, scene.camera, s, item.frame, rect, threads, sub, buffers, out.rays);
+    if (linear) appendLinearPlane(rgbLinear, alpha, scene.transparentBackground, out.rgb.data() + out.layout.linearOffset(pixels));
     out.busySeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;
 }

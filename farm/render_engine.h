@@ -17,8 +17,9 @@ namespace rf::farm {
 
 class RenderEngine {
 public:
-    /// threads: render threads for this rank (≥ 1).
-    RenderEngine(Scene scene, anim::Timeline timeline, RenderSettings settings, int threads);
+    /// threads: render threads for this rank (≥ 1). linear: results carry the linear plane too
+    /// (PixelLayout), for EXR frames.
+    RenderEngine(Scene scene, anim::Timeline timeline, RenderSettings settings, int threads, bool linear = false);
     ~RenderEngine();
     RenderEngine(const RenderEngine&) = delete;
     RenderEngine& operator=(const RenderEngine&) = delete;
@@ -36,9 +37,10 @@ public:
     void cancelQueued();
 
     /// Renders item synchronously on the calling thread's pool (no queue): the pure function
-    /// every mode reduces to. Public for tests.
+    /// every mode reduces to. Public for tests. The 8-bit plane is RGBA when the scene's
+    /// background is transparent.
     static TileResult render(Scene& scene, const anim::Timeline& tl, const RenderSettings& s, int threads,
-                             const WorkItem& item, int& appliedFrame);
+                             const WorkItem& item, int& appliedFrame, bool linear = false);
 
 private:
     void loop();
@@ -47,6 +49,7 @@ private:
     anim::Timeline timeline_;
     RenderSettings settings_;
     int threads_;
+    bool linear_;
     int appliedFrame_ = -1;
 
     mutable std::mutex mutex_;

@@ -9,13 +9,15 @@
 namespace rf::farm {
 
 const char* kRenderHelp =
-    "usage: rayfarm render SCENE|MODEL -o out.mp4 [options]\n"
+    "usage: rayfarm render SCENE|MODEL -o out.mp4|.webm|.mov|.gif [options]\n"
     "       mpirun -np N rayfarm render SCENE|MODEL -o out.mp4 [options]\n"
     "\n"
-    "Renders the scene's timeline (a bare glTF model: the default turntable) to an H.264 MP4.\n"
+    "Renders the scene's timeline (a bare glTF model: the default turntable) to a video.\n"
     "Without mpirun it runs as one process on all cores; under mpirun rank 0 hands out work.\n"
     "\n"
-    "  -o FILE           output MP4 (required)\n"
+    "  -o FILE           the video (required); its name picks the format: .mp4 H.264, .webm VP9\n"
+    "                    (with alpha when transparent), .mov ProRes 4444 (with alpha), .gif\n"
+    "                    (a palette made for the film, looping)\n"
     "  --mode M          pixel (tiles of every frame), frame (whole frames) or auto (default)\n"
     "  --frames A:B      frames A to B of the timeline, inclusive (default: all); A: or :B too\n"
     "  --fps N           frame rate of the timeline and the video (default: the scene's; a\n"
@@ -30,8 +32,20 @@ const char* kRenderHelp =
     "                    closing it does not stop the render\n"
     "  --resume          render only the frames missing from the frames directory, then encode\n"
     "                    the whole video again (the same settings are required)\n"
-    "  --crf N           x264 quality, 0-51 (default 18; lower is better)\n"
-    "  --preset P        x264 preset, ultrafast ... placebo (default ultrafast)\n"
+    "  --codec C         h264 (.mp4), vp9 (.webm), prores (.mov), gif (.gif): only the file's own\n"
+    "  --crf N           quality, lower is better: H.264 0-51 (default 18), VP9 0-63 (32);\n"
+    "                    ProRes and GIF have none\n"
+    "  --preset P        H.264: x264 preset, ultrafast ... placebo (default ultrafast); VP9: the\n"
+    "                    same names as cpu-used 8 ... 0; ProRes: profile 4444 (default), 4444xq,\n"
+    "                    hq, standard, lt, proxy; GIF: dither sierra2_4a (default), bayer,\n"
+    "                    floyd_steinberg, none\n"
+    "  --background B    transparent (alpha: PNG frames RGBA, .webm/.mov/.gif carry it, .mp4 is\n"
+    "                    laid over the scene's background colour), #RRGGBB or R,G,B (linear)\n"
+    "  --frames-format F png (default) or exr: also a half-float OpenEXR per frame, linear and\n"
+    "                    not tone-mapped, with alpha (premultiplied)\n"
+    "  --contact-sheet F a PNG grid of evenly spaced frames labelled with frame and time; written\n"
+    "                    when the film completes or is interrupted, from finished frames only\n"
+    "  --poster F        one frame full size as PNG (--poster-frame N, default the first)\n"
     "  --lossless        RGB H.264 at qp 0: decodes to the PNG frames bit for bit (not every\n"
     "                    player plays it; for reference comparisons)\n"
     "  --threads N       render threads per rank (default: the node's cores shared by its ranks)\n"
@@ -45,7 +59,8 @@ const char* kRenderHelp =
 
 void declareRenderOptions(cli::ArgParser& p) {
     for (const char* o : {"-o", "--mode", "--frames", "--fps", "--size", "--spp", "--depth", "--min-weight", "--tonemap",
-                          "--frames-dir", "--crf", "--preset", "--stats", "--threads", "--timeout"})
+                          "--frames-dir", "--crf", "--preset", "--stats", "--threads", "--timeout", "--codec", "--background",
+                          "--frames-format", "--contact-sheet", "--poster", "--poster-frame"})
         p.option(o);
     for (const char* f : {"--resume", "--lossless", "--no-frames", "--preview", "--help", "-h"}) p.flag(f);
 }
@@ -57,8 +72,11 @@ RenderJob jobFromOptions(const cli::ArgParser& p) {
     j.scenePath = p.positional()[0];
     if (!p.value("-o")) throw UsageError("render: -o out.mp4 is required");
     j.output = *p.value("-o");
-    const std::string ext = std::filesystem::path(j.output).extension().string();
-    if (ext != ".mp4" && ext != ".MP4") throw UsageError(j.output + ": the output must be an .mp4 file");
+    try {
+        containerFor(j.output);
+    } catch (const std::invalid_argument& e) {
+        throw UsageError(j.output + ": " + e.what());
+    }
     if (p.has("--no-frames") && p.has("--frames-dir")) throw UsageError("--no-frames and --frames-dir contradict each other");
     if (p.has("--no-frames") && p.has("--resume")) throw UsageError("--resume needs the frames directory (drop --no-frames)");
     if (p.has("--no-frames") && p.has("--preview")) throw UsageError("--preview shows the PNG frames as they complete (drop --no-frames)");
@@ -69,10 +87,24 @@ RenderJob jobFromOptions(const cli::ArgParser& p) {
     if (j.modeOption != "auto" && j.modeOption != "pixel" && j.modeOption != "frame")
         throw UsageError("--mode: expected pixel, frame or auto, got \"" + j.modeOption + "\"");
     j.resume = p.has("--resume");
-    j.mp4.crf = p.intValue("--crf", 18, 0, 51);
-    j.mp4.preset = p.value("--preset").value_or("ultrafast");
+    // Ranges and names per format are checked by videoFormatFor once the alpha is known.
+    j.mp4.crf = p.intValue("--crf", -1, 0, 63);
+    j.mp4.preset = p.value("--preset").value_or("");
+    j.mp4.codec = p.value("--codec").value_or("");
     j.mp4.lossless = p.has("--lossless");
     if (j.mp4.lossless && p.has("--crf")) throw UsageError("--lossless and --crf contradict each other");
+    if (auto b = p.value("--background")) j.background = cli::parseBackground(*b);
+    const std::string framesFormat = p.value("--frames-format").value_or("png");
+    if (framesFormat != "png" && framesFormat != "exr") throw UsageError("--frames-format: expected png or exr, got \"" + framesFormat + "\"");
+    j.exrFrames = framesFormat == "exr";
+    if (j.exrFrames && j.framesDir.empty()) throw UsageError("--frames-format exr needs the frames directory (drop --no-frames)");
+    j.contactSheet = p.value("--contact-sheet").value_or("");
+    j.poster = p.value("--poster").value_or("");
+    for (const std::string* png : {&j.contactSheet, &j.poster})
+        if (!png->empty() && std::filesystem::path(*png).extension() != ".png")
+            throw UsageError(*png + ": expected a .png file name");
+    j.posterFrame = p.intValue("--poster-frame", -1, 0, 1 << 30);
+    if (j.posterFrame >= 0 && j.poster.empty()) throw UsageError("--poster-frame needs --poster FILE.png");
     j.threads = p.intValue("--threads", 0, 0, 4096);
     j.workerTimeout = p.doubleValue("--timeout", 10.0);
     if (!(j.workerTimeout >= 0.5 && j.workerTimeout <= 86400)) throw UsageError("--timeout: expected seconds from 0.5 to 86400");
@@ -129,6 +161,10 @@ std::string RenderJob::identity() const {
     j["tonemap"] = settings.toneMap == ToneMap::Clamp ? "clamp" : "reinhard";
     j["timeline_frames"] = timelineFrames;
     j["timeline_fps"] = timelineFps;
+    // Only when asked for, so frames directories written before these options still resume.
+    if (background.kind == cli::BackgroundChoice::Transparent) j["background"] = "transparent";
+    if (background.kind == cli::BackgroundChoice::Colour) j["background"] = {background.r, background.g, background.b};
+    if (exrFrames) j["frames_format"] = "exr";
     return j.dump();
 }
 
@@ -136,13 +172,19 @@ std::string encodeWorkerJob(const RenderJob& j) {
     // Settings as a byte copy: every rank runs the same executable, and a field added to
     // RenderSettings later travels without anyone remembering to add it here.
     static_assert(std::is_trivially_copyable_v<RenderSettings>);
-    return std::string(reinterpret_cast<const char*>(&j.settings), sizeof(RenderSettings));
+    static_assert(std::is_trivially_copyable_v<WorkerOutputs>);
+    const WorkerOutputs outputs{j.background, j.exrFrames ? 1 : 0};
+    return std::string(reinterpret_cast<const char*>(&j.settings), sizeof(RenderSettings)) +
+           std::string(reinterpret_cast<const char*>(&outputs), sizeof outputs);
 }
 
-RenderSettings decodeWorkerJob(const std::string& bytes) {
-    if (bytes.size() != sizeof(RenderSettings)) throw std::runtime_error("malformed job broadcast");
+RenderSettings decodeWorkerJob(const std::string& bytes, WorkerOutputs* outputs) {
+    if (bytes.size() != sizeof(RenderSettings) + sizeof(WorkerOutputs)) throw std::runtime_error("malformed job broadcast");
     RenderSettings s;
     std::memcpy(&s, bytes.data(), sizeof s);
+    WorkerOutputs o;
+    std::memcpy(&o, bytes.data() + sizeof s, sizeof o);
+    if (outputs) *outputs = o;
     return s;
 }
 

@@ -4,7 +4,9 @@
 #include <string>
 #include <vector>
 
+#include "background_option.h"
 #include "cli.h"
+#include "messages.h"
 #include "mp4_sink.h"
 #include "scheduler.h"
 #include "settings.h"
@@ -13,7 +15,7 @@ namespace rf::farm {
 
 struct RenderJob {
     std::string scenePath;
-    std::string output;          ///< the MP4
+    std::string output;          ///< the video (.mp4, .webm, .mov, .gif)
     std::string framesDir;       ///< "" with --no-frames
     std::string statsPath;
     RenderSettings settings;
@@ -25,12 +27,20 @@ struct RenderJob {
     Mode mode = Mode::Frame;
     std::string modeWhy;
     bool resume = false;
-    Mp4Options mp4;
+    Mp4Options mp4;              ///< the video's options, read per format by videoFormatOf
+    cli::BackgroundChoice background;  ///< --background
+    bool transparent = false;    ///< decided: the background is transparent (RGBA frames)
+    bool exrFrames = false;      ///< --frames-format exr: linear half-float EXR frames too
+    std::string contactSheet;    ///< --contact-sheet FILE.png, "" if not asked for
+    std::string poster;          ///< --poster FILE.png, "" if not asked for
+    int posterFrame = -1;        ///< --poster-frame (timeline index), -1: the first frame
     int threads = 0;             ///< --threads (0: share the node's cores among its ranks)
     double workerTimeout = 10.0;
     int tileSize = 128;          ///< pixel mode's work-item size (split again into 16x16 on the rank)
 
     std::vector<int> frames() const;
+    /// How every rank lays out the pixels of this job's tiles and frames.
+    PixelLayout layout() const { return {transparent ? 4 : 3, exrFrames}; }
     /// Identifies what a frames directory holds, for --resume.
     std::string identity() const;
 };
@@ -44,9 +54,16 @@ RenderJob jobFromOptions(const cli::ArgParser& p);
 /// Parses "A:B", "A:", ":B" or "A" against a timeline of n frames (inclusive, 0-based).
 void parseFrameRange(const std::string& text, int n, int& first, int& last);
 
+/// What shapes the workers' results beyond the render settings: the background and whether
+/// the linear plane (EXR frames) is wanted. Trivially copyable: it travels as bytes.
+struct WorkerOutputs {
+    cli::BackgroundChoice background;
+    int32_t linear = 0;
+};
 /// What the workers need beyond the scene bundle and the options every rank parsed (the render
-/// settings rank 0 settled on), as bytes for the scene broadcast, and back.
+/// settings rank 0 settled on, the outputs' pixel needs), as bytes for the scene broadcast, and
+/// back. outputs (if given) gets the WorkerOutputs.
 std::string encodeWorkerJob(const RenderJob& j);
-RenderSettings decodeWorkerJob(const std::string& bytes);
+RenderSettings decodeWorkerJob(const std::string& bytes, WorkerOutputs* outputs = nullptr);
 
 }  // namespace rf::farm

@@ -5,7 +5,11 @@
 #include <set>
 #include <thread>
 
+#include "background_option.h"
+#include "contact_sheet.h"
+#include "exr_frames.h"
 #include "frame_assembler.h"
+#include "gif_sink.h"
 #include "image.h"
 #include "interrupt.h"
 #include "master.h"
@@ -37,7 +41,7 @@ FramePlan planFrames(const RenderJob& job, const std::function<void(const std::s
     p.order = job.frames();
     if (job.resume) {
         std::vector<int> corrupt;
-        p.kept = findKeptFrames(job.framesDir, p.order, job.settings.width, job.settings.height, &corrupt);
+        p.kept = keptFramesForJob(job, &corrupt);
         for (int f : corrupt)
             log("note: " + framePngPath(job.framesDir, f) + ": does not match the checksum recorded when it was written; rendering it again");
         char line[256];
@@ -131,7 +135,7 @@ void FarmRun::emit(ReadyFrame& rf, int total) {
     const int width = job_.settings.width, height = job_.settings.height;
     if (rf.onDisk) {
         int w = 0, h = 0;
-        rf.rgb = readImageRgb8(framePngPath(job_.framesDir, rf.frame), w, h);
+        rf.rgb = readImage8(framePngPath(job_.framesDir, rf.frame), w, h, job_.layout().channels);
         if (w != width || h != height) throw std::runtime_error(framePngPath(job_.framesDir, rf.frame) + ": wrong size");
         ++encodedKept_;
     }
@@ -213,10 +217,10 @@ FarmOutcome FarmRun::run(SharedScene& shared) {
     const FramePlan plan = planFrames(job_, opts_.log);
     const MasterConfig cfg = masterConfig(int(plan.order.size()));
     std::unique_ptr<Scheduler> sched = makeScheduler(job_, plan.toRender, renderers, cfg.credits);
-    FrameAssembler assembler(job_.settings.width, job_.settings.height, plan.order, plan.kept);
+    FrameAssembler assembler(job_.settings.width, job_.settings.height, plan.order, plan.kept, job_.layout());
     anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, job_.fpsOption);
     std::unique_ptr<RenderEngine> local;
-    if (rank0Renders_) local = std::make_unique<RenderEngine>(std::move(shared.scene), timeline, job_.settings, opts_.threads);
+    if (rank0Renders_) local = std::make_unique<RenderEngine>(std::move(shared.scene), timeline, job_.settings, opts_.threads, job_.exrFrames);
 
     const int total = int(plan.order.size());
     Master master(t_, *sched, assembler, local.get(), [&](ReadyFrame& rf) { emit(rf, total); }, cfg);
@@ -281,8 +285,7 @@ RunStats FarmRun::stats(const MasterOutcome& o, Clock::time_point end, const Sha
     s.extra["scene_bytes"] = double(shared.bundleBytes);
     s.extraText["mode_reason"] = job_.modeWhy;
     s.extraText["rank0_renders"] = rank0Renders_ ? "yes" : "no";
-    s.extraText["encoder"] =
-        job_.mp4.lossless ? "libx264rgb qp 0" : "libx264 crf " + std::to_string(job_.mp4.crf) + " " + job_.mp4.preset;
+    s.extraText["encoder"] = videoFormatOf(job_.output, job_.mp4).describe;
     return s;
 }
 
@@ -292,11 +295,52 @@ std::string frameSpan(int first, int last) {
     return first == last ? std::to_string(first) : std::to_string(first) + "–" + std::to_string(last);
 }
 
-FarmSinks sinksForJob(const RenderJob& job) {
+namespace {
+
+/// One sink, or a TeeSink over several.
+std::unique_ptr<FrameSink> teeOf(std::vector<std::unique_ptr<FrameSink>> sinks) {
+    return sinks.size() == 1 ? std::move(sinks[0]) : std::make_unique<TeeSink>(std::move(sinks));
+}
+
+}  // namespace
+
+FarmSinks sinksForJob(const RenderJob& job, std::function<double(int)> frameTime) {
+    const int w = job.settings.width, h = job.settings.height;
+    const PixelLayout layout = job.layout();
+    std::vector<std::unique_ptr<FrameSink>> inOrder;
+    const VideoFormat video = videoFormatOf(job.output, job.mp4);
+    if (video.container == Container::Gif) {
+        const std::string dither = video.encoderOptions.at(0).second;
+        inOrder.push_back(std::make_unique<GifSink>(job.output, w, h, layout.channels, job.mp4.fps, dither));
+    } else {
+        inOrder.push_back(std::make_unique<Mp4Sink>(job.output, w, h, job.mp4));
+    }
+    if (!frameTime) frameTime = [fps = job.mp4.fps](int f) { return f / fps; };
+    if (!job.contactSheet.empty())
+        inOrder.push_back(std::make_unique<ContactSheetSink>(job.contactSheet, w, h, layout.channels, job.first, job.last, frameTime));
+    if (!job.poster.empty())
+        inOrder.push_back(std::make_unique<PosterSink>(job.poster, job.posterFrame >= 0 ? job.posterFrame : job.first, w, h, layout.channels));
     FarmSinks s;
-    s.video = std::make_unique<Mp4Sink>(job.output, job.settings.width, job.settings.height, job.mp4);
-    if (!job.framesDir.empty()) s.frames = std::make_unique<PngSink>(job.framesDir, job.settings.width, job.settings.height);
+    s.video = teeOf(std::move(inOrder));
+    if (!job.framesDir.empty()) {
+        std::vector<std::unique_ptr<FrameSink>> frames;
+        frames.push_back(std::make_unique<PngSink>(job.framesDir, w, h, layout.channels));
+        if (job.exrFrames) frames.push_back(std::make_unique<ExrSink>(job.framesDir, w, h, layout));
+        s.frames = teeOf(std::move(frames));
+    }
     return s;
+}
+
+std::set<int> keptFramesForJob(const RenderJob& job, std::vector<int>* corrupt) {
+    const std::vector<int> order = job.frames();
+    const int w = job.settings.width, h = job.settings.height;
+    std::set<int> kept = findKeptFrames(job.framesDir, order, w, h, corrupt, job.layout().channels);
+    if (!job.exrFrames) return kept;
+    const std::set<int> exr = findKeptExrFrames(job.framesDir, order, w, h);
+    std::set<int> both;
+    for (int f : kept)
+        if (exr.count(f)) both.insert(f);
+    return both;
 }
 
 FarmOutcome runFarm(Transport& t, const RenderJob& job, SharedScene& shared, FarmSinks sinks, const FarmOptions& opts) {
@@ -308,10 +352,13 @@ FarmOutcome runFarm(Transport& t, const RenderJob& job, SharedScene& shared, Far
 
 int runFarmWorker(Transport& t, SharedScene& shared, double fpsOption, int threads, double masterTimeout) {
     try {
-        const RenderSettings settings = decodeWorkerJob(shared.job);
+        WorkerOutputs outputs;
+        const RenderSettings settings = decodeWorkerJob(shared.job, &outputs);
+        // The background as rank 0 decided it: the broadcast carries the scene's files, not rank 0's scene.
+        cli::applyBackground(outputs.background, shared.scene);
         // Every rank parsed the same options, so the worker's timeline matches rank 0's.
         anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, fpsOption);
-        RenderEngine engine(std::move(shared.scene), timeline, settings, threads);
+        RenderEngine engine(std::move(shared.scene), timeline, settings, threads, outputs.linear != 0);
         return runWorker(t, engine, masterTimeout);
     } catch (const std::exception& e) {
         reportWorkerError(t, e.what());

@@ -19,6 +19,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -36,9 +37,18 @@ struct FarmSinks {
     std::unique_ptr<FrameSink> frames;  ///< each frame as soon as it is complete (PNG frames); optional
 };
 
-/// The sinks a job names: the MP4 at job.output and, when job.framesDir is set, the PNG frames.
-/// Opens the encoder, so it throws what Mp4Sink throws on an unwritable output.
-FarmSinks sinksForJob(const RenderJob& job);
+/// The sinks a job names: the video at job.output in the format its name picked (MP4, WebM,
+/// MOV: Mp4Sink; GIF: GifSink), with the contact sheet and the poster beside it in output
+/// order; when job.framesDir is set, the PNG frames (and with --frames-format exr the EXR
+/// frames) as frames complete. frameTime: a frame's time in seconds for the contact sheet's
+/// labels (unset: frame / fps). Opens the encoder, so it throws what the sink throws on an
+/// unwritable output.
+FarmSinks sinksForJob(const RenderJob& job, std::function<double(int)> frameTime = nullptr);
+
+/// Frames of the job already finished in its frames directory: the PNG (with the job's
+/// channels, its checksum as recorded) and, with EXR frames, the EXR too. corrupt: as for
+/// findKeptFrames.
+std::set<int> keptFramesForJob(const RenderJob& job, std::vector<int>* corrupt = nullptr);
 
 /// One frame passed on to the video sink, in output order.
 struct FarmProgress {
@@ -46,7 +56,9 @@ struct FarmProgress {
     int framesDone = 0;                      ///< frames passed on so far, kept frames included
     int framesTotal = 0;                     ///< frames in the output
     bool kept = false;                       ///< read back from the frames directory (--resume)
-    const std::vector<uint8_t>* rgb = nullptr;  ///< width × height × 3 sRGB bytes, valid during the call
+    /// The frame in the job's PixelLayout (width × height × 3 sRGB bytes, or straight RGBA with a
+    /// transparent background, then the linear plane with EXR frames), valid during the call.
+    const std::vector<uint8_t>* rgb = nullptr;
 };
 
 struct FarmOutcome;

@@ -8,6 +8,9 @@ packages=(
   libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev   # engine/
   libopenmpi-dev openmpi-bin                                  # farm/: MPI
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev # farm/: H.264 MP4 through FFmpeg
+  libavfilter-dev                                             # farm/: GIF palette (palettegen/paletteuse)
+  libopenexr-dev                                              # farm/: half-float EXR frames
+  chromium                                                    # tests: the WebM-with-alpha page, headless
   libgtest-dev libbenchmark-dev                               # tests and benchmarks
   libembree-dev                                               # tests/bench/embree_bench: equal-work traversal reference (never linked into rayfarm)
   assimp-testmodels                                           # real glTF files the tests render

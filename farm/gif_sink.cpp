@@ -1,0 +1,205 @@
+#include "gif_sink.h"
+
+#include "video_format.h"
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavfilter/avfilter.h>
+#include <libavfilter/buffersink.h>
+#include <libavfilter/buffersrc.h>
+#include <libavformat/avformat.h>
+#include <libavutil/opt.h>
+}
+
+namespace rf::farm {
+
+struct GifSink::Impl {
+    std::string path, dither;
+    int width = 0, height = 0, channels = 3;
+    AVRational rate{30, 1};
+    AVFilterGraph* graph = nullptr;
+    AVFilterContext* src = nullptr;
+    AVFilterContext* sink = nullptr;
+    AVFrame* frame = nullptr;
+    int64_t nextPts = 0;
+    bool closed = false;
+
+    [[noreturn]] void fail(const std::string& what, int rc = 0) {
+        throw std::runtime_error(path + ": " + what + (rc < 0 ? ": " + avErrorText(rc) : std::string()));
+    }
+    void buildGraph();
+    void encodeAll();
+    ~Impl() {
+        av_frame_free(&frame);
+        avfilter_graph_free(&graph);
+    }
+};
+
+void GifSink::Impl::buildGraph() {
+    graph = avfilter_graph_alloc();
+    if (!graph) fail("out of memory");
+    const char* pix = channels == 4 ? "rgba" : "rgb24";
+    const std::string srcArgs = "video_size=" + std::to_string(width) + "x" + std::to_string(height) + ":pix_fmt=" + pix +
+                                ":time_base=" + std::to_string(rate.den) + "/" + std::to_string(rate.num) + ":pixel_aspect=1/1";
+    int rc = avfilter_graph_create_filter(&src, avfilter_get_by_name("buffer"), "in", srcArgs.c_str(), nullptr, graph);
+    if (rc < 0) fail("cannot set up the GIF filters", rc);
+    rc = avfilter_graph_create_filter(&sink, avfilter_get_by_name("buffersink"), "out", nullptr, nullptr, graph);
+    if (rc < 0) fail("cannot set up the GIF filters", rc);
+    // One palette from every pixel of every frame (stats_mode=full). With alpha, one entry is
+    // kept for transparency; without, all 256 go to colours.
+    const std::string chain = std::string("split[a][b];[a]palettegen=stats_mode=full:reserve_transparent=") +
+                              (channels == 4 ? "1" : "0") + "[p];[b][p]paletteuse=dither=" + dither + ":alpha_threshold=128";
+    AVFilterInOut* outputs = avfilter_inout_alloc();
+    AVFilterInOut* inputs = avfilter_inout_alloc();
+    outputs->name = av_strdup("in");
+    outputs->filter_ctx = src;
+    inputs->name = av_strdup("out");
+    inputs->filter_ctx = sink;
+    rc = avfilter_graph_parse_ptr(graph, chain.c_str(), &inputs, &outputs, nullptr);
+    avfilter_inout_free(&inputs);
+    avfilter_inout_free(&outputs);
+    if (rc < 0) fail("cannot set up the GIF filters (palettegen, paletteuse)", rc);
+    rc = avfilter_graph_config(graph, nullptr);
+    if (rc < 0) fail("cannot set up the GIF filters", rc);
+}
+
+/// Pulls the paletted frames out of the graph and writes the file: the GIF encoder, and the
+/// GIF muxer with loop 0 (the NETSCAPE2.0 extension: loop for ever).
+void GifSink::Impl::encodeAll() {
+    AVFormatContext* fmt = nullptr;
+    AVCodecContext* ctx = nullptr;
+    AVPacket* pkt = av_packet_alloc();
+    AVFrame* out = av_frame_alloc();
+    const std::string tmp = path + ".part";
+    auto cleanup = [&] {
+        av_frame_free(&out);
+        av_packet_free(&pkt);
+        avcodec_free_context(&ctx);
+        if (fmt) {
+            if (fmt->pb) avio_closep(&fmt->pb);
+            avformat_free_context(fmt);
+        }
+    };
+    try {
+        if (!pkt || !out) fail("out of memory");
+        int rc = avformat_alloc_output_context2(&fmt, nullptr, "gif", tmp.c_str());
+        if (rc < 0) fail("cannot set up the GIF muxer", rc);
+        const AVCodec* codec = avcodec_find_encoder(AV_CODEC_ID_GIF);
+        if (!codec) fail("no GIF encoder in this FFmpeg");
+        AVStream* st = avformat_new_stream(fmt, nullptr);
+        ctx = avcodec_alloc_context3(codec);
+        if (!st || !ctx) fail("out of memory");
+        ctx->width = width;
+        ctx->height = height;
+        ctx->pix_fmt = AV_PIX_FMT_PAL8;
+        ctx->time_base = av_inv_q(rate);
+        ctx->framerate = rate;
+        ctx->thread_count = 1;
+        rc = avcodec_open2(ctx, codec, nullptr);
+        if (rc < 0) fail("cannot open the GIF encoder", rc);
+        avcodec_parameters_from_context(st->codecpar, ctx);
+        st->time_base = ctx->time_base;
+        st->avg_frame_rate = rate;
+        rc = avio_open(&fmt->pb, tmp.c_str(), AVIO_FLAG_WRITE);
+        if (rc < 0) fail("cannot open for writing", rc);
+        AVDictionary* opts = nullptr;
+        av_dict_set(&opts, "loop", "0", 0);
+        rc = avformat_write_header(fmt, &opts);
+        av_dict_free(&opts);
+        if (rc < 0) fail("cannot write the GIF header", rc);
+        auto drain = [&] {
+            for (;;) {
+                int r = avcodec_receive_packet(ctx, pkt);
+                if (r == AVERROR(EAGAIN) || r == AVERROR_EOF) return;
+                if (r < 0) fail("GIF encoding failed", r);
+                av_packet_rescale_ts(pkt, ctx->time_base, st->time_base);
+                pkt->stream_index = st->index;
+                r = av_interleaved_write_frame(fmt, pkt);
+                if (r < 0) fail("writing failed", r);
+            }
+        };
+        for (;;) {
+            rc = av_buffersink_get_frame(sink, out);
+            if (rc == AVERROR_EOF || rc == AVERROR(EAGAIN)) break;
+            if (rc < 0) fail("palette filters failed", rc);
+            rc = avcodec_send_frame(ctx, out);
+            av_frame_unref(out);
+            if (rc < 0) fail("GIF encoding failed", rc);
+            drain();
+        }
+        avcodec_send_frame(ctx, nullptr);
+        drain();
+        rc = av_write_trailer(fmt);
+        if (rc < 0) fail("cannot finish the GIF", rc);
+        rc = avio_closep(&fmt->pb);
+        if (rc < 0) fail("cannot close", rc);
+    } catch (...) {
+        cleanup();
+        std::filesystem::remove(tmp);
+        throw;
+    }
+    cleanup();
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) fail("cannot write: " + ec.message());
+}
+
+GifSink::GifSink(const std::string& path, int width, int height, int channels, double fps, const std::string& dither)
+    : impl_(std::make_unique<Impl>()) {
+    Impl& m = *impl_;
+    m.path = path;
+    m.width = width;
+    m.height = height;
+    m.channels = channels;
+    m.dither = dither;
+    m.rate = av_d2q(fps, 1001000);
+    av_log_set_level(AV_LOG_ERROR);
+    {
+        // Fail now, not after the whole film, if the file cannot be written (the file itself
+        // is written at close, through a temporary name next to it).
+        const std::string tmp = path + ".part";
+        std::ofstream probe(tmp, std::ios::binary);
+        if (!probe) m.fail("cannot open for writing");
+        probe.close();
+        std::filesystem::remove(tmp);
+    }
+    m.buildGraph();
+    m.frame = av_frame_alloc();
+    if (!m.frame) m.fail("out of memory");
+}
+
+GifSink::~GifSink() = default;
+
+void GifSink::write(int, const std::vector<uint8_t>& pixels) {
+    Impl& m = *impl_;
+    if (m.closed) throw std::runtime_error(m.path + ": write after close");
+    const size_t row = size_t(m.channels) * m.width;
+    if (pixels.size() < row * m.height) throw std::runtime_error(m.path + ": frame has the wrong size");
+    m.frame->format = m.channels == 4 ? AV_PIX_FMT_RGBA : AV_PIX_FMT_RGB24;
+    m.frame->width = m.width;
+    m.frame->height = m.height;
+    int rc = av_frame_get_buffer(m.frame, 0);
+    if (rc < 0) m.fail("out of memory", rc);
+    for (int y = 0; y < m.height; ++y) std::memcpy(m.frame->data[0] + size_t(y) * m.frame->linesize[0], pixels.data() + row * y, row);
+    m.frame->pts = m.nextPts++;
+    rc = av_buffersrc_add_frame(m.src, m.frame);  // takes the frame's buffers
+    av_frame_unref(m.frame);
+    if (rc < 0) m.fail("palette filters failed", rc);
+}
+
+void GifSink::close() {
+    Impl& m = *impl_;
+    if (m.closed) return;
+    m.closed = true;
+    if (m.nextPts == 0) return;  // nothing rendered: no GIF rather than an empty one
+    int rc = av_buffersrc_add_frame(m.src, nullptr);
+    if (rc < 0) m.fail("palette filters failed", rc);
+    m.encodeAll();
+}
+
+}  // namespace rf::farm
