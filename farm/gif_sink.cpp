@@ -18,6 +18,10 @@ extern "C" {
 
 namespace rf::farm {
 
+namespace {
+struct GifFile;
+}
+
 struct GifSink::Impl {
     std::string path, dither;
     int width = 0, height = 0, channels = 3;
@@ -33,6 +37,8 @@ struct GifSink::Impl {
         throw std::runtime_error(path + ": " + what + (rc < 0 ? ": " + avErrorText(rc) : std::string()));
     }
     void buildGraph();
+    void openFile(GifFile& g, const std::string& tmp);
+    void drain(GifFile& g);
     void encodeAll();
     ~Impl() {
         av_frame_free(&frame);
@@ -68,15 +74,16 @@ void GifSink::Impl::buildGraph() {
     if (rc < 0) fail("cannot set up the GIF filters", rc);
 }
 
-/// Pulls the paletted frames out of the graph and writes the file: the GIF encoder, and the
-/// GIF muxer with loop 0 (the NETSCAPE2.0 extension: loop for ever).
-void GifSink::Impl::encodeAll() {
+namespace {
+
+/// The GIF encoder and muxer of one output file, freed on every path out.
+struct GifFile {
     AVFormatContext* fmt = nullptr;
     AVCodecContext* ctx = nullptr;
+    AVStream* st = nullptr;
     AVPacket* pkt = av_packet_alloc();
     AVFrame* out = av_frame_alloc();
-    const std::string tmp = path + ".part";
-    auto cleanup = [&] {
+    ~GifFile() {
         av_frame_free(&out);
         av_packet_free(&pkt);
         avcodec_free_context(&ctx);
@@ -84,66 +91,81 @@ void GifSink::Impl::encodeAll() {
             if (fmt->pb) avio_closep(&fmt->pb);
             avformat_free_context(fmt);
         }
-    };
+    }
+};
+
+}  // namespace
+
+/// Opens the GIF encoder and muxer on tmp and writes the header with loop 0 (the NETSCAPE2.0
+/// extension: loop for ever).
+void GifSink::Impl::openFile(GifFile& g, const std::string& tmp) {
+    if (!g.pkt || !g.out) fail("out of memory");
+    int rc = avformat_alloc_output_context2(&g.fmt, nullptr, "gif", tmp.c_str());
+    if (rc < 0) fail("cannot set up the GIF muxer", rc);
+    const AVCodec* codec = avcodec_find_encoder(AV_CODEC_ID_GIF);
+    if (!codec) fail("no GIF encoder in this FFmpeg");
+    g.st = avformat_new_stream(g.fmt, nullptr);
+    g.ctx = avcodec_alloc_context3(codec);
+    if (!g.st || !g.ctx) fail("out of memory");
+    g.ctx->width = width;
+    g.ctx->height = height;
+    g.ctx->pix_fmt = AV_PIX_FMT_PAL8;
+    g.ctx->time_base = av_inv_q(rate);
+    g.ctx->framerate = rate;
+    g.ctx->thread_count = 1;
+    rc = avcodec_open2(g.ctx, codec, nullptr);
+    if (rc < 0) fail("cannot open the GIF encoder", rc);
+    avcodec_parameters_from_context(g.st->codecpar, g.ctx);
+    g.st->time_base = g.ctx->time_base;
+    g.st->avg_frame_rate = rate;
+    rc = avio_open(&g.fmt->pb, tmp.c_str(), AVIO_FLAG_WRITE);
+    if (rc < 0) fail("cannot open for writing", rc);
+    AVDictionary* opts = nullptr;
+    av_dict_set(&opts, "loop", "0", 0);
+    rc = avformat_write_header(g.fmt, &opts);
+    av_dict_free(&opts);
+    if (rc < 0) fail("cannot write the GIF header", rc);
+}
+
+/// Writes every packet the encoder has ready.
+void GifSink::Impl::drain(GifFile& g) {
+    for (;;) {
+        int r = avcodec_receive_packet(g.ctx, g.pkt);
+        if (r == AVERROR(EAGAIN) || r == AVERROR_EOF) return;
+        if (r < 0) fail("GIF encoding failed", r);
+        av_packet_rescale_ts(g.pkt, g.ctx->time_base, g.st->time_base);
+        g.pkt->stream_index = g.st->index;
+        r = av_interleaved_write_frame(g.fmt, g.pkt);
+        if (r < 0) fail("writing failed", r);
+    }
+}
+
+/// Pulls the paletted frames out of the graph and writes the file beside it, renamed into place
+/// only when complete.
+void GifSink::Impl::encodeAll() {
+    const std::string tmp = path + ".part";
     try {
-        if (!pkt || !out) fail("out of memory");
-        int rc = avformat_alloc_output_context2(&fmt, nullptr, "gif", tmp.c_str());
-        if (rc < 0) fail("cannot set up the GIF muxer", rc);
-        const AVCodec* codec = avcodec_find_encoder(AV_CODEC_ID_GIF);
-        if (!codec) fail("no GIF encoder in this FFmpeg");
-        AVStream* st = avformat_new_stream(fmt, nullptr);
-        ctx = avcodec_alloc_context3(codec);
-        if (!st || !ctx) fail("out of memory");
-        ctx->width = width;
-        ctx->height = height;
-        ctx->pix_fmt = AV_PIX_FMT_PAL8;
-        ctx->time_base = av_inv_q(rate);
-        ctx->framerate = rate;
-        ctx->thread_count = 1;
-        rc = avcodec_open2(ctx, codec, nullptr);
-        if (rc < 0) fail("cannot open the GIF encoder", rc);
-        avcodec_parameters_from_context(st->codecpar, ctx);
-        st->time_base = ctx->time_base;
-        st->avg_frame_rate = rate;
-        rc = avio_open(&fmt->pb, tmp.c_str(), AVIO_FLAG_WRITE);
-        if (rc < 0) fail("cannot open for writing", rc);
-        AVDictionary* opts = nullptr;
-        av_dict_set(&opts, "loop", "0", 0);
-        rc = avformat_write_header(fmt, &opts);
-        av_dict_free(&opts);
-        if (rc < 0) fail("cannot write the GIF header", rc);
-        auto drain = [&] {
-            for (;;) {
-                int r = avcodec_receive_packet(ctx, pkt);
-                if (r == AVERROR(EAGAIN) || r == AVERROR_EOF) return;
-                if (r < 0) fail("GIF encoding failed", r);
-                av_packet_rescale_ts(pkt, ctx->time_base, st->time_base);
-                pkt->stream_index = st->index;
-                r = av_interleaved_write_frame(fmt, pkt);
-                if (r < 0) fail("writing failed", r);
-            }
-        };
+        GifFile g;
+        openFile(g, tmp);
         for (;;) {
-            rc = av_buffersink_get_frame(sink, out);
+            int rc = av_buffersink_get_frame(sink, g.out);
             if (rc == AVERROR_EOF || rc == AVERROR(EAGAIN)) break;
             if (rc < 0) fail("palette filters failed", rc);
-            rc = avcodec_send_frame(ctx, out);
-            av_frame_unref(out);
+            rc = avcodec_send_frame(g.ctx, g.out);
+            av_frame_unref(g.out);
             if (rc < 0) fail("GIF encoding failed", rc);
-            drain();
+            drain(g);
         }
-        avcodec_send_frame(ctx, nullptr);
-        drain();
-        rc = av_write_trailer(fmt);
+        avcodec_send_frame(g.ctx, nullptr);
+        drain(g);
+        int rc = av_write_trailer(g.fmt);
         if (rc < 0) fail("cannot finish the GIF", rc);
-        rc = avio_closep(&fmt->pb);
+        rc = avio_closep(&g.fmt->pb);
         if (rc < 0) fail("cannot close", rc);
     } catch (...) {
-        cleanup();
-        std::filesystem::remove(tmp);
+        std::filesystem::remove(tmp);  // after g freed its file handle
         throw;
     }
-    cleanup();
     std::error_code ec;
     std::filesystem::rename(tmp, path, ec);
     if (ec) fail("cannot write: " + ec.message());
