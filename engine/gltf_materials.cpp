@@ -84,6 +84,30 @@ void MaterialBuilder::readTransform(const tinygltf::ExtensionMap& ext, int texCo
     t.texCoord = int(number(v, "texCoord", texCoord));  // the extension's texCoord overrides
 }
 
+namespace {
+
+/// glTF's alphaMode: MASK cuts at alphaCutoff; BLEND becomes see-through without bending.
+void applyAlphaMode(const tinygltf::Material& gm, Material& m) {
+    if (gm.alphaMode == "MASK") {
+        m.alphaMode = AlphaMode::Mask;
+        m.alphaCutoff = float(std::isfinite(gm.alphaCutoff) ? gm.alphaCutoff : 0.5);
+    } else if (gm.alphaMode == "BLEND") {
+        // BLEND as see-through without bending: a transmission of (1 − alpha) at ior 1, with
+        // the surface's own light scaled by alpha. Per-texel alpha does not change the weight.
+        m.alphaMode = AlphaMode::Blend;
+        const float a = m.alpha;
+        m.ambient *= a;
+        m.diffuse *= a;
+        m.specular *= a;
+        if (a < 1.f && m.transmission == 0.f) {
+            m.transmission = 1.f - a;
+            m.ior = 1.f;
+        }
+    }
+}
+
+}  // namespace
+
 Material MaterialBuilder::convert(const tinygltf::Material& gm, const std::string& where) {
     Material m;
     m.name = gm.name;
@@ -134,22 +158,7 @@ Material MaterialBuilder::convert(const tinygltf::Material& gm, const std::strin
         m.transmission = transmission;
         m.diffuse *= 1.f - transmission;
     }
-    if (gm.alphaMode == "MASK") {
-        m.alphaMode = AlphaMode::Mask;
-        m.alphaCutoff = float(std::isfinite(gm.alphaCutoff) ? gm.alphaCutoff : 0.5);
-    } else if (gm.alphaMode == "BLEND") {
-        // BLEND as see-through without bending: a transmission of (1 − alpha) at ior 1, with
-        // the surface's own light scaled by alpha. Per-texel alpha does not change the weight.
-        m.alphaMode = AlphaMode::Blend;
-        const float a = m.alpha;
-        m.ambient *= a;
-        m.diffuse *= a;
-        m.specular *= a;
-        if (a < 1.f && m.transmission == 0.f) {
-            m.transmission = 1.f - a;
-            m.ior = 1.f;
-        }
-    }
+    applyAlphaMode(gm, m);
     return m;
 }
 
