@@ -117,7 +117,7 @@ void renderRect(const Scene& scene, const Camera& camera, const RenderSettings& 
             if (out.alpha) std::memcpy(out.alpha + at, alpha.data() + size_t(y) * w, sizeof(float) * w);
             // Encoded here, on the rendering thread: sRGB's pow per channel is a sizeable share
             // of a cheap frame, and would otherwise run on one core after the render.
-            if (out.rgb8) encodeRgb8(src, 3 * w, settings.toneMap, out.rgb8 + 3 * at);
+            if (out.rgb8) encodeRgb8(src, 3 * w, settings.toneMap, out.rgb8 + 3 * at, exposureScale(settings.exposure));
         }
     });
     for (const RayStats& r : perThread) stats += r;
