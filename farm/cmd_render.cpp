@@ -8,6 +8,7 @@
 #include <sched.h>
 
 #include "cli.h"
+#include "exposure_meter.h"
 #include "interrupt.h"
 #include "launch_command.h"
 #include "output_check.h"
