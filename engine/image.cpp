@@ -44,8 +44,15 @@ uint8_t toByte(float v) {
     return static_cast<uint8_t>(v * 255.f + 0.5f);
 }
 
+namespace {
+
+/// The one display mapping of a linear value: tone map, sRGB encode, round to a byte.
+uint8_t encodeChannel(float linear, ToneMap op) { return toByte(srgbEncode(toneMap(linear, op))); }
+
+}  // namespace
+
 void encodeRgb8(const float* linear, size_t n, ToneMap op, uint8_t* out) {
-    for (size_t i = 0; i < n; ++i) out[i] = toByte(srgbEncode(toneMap(linear[i], op)));
+    for (size_t i = 0; i < n; ++i) out[i] = encodeChannel(linear[i], op);
 }
 
 std::vector<uint8_t> toRgb8(const Image& img, ToneMap op) {
@@ -60,7 +67,7 @@ void toRgba8Pixel(const float* rgb, float a, ToneMap op, uint8_t* out) {
     // Below half a step of alpha the pixel is transparent: its colour carries no meaning, and
     // dividing by a tiny coverage would only amplify noise.
     const float inv = alpha == 0 ? 0.f : 1.f / a;
-    for (int k = 0; k < 3; ++k) out[k] = toByte(srgbEncode(toneMap(rgb[k] * inv, op)));
+    for (int k = 0; k < 3; ++k) out[k] = encodeChannel(rgb[k] * inv, op);
     out[3] = alpha;
 }
 
