@@ -44,6 +44,8 @@ def bundle(files):  # FileBundle::serialize: u64 count, then (u64 len, path, u64
     return b
 os.makedirs(f'{out}/scene_bundle', exist_ok=True)
 for n in sorted(os.listdir(scenes)):
+    if not os.path.isfile(os.path.join(scenes, n)):
+        continue  # scenes/bench/ and other folders hold their own scenes
     with open(os.path.join(scenes, n), 'rb') as f:
         open(f'{out}/scene_bundle/{n}.bundle', 'wb').write(bundle([('scenes/' + n, f.read())]))
 os.makedirs(f'{out}/farm_messages', exist_ok=True)
