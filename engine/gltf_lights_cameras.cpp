@@ -1,6 +1,7 @@
 #include "gltf_lights_cameras.h"
 
 #include "errors.h"
+#include "exposure.h"
 
 namespace rf::gltf {
 
@@ -21,7 +22,8 @@ Light punctualLight(const tinygltf::Light& gl, const DMat4& renderFromNode, cons
     L.position = Vec3(glm::dvec3(renderFromNode[3]));
     L.direction = nodeAxis(renderFromNode, glm::dvec3(0, 0, -1));
     if (gl.color.size() == 3) L.color = Color(float(gl.color[0]), float(gl.color[1]), float(gl.color[2]));
-    L.intensity = float(std::max(0.0, std::isfinite(gl.intensity) ? gl.intensity : 1.0) / kPi);
+    // Photometric to radiometric at 683 lm/W: cd → W/sr (point, spot), lx → W/m² (directional).
+    L.intensity = float(std::max(0.0, std::isfinite(gl.intensity) ? gl.intensity : 1.0) / double(kLumensPerWatt));
     L.range = gl.range > 0.0 && std::isfinite(gl.range) ? float(gl.range) : 0.f;
     if (gl.type == "directional") {
         L.type = LightType::Directional;

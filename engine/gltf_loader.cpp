@@ -9,6 +9,7 @@
 #include <glm/gtc/type_ptr.hpp>
 
 #include "default_rig.h"
+#include "env_lighting.h"
 #include "errors.h"
 #include "gltf_accessors.h"
 #include "gltf_geometry.h"
@@ -445,7 +446,7 @@ void loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFrom
     model.addTo(scene, worldFromModel);
 }
 
-Scene loadGltfScene(const std::string& path, FileSource& fs) {
+Scene loadGltfScene(const std::string& path, FileSource& fs, const SceneOptions& options) {
     Scene s;
     s.sourcePath = path;
     GltfModel model(path, fs);
@@ -459,6 +460,11 @@ Scene loadGltfScene(const std::string& path, FileSource& fs) {
     s.camera = frameBoundingSphere(Vec3(center - s.renderOrigin), radius > 0.f ? radius : 1.f, aspect);
     if (s.lights.empty()) addDefaultLightRig(s, s.camera);
     s.background = Color(0.05f);
+    // glTF's light units are photometric and its models carry no exposure: meter one for the
+    // film, and roll highlights off as the glTF Sample Viewer does.
+    s.settings.autoExposure = true;
+    s.settings.toneMap = ToneMap::PbrNeutral;
+    attachEnvironment(s, std::nullopt, options, fs);
     s.build();
     return s;
 }

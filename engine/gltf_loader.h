@@ -14,6 +14,7 @@
 
 #include "file_source.h"
 #include "scene.h"
+#include "scene_options.h"
 
 namespace rf {
 
@@ -22,8 +23,9 @@ namespace rf {
 void loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFromModel, FileSource& fs);
 
 /// A bare model as a whole scene: the model, a camera framed on its bounding sphere with a
-/// margin, and a default key/fill/rim rig when the model brings no lights.
-Scene loadGltfScene(const std::string& path, FileSource& fs);
+/// margin, and a default key/fill/rim rig when the model brings no lights; the environment
+/// options name (none by default).
+Scene loadGltfScene(const std::string& path, FileSource& fs, const SceneOptions& options = {});
 
 /// Makes scene.gltfCameras[index] the render camera; throws InputError if there is none.
 void useGltfCamera(Scene& scene, int index);

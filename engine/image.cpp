@@ -1,6 +1,7 @@
 #include "image.h"
 
 #include <cmath>
+#include <algorithm>
 #include <cstring>
 #include <stdexcept>
 
@@ -44,38 +45,69 @@ uint8_t toByte(float v) {
     return static_cast<uint8_t>(v * 255.f + 0.5f);
 }
 
+Color pbrNeutral(Color c) {
+    // Khronos PBR Neutral (2024): constants from its specification.
+    constexpr float kStart = 0.8f - 0.04f, kDesaturation = 0.15f;
+    for (int k = 0; k < 3; ++k) c[k] = (c[k] > 0.f) ? std::min(c[k], 1e30f) : 0.f;  // NaN, −, +Inf
+    const float x = std::min(c.r, std::min(c.g, c.b));
+    const float offset = x < 0.08f ? x - 6.25f * x * x : 0.04f;
+    c -= offset;
+    const float peak = std::max(c.r, std::max(c.g, c.b));
+    if (peak < kStart) return c;
+    constexpr float d = 1.f - kStart;
+    const float newPeak = 1.f - d * d / (peak + d - kStart);
+    c *= newPeak / peak;
+    const float g = 1.f - 1.f / (kDesaturation * (peak - newPeak) + 1.f);
+    return glm::mix(c, Color(newPeak), g);
+}
+
+float exposureScale(float ev) { return std::exp2(std::clamp(ev, -64.f, 64.f)); }
+
 namespace {
 
-/// The one display mapping of a linear value: tone map, sRGB encode, round to a byte.
-uint8_t encodeChannel(float linear, ToneMap op) { return toByte(srgbEncode(toneMap(linear, op))); }
+/// The one display mapping of a linear RGB pixel: exposure scale, tone map (Clamp and Reinhard
+/// channel by channel, PBR Neutral on the colour), sRGB encode, round to bytes.
+void encodePixel(const float* rgb, ToneMap op, float scale, uint8_t* out) {
+    if (op == ToneMap::PbrNeutral) {
+        const Color c = pbrNeutral(scale * Color(rgb[0], rgb[1], rgb[2]));
+        for (int k = 0; k < 3; ++k) out[k] = toByte(srgbEncode(c[k]));
+        return;
+    }
+    for (int k = 0; k < 3; ++k) out[k] = toByte(srgbEncode(toneMap(rgb[k] * scale, op)));
+}
 
 }  // namespace
 
-void encodeRgb8(const float* linear, size_t n, ToneMap op, uint8_t* out) {
-    for (size_t i = 0; i < n; ++i) out[i] = encodeChannel(linear[i], op);
+void encodeRgb8(const float* rgb, size_t n, ToneMap op, uint8_t* out, float scale) {
+    for (size_t i = 0; i + 3 <= n; i += 3) encodePixel(rgb + i, op, scale, out + i);
 }
 
-std::vector<uint8_t> toRgb8(const Image& img, ToneMap op) {
-    const size_t n = size_t(img.width()) * img.height() * 3;
-    std::vector<uint8_t> out(n);
-    encodeRgb8(img.data(), n, op, out.data());
+std::vector<uint8_t> toRgb8(const Image& img, ToneMap op, float scale) {
+    const size_t n = size_t(img.width()) * img.height();
+    std::vector<uint8_t> out(n * 3);
+    encodeRgb8(img.data(), 3 * n, op, out.data(), scale);
     return out;
 }
 
-void toRgba8Pixel(const float* rgb, float a, ToneMap op, uint8_t* out) {
+std::vector<uint8_t> toRgb8(const Image& img, const RenderSettings& s) {
+    return toRgb8(img, s.toneMap, exposureScale(s.exposure));
+}
+
+void toRgba8Pixel(const float* rgb, float a, ToneMap op, uint8_t* out, float scale) {
     const uint8_t alpha = toByte(a);
     // Below half a step of alpha the pixel is transparent: its colour carries no meaning, and
     // dividing by a tiny coverage would only amplify noise.
     const float inv = alpha == 0 ? 0.f : 1.f / a;
-    for (int k = 0; k < 3; ++k) out[k] = encodeChannel(rgb[k] * inv, op);
+    const float straight[3] = {rgb[0] * inv, rgb[1] * inv, rgb[2] * inv};
+    encodePixel(straight, op, scale, out);
     out[3] = alpha;
 }
 
-std::vector<uint8_t> toRgba8(const Image& img, ToneMap op) {
+std::vector<uint8_t> toRgba8(const Image& img, ToneMap op, float scale) {
     const size_t n = size_t(img.width()) * img.height();
     std::vector<uint8_t> out(n * 4);
     const float* src = img.data();
-    for (size_t i = 0; i < n; ++i) toRgba8Pixel(src + 3 * i, img.hasAlpha() ? img.alpha()[i] : 1.f, op, &out[4 * i]);
+    for (size_t i = 0; i < n; ++i) toRgba8Pixel(src + 3 * i, img.hasAlpha() ? img.alpha()[i] : 1.f, op, &out[4 * i], scale);
     return out;
 }
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "settings.h"
+#include "vec_math.h"
 
 namespace rf {
 
@@ -44,16 +45,26 @@ float toneMap(float x, ToneMap op);
 /// [0, 1] → 0..255 with rounding; NaN and negatives give 0, +Inf and > 1 give 255.
 uint8_t toByte(float v);
 
-/// The one 8-bit conversion: tone-maps, sRGB-encodes and rounds n linear values (channel by
-/// channel) into out.
-void encodeRgb8(const float* linear, size_t n, ToneMap op, uint8_t* out);
+/// Khronos PBR Neutral of a linear colour: unchanged below 0.76 (but for a small black offset),
+/// highlights rolled off towards white along the colour's own hue. Result in [0, 1].
+Color pbrNeutral(Color c);
+/// 2^ev, the factor --exposure EV applies to radiance.
+float exposureScale(float ev);
+
+/// The one 8-bit conversion: scales n linear values (RGB triples) by `scale` (2^EV), tone-maps,
+/// sRGB-encodes and rounds them into out. Clamp and Reinhard map each channel; PBR Neutral maps
+/// the colour.
+void encodeRgb8(const float* rgb, size_t n, ToneMap op, uint8_t* out, float scale = 1.f);
 /// Tone-maps and sRGB-encodes a linear image to 8-bit RGB (encodeRgb8 over the image).
-std::vector<uint8_t> toRgb8(const Image& img, ToneMap op);
+std::vector<uint8_t> toRgb8(const Image& img, ToneMap op, float scale = 1.f);
+/// The same with the tone map and exposure of settings.
+std::vector<uint8_t> toRgb8(const Image& img, const RenderSettings& s);
 /// One pixel of premultiplied linear colour and coverage a to 8-bit straight (unassociated)
-/// RGBA, as PNG, VP9 and ProRes carry it: the colour is divided by a before tone mapping.
-void toRgba8Pixel(const float* rgb, float a, ToneMap op, uint8_t* out);
+/// RGBA, as PNG, VP9 and ProRes carry it: the colour is divided by a before tone mapping, and
+/// scaled by `scale` (2^EV).
+void toRgba8Pixel(const float* rgb, float a, ToneMap op, uint8_t* out, float scale = 1.f);
 /// The whole image to 8-bit straight RGBA (alpha 255 where the image has no alpha plane).
-std::vector<uint8_t> toRgba8(const Image& img, ToneMap op);
+std::vector<uint8_t> toRgba8(const Image& img, ToneMap op, float scale = 1.f);
 
 /// Writes 8-bit RGB (channels 3) or straight RGBA (channels 4) as PNG; throws
 /// std::runtime_error naming the path on failure.

@@ -118,9 +118,10 @@ void renderRect(const Scene& scene, const Camera& camera, const RenderSettings& 
             if (out.alpha) std::memcpy(out.alpha + at, alpha.data() + size_t(y) * w, sizeof(float) * w);
             // Encoded here, on the rendering thread: sRGB's pow per channel is a sizeable share
             // of a cheap frame, and would otherwise run on one core after the render.
-            if (out.rgb8) encodeRgb8(src, 3 * w, settings.toneMap, out.rgb8 + 3 * at);
+            const float scale = exposureScale(settings.exposure);
+            if (out.rgb8) encodeRgb8(src, 3 * w, settings.toneMap, out.rgb8 + 3 * at, scale);
             for (size_t x = 0; out.rgba8 && x < w; ++x)
-                toRgba8Pixel(src + 3 * x, alpha[size_t(y) * w + x], settings.toneMap, out.rgba8 + 4 * (at + x));
+                toRgba8Pixel(src + 3 * x, alpha[size_t(y) * w + x], settings.toneMap, out.rgba8 + 4 * (at + x), scale);
         }
     });
     for (const RayStats& r : perThread) stats += r;

@@ -22,6 +22,8 @@
 
 namespace rf {
 
+class EnvironmentLight;
+
 /// Closest hit found by traversal; resolved into a SurfaceInteraction only for shading.
 struct Hit {
     float t = kInf;
@@ -69,6 +71,11 @@ public:
     /// Primary rays that miss give no colour and zero coverage (alpha), so the film can be laid
     /// over something else; reflections and refractions still see `background`.
     bool transparentBackground = false;
+    /// Light from all around, as an equirectangular radiance image (null: none).
+    std::shared_ptr<const EnvironmentLight> environment;
+    /// Primary rays that miss everything see the environment instead of `background`
+    /// (secondary rays see it whenever there is one).
+    bool environmentBackground = false;
     Color ambientLight{1.f};  ///< I_amb of the seed's model
     RenderSettings settings;  ///< defaults from the scene file; the CLI may override
     DVec3 renderOrigin{0.0};

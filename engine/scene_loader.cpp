@@ -7,6 +7,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include "env_lighting.h"
 #include "errors.h"
 #include "json_reader.h"
 #include "model_path.h"
@@ -55,12 +56,24 @@ void readRender(const Reader& rd, const json& j, RenderSettings& s) {
     const std::string tm = rd.string(j, "tonemap", w, "clamp");
     if (tm == "clamp") s.toneMap = ToneMap::Clamp;
     else if (tm == "reinhard") s.toneMap = ToneMap::Reinhard;
-    else rd.fail("render.tonemap", "expected \"clamp\" or \"reinhard\"");
+    else if (tm == "pbr-neutral") s.toneMap = ToneMap::PbrNeutral;
+    else rd.fail("render.tonemap", "expected \"clamp\", \"reinhard\" or \"pbr-neutral\"");
     const std::string sh = rd.string(j, "shading", w, "phong");
     if (sh == "phong") s.shading = ShadingModel::Phong;
     else if (sh == "blinn-phong") s.shading = ShadingModel::BlinnPhong;
     else rd.fail("render.shading", "expected \"phong\" or \"blinn-phong\"");
     s.tileSize = rd.integer(j, "tile_size", w, s.tileSize, 1, 4096);
+}
+
+/// "exposure": an EV (radiance × 2^EV before tone mapping) or "auto" (metered once per film).
+void readExposure(const Reader& rd, const json& j, RenderSettings& s) {
+    if (j.is_string() && j.get<std::string>() == "auto") {
+        s.autoExposure = true;
+        return;
+    }
+    const double ev = rd.number(j, "exposure");
+    if (std::abs(ev) > 64.0) rd.fail("exposure", "expected \"auto\" or an EV from -64 to 64");
+    s.exposure = float(ev);
 }
 
 Material readMaterial(const Reader& rd, const json& j, const std::string& w, const std::string& name) {
@@ -159,13 +172,14 @@ std::vector<Vec3> readPoints(const Reader& rd, const json& j, const std::string&
 
 class JsonSceneLoader {
 public:
-    JsonSceneLoader(const std::string& path, FileSource& fs) : path_(path), fs_(fs), rd_(path) {}
+    JsonSceneLoader(const std::string& path, FileSource& fs, const SceneOptions& options)
+        : path_(path), fs_(fs), rd_(path), options_(options) {}
 
     Scene load() {
         const std::string text = fs_.read(path_, 1ull << 30);
         const json root = parseUserJson(path_, text);
         rd_.allowKeys(root, "", {"camera", "background", "ambient", "render", "materials", "lights", "objects", "timeline",
-                                 "turntable", "comment"});
+                                 "turntable", "exposure", "environment", "comment"});
         Scene s;
         s.sourcePath = path_;
         DVec3 eye(0, 0, 5), target(0.0);
@@ -186,6 +200,7 @@ public:
         }
         s.ambientLight = rd_.color(root, "ambient", "", s.ambientLight);
         if (root.contains("render")) readRender(rd_, root["render"], s.settings);
+        if (root.contains("exposure")) readExposure(rd_, root["exposure"], s.settings);
         readMaterials(root, s);
         if (root.contains("lights")) {
             const json& ls = root["lights"];
@@ -211,6 +226,8 @@ public:
         }
         if (root.contains("turntable")) anim["turntable"] = root["turntable"];
         if (!anim.empty()) s.timeline = std::make_shared<const json>(std::move(anim));
+        attachEnvironment(s, root.contains("environment") ? std::optional(readEnvironment(root["environment"])) : std::nullopt,
+                          options_, fs_);
         s.build();
         return s;
     }
@@ -320,9 +337,31 @@ private:
         s.meshes.push_back(std::move(m));
     }
 
+    /// "environment": "FILE" or {"file": FILE (none: the built-in studio), "rotation": degrees
+    /// about +Y, "intensity": k}. FILE is relative to the scene file.
+    EnvironmentSpec readEnvironment(const json& j) const {
+        EnvironmentSpec e;
+        const std::filesystem::path base = std::filesystem::path(path_).parent_path();
+        auto resolve = [&](const std::string& f) {
+            return (std::filesystem::path(f).is_absolute() ? std::filesystem::path(f) : base / f).lexically_normal().string();
+        };
+        if (j.is_string()) {
+            e.file = resolve(j.get<std::string>());
+            return e;
+        }
+        if (!j.is_object()) rd_.fail("environment", "expected a file name or an object");
+        rd_.allowKeys(j, "environment", {"file", "rotation", "intensity"});
+        const std::string f = rd_.string(j, "file", "environment", "");
+        if (!f.empty()) e.file = resolve(f);
+        e.rotationDeg = float(rd_.number(j, "rotation", "environment", 0.0));
+        e.intensity = float(rd_.nonNegative(j, "intensity", "environment", 1.0));
+        return e;
+    }
+
     std::string path_;
     FileSource& fs_;
     Reader rd_;
+    SceneOptions options_;
     std::map<std::string, int> materialIds_;
 };
 
@@ -330,11 +369,13 @@ private:
 
 DVec3 chooseRenderOrigin(const DVec3& target) { return glm::round(target / 64.0) * 64.0; }
 
-Scene loadJsonScene(const std::string& path, FileSource& fs) { return JsonSceneLoader(path, fs).load(); }
+Scene loadJsonScene(const std::string& path, FileSource& fs, const SceneOptions& options) {
+    return JsonSceneLoader(path, fs, options).load();
+}
 
-Scene loadScene(const std::string& path, FileSource& fs) {
-    if (lowerExtension(path) == ".json") return loadJsonScene(path, fs);
-    if (isGltfPath(path)) return loadGltfScene(path, fs);
+Scene loadScene(const std::string& path, FileSource& fs, const SceneOptions& options) {
+    if (lowerExtension(path) == ".json") return loadJsonScene(path, fs, options);
+    if (isGltfPath(path)) return loadGltfScene(path, fs, options);
     throw InputError(path, "unknown scene type (expected .json, .gltf or .glb)");
 }
 

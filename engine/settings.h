@@ -3,7 +3,11 @@
 
 namespace rf {
 
-enum class ToneMap { Clamp, Reinhard };
+enum class ToneMap {
+    Clamp,       ///< the seed's: clip to [0, 1]
+    Reinhard,    ///< x/(1 + x) per channel
+    PbrNeutral,  ///< Khronos PBR Neutral: exact below 0.76, hue-preserving roll-off above (glTF default)
+};
 enum class ShadingModel { Phong, BlinnPhong };
 /// Which Integrator (engine/integrator.h) turns rays into radiance.
 enum class IntegratorKind { Whitted };
@@ -15,6 +19,8 @@ struct RenderSettings {
     int maxDepth = 5;         ///< ray generations, the primary ray counting as 1
     float minWeight = 1e-3f;  ///< the seed's pruning rule: skip secondary rays weighing less
     ToneMap toneMap = ToneMap::Clamp;
+    float exposure = 0.f;        ///< EV: radiance is scaled by 2^exposure before tone mapping
+    bool autoExposure = false;   ///< meter exposure once per film (the CLI resolves it into exposure)
     ShadingModel shading = ShadingModel::Phong;
     int tileSize = 32;
     IntegratorKind integrator = IntegratorKind::Whitted;

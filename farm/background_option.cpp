@@ -55,6 +55,7 @@ void applyBackground(const BackgroundChoice& c, Scene& scene) {
     } else if (c.kind == BackgroundChoice::Colour) {
         scene.transparentBackground = false;
         scene.background = Color(c.r, c.g, c.b);
+        scene.environmentBackground = false;  // the environment still lights and is reflected
     }
 }
 

@@ -105,8 +105,36 @@ void applyQualityOptions(const ArgParser& p, RenderSettings& s) {
     if (auto t = p.value("--tonemap")) {
         if (*t == "clamp") s.toneMap = ToneMap::Clamp;
         else if (*t == "reinhard") s.toneMap = ToneMap::Reinhard;
-        else throw UsageError("--tonemap: expected clamp or reinhard, got \"" + *t + "\"");
+        else if (*t == "pbr-neutral") s.toneMap = ToneMap::PbrNeutral;
+        else throw UsageError("--tonemap: expected clamp, reinhard or pbr-neutral, got \"" + *t + "\"");
     }
+    if (auto e = p.value("--exposure")) {
+        s.autoExposure = *e == "auto";
+        if (!s.autoExposure) {
+            const double ev = p.doubleValue("--exposure", 0.0);
+            if (std::abs(ev) > 64.0) throw UsageError("--exposure: expected auto or an EV from -64 to 64, got \"" + *e + "\"");
+            s.exposure = float(ev);
+        }
+    }
+}
+
+void declareSceneOptions(ArgParser& p) {
+    for (const char* o : {"--environment", "--environment-rotation", "--environment-intensity"}) p.option(o);
+}
+
+SceneOptions sceneOptions(const ArgParser& p) {
+    SceneOptions o;
+    if (auto f = p.value("--environment")) {
+        if (f->empty()) throw UsageError("--environment: expected an .hdr or .exr file");
+        o.environment = EnvironmentSpec{*f, 0.f, 1.f};
+    }
+    if (p.has("--environment-rotation")) o.environmentRotation = float(p.doubleValue("--environment-rotation", 0.0));
+    if (p.has("--environment-intensity")) {
+        const double k = p.doubleValue("--environment-intensity", 1.0);
+        if (k < 0.0) throw UsageError("--environment-intensity: expected a number >= 0");
+        o.environmentIntensity = float(k);
+    }
+    return o;
 }
 
 }  // namespace rf::cli

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "scene_options.h"
 #include "settings.h"
 
 namespace rf::cli {
@@ -48,6 +49,10 @@ void applyQualityOptions(const ArgParser& p, RenderSettings& s);
 void printLine(const std::string& kind, const std::string& text);
 /// Writes text (whole lines) to stderr in a single write().
 void writeStderr(const std::string& text);
+/// Declares --environment FILE, --environment-rotation DEG and --environment-intensity K.
+void declareSceneOptions(ArgParser& p);
+/// Reads them (declare them first); throws UsageError for values that are not numbers.
+SceneOptions sceneOptions(const ArgParser& p);
 
 int runStill(const std::vector<std::string>& args);
 int runRender(const std::vector<std::string>& args);

@@ -104,6 +104,7 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
     job.settings = scene.settings;
     applyQualityOptions(p, job.settings);
     const anim::Timeline tl = anim::Timeline::fromScene(scene, job.fpsOption);
+    resolveAutoExposure(scene, tl, job.settings, job.threads);
     job.timelineFrames = tl.frameCount();
     job.timelineFps = tl.fps();
     job.first = 0;
@@ -225,7 +226,8 @@ int runRender(const std::vector<std::string>& args) {
             [&](Scene& scene, const FileBundle& inputs) {
                 decideJob(job, p, scene, inputs, t.size(), threadsNote);
                 return encodeWorkerJob(job);
-            });
+            },
+            sceneOptions(p));
     } catch (const PeerFailed& e) {
         return e.code();
     } catch (const std::exception& e) {

@@ -7,6 +7,7 @@
 
 #include "background_option.h"
 #include "cli.h"
+#include "exposure_meter.h"
 #include "gltf_loader.h"
 #include "image.h"
 #include "output_check.h"
@@ -28,14 +29,20 @@ const char* kStillHelp =
     "  --spp N           samples per pixel, a square: 1, 4, 9, 16, ... (stratified)\n"
     "  --depth N         maximum ray depth; the primary ray counts as 1\n"
     "  --min-weight W    do not trace secondary rays weighing less than W (0: never prune)\n"
-    "  --tonemap T       clamp or reinhard\n"
+    "  --tonemap T       clamp, reinhard or pbr-neutral (default: clamp for scene files,\n"
+    "                    pbr-neutral for glTF models)\n"
+    "  --exposure EV     scale radiance by 2^EV before tone mapping; 0 shows glTF's photometric\n"
+    "                    units at 683 lm/W unchanged; auto (the glTF default) meters the film once\n"
     "  --threads N       worker threads (default: all cores)\n"
     "  --stats FILE      write run statistics as JSON\n"
     "  --frame N         render frame N of the scene's timeline (default 0)\n"
     "  --time T          render the timeline at T seconds (noise seed of the nearest frame)\n"
     "  --camera N        look through the model's glTF camera N instead of the scene camera\n"
     "  --background B    transparent (a PNG with alpha: coverage, anti-aliased edges included),\n"
-    "                    #RRGGBB (sRGB) or R,G,B (linear); default: the scene's\n";
+    "                    #RRGGBB (sRGB) or R,G,B (linear); default: the scene's\n"
+    "  --environment F   light the scene with an equirectangular .hdr or .exr environment\n"
+    "                    (Blender's orientation), also seen where rays miss everything\n"
+    "  --environment-rotation DEG   turn it about +Y;  --environment-intensity K   scale it\n";
 
 /// Sets the scene to the still's moment and returns its frame index (the noise seed). The still
 /// is one frame of the scene's film: frame 0 unless --frame or --time says otherwise.
@@ -81,7 +88,8 @@ void writeStillStats(const std::string& path, const Scene& scene, const RenderSe
 
 int runStill(const std::vector<std::string>& args) {
     ArgParser p("still");
-    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats", "--frame", "--time", "--camera", "--background"}) p.option(o);
+    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats", "--frame", "--time", "--camera", "--background", "--exposure"}) p.option(o);
+    declareSceneOptions(p);
     p.flag("--help");
     p.flag("-h");
     p.parse(args);
@@ -100,7 +108,7 @@ int runStill(const std::vector<std::string>& args) {
 
     const auto t0 = std::chrono::steady_clock::now();
     DiskFileSource fs;
-    Scene scene = loadScene(scenePath, fs);
+    Scene scene = loadScene(scenePath, fs, sceneOptions(p));
     for (const std::string& note : scene.notes) printLine("note", note);
     applyBackground(background, scene);
     const int frame = applyStillTime(p, scene);
@@ -109,13 +117,18 @@ int runStill(const std::vector<std::string>& args) {
     if (p.has("--camera")) useGltfCamera(scene, p.intValue("--camera", 0, 0, 1 << 20));
     RenderSettings settings = scene.settings;
     applyQualityOptions(p, settings);
+    if (settings.autoExposure) {
+        resolveAutoExposure(scene, timeline, settings, threads, [&](Scene& s) {
+            if (p.has("--camera")) useGltfCamera(s, p.intValue("--camera", 0, 0, 1 << 20));
+        });
+    }
 
     RayStats rays;
     const auto t1 = std::chrono::steady_clock::now();
     const Image img = renderFrame(scene, scene.camera, settings, frame, threads, rays);
     const auto t2 = std::chrono::steady_clock::now();
-    if (img.hasAlpha()) writePng(out, img.width(), img.height(), toRgba8(img, settings.toneMap), 4);
-    else writePng(out, img.width(), img.height(), toRgb8(img, settings.toneMap));
+    if (img.hasAlpha()) writePng(out, img.width(), img.height(), toRgba8(img, settings.toneMap, exposureScale(settings.exposure)), 4);
+    else writePng(out, img.width(), img.height(), toRgb8(img, settings));
     const auto t3 = std::chrono::steady_clock::now();
 
     const double renderS = std::chrono::duration<double>(t2 - t1).count();

@@ -24,7 +24,9 @@ const char* kRenderHelp =
     "                    bare model's turntable: 30). A still scene: the video's rate only\n"
     "  --size WxH        image size (odd sizes: the video repeats the last row/column to even)\n"
     "  --spp N           samples per pixel, a square: 1, 4, 9, ...\n"
-    "  --depth N         maximum ray depth; --min-weight W, --tonemap clamp|reinhard as for still\n"
+    "  --environment F, --environment-rotation DEG, --environment-intensity K   as for still\n"
+    "  --depth N         maximum ray depth; --min-weight W, --tonemap clamp|reinhard|pbr-neutral,\n"
+    "                    --exposure EV|auto as for still (auto: one EV metered for the whole film)\n"
     "  --frames-dir DIR  keep a PNG per frame here as frames complete (default: OUT.frames next\n"
     "                    to the output, e.g. out.frames/ for out.mp4)\n"
     "  --no-frames       keep no PNG frames (then nothing can be resumed)\n"
@@ -59,10 +61,11 @@ const char* kRenderHelp =
 
 void declareRenderOptions(cli::ArgParser& p) {
     for (const char* o : {"-o", "--mode", "--frames", "--fps", "--size", "--spp", "--depth", "--min-weight", "--tonemap",
-                          "--frames-dir", "--crf", "--preset", "--stats", "--threads", "--timeout", "--codec", "--background",
-                          "--frames-format", "--contact-sheet", "--poster", "--poster-frame"})
+                          "--exposure", "--frames-dir", "--crf", "--preset", "--stats", "--threads", "--timeout", "--codec",
+                          "--background", "--frames-format", "--contact-sheet", "--poster", "--poster-frame"})
         p.option(o);
     for (const char* f : {"--resume", "--lossless", "--no-frames", "--preview", "--help", "-h"}) p.flag(f);
+    cli::declareSceneOptions(p);
 }
 
 RenderJob jobFromOptions(const cli::ArgParser& p) {
@@ -83,6 +86,7 @@ RenderJob jobFromOptions(const cli::ArgParser& p) {
     if (!p.has("--no-frames"))
         j.framesDir = p.value("--frames-dir").value_or(std::filesystem::path(j.output).replace_extension(".frames").string());
     j.statsPath = p.value("--stats").value_or("");
+    cli::sceneOptions(p);  // checked here, where every rank parses, before the scene is shared
     j.modeOption = p.value("--mode").value_or("auto");
     if (j.modeOption != "auto" && j.modeOption != "pixel" && j.modeOption != "frame")
         throw UsageError("--mode: expected pixel, frame or auto, got \"" + j.modeOption + "\"");
@@ -158,7 +162,8 @@ std::string RenderJob::identity() const {
     j["spp"] = settings.spp;
     j["depth"] = settings.maxDepth;
     j["min_weight"] = settings.minWeight;
-    j["tonemap"] = settings.toneMap == ToneMap::Clamp ? "clamp" : "reinhard";
+    j["tonemap"] = settings.toneMap == ToneMap::Clamp ? "clamp" : settings.toneMap == ToneMap::Reinhard ? "reinhard" : "pbr-neutral";
+    j["exposure"] = settings.exposure;
     j["timeline_frames"] = timelineFrames;
     j["timeline_fps"] = timelineFps;
     // Only when asked for, so frames directories written before these options still resume.

@@ -26,7 +26,7 @@ std::string packOk(const std::string& job, const std::string& bundle) {
 }  // namespace
 
 SharedScene shareScene(Transport& t, const std::string& path, const std::function<void()>& preLoad,
-                       const std::function<std::string(Scene&, const FileBundle&)>& makeJob) {
+                       const std::function<std::string(Scene&, const FileBundle&)>& makeJob, const SceneOptions& options) {
     const auto t0 = std::chrono::steady_clock::now();
     SharedScene out;
     std::string payload;
@@ -34,7 +34,7 @@ SharedScene shareScene(Transport& t, const std::string& path, const std::functio
         try {
             if (preLoad) preLoad();
             DiskFileSource fs;
-            out.scene = loadScene(path, fs);
+            out.scene = loadScene(path, fs, options);
             out.job = makeJob ? makeJob(out.scene, fs.bundle()) : std::string();
             const std::string bundle = fs.bundle().serialize();
             out.bundleBytes = bundle.size();
@@ -66,7 +66,7 @@ SharedScene shareScene(Transport& t, const std::string& path, const std::functio
         payload.clear();
         payload.shrink_to_fit();
         BundleFileSource fs(std::move(bundle));
-        out.scene = loadScene(path, fs);
+        out.scene = loadScene(path, fs, options);
     }
     out.loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;

@@ -8,6 +8,7 @@
 
 #include "file_source.h"
 #include "scene.h"
+#include "scene_options.h"
 #include "transport.h"
 
 namespace rf::farm {
@@ -32,7 +33,10 @@ struct SharedScene {
 /// Collective over all ranks. On rank 0: runs preLoad (output checks), loads path from disk,
 /// then makeJob(scene, the files it read). If any of those throws, the other ranks are told (they throw PeerFailed
 /// with exit code 2 for input errors, 1 otherwise) and rank 0 rethrows.
+/// options (the command line's environment) apply on every rank; files they name travel in the
+/// bundle with the scene's.
 SharedScene shareScene(Transport& t, const std::string& path, const std::function<void()>& preLoad,
-                       const std::function<std::string(Scene&, const FileBundle&)>& makeJob);
+                       const std::function<std::string(Scene&, const FileBundle&)>& makeJob,
+                       const SceneOptions& options = {});
 
 }  // namespace rf::farm

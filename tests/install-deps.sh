@@ -6,6 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config
   libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev   # engine/
+  libopenexr-dev                                              # engine/: .exr environments (DWAB)
   libopenmpi-dev openmpi-bin                                  # farm/: MPI
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev # farm/: H.264 MP4 through FFmpeg
   libavfilter-dev                                             # farm/: GIF palette (palettegen/paletteuse)

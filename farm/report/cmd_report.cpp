@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cli.h"
+#include "exposure_meter.h"
 #include "sample_count.h"
 #include "mp4_sink.h"
 #include "output_check.h"
@@ -33,7 +34,7 @@ const char* kReportHelp =
     "  --size WxH              image size (default: the scene's)\n"
     "  --target-psnr DB        the error the summary answers for (default 30)\n"
     "  --threads N             worker threads (default: all cores)\n"
-    "  --spp N, --depth N, --min-weight W, --tonemap T\n"
+    "  --spp N, --depth N, --min-weight W, --tonemap T, --exposure EV|auto\n"
     "                          the default setting the sweep is centred on (default: the scene's)\n"
     "  --grid ofat|full        one factor at a time around the default (ofat, default) or every\n"
     "                          combination (full: |spp| x |depth| x |min weight| renders)\n"
@@ -166,7 +167,7 @@ void checkVideoPresets(const report::VideoReportOptions& vo, const RenderSetting
 /// The scene at --frame, checked against its timeline.
 Scene sceneAtFrame(const ArgParser& p, const std::string& scenePath, anim::Timeline& timeline, int& frame) {
     DiskFileSource fs;
-    Scene scene = loadScene(scenePath, fs);
+    Scene scene = loadScene(scenePath, fs, sceneOptions(p));
     for (const std::string& note : scene.notes) std::fprintf(stderr, "rayfarm: note: %s\n", note.c_str());
     timeline = anim::Timeline::fromScene(scene);
     frame = p.intValue("--frame", 0, 0, 1 << 30);
@@ -182,7 +183,7 @@ Scene sceneAtFrame(const ArgParser& p, const std::string& scenePath, anim::Timel
 int runReport(const std::vector<std::string>& args) {
     ArgParser p("report");
     for (const char* o : {"--out", "--frame", "--size", "--target-psnr", "--threads", "--spp", "--depth",
-                          "--min-weight", "--tonemap", "--grid", "--sweep-spp", "--sweep-depth", "--sweep-min-weight",
+                          "--min-weight", "--tonemap", "--exposure", "--grid", "--sweep-spp", "--sweep-depth", "--sweep-min-weight",
                           "--ref-spp", "--ref-depth", "--video-frames", "--video-crf", "--video-preset"})
         p.option(o);
     for (const char* f : {"--stability", "--no-video", "--help", "-h"}) p.flag(f);
@@ -209,6 +210,7 @@ int runReport(const std::vector<std::string>& args) {
     Scene scene = sceneAtFrame(p, scenePath, timeline, o.frame);
     RenderSettings settings = scene.settings;
     applyQualityOptions(p, settings);
+    resolveAutoExposure(scene, timeline, settings, p.intValue("--threads", 0, 0, 4096));
     o.sweep.base = {settings.spp, settings.maxDepth, settings.minWeight};
     const bool video = !p.has("--no-video");
     if (video) checkVideoPresets(vo, settings);

@@ -26,7 +26,7 @@ std::vector<uint8_t> renderReference(const Scene& scene, const RenderSettings& s
         std::fprintf(stderr, "rayfarm: report: reference %s at %dx%d ...\n", describe(o.reference).c_str(), w, h);
     const RenderSettings refSettings = withQuality(settings, o.reference);
     const TimedRender ref = renderTimed(scene, refSettings, o.frame, o.threads, 0.0, 1);
-    const std::vector<uint8_t> ref8 = toRgb8(ref.image, settings.toneMap);
+    const std::vector<uint8_t> ref8 = toRgb8(ref.image, settings);
     writePng(rep.referencePath, w, h, ref8);
     rep.reference.q = o.reference;
     rep.reference.factor = "reference";
@@ -47,7 +47,7 @@ double writeDefaultImages(const Scene& scene, const RenderSettings& settings, co
     const RenderSettings defSettings = withQuality(settings, o.sweep.base);
     RayStats rays;
     const Image def = renderFrame(scene, scene.camera, defSettings, o.frame, o.threads, rays);
-    const std::vector<uint8_t> def8 = toRgb8(def, settings.toneMap);
+    const std::vector<uint8_t> def8 = toRgb8(def, settings);
     writePng((dir / "default.png").string(), w, h, def8);
     // Scaled to the 99th percentile, so a few extreme pixels do not leave the rest black.
     const double scale = std::max(errorQuantileRgb8(def8, ref8, w, h, 0.99), 1.0 / 255.0);
@@ -116,7 +116,7 @@ VideoReport runVideoReport(Scene& scene, const anim::Timeline& timeline, const R
     for (int i = 0; i < rep.frames; ++i) {
         timeline.applyFrame(scene, i);
         RayStats rays;
-        frames.push_back(toRgb8(renderFrame(scene, scene.camera, settings, i, o.threads, rays), settings.toneMap));
+        frames.push_back(toRgb8(renderFrame(scene, scene.camera, settings, i, o.threads, rays), settings));
     }
     VideoSweepSpec spec = o.sweep;
     spec.fps = timeline.fps();

@@ -79,7 +79,7 @@ std::vector<SweepRow> runSweep(const Scene& scene, const RenderSettings& setting
         row.seconds = r.seconds;
         row.repeats = r.repeats;
         row.rays = r.rays;
-        row.error = compareRgb8(toRgb8(r.image, s.toneMap), reference, s.width, s.height);
+        row.error = compareRgb8(toRgb8(r.image, s), reference, s.width, s.height);
         rows.push_back(row);
         spent.push_back(r.seconds);
         if (progress) progress(int(i) + 1, int(points.size()), rows.back());

@@ -38,7 +38,9 @@ bool isModel(const std::string& path) {
     return e == ".gltf" || e == ".glb";
 }
 
-const char* toneMapName(ToneMap t) { return t == ToneMap::Reinhard ? "reinhard" : "clamp"; }
+const char* toneMapName(ToneMap t) {
+    return t == ToneMap::Reinhard ? "reinhard" : t == ToneMap::PbrNeutral ? "pbr-neutral" : "clamp";
+}
 
 json lightJson(const Light& l, const DVec3& origin) {
     json j{{"name", l.name}, {"color", vec(l.color)}, {"intensity", double(l.intensity)}, {"shadows", l.castShadows}};

@@ -12,6 +12,7 @@
 
 #include "background_option.h"
 #include "cli.h"
+#include "exposure_meter.h"
 #include "errors.h"
 #include "file_source.h"
 #include "gltf_loader.h"
@@ -102,6 +103,8 @@ void checkDisplayAndOutputs(view::ViewOptions& o, const ArgParser& p) {
 RenderSettings pictureSettings(const ArgParser& p, const Scene& scene) {
     RenderSettings settings = scene.settings;
     applyQualityOptions(p, settings);
+    // One EV for the whole session, the same on every rank (the meter is deterministic).
+    resolveAutoExposure(scene, anim::Timeline::fromScene(scene), settings, 0);
     return settings;
 }
 

@@ -144,7 +144,7 @@ bool ViewRenderer::renderPass(const ViewRequest& r, const Camera& cam, uint64_t 
         RayStats rays;
         renderTile(scene_, cam, t, s, r.frame, tile.data(), rays);
         if (cancelled(epoch)) return;
-        const std::vector<uint8_t> bytes = toRgb8(tile, s.toneMap);
+        const std::vector<uint8_t> bytes = toRgb8(tile, s);
         std::lock_guard<std::mutex> lock(frameMutex);
         for (int y = 0; y < t.height(); ++y)
             std::memcpy(&frame.rgb[(size_t(t.y0 + y) * s.width + t.x0) * 3], &bytes[size_t(y) * t.width() * 3],

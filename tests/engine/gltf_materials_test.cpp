@@ -119,7 +119,7 @@ TEST(GltfLights, PunctualLightsMapToEngineUnits) {
     ASSERT_EQ(s.lights.size(), 3u) << "a model with lights gets no default rig";
     const Light& p = s.lights[0];
     EXPECT_EQ(p.type, LightType::Point);
-    EXPECT_NEAR(p.intensity, 25.f, 1e-5f);  // candela / π
+    EXPECT_NEAR(p.intensity, 25.f * kPi / 683.f, 1e-5f);  // candela / 683 lm/W: W/sr
     EXPECT_EQ(p.attenuation, Vec3(0, 0, 1));
     EXPECT_EQ(p.color, Color(1.f, 0.5f, 0.25f));
     EXPECT_FLOAT_EQ(p.range, 20.f);
@@ -131,20 +131,20 @@ TEST(GltfLights, PunctualLightsMapToEngineUnits) {
     EXPECT_FLOAT_EQ(sp.innerCone, 0.2f);
     EXPECT_FLOAT_EQ(sp.outerCone, 0.5f);
     EXPECT_EQ(s.lights[2].type, LightType::Directional);
-    EXPECT_NEAR(s.lights[2].intensity, 1.f, 1e-6f);
+    EXPECT_NEAR(s.lights[2].intensity, kPi / 683.f, 1e-6f);  // lux / 683 lm/W: W/m²
     EXPECT_NEAR(s.lights[2].direction.z, -1.f, 1e-6f);
 }
 
 TEST(GltfLights, LitFloorPixelMatchesTheHandComputedValue) {
     // Grey floor (0.5), dielectric, fully rough: ambient 0.1, diffuse 0.9, no highlight. Point
-    // light of 25π cd at 5 above the floor's centre: 25/π·π/5² = 1 with the range window
+    // light of 25·683 cd (25 W/sr) at 5 above the floor's centre: 25/5² = 1 with the range window
     // (1 − (5/20)⁴)². A glTF camera 10 above looks straight down at the centre.
     const double h = std::sqrt(0.5);
     json g = floorModel({{{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.5, 0.5, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}}}},
                         {{{"translation", {0, 5, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}},
                          {{"translation", {0, 10, 0}}, {"rotation", {-h, 0, 0, h}}, {"camera", 0}}});
     g["extensionsUsed"] = {"KHR_lights_punctual"};
-    g["extensions"] = {{"KHR_lights_punctual", {{"lights", {{{"type", "point"}, {"intensity", 25 * M_PI}, {"range", 20}}}}}}};
+    g["extensions"] = {{"KHR_lights_punctual", {{"lights", {{{"type", "point"}, {"intensity", 25 * 683}, {"range", 20}}}}}}};
     g["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}}};
     Scene s = loadScene(g);
     useGltfCamera(s, 0);

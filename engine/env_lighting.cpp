@@ -1,0 +1,149 @@
+#include "env_lighting.h"
+
+#include "brdf_gltf.h"
+#include "errors.h"
+#include "render.h"
+#include "scene.h"
+
+namespace rf {
+
+namespace {
+
+/// Solid angle of texel row y of a w × h equirect.
+float texelSolidAngle(int y, int w, int h) {
+    const float theta = (y + 0.5f) / h * kPi;
+    return (2.f * kPi / w) * (kPi / h) * std::sin(theta);
+}
+
+/// Radiance at uv, read from the mip level whose texels match a footprint of `lod` (0: full).
+Color sampleMips(const std::vector<EquirectImage>& mips, Vec2 uv, float lod) {
+    lod = std::clamp(lod, 0.f, float(mips.size() - 1));
+    const int l0 = int(lod);
+    const int l1 = std::min(l0 + 1, int(mips.size()) - 1);
+    const float t = lod - float(l0);
+    const Color a = mips[size_t(l0)].sample(uv);
+    return t > 0.f ? glm::mix(a, mips[size_t(l1)].sample(uv), t) : a;
+}
+
+/// E(n)/π over a small copy of the radiance, by summing every texel: exact for that copy, and
+/// no ringing (spherical harmonics ring around bright, small lights).
+EquirectImage convolveIrradiance(const EquirectImage& src, int threads) {
+    EquirectImage out;
+    out.width = 32;
+    out.height = 16;
+    out.texels.resize(size_t(out.width) * out.height);
+    std::vector<Vec3> dirs(src.texels.size());
+    std::vector<Color> weighted(src.texels.size());
+    for (int y = 0; y < src.height; ++y)
+        for (int x = 0; x < src.width; ++x) {
+            const size_t i = size_t(y) * src.width + x;
+            dirs[i] = equirectDirection(Vec2((x + 0.5f) / src.width, (y + 0.5f) / src.height));
+            weighted[i] = src.texels[i] * (texelSolidAngle(y, src.width, src.height) / kPi);
+        }
+    parallelFor(out.height, threads, [&](int y, int) {
+        for (int x = 0; x < out.width; ++x) {
+            const Vec3 n = equirectDirection(Vec2((x + 0.5f) / out.width, (y + 0.5f) / out.height));
+            Color sum(0.f);
+            for (size_t i = 0; i < dirs.size(); ++i) sum += weighted[i] * std::max(0.f, glm::dot(n, dirs[i]));
+            out.texels[size_t(y) * out.width + x] = sum;
+        }
+    });
+    return out;
+}
+
+/// The radiance prefiltered by GGX at one roughness, with n = v = r (the split-sum
+/// assumption). Deterministic Hammersley samples read mip levels matched to each sample's
+/// share of the lobe (Křivánek and Colbert 2008), so the result is smooth, not noisy.
+EquirectImage prefilterSpecular(const std::vector<EquirectImage>& mips, float roughness, int width, int threads) {
+    constexpr uint32_t kSamples = 128;
+    const float alpha = std::max(pbr::alphaFromRoughness(roughness), 1e-3f);
+    const EquirectImage& top = mips.front();
+    const float texel = 4.f * kPi / (float(top.width) * float(top.height));
+    EquirectImage out;
+    out.width = width;
+    out.height = std::max(1, width / 2);
+    out.texels.resize(size_t(out.width) * out.height);
+    parallelFor(out.height, threads, [&](int y, int) {
+        for (int x = 0; x < out.width; ++x) {
+            const Vec3 r = equirectDirection(Vec2((x + 0.5f) / out.width, (y + 0.5f) / out.height));
+            Vec3 t, b;
+            orthonormalBasis(r, t, b);
+            Color sum(0.f);
+            float weight = 0.f;
+            for (uint32_t i = 0; i < kSamples; ++i) {
+                const Vec2 u = pbr::hammersley(i, kSamples);
+                const Vec3 hl = pbr::sampleGgxHalfVector(alpha, u.x, u.y);
+                const Vec3 h = hl.x * t + hl.y * b + hl.z * r;
+                const float rh = glm::dot(r, h);
+                const Vec3 l = 2.f * rh * h - r;
+                const float nl = glm::dot(r, l);
+                if (nl <= 0.f) continue;
+                // pdf(l) = D·(n·h)/(4 v·h) = D/4 here; the sample covers 1/(N·pdf) steradians.
+                const float pdf = pbr::ggxD(hl.z, alpha) * 0.25f;
+                const float lod = 0.5f * std::log2(1.f / (kSamples * pdf * texel)) + 1.f;
+                sum += sampleMips(mips, equirectUv(l), lod) * nl;
+                weight += nl;
+            }
+            out.texels[size_t(y) * out.width + x] = weight > 0.f ? sum / weight : Color(0.f);
+        }
+    });
+    return out;
+}
+
+}  // namespace
+
+EnvironmentLight::EnvironmentLight(EquirectImage radiance, float rotationDeg, float intensity, int threads) {
+    const float rot = glm::radians(std::isfinite(rotationDeg) ? rotationDeg : 0.f);
+    cosRot_ = std::cos(rot);
+    sinRot_ = std::sin(rot);
+    if (intensity != 1.f)
+        for (Color& c : radiance.texels) c *= intensity;
+    mips_.push_back(std::move(radiance));
+    while (mips_.back().width > 8 && mips_.back().height > 4) mips_.push_back(mips_.back().halved());
+    // A copy about 128 texels wide is fine enough for a cosine lobe.
+    size_t small = 0;
+    while (small + 1 < mips_.size() && mips_[small].width > 128) ++small;
+    irradiance_ = convolveIrradiance(mips_[small], threads);
+    for (int k = 1; k < kLevels; ++k) {
+        const int width = std::clamp(mips_.front().width >> (k + 1), 32, 256);
+        specular_.push_back(prefilterSpecular(mips_, float(k) / (kLevels - 1), width, threads));
+    }
+}
+
+Vec3 EnvironmentLight::toMap(const Vec3& d) const {
+    // The map is turned by +angle about +Y, so a world direction reads the map turned by −angle.
+    return Vec3(cosRot_ * d.x - sinRot_ * d.z, d.y, sinRot_ * d.x + cosRot_ * d.z);
+}
+
+Color EnvironmentLight::radiance(const Vec3& d) const { return mips_.front().sample(equirectUv(toMap(d))); }
+
+Color EnvironmentLight::diffuse(const Vec3& n) const { return irradiance_.sample(equirectUv(toMap(n))); }
+
+Color EnvironmentLight::specular(const Vec3& r, float roughness) const {
+    const Vec2 uv = equirectUv(toMap(r));
+    const float level = std::clamp(std::isfinite(roughness) ? roughness : 1.f, 0.f, 1.f) * (kLevels - 1);
+    const int l0 = std::min(int(level), kLevels - 2);
+    const float t = level - float(l0);
+    auto at = [&](int l) { return l == 0 ? mips_.front().sample(uv) : specular_[size_t(l - 1)].sample(uv); };
+    return glm::mix(at(l0), at(l0 + 1), t);
+}
+
+std::shared_ptr<const EnvironmentLight> loadEnvironment(const EnvironmentSpec& spec, FileSource& fs) {
+    if (!std::isfinite(spec.rotationDeg)) throw InputError(spec.file, "environment rotation is not a finite number");
+    if (!(spec.intensity >= 0.f) || !std::isfinite(spec.intensity))
+        throw InputError(spec.file.empty() ? "environment" : spec.file, "environment intensity must be a finite number >= 0");
+    EquirectImage img = spec.file.empty() ? builtinStudioEnvironment()
+                                          : decodeEnvironment(fs.read(spec.file, 1ull << 30), spec.file);
+    return std::make_shared<const EnvironmentLight>(std::move(img), spec.rotationDeg, spec.intensity);
+}
+
+void attachEnvironment(Scene& scene, const std::optional<EnvironmentSpec>& own, const SceneOptions& options, FileSource& fs) {
+    std::optional<EnvironmentSpec> spec = options.environment ? options.environment : own;
+    if (!spec) return;
+    if (options.environmentRotation) spec->rotationDeg = *options.environmentRotation;
+    if (options.environmentIntensity) spec->intensity = *options.environmentIntensity;
+    scene.environment = loadEnvironment(*spec, fs);
+    scene.environmentBackground = true;
+}
+
+}  // namespace rf

@@ -1,0 +1,217 @@
+#include "environment.h"
+
+#include <OpenEXR/ImfArray.h>
+#include <OpenEXR/ImfCheckFile.h>
+#include <OpenEXR/ImfIO.h>
+#include <OpenEXR/ImfRgbaFile.h>
+#include <stb_image.h>
+
+#include <cstring>
+
+#include "errors.h"
+
+namespace rf {
+
+Vec2 equirectUv(const Vec3& d) {
+    const float u = 0.5f + std::atan2(d.z, d.x) * (0.5f / kPi);
+    const float v = std::acos(std::clamp(d.y, -1.f, 1.f)) * (1.f / kPi);
+    return Vec2(u, v);
+}
+
+Vec3 equirectDirection(Vec2 uv) {
+    const float phi = (uv.x - 0.5f) * 2.f * kPi, theta = uv.y * kPi;
+    const float s = std::sin(theta);
+    return Vec3(s * std::cos(phi), std::cos(theta), s * std::sin(phi));
+}
+
+Color EquirectImage::sample(Vec2 uv) const {
+    if (width <= 0 || height <= 0) return Color(0.f);
+    if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return at(0, 0);
+    const float x = (uv.x - std::floor(uv.x)) * width - 0.5f;
+    const float y = std::clamp(uv.y * height - 0.5f, 0.f, float(height - 1));
+    const float fx = std::floor(x);
+    const int x0 = (int(fx) % width + width) % width, x1 = (x0 + 1) % width;
+    const int y0 = int(y), y1 = std::min(y0 + 1, height - 1);
+    const float tx = x - fx, ty = y - float(y0);
+    return (1.f - ty) * ((1.f - tx) * at(x0, y0) + tx * at(x1, y0)) + ty * ((1.f - tx) * at(x0, y1) + tx * at(x1, y1));
+}
+
+EquirectImage EquirectImage::halved() const {
+    EquirectImage h;
+    h.width = std::max(1, width / 2);
+    h.height = std::max(1, height / 2);
+    h.texels.resize(size_t(h.width) * h.height);
+    for (int y = 0; y < h.height; ++y)
+        for (int x = 0; x < h.width; ++x) {
+            const int xa = std::min(2 * x, width - 1), xb = std::min(2 * x + 1, width - 1);
+            const int ya = std::min(2 * y, height - 1), yb = std::min(2 * y + 1, height - 1);
+            h.texels[size_t(y) * h.width + x] = 0.25f * (at(xa, ya) + at(xb, ya) + at(xa, yb) + at(xb, yb));
+        }
+    return h;
+}
+
+namespace {
+
+/// OpenEXR reads from this view of the file's bytes (rank 0 read them; workers got them in the
+/// broadcast bundle).
+class MemoryStream : public Imf::IStream {
+public:
+    MemoryStream(const std::string& bytes, const std::string& name) : Imf::IStream(name.c_str()), bytes_(bytes) {}
+    bool read(char c[], int n) override {
+        if (n < 0 || pos_ + uint64_t(n) > bytes_.size()) throw std::runtime_error("unexpected end of file");
+        std::memcpy(c, bytes_.data() + pos_, size_t(n));
+        pos_ += uint64_t(n);
+        return true;
+    }
+    uint64_t tellg() override { return pos_; }
+    void seekg(uint64_t pos) override { pos_ = pos; }
+
+private:
+    const std::string& bytes_;
+    uint64_t pos_ = 0;
+};
+
+void checkSize(long long w, long long h, const std::string& path) {
+    if (w <= 0 || h <= 0) throw InputError(path, "environment image has no pixels");
+    if (w * h > kMaxEnvironmentPixels)
+        throw InputError(path, "environment image of " + std::to_string(w) + "x" + std::to_string(h) +
+                                   " is over the limit of 8192x4096 pixels");
+}
+
+EquirectImage decodeExr(const std::string& bytes, const std::string& path) {
+    // OpenEXR's own validator first: it walks every part of the file with memory and time
+    // limits, so a corrupt file is refused here rather than met half-way through decoding.
+    // (Its OpenEXRCore pass is left off: in OpenEXR 3.1 it reports valid DWAB files as bad.)
+    if (Imf::checkOpenEXRFile(bytes.data(), bytes.size(), true, true, false))
+        throw InputError(path, "not a readable OpenEXR file (corrupt or truncated)");
+    EquirectImage img;
+    try {
+        MemoryStream stream(bytes, path);
+        Imf::RgbaInputFile file(stream);
+        const Imath::Box2i dw = file.dataWindow();
+        const long long w = (long long)dw.max.x - dw.min.x + 1, h = (long long)dw.max.y - dw.min.y + 1;
+        checkSize(w, h, path);
+        Imf::Array2D<Imf::Rgba> px(h, w);
+        file.setFrameBuffer(&px[0][0] - dw.min.x - dw.min.y * w, 1, size_t(w));
+        file.readPixels(dw.min.y, dw.max.y);
+        img.width = int(w);
+        img.height = int(h);
+        img.texels.resize(size_t(w * h));
+        for (long long y = 0; y < h; ++y)
+            for (long long x = 0; x < w; ++x) {
+                const Imf::Rgba& p = px[y][x];
+                img.texels[size_t(y * w + x)] = Color(float(p.r), float(p.g), float(p.b));
+            }
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw InputError(path, std::string("cannot read OpenEXR file: ") + e.what());
+    }
+    return img;
+}
+
+/// stb fills a truncated Radiance file with black instead of failing, so walk the pixel data
+/// first: the header ends at an empty line and the resolution line; then each scanline is
+/// either run-length encoded (2, 2, width, then four channels of runs) or flat RGBE.
+bool hdrDataComplete(const std::string& bytes, int w, int h) {
+    size_t p = bytes.find("\n\n");
+    if (p == std::string::npos) return false;
+    p = bytes.find('\n', p + 2);  // the "-Y h +X w" line
+    if (p == std::string::npos) return false;
+    ++p;
+    const size_t n = bytes.size();
+    auto byte = [&](size_t i) { return static_cast<unsigned char>(bytes[i]); };
+    for (int y = 0; y < h; ++y) {
+        if (p + 4 > n) return false;
+        const bool rle = w >= 8 && w < 32768 && byte(p) == 2 && byte(p + 1) == 2 && !(byte(p + 2) & 0x80);
+        if (!rle) {  // flat (or old-style) pixels: stb reads the rest of the image as 4 bytes each
+            return n - p >= size_t(w) * size_t(h - y) * 4;
+        }
+        if (((byte(p + 2) << 8) | byte(p + 3)) != w) return false;
+        p += 4;
+        for (int c = 0; c < 4; ++c)
+            for (int x = 0; x < w;) {
+                if (p >= n) return false;
+                int count = byte(p++);
+                if (count > 128) {
+                    count -= 128;
+                    if (p + 1 > n) return false;
+                    p += 1;
+                } else {
+                    if (count == 0 || p + size_t(count) > n) return false;
+                    p += size_t(count);
+                }
+                x += count;
+                if (x > w) return false;
+            }
+    }
+    return true;
+}
+
+EquirectImage decodeHdr(const std::string& bytes, const std::string& path) {
+    const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
+    if (bytes.size() > size_t(INT32_MAX)) throw InputError(path, "environment file over 2 GiB");
+    const int len = int(bytes.size());
+    int w = 0, h = 0, comp = 0;
+    if (!stbi_info_from_memory(data, len, &w, &h, &comp)) throw InputError(path, "not a readable Radiance .hdr file");
+    checkSize(w, h, path);
+    if (!hdrDataComplete(bytes, w, h)) throw InputError(path, "Radiance .hdr file is truncated or its pixel data malformed");
+    float* px = stbi_loadf_from_memory(data, len, &w, &h, &comp, 3);
+    if (!px) throw InputError(path, std::string("cannot read Radiance .hdr file (") + stbi_failure_reason() + ")");
+    EquirectImage img;
+    img.width = w;
+    img.height = h;
+    img.texels.resize(size_t(w) * h);
+    for (size_t i = 0; i < img.texels.size(); ++i) img.texels[i] = Color(px[3 * i], px[3 * i + 1], px[3 * i + 2]);
+    stbi_image_free(px);
+    return img;
+}
+
+}  // namespace
+
+EquirectImage decodeEnvironment(const std::string& bytes, const std::string& path) {
+    static const char kExrMagic[4] = {0x76, 0x2f, 0x31, 0x01};
+    EquirectImage img;
+    if (bytes.size() >= 4 && std::memcmp(bytes.data(), kExrMagic, 4) == 0) img = decodeExr(bytes, path);
+    else if (bytes.rfind("#?", 0) == 0) img = decodeHdr(bytes, path);
+    else throw InputError(path, "not an environment image (expected an equirectangular .hdr or .exr)");
+    for (Color& c : img.texels) {
+        if (!isFinite(c)) throw InputError(path, "environment image holds non-finite radiance");
+        c = glm::max(c, Color(0.f));  // lossy compression (DWA) rings slightly below zero
+    }
+    return img;
+}
+
+namespace {
+
+/// A soft rectangular light on the sphere: smooth falloff around (azimuth, elevation).
+float softBox(const Vec3& d, float azimuthDeg, float elevationDeg, float sizeDeg) {
+    const float az = glm::radians(azimuthDeg), el = glm::radians(elevationDeg);
+    const Vec3 c(std::cos(el) * std::cos(az), std::sin(el), std::cos(el) * std::sin(az));
+    const float angle = std::acos(std::clamp(glm::dot(d, c), -1.f, 1.f));
+    const float x = angle / glm::radians(sizeDeg);
+    return x >= 1.f ? 0.f : (1.f - x * x) * (1.f - x * x);
+}
+
+}  // namespace
+
+EquirectImage builtinStudioEnvironment(int width) {
+    EquirectImage img;
+    img.width = std::max(8, width);
+    img.height = img.width / 2;
+    img.texels.resize(size_t(img.width) * img.height);
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            const Vec3 d = equirectDirection(Vec2((x + 0.5f) / img.width, (y + 0.5f) / img.height));
+            // Walls: a grey gradient, brighter towards the top; floor: a warm dim bounce.
+            Color c = d.y >= 0.f ? glm::mix(Color(0.30f, 0.31f, 0.33f), Color(0.55f, 0.56f, 0.58f), d.y)
+                                 : glm::mix(Color(0.22f, 0.20f, 0.18f), Color(0.12f, 0.11f, 0.10f), -d.y);
+            c += Color(4.0f) * softBox(d, 0.f, 90.f, 35.f);                      // overhead
+            c += Color(9.0f, 8.6f, 8.0f) * softBox(d, 135.f, 30.f, 18.f);        // key
+            c += Color(5.0f, 5.4f, 6.0f) * softBox(d, -45.f, 20.f, 14.f);        // rim
+            img.texels[size_t(y) * img.width + x] = c;
+        }
+    return img;
+}
+
+}  // namespace rf

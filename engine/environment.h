@@ -1,0 +1,42 @@
+#pragma once
+/// Environment light: an equirectangular radiance image around the scene, oriented as Blender
+/// maps one on its world for an imported glTF (+Y up): direction d looks up
+/// u = 0.5 + atan2(d.z, d.x)/2π, v = acos(d.y)/π, v = 0 the top row. So +X sees the image
+/// centre, +Z the point three quarters across, +Y the top row.
+#include <string>
+#include <vector>
+
+#include "vec_math.h"
+
+namespace rf {
+
+/// Equirectangular float RGB radiance, row 0 at the top.
+struct EquirectImage {
+    int width = 0, height = 0;
+    std::vector<Color> texels;
+
+    const Color& at(int x, int y) const { return texels[size_t(y) * width + x]; }
+    /// Bilinear at (u, v) in [0, 1]²: wraps in u, clamps in v.
+    Color sample(Vec2 uv) const;
+    /// Each 2×2 block averaged (odd sizes keep their last row/column): the next mip level.
+    EquirectImage halved() const;
+};
+
+/// (u, v) of a unit world direction, and back.
+Vec2 equirectUv(const Vec3& d);
+Vec3 equirectDirection(Vec2 uv);
+
+/// Pixels an environment file may have: 8192 × 4096 (an "8K" HDRI) and no more.
+constexpr long long kMaxEnvironmentPixels = 8192LL * 4096LL;
+
+/// Decodes an equirectangular .hdr (Radiance RGBE, through stb) or .exr (OpenEXR: every
+/// compression it reads, DWAA/DWAB included) from its bytes, told apart by their magic numbers.
+/// Throws InputError(path, ...) for anything else, a malformed or truncated file, a size beyond
+/// kMaxEnvironmentPixels, or non-finite radiance. Negative values (lossy DWA ringing) become 0.
+EquirectImage decodeEnvironment(const std::string& bytes, const std::string& path);
+
+/// The built-in studio for bare models, made in code: a dim grey room with a warm floor
+/// bounce, a broad soft top light and two soft boxes (key front-left, rim back-right).
+EquirectImage builtinStudioEnvironment(int width = 256);
+
+}  // namespace rf

@@ -1,0 +1,18 @@
+#pragma once
+/// --exposure auto: one EV for a whole film, metered before the first frame is rendered.
+#include <functional>
+
+#include "scene.h"
+#include "timeline.h"
+
+namespace rf::cli {
+
+/// If settings.autoExposure, renders a few small frames spread evenly over the film (the same
+/// frames whichever part of it this run renders, so a still and the film's frame agree), meters
+/// them, stores the EV in settings.exposure, clears autoExposure and prints the EV chosen.
+/// afterPose (if given) runs after each frame is posed, e.g. to look through a glTF camera.
+/// The frames are posed on a copy: the scene is left as it was.
+void resolveAutoExposure(const Scene& scene, const anim::Timeline& timeline, RenderSettings& settings, int threads,
+                         const std::function<void(Scene&)>& afterPose = {});
+
+}  // namespace rf::cli

@@ -1,0 +1,164 @@
+// Environment images: Blender's orientation, the rotation knob, real DWAB and RGBE files, bad
+// files refused with a message naming them, and the prefiltered lighting of a uniform sky.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "env_lighting.h"
+#include "environment.h"
+#include "errors.h"
+
+using namespace rf;
+
+namespace {
+
+std::string readFile(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+const std::string kStudio = std::string(RAYFARM_SOURCE_DIR) + "/scenes/environments/studio.exr";
+
+/// Black, with a one-texel-wide bright column at u = 0.5 (the image centre).
+EquirectImage stripeAtCentre(int w = 64) {
+    EquirectImage img;
+    img.width = w;
+    img.height = w / 2;
+    img.texels.assign(size_t(img.width) * img.height, Color(0.f));
+    for (int y = 0; y < img.height; ++y) {
+        img.texels[size_t(y) * w + w / 2 - 1] = Color(1.f);
+        img.texels[size_t(y) * w + w / 2] = Color(1.f);
+    }
+    return img;
+}
+
+/// A Radiance file with flat (not run-length encoded) RGBE pixels.
+std::string rgbeFile(int w, int h, const std::vector<float>& rgb) {
+    std::string out = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y " + std::to_string(h) + " +X " + std::to_string(w) + "\n";
+    for (int i = 0; i < w * h; ++i) {
+        const float m = std::max(rgb[3 * i], std::max(rgb[3 * i + 1], rgb[3 * i + 2]));
+        int e = 0;
+        const float f = std::frexp(m, &e) * 256.f / m;
+        for (int k = 0; k < 3; ++k) out += char(static_cast<unsigned char>(rgb[3 * i + k] * f));
+        out += char(static_cast<unsigned char>(e + 128));
+    }
+    return out;
+}
+
+void expectRefused(const std::string& bytes, const std::string& what) {
+    try {
+        decodeEnvironment(bytes, "bad.env");
+        ADD_FAILURE() << "accepted: " << what;
+    } catch (const InputError& e) {
+        EXPECT_EQ(e.file(), "bad.env") << what;
+        EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << what;
+    }
+}
+
+}  // namespace
+
+TEST(Environment, DirectionsMapAsBlenderDoes) {
+    EXPECT_NEAR(equirectUv(Vec3(1, 0, 0)).x, 0.5f, 1e-6f);   // +X: the image centre
+    EXPECT_NEAR(equirectUv(Vec3(1, 0, 0)).y, 0.5f, 1e-6f);
+    EXPECT_NEAR(equirectUv(Vec3(0, 0, 1)).x, 0.75f, 1e-6f);  // +Z: three quarters across
+    EXPECT_NEAR(equirectUv(Vec3(0, 1, 0)).y, 0.f, 1e-6f);    // +Y: the top row
+    for (Vec2 uv : {Vec2(0.1f, 0.3f), Vec2(0.6f, 0.8f), Vec2(0.9f, 0.5f)}) {
+        const Vec2 back = equirectUv(equirectDirection(uv));
+        EXPECT_NEAR(back.x, uv.x, 1e-5f);
+        EXPECT_NEAR(back.y, uv.y, 1e-5f);
+    }
+}
+
+TEST(Environment, StripeAtTheCentreIsSeenLookingAlongPlusX) {
+    const EnvironmentLight env(stripeAtCentre(), 0.f, 1.f, 1);
+    EXPECT_GT(env.radiance(Vec3(1, 0, 0)).g, 0.9f);
+    EXPECT_LT(env.radiance(Vec3(-1, 0, 0)).g, 1e-6f);
+    EXPECT_LT(env.radiance(Vec3(0, 0, 1)).g, 1e-6f);
+    EXPECT_LT(env.radiance(Vec3(0, 0, -1)).g, 1e-6f);
+}
+
+TEST(Environment, RotationTurnsAboutPlusY) {
+    // +90°: what +X saw is now seen towards −Z (right-handed about +Y).
+    const EnvironmentLight env(stripeAtCentre(), 90.f, 2.f, 1);
+    EXPECT_GT(env.radiance(Vec3(0, 0, -1)).g, 1.8f);  // intensity 2
+    EXPECT_LT(env.radiance(Vec3(1, 0, 0)).g, 1e-6f);
+}
+
+TEST(Environment, UniformSkyLightsEveryNormalAndRoughnessAlike) {
+    EquirectImage sky;
+    sky.width = 128;
+    sky.height = 64;
+    sky.texels.assign(size_t(sky.width) * sky.height, Color(0.5f));
+    const EnvironmentLight env(sky, 0.f, 1.f, 1);
+    for (const Vec3& n : {Vec3(0, 1, 0), Vec3(1, 0, 0), glm::normalize(Vec3(-1, -2, 3))}) {
+        // Irradiance/π of a uniform radiance L is L; the equirect's texel sum gets within 1%.
+        EXPECT_NEAR(env.diffuse(n).r, 0.5f, 0.005f);
+        for (float r : {0.f, 0.3f, 0.7f, 1.f}) EXPECT_NEAR(env.specular(n, r).r, 0.5f, 1e-3f) << r;
+    }
+}
+
+TEST(Environment, StudioExrWithDwabCompressionLoads) {
+    const std::string bytes = readFile(kStudio);
+    ASSERT_GT(bytes.size(), 1000u);
+    const EquirectImage img = decodeEnvironment(bytes, kStudio);
+    EXPECT_EQ(img.width, 1024);
+    EXPECT_EQ(img.height, 512);
+    double sum = 0.0;
+    float peak = 0.f;
+    for (const Color& c : img.texels) {
+        sum += c.g;
+        peak = std::max(peak, c.g);
+    }
+    // A studio: a dim room (mean radiance well below 1) with lights far brighter than it.
+    const double mean = sum / img.texels.size();
+    EXPECT_GT(mean, 0.01);
+    EXPECT_LT(mean, 5.0);
+    EXPECT_GT(peak, 10.0 * mean);
+}
+
+TEST(Environment, RadianceHdrRoundTrips) {
+    const int w = 32, h = 16;
+    std::vector<float> px(size_t(w) * h * 3);
+    for (int i = 0; i < w * h; ++i) {
+        px[3 * i] = 0.003f * i;  // below g, which sets the shared exponent
+        px[3 * i + 1] = 2.f;
+        px[3 * i + 2] = 0.25f;
+    }
+    const std::string whole = rgbeFile(w, h, px);
+    const EquirectImage img = decodeEnvironment(whole, "roundtrip.hdr");
+    ASSERT_EQ(img.width, w);
+    ASSERT_EQ(img.height, h);
+    for (int i = 0; i < w * h; i += 37) {
+        // RGBE shares one exponent, set by the largest channel (g = 2 here): every channel is
+        // stored in steps of 2^(e−8) = 1/64, truncated.
+        EXPECT_NEAR(img.texels[size_t(i)].r, px[3 * i], 1.f / 64.f);
+        EXPECT_NEAR(img.texels[size_t(i)].g, 2.f, 1.f / 64.f);
+    }
+    // Truncated: RGBE data cut in half is refused, not filled with black.
+    expectRefused(whole.substr(0, whole.size() / 2), "truncated .hdr");
+}
+
+TEST(Environment, BadFilesAreRefusedNamingTheFile) {
+    const std::string exr = readFile(kStudio);
+    expectRefused(exr.substr(0, exr.size() / 2), "truncated .exr");
+    std::string corrupt = exr;
+    for (size_t i = exr.size() / 3; i < exr.size() / 3 + 2000; ++i) corrupt[i] = char(i * 131);
+    expectRefused(corrupt, "corrupt .exr");
+    expectRefused(exr.substr(0, 4), "EXR magic only");
+    expectRefused("", "empty file");
+    expectRefused("P6\n2 2\n255\n............", "a PPM");
+    expectRefused("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 100000 +X 200000\n", "huge .hdr");
+    expectRefused("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 0 +X 0\n", "empty .hdr");
+}
+
+TEST(Environment, BuiltinStudioIsLitFromAboveAndFinite) {
+    const EquirectImage img = builtinStudioEnvironment(128);
+    ASSERT_EQ(img.width, 128);
+    ASSERT_EQ(img.height, 64);
+    for (const Color& c : img.texels) ASSERT_TRUE(isFinite(c) && c.r >= 0.f);
+    const EnvironmentLight env(img, 0.f, 1.f, 1);
+    EXPECT_GT(env.diffuse(Vec3(0, 1, 0)).g, 2.f * env.diffuse(Vec3(0, -1, 0)).g);
+}

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# --exposure end to end: auto exposure (the glTF default) is metered once per film, so every
+# frame of a turntable (and a still of any of them) gets the same EV; a fixed EV skips the
+# meter; a bad value is one error line and exit status 2.
+set -u
+rayfarm=$1 out=$2
+model=/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb
+mkdir -p "$out"
+fail() { echo "FAIL: $*"; exit 1; }
+[ -f "$model" ] || fail "$model missing (package assimp-testmodels)"
+
+ev_of() { grep -o 'auto exposure: EV [-+0-9.]*' | sed 's/.*EV //'; }
+ev0=$("$rayfarm" still "$model" --size 64x36 -o "$out/f0.png" --frame 0 2>&1 | ev_of)
+ev45=$("$rayfarm" still "$model" --size 64x36 -o "$out/f45.png" --frame 45 2>&1 | ev_of)
+[ -n "$ev0" ] || fail "still of a glTF model printed no auto exposure"
+[ "$ev0" = "$ev45" ] || fail "frames 0 and 45 metered differently: $ev0 vs $ev45"
+cmp -s "$out/f0.png" "$out/f45.png" && fail "frames 0 and 45 are the same picture (the turntable did not turn)"
+
+log=$("$rayfarm" render "$model" --size 64x36 --frames 0:3 -o "$out/t.mp4" --no-frames 2>&1) || fail "render: $log"
+[ "$(printf '%s\n' "$log" | grep -c 'auto exposure: EV')" -eq 1 ] || fail "render metered other than once: $log"
+[ "$(printf '%s\n' "$log" | ev_of)" = "$ev0" ] || fail "render and still chose different EVs"
+
+"$rayfarm" still "$model" --size 64x36 -o "$out/fixed.png" --exposure 1.5 2>&1 | grep -q 'auto exposure' &&
+  fail "--exposure 1.5 still metered"
+for bad in "--exposure bright" "--exposure 99" "--tonemap filmic"; do
+  err=$("$rayfarm" still "$model" $bad --size 64x36 -o "$out/bad.png" 2>&1 >/dev/null)
+  status=$?
+  [ $status -eq 2 ] || fail "$bad: exit status $status, not 2"
+  [ "$(printf '%s\n' "$err" | wc -l)" -eq 1 ] || fail "$bad: expected one error line, got: $err"
+  case "$err" in "rayfarm: error: "*) ;; *) fail "$bad: unexpected message: $err" ;; esac
+done
+echo "ok"
