@@ -111,7 +111,7 @@ struct WorkerState {
             img.setTile(r.x0 - w.rect.x0, r.y0 - w.rect.y0, r.width(), r.height(), buf.data());
         });
         if (cancelled || drain(w.epoch)) return false;
-        rgb = toRgb8(img, s.toneMap);
+        rgb = toRgb8(img, s);
         return true;
     }
 };
