@@ -29,15 +29,16 @@ for bad in "--exposure bright" "--exposure 99" "--tonemap filmic"; do
   [ "$(printf '%s\n' "$err" | wc -l)" -eq 1 ] || fail "$bad: expected one error line, got: $err"
   case "$err" in "rayfarm: error: "*) ;; *) fail "$bad: unexpected message: $err" ;; esac
 done
-# --environment: Blender's DWAB studio loads; an over-size or missing file is one line, exit 2.
-# (Truncated files: environment_test; an .exr cut to 40000 bytes is still accepted, open.)
+# --environment: Blender's DWAB studio loads; a truncated, over-size or missing file is one
+# line, exit 2.
 studio=$(cd "$(dirname "$0")/../../scenes/environments" && pwd)/studio.exr
 "$rayfarm" still "$model" --size 64x36 -o "$out/env.png" --environment "$studio" --environment-rotation 90 \
   --environment-intensity 0.5 2>/dev/null || fail "--environment studio.exr"
+head -c 40000 "$studio" > "$out/truncated.exr"
 printf '#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 90000 +X 90000\n' > "$out/huge.hdr"
-for bad in "$out/huge.hdr" "$out/missing.exr"; do
-  err=$("$rayfarm" still "$model" --environment "$bad" --size 64x36 -o "$out/bad.png" 2>&1 >/dev/null | grep -v '^rayfarm: note:')
-  status=${PIPESTATUS[0]}
+for bad in "$out/truncated.exr" "$out/huge.hdr" "$out/missing.exr"; do
+  err=$("$rayfarm" still "$model" --environment "$bad" --size 64x36 -o "$out/bad.png" 2>&1 >/dev/null)
+  status=$?
   [ $status -eq 2 ] || fail "--environment $bad: exit status $status, not 2"
   [ "$(printf '%s\n' "$err" | wc -l)" -eq 1 ] || fail "--environment $bad: expected one error line, got: $err"
   case "$err" in "rayfarm: error: $bad: "*) ;; *) fail "--environment $bad: unexpected message: $err" ;; esac
