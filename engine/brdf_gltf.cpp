@@ -9,7 +9,7 @@ float f0FromIor(float ior) {
     return r * r;
 }
 
-Color specularF0(const Surface& s) { return glm::mix(Color(f0FromIor(s.ior)), s.baseColor, s.metallic); }
+Color specularF0(const Surface& s) { return glm::mix(Color(s.specular * f0FromIor(s.ior)), s.baseColor, s.metallic); }
 
 float ggxD(float cos2, float sin2, float alpha) {
     const float a2 = alpha * alpha;
@@ -50,14 +50,16 @@ Color evalBrdf(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l) {
     const Vec3 nxh = glm::cross(n, h);
     const float alpha = std::max(alphaFromRoughness(s.roughness), kMinAlpha);
     const float dv = ggxD(nh * nh, glm::dot(nxh, nxh), alpha) * smithVisibility(nl, nv, alpha);
-    // Schlick is linear in f0, so the metal/dielectric mix of the two Fresnel-weighted specular
-    // lobes is one lobe with the mixed f0.
-    const Color spec = schlickFresnel(specularF0(s), vh) * dv;
-    if (s.metallic >= 1.f) return spec;
+    // The metal's and the dielectric's Fresnel-weighted lobes, mixed by metallic; the
+    // dielectric's Fresnel layer weighs `specular` (KHR_materials_specular; 1 without it).
     const float f0 = f0FromIor(s.ior);
-    const float couple = (1.f - dielectricAlbedo(f0, s.roughness, nv)) * (1.f - dielectricAlbedo(f0, s.roughness, nl)) /
-                         std::max(1e-4f, 1.f - dielectricAlbedoAverage(f0, s.roughness));
-    const Color diffuse = (1.f - s.metallic) * couple * s.baseColor * (1.f / kPi);
+    const Color fresnel = s.metallic * schlickFresnel(s.baseColor, vh) + Color((1.f - s.metallic) * s.specular * schlickFresnel(f0, vh));
+    const Color spec = fresnel * dv;
+    if (s.metallic >= 1.f || s.transmission >= 1.f) return spec;
+    const float w = s.specular;
+    const float couple = (1.f - w * dielectricAlbedo(f0, s.roughness, nv)) * (1.f - w * dielectricAlbedo(f0, s.roughness, nl)) /
+                         std::max(1e-4f, 1.f - w * dielectricAlbedoAverage(f0, s.roughness));
+    const Color diffuse = (1.f - s.metallic) * (1.f - s.transmission) * couple * s.baseColor * (1.f / kPi);
     return diffuse + spec;
 }
 
@@ -201,15 +203,16 @@ float dielectricAlbedoAverage(float f0, float roughness) {
 
 Color specularAlbedo(const Surface& s, float nv) {
     const Vec2 ab = specularScaleBias(nv, s.roughness);
-    return specularF0(s) * ab.x + Color(ab.y);
+    const float dielectric = s.specular * (f0FromIor(s.ior) * ab.x + ab.y);
+    return s.metallic * (s.baseColor * ab.x + Color(ab.y)) + Color((1.f - s.metallic) * dielectric);
 }
 
 Color environmentLight(const Surface& s, float nv, const Color& specularRadiance, const Color& diffuseRadiance) {
     const Vec2 ab = specularScaleBias(nv, s.roughness);
-    const float ed = f0FromIor(s.ior) * ab.x + ab.y;
-    const Color spec = (specularF0(s) * ab.x + Color(ab.y)) * specularRadiance;
+    const float ed = s.specular * (f0FromIor(s.ior) * ab.x + ab.y);
+    const Color spec = specularAlbedo(s, nv) * specularRadiance;
     // The coupled diffuse layer under light arriving evenly: (1 − E(n·v))·c times irradiance/π.
-    const Color diffuse = (1.f - s.metallic) * (1.f - ed) * s.baseColor * diffuseRadiance;
+    const Color diffuse = (1.f - s.metallic) * (1.f - s.transmission) * (1.f - ed) * s.baseColor * diffuseRadiance;
     return s.occlusion * (spec + diffuse);
 }
 

@@ -14,6 +14,8 @@ struct Surface {
     float roughness = 1.f;  ///< perceptual roughness; α = roughness²
     float ior = 1.5f;       ///< dielectric f0 = ((ior − 1)/(ior + 1))²
     float occlusion = 1.f;  ///< dims environment and indirect light only, never direct light
+    float specular = 1.f;   ///< KHR_materials_specular: weight of the dielectric's Fresnel layer
+    float transmission = 0.f;  ///< KHR_materials_transmission: share of the diffuse base let through
 };
 
 /// Smallest α analytic lights see: a delta lobe would make a point light's highlight vanish (or
@@ -23,7 +25,8 @@ constexpr float kMinAlpha = 2e-3f;
 inline float alphaFromRoughness(float roughness) { return roughness * roughness; }
 /// ((ior − 1)/(ior + 1))²: 0.04 at ior 1.5.
 float f0FromIor(float ior);
-/// f0 of the mix: the dielectric's scalar f0 and the metal's base colour, mixed by metallic.
+/// Reflectance at normal incidence: the dielectric's f0 (× specular) and the metal's base
+/// colour, mixed by metallic.
 Color specularF0(const Surface& s);
 /// GGX (Trowbridge–Reitz) normal distribution D(h) for cos θh = nh.
 float ggxD(float nh, float alpha);

@@ -46,4 +46,12 @@ void addDefaultLightRig(Scene& scene, const Camera& camera) {
     scene.lights.push_back(rim);
 }
 
+void addDefaultKeyLight(Scene& scene, const Camera& camera) {
+    Scene rig;
+    addDefaultLightRig(rig, camera);
+    Light key = rig.lights.front();
+    key.intensity = 3.f;
+    scene.lights.push_back(key);
+}
+
 }  // namespace rf

@@ -16,4 +16,9 @@ Camera frameBoundingSphere(const Vec3& center, float radius, float aspect, float
 /// look independent of the model's scale.
 void addDefaultLightRig(Scene& scene, const Camera& camera);
 
+/// The key light of addDefaultLightRig alone, at the glTF model's photometric scale (3 W/m²,
+/// about a bright overcast day's sun): beside the built-in studio environment, which lights
+/// everything else, it draws the crisp shadows.
+void addDefaultKeyLight(Scene& scene, const Camera& camera);
+
 }  // namespace rf

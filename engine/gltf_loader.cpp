@@ -458,13 +458,19 @@ Scene loadGltfScene(const std::string& path, FileSource& fs, const SceneOptions&
     const float radius = float(0.5 * glm::length(hi - lo));
     const float aspect = float(s.settings.width) / float(s.settings.height);
     s.camera = frameBoundingSphere(Vec3(center - s.renderOrigin), radius > 0.f ? radius : 1.f, aspect);
-    if (s.lights.empty()) addDefaultLightRig(s, s.camera);
-    s.background = Color(0.05f);
+    // A bare model (no lights of its own) stands in the built-in studio with one key light for
+    // crisp shadows; a model with its own lights gets a black world, as Blender gives it.
+    SceneOptions opts = options;
+    if (s.lights.empty()) {
+        addDefaultKeyLight(s, s.camera);
+        if (!opts.environment) opts.environment = EnvironmentSpec{};
+    }
+    s.background = Color(0.f);
     // glTF's light units are photometric and its models carry no exposure: meter one for the
     // film, and roll highlights off as the glTF Sample Viewer does.
     s.settings.autoExposure = true;
     s.settings.toneMap = ToneMap::PbrNeutral;
-    attachEnvironment(s, std::nullopt, options, fs);
+    attachEnvironment(s, std::nullopt, opts, fs);
     s.build();
     return s;
 }

@@ -117,18 +117,17 @@ Material MaterialBuilder::convert(const tinygltf::Material& gm, const std::strin
         m.alpha = clamp01(pbr.baseColorFactor[3]);
     }
     const float metallic = clamp01(pbr.metallicFactor), roughness = clamp01(pbr.roughnessFactor);
-    if (pbr.metallicRoughnessTexture.index >= 0) note("metallicRoughnessTexture not used (factors only)");
-    // Phong reading of metallic-roughness (documented in the loader's header note):
-    //   diffuse   = 0.9·(1 − 0.5·metallic)   metals keep some diffuse: the world has no environment
-    //   specular  = mix(0.04, 1, metallic)·(1 − roughness)
-    //   shininess = Beckmann-equivalent exponent of the roughness
-    //   reflection= metallic·(1 − roughness)²   mirror only for smooth metals
-    m.diffuse = 0.9f * (1.f - 0.5f * metallic);
-    m.specular = (0.04f + 0.96f * metallic) * (1.f - roughness);
-    m.shininess = shininessFromRoughness(roughness);
-    m.reflection = metallic * (1.f - roughness) * (1.f - roughness);
-    if (m.reflection < 0.05f) m.reflection = 0.f;  // too weak to see, not worth a ray
+    // The glTF BRDF shades it (material_gltf.h); the tracer's own mirror weight stays 0, as the
+    // glTF model traces its reflections itself, weighted by Fresnel.
+    m.gltfPbr = true;
+    m.metallic = metallic;
+    m.roughness = roughness;
+    m.reflection = 0.f;
     m.doubleSided = gm.doubleSided;
+    if (pbr.metallicRoughnessTexture.index >= 0) {
+        m.metallicRoughnessTexture = textureFor(pbr.metallicRoughnessTexture.index, false, where + ".metallicRoughnessTexture");
+        readTransform(pbr.metallicRoughnessTexture.extensions, pbr.metallicRoughnessTexture.texCoord, m.metallicRoughnessTransform);
+    }
 
     if (pbr.baseColorTexture.index >= 0) {
         m.baseColorTexture = textureFor(pbr.baseColorTexture.index, true, where + ".baseColorTexture");
@@ -139,8 +138,15 @@ Material MaterialBuilder::convert(const tinygltf::Material& gm, const std::strin
         m.normalScale = float(std::isfinite(gm.normalTexture.scale) ? gm.normalTexture.scale : 1.0);
         readTransform(gm.normalTexture.extensions, gm.normalTexture.texCoord, m.normalTransform);
     }
-    if (gm.emissiveTexture.index >= 0) note("emissiveTexture not used (emissiveFactor only)");
-    if (gm.occlusionTexture.index >= 0) note("occlusionTexture not used");
+    if (gm.emissiveTexture.index >= 0) {
+        m.emissiveTexture = textureFor(gm.emissiveTexture.index, true, where + ".emissiveTexture");
+        readTransform(gm.emissiveTexture.extensions, gm.emissiveTexture.texCoord, m.emissiveTransform);
+    }
+    if (gm.occlusionTexture.index >= 0) {
+        m.occlusionTexture = textureFor(gm.occlusionTexture.index, false, where + ".occlusionTexture");
+        m.occlusionStrength = clamp01(gm.occlusionTexture.strength);
+        readTransform(gm.occlusionTexture.extensions, gm.occlusionTexture.texCoord, m.occlusionTransform);
+    }
 
     float emissiveStrength = 1.f;
     float transmission = 0.f;
@@ -148,6 +154,7 @@ Material MaterialBuilder::convert(const tinygltf::Material& gm, const std::strin
         if (name == "KHR_materials_emissive_strength") emissiveStrength = float(std::max(0.0, number(value, "emissiveStrength", 1.0)));
         else if (name == "KHR_materials_transmission") transmission = clamp01(number(value, "transmissionFactor", 0.0));
         else if (name == "KHR_materials_ior") m.ior = float(std::clamp(number(value, "ior", 1.5), 1.0, 10.0));
+        else if (name == "KHR_materials_specular") m.specularWeight = clamp01(number(value, "specularFactor", 1.0));
         else if (!isSupportedExtension(name)) note("material extension " + name + " ignored");
     }
     if (gm.emissiveFactor.size() == 3)

@@ -1,5 +1,7 @@
 #include "light_eval.h"
 
+#include "material_eval.h"
+#include "optics.h"
 #include "scene.h"
 
 namespace rf {
@@ -35,21 +37,55 @@ Vec3 spawnOrigin(const Vec3& p, const SurfaceInteraction& si, const Vec3& ng, co
     return skip == si.prim ? p : offsetRayOrigin(p, si.pError, ng, side);
 }
 
-bool ShadowRays::unoccluded(const Light& L, const LightIncidence& li, bool behindFacet, RayStats& stats) {
+Ray ShadowRays::shadowRay(const Light& L, const LightIncidence& li, bool behindFacet, uint32_t& skip, float& tMax) {
     if (!shifted_) {
         base_ = terminatorSafeOrigin(scene_, si_, frame_.side);
         shifted_ = true;
     }
-    const uint32_t skip = scene_.skipFor(si_, li.dir);
+    skip = scene_.skipFor(si_, li.dir);
     Ray sr;
     sr.o = spawnOrigin(base_, si_, frame_.ng, behindFacet ? frame_.ng : li.dir, skip);
     sr.d = li.dir;
     // Shorten the far end relatively, so a light lying on a surface still lights it. An origin
     // still at si.p (no offset) already has its distance.
-    const float tMax = std::isinf(li.dist) ? kInf
-                                           : (sr.o == si_.p ? li.dist : glm::length(L.position - sr.o)) * (1.f - 1e-4f);
+    tMax = std::isinf(li.dist) ? kInf : (sr.o == si_.p ? li.dist : glm::length(L.position - sr.o)) * (1.f - 1e-4f);
+    return sr;
+}
+
+bool ShadowRays::unoccluded(const Light& L, const LightIncidence& li, bool behindFacet, RayStats& stats) {
+    uint32_t skip = 0;
+    float tMax = 0.f;
+    const Ray sr = shadowRay(L, li, behindFacet, skip, tMax);
     ++stats.shadow;
     return !scene_.occluded(sr, tMax, skip);
+}
+
+Color ShadowRays::transmittance(const Light& L, const LightIncidence& li, bool behindFacet, RayStats& stats, bool seeThrough) {
+    if (!seeThrough) return unoccluded(L, li, behindFacet, stats) ? Color(1.f) : Color(0.f);
+    uint32_t skip = 0;
+    float tMax = 0.f;
+    Ray sr = shadowRay(L, li, behindFacet, skip, tMax);
+    Color t(1.f);
+    // A few glass surfaces at most (a sphere is two); beyond that the light is taken as blocked.
+    for (int crossing = 0; crossing < 8; ++crossing) {
+        ++stats.shadow;
+        sr.tMax = tMax;
+        Hit hit;
+        if (!scene_.intersect(sr, hit, skip)) return t;
+        const SurfaceInteraction hs = scene_.interaction(sr, hit);
+        const Material& m = scene_.materials[hs.material];
+        if (!(m.gltfPbr && m.transmission > 0.f)) return Color(0.f);
+        const float cosI = std::abs(glm::dot(sr.d, hs.ng));
+        const bool entering = glm::dot(sr.d, hs.ng) < 0.f;
+        const float F = fresnelDielectric(cosI, entering ? m.ior : 1.f / m.ior);
+        t *= m.transmission * (1.f - F) * baseColor(scene_, hs);
+        if (maxComponent(t) < 1e-4f) return Color(0.f);
+        skip = scene_.skipFor(hs, sr.d);
+        const Vec3 o = spawnOrigin(hs.p, hs, hs.ng, sr.d, skip);
+        if (!std::isinf(tMax)) tMax = std::max(0.f, tMax - glm::length(o - sr.o));
+        sr.o = o;
+    }
+    return Color(0.f);
 }
 
 }  // namespace rf

@@ -66,8 +66,16 @@ public:
     /// behindFacet: L lies behind the flat facet though in front of the smooth surface; the ray
     /// then leaves on the viewer's side of the facet and must clear the facet's neighbours.
     bool unoccluded(const Light& L, const LightIncidence& li, bool behindFacet, RayStats& stats);
+    /// What reaches the point from light L: 1 unblocked, 0 blocked, and through glTF materials
+    /// with KHR_materials_transmission their colour × transmission × (1 − Fresnel) per surface
+    /// crossed (no bending: a Whitted shadow ray goes straight), so glass casts a light shadow.
+    /// seeThrough false: the plain unoccluded() test.
+    Color transmittance(const Light& L, const LightIncidence& li, bool behindFacet, RayStats& stats, bool seeThrough);
 
 private:
+    /// The shadow ray towards L and its length.
+    Ray shadowRay(const Light& L, const LightIncidence& li, bool behindFacet, uint32_t& skip, float& tMax);
+
     const Scene& scene_;
     const SurfaceInteraction& si_;
     const ShadingFrame& frame_;

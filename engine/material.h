@@ -40,6 +40,21 @@ struct Material {
     int normalTexture = -1;
     float normalScale = 1.f;
     TextureTransform normalTransform;
+
+    /// glTF metallic-roughness (engine/material_gltf.h): the tracer shades with the glTF BRDF
+    /// and the Phong coefficients above (ambient, diffuse, specular, shininess, reflection) are
+    /// not used. color is the base colour factor, emission the emissive factor × strength.
+    bool gltfPbr = false;
+    float metallic = 1.f;
+    float roughness = 1.f;
+    float specularWeight = 1.f;  ///< KHR_materials_specular's specularFactor
+    int metallicRoughnessTexture = -1;  ///< linear; G roughness, B metallic
+    TextureTransform metallicRoughnessTransform;
+    int occlusionTexture = -1;  ///< linear; R
+    float occlusionStrength = 1.f;
+    TextureTransform occlusionTransform;
+    int emissiveTexture = -1;  ///< sRGB; multiplies emission
+    TextureTransform emissiveTransform;
 };
 
 }  // namespace rf

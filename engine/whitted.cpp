@@ -12,6 +12,7 @@ WhittedTracer::WhittedTracer(const Scene& scene, const RenderSettings& settings)
     specFloor_.reserve(scene.materials.size());
     for (const Material& m : scene.materials)
         specFloor_.push_back(m.shininess > 0.f ? std::exp2(-40.f / m.shininess) : 0.f);
+    for (const Material& m : scene.materials) seeThroughShadows_ |= m.gltfPbr && m.transmission > 0.f;
 }
 
 std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const RenderSettings& settings) {
@@ -68,19 +69,20 @@ Color WhittedTracer::Li(const Ray& r, RayStats& stats, bool* hit) const {
     Hit h;
     const bool met = scene_.intersect(r, h);
     if (hit) *hit = met;
-    if (!met) return scene_.transparentBackground ? Color(0.f) : scene_.background;
+    if (!met) return scene_.transparentBackground ? Color(0.f) : primaryMiss(r.d);
     return traceHit(r, h, 1, Color(1.f), stats);
 }
 
 Color WhittedTracer::trace(const Ray& r, int depth, const Color& weight, RayStats& stats, uint32_t skip) const {
     Hit hit;
-    if (!scene_.intersect(r, hit, skip)) return scene_.background;
+    if (!scene_.intersect(r, hit, skip)) return depth == 1 ? primaryMiss(r.d) : missRadiance(r.d);
     return traceHit(r, hit, depth, weight, stats);
 }
 
 Color WhittedTracer::traceHit(const Ray& r, const Hit& hit, int depth, const Color& weight, RayStats& stats) const {
     const SurfaceInteraction si = scene_.interaction(r, hit);
-    Color c = shade(si, r.d, stats, weight);
+    const bool gltf = scene_.materials[si.material].gltfPbr;
+    Color c = gltf ? shadeGltf(si, r.d, depth, weight, stats) : shade(si, r.d, stats, weight);
     if (depth >= settings_.maxDepth) return c;
 
     const Material& m = scene_.materials[si.material];

@@ -25,12 +25,20 @@ private:
     Color trace(const Ray& r, int depth, const Color& weight, RayStats& stats, uint32_t skip = Scene::kNoPrim) const;
     /// trace() once the ray's closest hit is known.
     Color traceHit(const Ray& r, const Hit& hit, int depth, const Color& weight, RayStats& stats) const;
+    /// The glTF material model (whitted_gltf.cpp): the metallic-roughness BRDF under the lights,
+    /// the environment and, for smooth surfaces, the traced mirror ray. depth: of the ray that hit.
+    Color shadeGltf(const SurfaceInteraction& si, const Vec3& d, int depth, const Color& weight, RayStats& stats) const;
+    /// What a secondary ray that meets nothing brings: the environment, else the background.
+    Color missRadiance(const Vec3& d) const;
+    /// What a primary ray that meets nothing shows: the environment where it is the background.
+    Color primaryMiss(const Vec3& d) const;
     /// The Phong (or Blinn–Phong) specular term k_spec·x^n for light direction l.
     float specular(const Material& m, int material, const Vec3& ns, const Vec3& l, const Vec3& V) const;
 
     const Scene& scene_;
     RenderSettings settings_;
-    std::vector<float> specFloor_;  ///< per material: the Phong term is skipped below this cosine
+    std::vector<float> specFloor_;
+    bool seeThroughShadows_ = false;  ///< some material transmits: shadow rays filter through it  ///< per material: the Phong term is skipped below this cosine
 };
 
 }  // namespace rf

@@ -189,3 +189,29 @@ TEST(BrdfGltf, DiffuseLayerReflectsWhatTheSpecularLayerLeaves) {
             EXPECT_NEAR(diffuse, 0.5 * (1.0 - dielectricAlbedo(0.04f, roughness, nv)), 3e-3) << roughness << " " << nv;
         }
 }
+
+TEST(BrdfGltf, NoSpecularLayerLeavesExactlyLambert) {
+    // KHR_materials_specular with factor 0: the dielectric is c/π in every direction.
+    Surface s;
+    s.baseColor = Color(0.8f, 0.5f, 0.2f);
+    s.roughness = 0.5f;
+    s.specular = 0.f;
+    for (uint32_t i = 0; i < 16; ++i) {
+        const Vec3 v = cosineDirection(hammersley(i, 16)), l = cosineDirection(hammersley((i * 7 + 3) % 16, 16));
+        const Color f = evalBrdf(s, kN, v, l);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(f[c], s.baseColor[c] / kPi, 1e-6f) << i;
+    }
+}
+
+TEST(BrdfGltf, TransmissionTakesTheDiffuseBaseButNotTheReflection) {
+    Surface glass, opaque;
+    glass.roughness = opaque.roughness = 0.3f;
+    glass.transmission = 1.f;
+    const Vec3 v = viewAt(0.7f), l = glm::normalize(Vec3(-0.5f, 0.1f, 0.8f));
+    const Color fg = evalBrdf(glass, kN, v, l), fo = evalBrdf(opaque, kN, v, l);
+    Surface black = opaque;
+    black.baseColor = Color(0.f);
+    const Color spec = evalBrdf(black, kN, v, l);  // the reflection alone
+    EXPECT_NEAR(fg.g, spec.g, 1e-7f);
+    EXPECT_GT(fo.g, 2.f * fg.g);
+}

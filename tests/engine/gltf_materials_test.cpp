@@ -50,20 +50,18 @@ Material only(const json& material) {
 
 }  // namespace
 
-TEST(GltfMaterials, MetallicRoughnessFollowsTheDocumentedMapping) {
-    // Smooth metal: full mirror, full highlight, the exponent at its cap.
+TEST(GltfMaterials, MetallicRoughnessIsShadedByTheGltfBrdf) {
     Material m = only({{"pbrMetallicRoughness", {{"baseColorFactor", {0.9, 0.6, 0.2, 1}}, {"metallicFactor", 1}, {"roughnessFactor", 0}}}});
+    EXPECT_TRUE(m.gltfPbr);
     EXPECT_FLOAT_EQ(m.color.g, 0.6f);
-    EXPECT_FLOAT_EQ(m.reflection, 1.f);
-    EXPECT_FLOAT_EQ(m.specular, 1.f);
-    EXPECT_FLOAT_EQ(m.diffuse, 0.45f);
-    EXPECT_FLOAT_EQ(m.shininess, 4096.f);
-    // Half-rough dielectric: α = 0.25, n = 2/α² − 2 = 30; reflection 0 (below the 0.05 cut).
-    m = only({{"pbrMetallicRoughness", {{"metallicFactor", 0}, {"roughnessFactor", 0.5}}}});
-    EXPECT_FLOAT_EQ(m.shininess, 30.f);
-    EXPECT_FLOAT_EQ(m.specular, 0.02f);
-    EXPECT_FLOAT_EQ(m.reflection, 0.f);
-    EXPECT_FLOAT_EQ(m.diffuse, 0.9f);
+    EXPECT_FLOAT_EQ(m.metallic, 1.f);
+    EXPECT_FLOAT_EQ(m.roughness, 0.f);
+    EXPECT_FLOAT_EQ(m.reflection, 0.f);  // the glTF model traces its own, Fresnel-weighted
+    m = only({{"pbrMetallicRoughness", {{"metallicFactor", 0}, {"roughnessFactor", 0.5}}},
+              {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0.25}}}}}});
+    EXPECT_FLOAT_EQ(m.metallic, 0.f);
+    EXPECT_FLOAT_EQ(m.roughness, 0.5f);
+    EXPECT_FLOAT_EQ(m.specularWeight, 0.25f);
     EXPECT_FLOAT_EQ(gltf::shininessFromRoughness(1.f), 1.f);
 }
 
@@ -72,7 +70,6 @@ TEST(GltfMaterials, TransmissionIorEmissionAndAlphaModes) {
                        {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 0.8}}}, {"KHR_materials_ior", {{"ior", 1.33}}}}}});
     EXPECT_FLOAT_EQ(m.transmission, 0.8f);
     EXPECT_FLOAT_EQ(m.ior, 1.33f);
-    EXPECT_NEAR(m.diffuse, 0.9f * 0.2f, 1e-6f);
 
     m = only({{"emissiveFactor", {1, 0.5, 0}}, {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 4}}}}}});
     EXPECT_EQ(m.emission, Color(4.f, 2.f, 0.f));
@@ -87,7 +84,6 @@ TEST(GltfMaterials, TransmissionIorEmissionAndAlphaModes) {
     EXPECT_EQ(m.alphaMode, AlphaMode::Blend);
     EXPECT_FLOAT_EQ(m.transmission, 0.75f);
     EXPECT_FLOAT_EQ(m.ior, 1.f);
-    EXPECT_FLOAT_EQ(m.diffuse, 0.9f * 0.25f);
 
     m = only({{"doubleSided", true}});
     EXPECT_TRUE(m.doubleSided);
@@ -136,14 +132,15 @@ TEST(GltfLights, PunctualLightsMapToEngineUnits) {
 }
 
 TEST(GltfLights, LitFloorPixelMatchesTheHandComputedValue) {
-    // Grey floor (0.5), dielectric, fully rough: ambient 0.1, diffuse 0.9, no highlight. Point
-    // light of 25·683 cd (25 W/sr) at 5 above the floor's centre: 25/5² = 1 with the range window
-    // (1 − (5/20)⁴)². A glTF camera 10 above looks straight down at the centre.
+    // Grey floor (0.5) without a specular layer (KHR_materials_specular 0): Lambertian, 0.5/π.
+    // Point light of 25·683 cd (25 W/sr) at 5 above the floor's centre: E = 25/5² = 1 W/m², with
+    // the range window (1 − (5/20)⁴)². A glTF camera 10 above looks straight down at the centre.
     const double h = std::sqrt(0.5);
-    json g = floorModel({{{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.5, 0.5, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}}}},
+    json g = floorModel({{{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.5, 0.5, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}},
+                          {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0}}}}}}},
                         {{{"translation", {0, 5, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}},
                          {{"translation", {0, 10, 0}}, {"rotation", {-h, 0, 0, h}}, {"camera", 0}}});
-    g["extensionsUsed"] = {"KHR_lights_punctual"};
+    g["extensionsUsed"] = {"KHR_lights_punctual", "KHR_materials_specular"};
     g["extensions"] = {{"KHR_lights_punctual", {{"lights", {{{"type", "point"}, {"intensity", 25 * 683}, {"range", 20}}}}}}};
     g["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}}};
     Scene s = loadScene(g);
@@ -153,9 +150,30 @@ TEST(GltfLights, LitFloorPixelMatchesTheHandComputedValue) {
     RayStats stats;
     const Image img = renderFrame(s, s.camera, rs, 0, 1, stats);
     const double window = std::pow(1.0 - std::pow(5.0 / 20.0, 4), 2);
-    const double want = 0.5 * (0.1 + 0.9 * 1.0 * window);
-    EXPECT_NEAR(img.pixel(32, 32)[0], want, 1e-4);
-    EXPECT_NEAR(img.pixel(32, 32)[1], want, 1e-4);
+    const double want = 0.5 / M_PI * window;
+    EXPECT_NEAR(img.pixel(32, 32)[0], want, 1e-5);
+    EXPECT_NEAR(img.pixel(32, 32)[1], want, 1e-5);
+}
+
+TEST(GltfLights, A683CandelaLightOneMetreFromWhiteLambertGivesOneOverPi) {
+    // The photometric scale at --exposure 0: 683 cd = 1 W/sr; at 1 m, E = 1 W/m², and a white
+    // Lambertian surface (no specular layer) sends L = E/π towards the camera.
+    const double h = std::sqrt(0.5);
+    json g = floorModel({{{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}},
+                          {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0}}}}}}},
+                        {{{"translation", {0, 1, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}},
+                         {{"translation", {0, 3, 0}}, {"rotation", {-h, 0, 0, h}}, {"camera", 0}}});
+    g["extensionsUsed"] = {"KHR_lights_punctual", "KHR_materials_specular"};
+    g["extensions"] = {{"KHR_lights_punctual", {{"lights", {{{"type", "point"}, {"intensity", 683}}}}}}};
+    g["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}}};
+    Scene s = loadScene(g);
+    useGltfCamera(s, 0);
+    RenderSettings rs = s.settings;
+    rs.width = rs.height = 65;
+    rs.exposure = 0.f;
+    RayStats stats;
+    const Image img = renderFrame(s, s.camera, rs, 0, 1, stats);
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(img.pixel(32, 32)[c], 1.0 / M_PI, 1e-5);
 }
 
 TEST(GltfMaterials, PrimitiveWithoutMaterialGetsAMatteWhiteDefault) {
@@ -165,6 +183,6 @@ TEST(GltfMaterials, PrimitiveWithoutMaterialGetsAMatteWhiteDefault) {
     const Scene s = loadScene(g);
     ASSERT_EQ(s.materials.size(), 1u);
     EXPECT_EQ(s.materials[0].color, Color(1.f));
-    EXPECT_FLOAT_EQ(s.materials[0].diffuse, 0.9f);  // read as a dielectric: metal would be black here
+    EXPECT_FLOAT_EQ(s.materials[0].metallic, 0.f);  // read as a dielectric: a rough metal reads as grey plastic anyway
     EXPECT_FLOAT_EQ(s.materials[0].reflection, 0.f);
 }

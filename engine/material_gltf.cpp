@@ -1,0 +1,34 @@
+#include "material_gltf.h"
+
+#include "material_eval.h"
+#include "scene.h"
+
+namespace rf {
+
+GltfSample gltfSample(const Scene& scene, const SurfaceInteraction& si) {
+    const Material& m = scene.materials[si.material];
+    GltfSample g;
+    pbr::Surface& s = g.surface;
+    s.baseColor = baseColor(scene, si);  // factor × texture (× COLOR_0 where the mesh has it)
+    s.metallic = m.metallic;
+    s.roughness = m.roughness;
+    s.ior = m.ior;
+    s.specular = m.specularWeight;
+    auto texel = [&](int tex, const TextureTransform& t) {
+        return sampleTexture(scene.textures[size_t(tex)], textureUv(t, si.uv, si.uv1));
+    };
+    if (m.metallicRoughnessTexture >= 0) {
+        const pbr::MetallicRoughness mr =
+            pbr::metallicRoughnessFromTexel(m.metallic, m.roughness, texel(m.metallicRoughnessTexture, m.metallicRoughnessTransform));
+        s.metallic = std::clamp(mr.metallic, 0.f, 1.f);
+        s.roughness = std::clamp(mr.roughness, 0.f, 1.f);
+    }
+    if (m.occlusionTexture >= 0)
+        s.occlusion = std::clamp(pbr::occlusionFromTexel(m.occlusionStrength, texel(m.occlusionTexture, m.occlusionTransform)), 0.f, 1.f);
+    g.emission = m.emission;
+    if (m.emissiveTexture >= 0 && m.emission != Color(0.f)) g.emission *= Color(texel(m.emissiveTexture, m.emissiveTransform));
+    g.transmission = m.transmission;
+    return g;
+}
+
+}  // namespace rf

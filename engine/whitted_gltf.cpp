@@ -1,0 +1,88 @@
+// The glTF metallic-roughness material model of the Whitted tracer (the seed's Phong model is
+// in whitted.cpp): same rays, shadows, depth limit and pruning, another BRDF.
+#include "brdf_gltf.h"
+#include "env_lighting.h"
+#include "light_eval.h"
+#include "material_gltf.h"
+#include "optics.h"
+#include "shading_frame.h"
+#include "whitted.h"
+
+namespace rf {
+
+namespace {
+/// Below this roughness a surface traces its mirror ray, so it reflects the scene, not only the
+/// environment; the traced share fades out linearly towards it (a sharp reflection of a lobe
+/// this wide would look wrong, and rough surfaces are where rays cost most and show least).
+constexpr float kTracedRoughness = 0.4f;
+}  // namespace
+
+Color WhittedTracer::missRadiance(const Vec3& d) const {
+    return scene_.environment ? scene_.environment->radiance(d) : scene_.background;
+}
+
+Color WhittedTracer::primaryMiss(const Vec3& d) const {
+    return scene_.environment && scene_.environmentBackground ? scene_.environment->radiance(d) : scene_.background;
+}
+
+Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int depth, const Color& weight,
+                               RayStats& stats) const {
+    const Vec3 V = -d;
+    const ShadingFrame frame = shadingFrame(scene_, si, V);
+    const GltfSample g = gltfSample(scene_, si);
+    const pbr::Surface& s = g.surface;
+    Color c = g.emission;
+
+    // Punctual lights through the BRDF, shadowed and pruned as the Phong model's are.
+    ShadowRays shadows(scene_, si, frame);
+    float pruned = 0.f;
+    for (const Light& L : scene_.lights) {
+        LightIncidence li;
+        if (!lightIncidence(L, si.p, frame.ns, li)) continue;
+        const bool behindFacet = glm::dot(frame.ng, li.dir) <= 0.f;
+        if (behindFacet && (si.mesh < 0 || !L.castShadows)) continue;
+        const Color term = pbr::directLight(s, frame.ns, V, li.dir, li.att * L.intensity * L.color);
+        const float worth = maxComponent(weight * term);
+        if (pruned + worth <= settings_.minWeight) {
+            pruned += worth;
+            continue;
+        }
+        if (L.castShadows) {
+            const Color t = shadows.transmittance(L, li, behindFacet, stats, seeThroughShadows_);
+            if (t == Color(0.f)) continue;
+            c += term * t;
+        } else {
+            c += term;
+        }
+    }
+
+    // Indirect light: the environment (split sum) and, for smooth surfaces, the traced mirror ray.
+    const float nv = std::max(glm::dot(frame.ns, V), 1e-4f);
+    Vec3 R = reflect(d, frame.ns);
+    if (glm::dot(R, frame.ng) <= 0.f) R = reflect(d, frame.ng);  // below the facet: mirror on ng
+    Color specular(0.f);
+    float traced = 0.f;
+    // Glass reflects through the refraction path's exact Fresnel (traceHit); not twice here.
+    if (s.transmission <= 0.f && depth < settings_.maxDepth) {
+        const float share = std::clamp(1.f - s.roughness / kTracedRoughness, 0.f, 1.f);
+        const Color w = weight * share * s.occlusion * pbr::specularAlbedo(s, nv);
+        if (share > 0.f && maxComponent(w) > settings_.minWeight) {
+            const uint32_t skip = scene_.skipFor(si, R);
+            Ray rr;
+            rr.o = spawnOrigin(si.p, si, frame.ng, R, skip);
+            rr.d = R;
+            ++stats.reflection;
+            specular = share * trace(rr, depth + 1, w, stats, skip);
+            traced = share;
+        }
+    }
+    Color diffuse(0.f);
+    if (scene_.environment) {
+        specular += (1.f - traced) * scene_.environment->specular(R, s.roughness);
+        diffuse = scene_.environment->diffuse(frame.ns);
+    }
+    if (specular != Color(0.f) || diffuse != Color(0.f)) c += pbr::environmentLight(s, nv, specular, diffuse);
+    return c;
+}
+
+}  // namespace rf
