@@ -28,6 +28,7 @@ GltfSample gltfSample(const Scene& scene, const SurfaceInteraction& si) {
     g.emission = m.emission;
     if (m.emissiveTexture >= 0 && m.emission != Color(0.f)) g.emission *= Color(texel(m.emissiveTexture, m.emissiveTransform));
     g.transmission = m.transmission;
+    s.transmission = m.transmission;
     return g;
 }
 

@@ -78,7 +78,8 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
     }
     Color diffuse(0.f);
     if (scene_.environment) {
-        specular += (1.f - traced) * scene_.environment->specular(R, s.roughness);
+        // Glass reflects the environment through the traced Fresnel ray already.
+        specular += (1.f - traced) * (1.f - s.transmission) * scene_.environment->specular(R, s.roughness);
         diffuse = scene_.environment->diffuse(frame.ns);
     }
     if (specular != Color(0.f) || diffuse != Color(0.f)) c += pbr::environmentLight(s, nv, specular, diffuse);
