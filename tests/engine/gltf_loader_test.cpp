@@ -126,7 +126,7 @@ TEST(GltfLoader, EngineLoadsEveryTriangleWithinItsNodeBounds) {
         }
     });
     DiskFileSource files;
-    const Scene scene = loadGltfScene(path, files);
+    Scene scene = loadGltfScene(path, files);
     size_t dropped = 0;
     for (const std::string& n : scene.notes)
         if (n.find("degenerate triangles dropped") != std::string::npos) dropped = std::stoul(n.substr(n.rfind(": ") + 2));
@@ -149,10 +149,13 @@ TEST(GltfLoader, EngineLoadsEveryTriangleWithinItsNodeBounds) {
     // Render space is rebased near the model's centre, so coordinates stay small.
     EXPECT_LT(glm::length(glm::dvec3(b.lo + b.hi) * 0.5), 64.0 * 1.8);
     EXPECT_TRUE(scene.textures.empty());
-    EXPECT_EQ(scene.lights.size(), 3u) << "default key/fill/rim rig";
+    EXPECT_EQ(scene.lights.size(), 1u) << "the default key light, beside the built-in studio";
+    ASSERT_TRUE(scene.environment) << "a bare model stands in the built-in studio";
+    EXPECT_TRUE(scene.environmentBackground);
 
     // The default camera frames the whole model: it covers a good part of the image but
-    // never touches the border.
+    // never touches the border. Misses show the plain background here, to tell them apart.
+    scene.environmentBackground = false;
     const Image img = render(scene, scene.camera, 160, 90);
     ASSERT_TRUE(allFinite(img));
     int border = 0, x0 = 160, x1 = -1;
@@ -227,7 +230,9 @@ TEST(GltfLoader, PerspectiveCamerasAreStoredAndSelectable) {
     useGltfCamera(scene, 0);
     EXPECT_EQ(scene.camera.eye, c.eye);
     EXPECT_THROW(useGltfCamera(scene, 1), InputError);
-    // The square (x, y in [0, 1], tilted 45° about x) sits straight ahead of the camera.
+    // The square (x, y in [0, 1], tilted 45° about x) sits straight ahead of the camera
+    // (misses show the plain background, not the built-in studio, to tell them apart).
+    scene.environmentBackground = false;
     const Image img = render(scene, scene.camera, 64, 64);
     EXPECT_FALSE(isBackground(img, 32, 32, scene.background));
     EXPECT_TRUE(isBackground(img, 0, 0, scene.background));
