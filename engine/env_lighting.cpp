@@ -143,6 +143,7 @@ void attachEnvironment(Scene& scene, const std::optional<EnvironmentSpec>& own, 
     if (options.environmentRotation) spec->rotationDeg = *options.environmentRotation;
     if (options.environmentIntensity) spec->intensity = *options.environmentIntensity;
     scene.environment = loadEnvironment(*spec, fs);
+    scene.environmentSource = *spec;
     scene.environmentBackground = true;
 }
 

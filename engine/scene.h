@@ -14,6 +14,7 @@
 #include "material.h"
 #include "mesh.h"
 #include "scene_graph.h"
+#include "scene_options.h"
 #include "settings.h"
 #include "shapes.h"
 #include "texture.h"
@@ -73,6 +74,9 @@ public:
     bool transparentBackground = false;
     /// Light from all around, as an equirectangular radiance image (null: none).
     std::shared_ptr<const EnvironmentLight> environment;
+    /// What `environment` was made from (file empty: the built-in studio), so a saved scene
+    /// file can name it again.
+    EnvironmentSpec environmentSource;
     /// Primary rays that miss everything see the environment instead of `background`
     /// (secondary rays see it whenever there is one).
     bool environmentBackground = false;

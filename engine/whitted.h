@@ -37,8 +37,8 @@ private:
 
     const Scene& scene_;
     RenderSettings settings_;
-    std::vector<float> specFloor_;
-    bool seeThroughShadows_ = false;  ///< some material transmits: shadow rays filter through it  ///< per material: the Phong term is skipped below this cosine
+    std::vector<float> specFloor_;  ///< per material: the Phong term is skipped below this cosine
+    bool seeThroughShadows_ = false;  ///< some material transmits: shadow rays filter through it
 };
 
 }  // namespace rf

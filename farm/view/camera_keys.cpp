@@ -142,6 +142,17 @@ json sceneDocument(const Scene& scene, const RenderSettings& s, const json& time
     r["max_depth"] = s.maxDepth;
     r["min_weight"] = double(s.minWeight);
     r["tonemap"] = toneMapName(s.toneMap);
+    doc["exposure"] = s.autoExposure ? json("auto") : json(double(s.exposure));
+    // The environment as lit (--environment may have replaced the file's, or the bare model's
+    // built-in studio stands in for a rig): without it a saved glTF scene would go dark.
+    if (scene.environment) {
+        const EnvironmentSpec& e = scene.environmentSource;
+        json env{{"rotation", double(e.rotationDeg)}, {"intensity", double(e.intensity)}};
+        if (!e.file.empty()) env["file"] = std::filesystem::absolute(e.file).lexically_normal().string();
+        doc["environment"] = env;
+    } else {
+        doc.erase("environment");
+    }
     return doc;
 }
 

@@ -58,6 +58,9 @@ void checkSavedPath(const std::string& scenePath, const std::string& saved) {
     EXPECT_EQ(back.settings.width, 120);
     EXPECT_EQ(back.settings.spp, 4);
     EXPECT_EQ(back.lights.size(), scene.lights.size());
+    EXPECT_EQ(back.environment != nullptr, scene.environment != nullptr);
+    EXPECT_EQ(back.settings.toneMap, scene.settings.toneMap);
+    EXPECT_EQ(back.settings.autoExposure, scene.settings.autoExposure);
     const anim::Timeline btl = anim::Timeline::fromScene(back);
     EXPECT_EQ(btl.frameCount(), film.frames);
     EXPECT_DOUBLE_EQ(btl.fps(), film.fps);
@@ -81,7 +84,9 @@ TEST(CameraKeys, SavedBareModelBecomesASceneThatReplaysTheKeys) {
     std::ifstream f(saved);
     const nlohmann::json doc = nlohmann::json::parse(f);
     EXPECT_EQ(doc["objects"][0]["path"], kBox);
-    EXPECT_EQ(doc["lights"].size(), 3u);  // the default rig, written out
+    EXPECT_EQ(doc["lights"].size(), 1u);  // the default key light, written out
+    ASSERT_TRUE(doc.contains("environment"));  // and the built-in studio that lights the rest
+    EXPECT_FALSE(doc["environment"].contains("file"));
 }
 
 TEST(CameraKeys, ModelPathsOfAJsonSceneBecomeAbsolute) {
