@@ -9,6 +9,7 @@
 
 #include "background_option.h"
 #include "cli.h"
+#include "exposure_meter.h"
 #include "interrupt.h"
 #include "launch_command.h"
 #include "output_check.h"

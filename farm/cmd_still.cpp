@@ -111,6 +111,8 @@ int runStill(const std::vector<std::string>& args) {
     Scene scene = loadScene(scenePath, fs, sceneOptions(p));
     for (const std::string& note : scene.notes) printLine("note", note);
     applyBackground(background, scene);
+    // Built before posing: auto exposure meters the film's own frames.
+    const anim::Timeline timeline = anim::Timeline::fromScene(scene);
     const int frame = applyStillTime(p, scene);
     // A glTF camera replaces the timeline's camera; the rest of the frame (model animation,
     // lights) still follows the timeline.
