@@ -84,8 +84,6 @@ void decideOutputs(RenderJob& job, Scene& scene) {
     applyBackground(job.background, scene);
     job.transparent = scene.transparentBackground;
     job.mp4.channels = job.layout().channels;
-    // A format without alpha lays the frames over the background colour, as the scene shows it.
-    for (int c = 0; c < 3; ++c) job.mp4.flattenOver[c] = toByte(srgbEncode(toneMap(scene.background[c], job.settings.toneMap)));
     if (job.posterFrame >= 0 && (job.posterFrame < job.first || job.posterFrame > job.last))
         throw UsageError("--poster-frame: expected a frame from " + std::to_string(job.first) + " to " + std::to_string(job.last));
     std::string note;
@@ -105,7 +103,6 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
     job.settings = scene.settings;
     applyQualityOptions(p, job.settings);
     const anim::Timeline tl = anim::Timeline::fromScene(scene, job.fpsOption);
-    resolveAutoExposure(scene, tl, job.settings, job.threads);
     job.timelineFrames = tl.frameCount();
     job.timelineFps = tl.fps();
     job.first = 0;
@@ -113,6 +110,11 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
     if (auto f = p.value("--frames")) parseFrameRange(*f, job.timelineFrames, job.first, job.last);
     job.mp4.fps = tl.isStill() && job.fpsOption > 0.0 ? job.fpsOption : tl.fps();
     decideOutputs(job, scene);
+    // Metering renders: only once every option has been checked.
+    resolveAutoExposure(scene, tl, job.settings, job.threads);
+    // A format without alpha lays the frames over the background colour, as the scene shows it.
+    const float bg[3] = {scene.background.r, scene.background.g, scene.background.b};
+    encodeRgb8(bg, 3, job.settings.toneMap, job.mp4.flattenOver, exposureScale(job.settings.exposure));
 
     const int frames = job.last - job.first + 1;
     const int renderers = ranks <= 2 ? ranks : ranks - 1;
