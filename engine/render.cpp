@@ -99,13 +99,14 @@ void parallelFor(int n, int threads, const std::function<void(int, int)>& job) {
 }
 
 void renderRect(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame, const TileRect& rect,
-                int threads, int subTile, const RectBuffers& out, RayStats& stats) {
+                int threads, int subTile, const RectBuffers& out, RayStats& stats, const std::atomic<bool>* cancel) {
     std::vector<TileRect> subs = makeTiles(rect.width(), rect.height(), subTile);
     for (TileRect& t : subs) t = {t.x0 + rect.x0, t.y0 + rect.y0, t.x1 + rect.x0, t.y1 + rect.y0};
     if (threads <= 0) threads = hardwareThreads();
     std::vector<RayStats> perThread(size_t(std::max(1, threads)));
     const size_t stride = size_t(rect.width());
     parallelFor(static_cast<int>(subs.size()), threads, [&](int i, int thread) {
+        if (cancel && cancel->load(std::memory_order_relaxed)) return;
         const TileRect& t = subs[size_t(i)];
         const bool wantAlpha = out.alpha || out.rgba8;
         std::vector<float> rgb(size_t(t.pixels()) * 3), alpha(wantAlpha ? size_t(t.pixels()) : 0);

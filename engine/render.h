@@ -2,6 +2,7 @@
 /// The one entry point for splitting work: render a rectangle of one frame. Local threads, the
 /// farm's pixel mode and its frame mode are all schedulers over renderTile.
 #include <cstdint>
+#include <atomic>
 #include <functional>
 #include <vector>
 
@@ -45,8 +46,11 @@ struct RectBuffers {
 /// pull sub-tiles of subTile × subTile pixels and write them to out. Local frames, the farm's
 /// pixel-mode tiles and frame-mode frames all come through here, so their pixels agree bit for
 /// bit (a pixel depends only on its own coordinates, never on how the rectangle was cut).
+/// cancel: when it reads true, the sub-tiles not yet begun are skipped (the rectangle is then
+/// incomplete and the caller drops it): an interactive view replaced by a newer one.
 void renderRect(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame, const TileRect& rect,
-                int threads, int subTile, const RectBuffers& out, RayStats& stats);
+                int threads, int subTile, const RectBuffers& out, RayStats& stats,
+                const std::atomic<bool>* cancel = nullptr);
 
 /// Renders a whole frame with `threads` worker threads (0: all cores) pulling tiles. The image
 /// has an alpha plane when the scene's background is transparent.

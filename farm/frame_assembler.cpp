@@ -51,6 +51,11 @@ const std::vector<uint8_t>* FrameAssembler::completed(int frame) const {
     return it != partial_.end() && it->second.remaining == 0 ? &it->second.rgb : nullptr;
 }
 
+const std::vector<uint8_t>* FrameAssembler::pixels(int frame) const {
+    auto it = partial_.find(frame);
+    return it != partial_.end() ? &it->second.rgb : nullptr;
+}
+
 bool FrameAssembler::popReady(ReadyFrame& out) {
     if (next_ >= order_.size()) return false;
     const int f = order_[next_];

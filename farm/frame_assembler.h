@@ -28,6 +28,9 @@ public:
     bool add(const TileResult& r);
     /// Pixels of a frame completed and not yet popped (nullptr otherwise).
     const std::vector<uint8_t>* completed(int frame) const;
+    /// Pixels of a frame begun and not yet popped, complete or not (nullptr otherwise): only
+    /// the rectangles added so far are rendered (an interactive session's partial pictures).
+    const std::vector<uint8_t>* pixels(int frame) const;
     /// The next frame in order if it is complete (or on disk).
     bool popReady(ReadyFrame& out);
     /// All frames have been popped.

@@ -12,7 +12,7 @@ using Clock = std::chrono::steady_clock;
 
 Master::Master(Transport& t, Scheduler& s, FrameAssembler& a, RenderEngine* local, std::function<void(ReadyFrame&)> emit,
                MasterConfig cfg)
-    : t_(t), sched_(s), asm_(a), local_(local), emit_(std::move(emit)), cfg_(cfg) {
+    : t_(t), sched_(&s), asm_(&a), local_(local), emit_(std::move(emit)), cfg_(cfg) {
     workers_.resize(size_t(t.size()));
     out_.perRank.resize(size_t(t.size()));
     const auto now = Clock::now();
@@ -44,6 +44,7 @@ std::string Master::describeBusy(const WorkerState& w) const {
 }
 
 void Master::accept(int rank, const TileResult& r) {
+    if (r.item.epoch != epoch_) return;  // work of a view since replaced
     WorkerState& w = workers_[size_t(rank)];
     auto it = std::find_if(w.outstanding.begin(), w.outstanding.end(), [&](const WorkItem& i) {
         return i.frame == r.item.frame && i.rect.x0 == r.item.rect.x0 && i.rect.y0 == r.item.rect.y0 &&
@@ -55,11 +56,12 @@ void Master::accept(int rank, const TileResult& r) {
         return;
     }
     w.outstanding.erase(it);
-    if (asm_.add(r) && onComplete_) onComplete_(r.item.frame, *asm_.completed(r.item.frame));
+    if (asm_->add(r) && onComplete_) onComplete_(r.item.frame, *asm_->completed(r.item.frame));
+    if (onTile_) onTile_(rank, r.item);
     out_.rays += r.rays;
     RankStats& st = out_.perRank[size_t(rank)];
     st.busySeconds += r.busySeconds;
-    if (sched_.mode() == Mode::Frame) ++st.frames;
+    if (sched_->mode() == Mode::Frame) ++st.frames;
     else ++st.tiles;
 }
 
@@ -91,8 +93,9 @@ bool Master::handOut() {
         for (WorkerState& w : workers_) {
             if (w.rank == 0 && !local_) continue;
             if (int(w.outstanding.size()) >= cfg_.credits) continue;
-            std::optional<WorkItem> item = sched_.next();
+            std::optional<WorkItem> item = sched_->next();
             if (!item) return any;
+            item->epoch = epoch_;
             if (!dispatched_) {
                 dispatched_ = true;
                 out_.firstDispatch = Clock::now();
@@ -143,13 +146,14 @@ bool Master::gather() {
     return progressed;
 }
 
-std::string Master::lostWorker(Clock::time_point now) const {
+std::string Master::lostWorker(Clock::time_point now, int* rank) const {
     for (const WorkerState& w : workers_) {
         if (w.rank == 0) continue;
         const double silent = std::chrono::duration<double>(now - w.lastHeard).count();
         if (silent > cfg_.workerTimeout) {
             char buf[64];
             std::snprintf(buf, sizeof buf, "%.1f", silent);
+            *rank = w.rank;
             return who(w.rank) + " stopped answering (silent for " + buf + " s) " + describeBusy(w);
         }
     }
@@ -164,42 +168,50 @@ std::vector<int> Master::renderingFrames() const {
     return rankFrames;
 }
 
+bool Master::interrupted() {
+    if (!interruptSignal() && !(cfg_.cancel && cfg_.cancel->load())) return false;
+    for (WorkerState& w : workers_) w.answeredAfterInterrupt = false;
+    if (local_) local_->cancelQueued();
+    return true;
+}
+
+MasterOutcome Master::finish(RunEnd end, std::string message) {
+    out_.end = end;
+    out_.message = std::move(message);
+    return out_;
+}
+
 MasterOutcome Master::run() {
     Progress progress(cfg_.totalFrames, cfg_.liveProgress);
     auto finish = [&](RunEnd end, std::string msg) {
         if (!cfg_.quiet) progress.finish();
-        out_.end = end;
-        out_.message = std::move(msg);
-        return out_;
+        return this->finish(end, std::move(msg));
     };
     for (;;) {
-        if (interruptSignal() || (cfg_.cancel && cfg_.cancel->load())) {
-            for (WorkerState& w : workers_) w.answeredAfterInterrupt = false;
-            if (local_) local_->cancelQueued();
-            return finish(RunEnd::Interrupted, "");
-        }
+        if (interrupted()) return finish(RunEnd::Interrupted, "");
+        if (cfg_.between && cfg_.between()) return finish(RunEnd::Yielded, "");
         keepAlive(Clock::now());
         bool progressed = handOut();
         progressed |= gather();
         if (!failure_.empty()) return finish(RunEnd::Failed, failure_);
 
         ReadyFrame rf;
-        while (asm_.popReady(rf)) {
+        while (asm_->popReady(rf)) {
             const bool rendered = !rf.onDisk;
             emit_(rf);
-            if (rendered) sched_.frameReleased();
+            if (rendered) sched_->frameReleased();
             ++out_.framesPassed;
             out_.lastFramePassed = rf.frame;
             progressed = true;
         }
-        if (sched_.exhausted() && asm_.finished()) return finish(RunEnd::Done, "");
+        if (sched_->exhausted() && asm_->finished()) return finish(RunEnd::Done, "");
 
         // Heartbeats are read above before this check, so time spent blocked in emit (a full
         // encoder queue) never counts against a worker.
         const auto now = Clock::now();
         keepAlive(now);  // emit may have blocked, or this process been stopped, since the top
-        if (std::string lost = lostWorker(now); !lost.empty()) return finish(RunEnd::WorkerLost, std::move(lost));
-        if (!cfg_.quiet) progress.update(asm_.popped(), renderingFrames());
+        if (std::string lost = lostWorker(now, &out_.lostRank); !lost.empty()) return finish(RunEnd::WorkerLost, std::move(lost));
+        if (!cfg_.quiet) progress.update(asm_->popped(), renderingFrames());
         if (!progressed) {
             if (local_) {
                 if (auto r = local_->takeResult(0.0005)) accept(0, *r);
@@ -210,7 +222,28 @@ MasterOutcome Master::run() {
     }
 }
 
-std::string Master::findSilentWorker(double seconds) {
+void Master::retarget(Scheduler& s, FrameAssembler& a, uint64_t epoch) {
+    sched_ = &s;
+    asm_ = &a;
+    epoch_ = epoch;
+    // Workers drop the old epoch's work when its ViewSpec reaches them, before the new items.
+    for (WorkerState& w : workers_) w.outstanding.clear();
+}
+
+MasterOutcome Master::idle(const std::function<bool()>& wake) {
+    for (;;) {
+        if (interrupted()) return finish(RunEnd::Interrupted, "");
+        if (wake()) return finish(RunEnd::Yielded, "");
+        const auto now = Clock::now();
+        keepAlive(now);
+        gather();
+        if (!failure_.empty()) return finish(RunEnd::Failed, failure_);
+        if (std::string lost = lostWorker(now, &out_.lostRank); !lost.empty()) return finish(RunEnd::WorkerLost, std::move(lost));
+        std::this_thread::sleep_for(std::chrono::microseconds(300));
+    }
+}
+
+std::string Master::findSilentWorker(double seconds, int* rank) {
     const auto end = Clock::now() + std::chrono::duration<double>(seconds);
     for (;;) {
         Message m;
@@ -227,9 +260,11 @@ std::string Master::findSilentWorker(double seconds) {
                 break;
             }
         if (!silent) return "";
-        if (Clock::now() > end)
+        if (Clock::now() > end) {
+            if (rank) *rank = silent->rank;
             return who(silent->rank) + " stopped answering " + describeBusy(*silent) +
                    " (it probably died: mpirun stops the whole job when a rank does)";
+        }
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }
 }

@@ -25,13 +25,17 @@ struct MasterConfig {
     int totalFrames = 0;          ///< frames in the output, for progress
     /// The caller's stop request (a viewer's cancel button): read like a signal, ends Interrupted.
     const std::atomic<bool>* cancel = nullptr;
+    /// Called between scheduling steps (an interactive session: partial pictures, a newer
+    /// view); true ends run() with RunEnd::Yielded, the work out left to the next retarget.
+    std::function<bool()> between;
 };
 
-enum class RunEnd { Done, Interrupted, WorkerLost, Failed };
+enum class RunEnd { Done, Interrupted, WorkerLost, Failed, Yielded };
 
 struct MasterOutcome {
     RunEnd end = RunEnd::Done;
     std::string message;  ///< what went wrong, naming the rank and frame
+    int lostRank = -1;    ///< WorkerLost: the rank
     int framesPassed = 0; ///< frames handed to `emit`, in order
     int lastFramePassed = -1;
     RayStats rays;
@@ -50,12 +54,22 @@ public:
     /// order (the PNG frames, so that nothing finished is lost to an interrupt).
     void onFrameComplete(std::function<void(int frame, const std::vector<uint8_t>& rgb)> f) { onComplete_ = std::move(f); }
 
+    /// Called for each result accepted into the assembler, with the rank that rendered it.
+    void onTile(std::function<void(int rank, const WorkItem&)> f) { onTile_ = std::move(f); }
+
     /// Runs until every frame is passed on, an interrupt, a lost worker or an error.
     MasterOutcome run();
+    /// An interactive session's next pass: the work of epoch (stamped on every item handed
+    /// out) from s into a; everything out before is forgotten, and its late results dropped.
+    void retarget(Scheduler& s, FrameAssembler& a, uint64_t epoch);
+    /// Between passes: keeps the workers told rank 0 lives and watches their heartbeats until
+    /// wake() returns true (Yielded), a signal or the cancel flag (Interrupted), a worker's
+    /// error (Failed) or a lost worker (WorkerLost).
+    MasterOutcome idle(const std::function<bool()>& wake);
     /// After an interrupt: waits up to `seconds` for every busy worker to speak; returns the
     /// message for the first that does not (it probably died, which is why mpirun signalled us),
     /// or "" if all answered.
-    std::string findSilentWorker(double seconds);
+    std::string findSilentWorker(double seconds, int* rank = nullptr);
     /// Tells every worker to stop.
     void stopWorkers();
 
@@ -73,18 +87,24 @@ private:
     /// Reads every waiting message and local result; false if there was none.
     bool gather();
     /// The message for the first busy worker silent past the timeout, or "".
-    std::string lostWorker(std::chrono::steady_clock::time_point now) const;
+    std::string lostWorker(std::chrono::steady_clock::time_point now, int* rank) const;
     /// For progress: the frame each rendering rank is on (-1: idle).
     std::vector<int> renderingFrames() const;
     std::string describeBusy(const WorkerState& w) const;
     std::string who(int rank) const;  // "rank 2 on node7"
 
+    /// Interrupted (a signal or the cancel flag), with every worker's answer to it reset.
+    bool interrupted();
+    MasterOutcome finish(RunEnd end, std::string message);
+
     Transport& t_;
-    Scheduler& sched_;
-    FrameAssembler& asm_;
+    Scheduler* sched_;
+    FrameAssembler* asm_;
     RenderEngine* local_;
     std::function<void(ReadyFrame&)> emit_;
     std::function<void(int, const std::vector<uint8_t>&)> onComplete_;
+    std::function<void(int, const WorkItem&)> onTile_;
+    uint64_t epoch_ = 0;
     MasterConfig cfg_;
     std::vector<WorkerState> workers_;  ///< index = rank; rank 0 is the local engine if any
     MasterOutcome out_;

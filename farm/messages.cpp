@@ -14,6 +14,7 @@ namespace {
 struct ResultHeader {
     int32_t frame, x0, y0, x1, y1;
     int32_t layout = 0;  ///< channels | linear << 8
+    uint64_t epoch;
     double busySeconds;
     RayStats rays;
 };
@@ -36,22 +37,24 @@ T fromBytes(const std::string& b, const char* what) {
 
 struct WireRect {
     int32_t frame, x0, y0, x1, y1;
+    uint64_t epoch;
 };
+static_assert(std::is_trivially_copyable_v<ViewSpec>);
 
 }  // namespace
 
 std::string encodeWorkItem(const WorkItem& w) {
-    return bytesOf(WireRect{w.frame, w.rect.x0, w.rect.y0, w.rect.x1, w.rect.y1});
+    return bytesOf(WireRect{w.frame, w.rect.x0, w.rect.y0, w.rect.x1, w.rect.y1, w.epoch});
 }
 
 WorkItem decodeWorkItem(const std::string& bytes) {
     const WireRect r = fromBytes<WireRect>(bytes, "work");
-    return {r.frame, {r.x0, r.y0, r.x1, r.y1}};
+    return {r.frame, {r.x0, r.y0, r.x1, r.y1}, r.epoch};
 }
 
 std::string encodeTileResult(const TileResult& r) {
     ResultHeader h{r.item.frame, r.item.rect.x0, r.item.rect.y0, r.item.rect.x1, r.item.rect.y1,
-                   r.layout.channels | int32_t(r.layout.linear) << 8, r.busySeconds, r.rays};
+                   r.layout.channels | int32_t(r.layout.linear) << 8, r.item.epoch, r.busySeconds, r.rays};
     std::string out = bytesOf(h);
     out.append(reinterpret_cast<const char*>(r.rgb.data()), r.rgb.size());
     return out;
@@ -62,7 +65,7 @@ TileResult decodeTileResult(const std::string& bytes) {
     ResultHeader h;
     std::memcpy(&h, bytes.data(), sizeof h);
     TileResult r;
-    r.item = {h.frame, {h.x0, h.y0, h.x1, h.y1}};
+    r.item = {h.frame, {h.x0, h.y0, h.x1, h.y1}, h.epoch};
     r.layout.channels = h.layout & 0xff;
     r.layout.linear = (h.layout >> 8) & 1;
     if ((r.layout.channels != 3 && r.layout.channels != 4) || (h.layout >> 9) != 0)
@@ -77,6 +80,10 @@ TileResult decodeTileResult(const std::string& bytes) {
     r.rgb.assign(bytes.begin() + sizeof h, bytes.end());
     return r;
 }
+
+std::string encodeViewSpec(const ViewSpec& v) { return bytesOf(v); }
+
+ViewSpec decodeViewSpec(const std::string& bytes) { return fromBytes<ViewSpec>(bytes, "view"); }
 
 std::string encodeHeartbeat(const Heartbeat& h) { return bytesOf(h); }
 

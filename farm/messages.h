@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "camera.h"
 #include "render.h"
 #include "stats.h"
 
@@ -19,13 +20,13 @@ enum Tag : int {
     kTagError = 14,      ///< worker → master: text; the worker stops after sending it
     kTagStop = 15,       ///< master → worker: no more work, leave (no payload)
     kTagAlive = 16,      ///< master → worker: rank 0 still runs (no payload), every kMasterBeatSeconds
-    // rayfarm view (payloads in farm/view/view_messages.h):
-    kTagViewWork = 21,      ///< window → rank: view::ViewWork (a camera, an epoch, a rectangle)
-    kTagViewTile = 22,      ///< rank → window: view::ViewTile (8-bit RGB of the rectangle)
-    kTagViewTimeline = 23,  ///< window → rank: the timeline JSON to play from now on (keys changed)
-    /// window → rank: leave the view loop and serve a film render (runFarm's kTagWork items)
-    /// until kTagStop, then come back; payload in farm/view/film_render.h
-    kTagFilm = 24,
+    /// master → worker: ViewSpec, the camera and picture of an interactive epoch (a viewer's
+    /// session through runFarm): work of any other epoch is stale and dropped, the item being
+    /// rendered included
+    kTagView = 17,
+    /// rayfarm view, window → rank: the timeline JSON to pose the scene as loaded with from now
+    /// on (the window's camera keys changed); "" for none
+    kTagViewTimeline = 23,
 };
 
 /// How often a worker says it is alive, even while its threads render a long frame.
@@ -37,6 +38,20 @@ inline constexpr double kMasterBeatSeconds = 0.5;
 struct WorkItem {
     int32_t frame = 0;
     TileRect rect;
+    /// 0: a frame of the job (render, a film), through the timeline's camera at the job's
+    /// settings. Otherwise the interactive epoch whose ViewSpec says how to render it.
+    uint64_t epoch = 0;
+};
+
+/// An interactive epoch: every work item stamped with it renders `frame` through `camera` (or
+/// the timeline's camera at `frame`) at width × height and spp, the rest of the job's settings
+/// unchanged. Each camera change or refinement pass is a new epoch; epochs are never reused.
+struct ViewSpec {
+    uint64_t epoch = 0;
+    int32_t frame = 0;
+    int32_t followTimeline = 0;  ///< 1: the timeline's camera at frame, not `camera`
+    int32_t spp = 1, width = 1, height = 1;
+    Camera camera;
 };
 
 /// How the pixel bytes of a tile or frame are laid out: a plane of tone-mapped, sRGB-encoded
@@ -76,6 +91,10 @@ WorkItem decodeWorkItem(const std::string& bytes);
 std::string encodeTileResult(const TileResult& r);
 /// Throws std::runtime_error on a malformed payload (wrong pixel count).
 TileResult decodeTileResult(const std::string& bytes);
+
+std::string encodeViewSpec(const ViewSpec& v);
+/// Throws std::runtime_error on a payload of the wrong size.
+ViewSpec decodeViewSpec(const std::string& bytes);
 
 std::string encodeHeartbeat(const Heartbeat& h);
 Heartbeat decodeHeartbeat(const std::string& bytes);

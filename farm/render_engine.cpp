@@ -32,6 +32,7 @@ RenderEngine::~RenderEngine() {
         std::lock_guard<std::mutex> lock(mutex_);
         stop_ = true;
         queue_.clear();
+        cancelCurrent_ = true;  // its result would go nowhere
     }
     workCv_.notify_all();
     thread_.join();
@@ -79,22 +80,54 @@ void RenderEngine::cancelQueued() {
     queue_.clear();
 }
 
+void RenderEngine::setView(const ViewSpec& v) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    view_ = v;
+    const size_t before = queue_.size();
+    std::erase_if(queue_, [&](const WorkItem& i) { return i.epoch != v.epoch; });
+    outstanding_ -= int(before - queue_.size());
+    if (current_ >= 0 && currentEpoch_ != v.epoch) cancelCurrent_ = true;
+}
+
+void RenderEngine::setScene(Scene scene, anim::Timeline timeline) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    nextScene_.emplace(std::move(scene), std::move(timeline));
+}
+
+bool RenderEngine::next(WorkItem& item, std::optional<ViewSpec>& view) {
+    std::unique_lock<std::mutex> lock(mutex_);
+    workCv_.wait(lock, [&] { return stop_ || !queue_.empty(); });
+    if (stop_) return false;
+    item = queue_.front();
+    queue_.pop_front();
+    current_ = item.frame;
+    currentEpoch_ = item.epoch;
+    cancelCurrent_ = false;
+    view.reset();
+    if (item.epoch != 0 && view_ && view_->epoch == item.epoch) view = view_;
+    if (nextScene_) {
+        scene_ = std::move(nextScene_->first);
+        timeline_ = std::move(nextScene_->second);
+        nextScene_.reset();
+        appliedFrame_ = -1;
+    }
+    return true;
+}
+
 void RenderEngine::loop() {
-    for (;;) {
-        WorkItem item;
-        {
-            std::unique_lock<std::mutex> lock(mutex_);
-            workCv_.wait(lock, [&] { return stop_ || !queue_.empty(); });
-            if (stop_) return;
-            item = queue_.front();
-            queue_.pop_front();
-            current_ = item.frame;
-        }
+    WorkItem item;
+    std::optional<ViewSpec> view;
+    while (next(item, view)) {
         try {
-            TileResult r = render(scene_, timeline_, settings_, threads_, item, appliedFrame_, linear_);
+            TileResult r = render(scene_, timeline_, settings_, threads_, item, appliedFrame_, linear_, view ? &*view : nullptr,
+                                  &cancelCurrent_);
             std::lock_guard<std::mutex> lock(mutex_);
-            results_.push_back(std::move(r));
             current_ = -1;
+            if (cancelCurrent_) {
+                --outstanding_;  // a newer view replaced it: no result
+                continue;
+            }
+            results_.push_back(std::move(r));
         } catch (const std::exception& e) {
             std::lock_guard<std::mutex> lock(mutex_);
             error_ = "frame " + std::to_string(item.frame) + ": " + e.what();
@@ -106,8 +139,11 @@ void RenderEngine::loop() {
     }
 }
 
-TileResult RenderEngine::render(Scene& scene, const anim::Timeline& tl, const RenderSettings& s, int threads,
-                                const WorkItem& item, int& appliedFrame, bool linear) {
+TileResult RenderEngine::render(Scene& scene, const anim::Timeline& tl, const RenderSettings& job, int threads,
+                                const WorkItem& item, int& appliedFrame, bool linear, const ViewSpec* view,
+                                const std::atomic<bool>* cancel) {
+    RenderSettings s = job;
+    if (view) s.spp = view->spp, s.width = view->width, s.height = view->height;
     const auto t0 = std::chrono::steady_clock::now();
     if (appliedFrame != item.frame) {
         // The timeline overwrites absolute state, so frames may come in any order.
@@ -127,7 +163,8 @@ TileResult RenderEngine::render(Scene& scene, const anim::Timeline& tl, const Re
     (out.layout.channels == 4 ? buffers.rgba8 : buffers.rgb8) = out.rgb.data();
     std::vector<float> rgbLinear(linear ? 3 * pixels : 0), alpha(linear ? pixels : 0);
     if (linear) buffers.linear = rgbLinear.data(), buffers.alpha = alpha.data();
-    renderRect(scene, scene.camera, s, item.frame, rect, threads, sub, buffers, out.rays);
+    const Camera& camera = view && !view->followTimeline ? view->camera : scene.camera;
+    renderRect(scene, camera, s, item.frame, rect, threads, sub, buffers, out.rays, cancel);
     if (linear) appendLinearPlane(rgbLinear, alpha, scene.transparentBackground, out.rgb.data() + out.layout.linearOffset(pixels));
     out.busySeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;

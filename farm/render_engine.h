@@ -2,6 +2,9 @@
 /// One rank's renderer: a thread that takes work items in order, sets the scene to the item's
 /// frame through the timeline, and renders the item's rectangle with all the rank's threads
 /// (the rectangle split into sub-tiles). The rank's main thread stays free for messages.
+/// Items of an interactive epoch (WorkItem::epoch) render as the engine's ViewSpec says; a new
+/// ViewSpec drops the work of every other epoch, the item being rendered included.
+#include <atomic>
 #include <condition_variable>
 #include <deque>
 #include <mutex>
@@ -35,15 +38,26 @@ public:
     std::string error() const;
     /// Drops queued items; the item in progress finishes.
     void cancelQueued();
+    /// From now on items of v.epoch render as v says. Queued items of other epochs are
+    /// dropped, and the one rendering stops between sub-tiles: none of them gives a result.
+    void setView(const ViewSpec& v);
+    /// The scene and timeline items render from once the item in progress is done (a viewer
+    /// whose camera keys changed its timeline: the scene as loaded, with the new timeline).
+    void setScene(Scene scene, anim::Timeline timeline);
 
     /// Renders item synchronously on the calling thread's pool (no queue): the pure function
     /// every mode reduces to. Public for tests. The 8-bit plane is RGBA when the scene's
     /// background is transparent.
+    /// view: how an item of an interactive epoch renders (null: the job's own frame). cancel:
+    /// renderRect's; the result is incomplete when it was set.
     static TileResult render(Scene& scene, const anim::Timeline& tl, const RenderSettings& s, int threads,
-                             const WorkItem& item, int& appliedFrame, bool linear = false);
+                             const WorkItem& item, int& appliedFrame, bool linear = false, const ViewSpec* view = nullptr,
+                             const std::atomic<bool>* cancel = nullptr);
 
 private:
     void loop();
+    /// The next item and how to render it; false when the engine stops.
+    bool next(WorkItem& item, std::optional<ViewSpec>& view);
 
     Scene scene_;
     anim::Timeline timeline_;
@@ -58,6 +72,10 @@ private:
     std::deque<TileResult> results_;
     int outstanding_ = 0;
     int current_ = -1;
+    uint64_t currentEpoch_ = 0;
+    std::optional<ViewSpec> view_;
+    std::optional<std::pair<Scene, anim::Timeline>> nextScene_;
+    std::atomic<bool> cancelCurrent_{false};
     bool stop_ = false;
     std::string error_;
     std::thread thread_;

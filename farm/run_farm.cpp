@@ -115,6 +115,7 @@ private:
     AsyncSinks sinks_;
     bool rank0Renders_ = false;
     int framesPassed_ = 0, encodedKept_ = 0;
+    int silentRank_ = -1;
     Clock::time_point end_{};
 };
 
@@ -204,7 +205,7 @@ std::string FarmRun::closeSinks(Master& master, const MasterOutcome& o) {
     });
     // A cancel is the caller's wish: no worker died for it.
     std::string silent;
-    if (t_.size() > 1 && interruptSignal()) silent = master.findSilentWorker(0.5);
+    if (t_.size() > 1 && interruptSignal()) silent = master.findSilentWorker(0.5, &silentRank_);
     closer.join();
     if (closeError) std::rethrow_exception(closeError);
     return silent;
@@ -243,6 +244,7 @@ FarmOutcome FarmRun::conclude(Master& master, const MasterOutcome& o, const std:
         // The lost worker cannot be told to stop, and mpirun waits for it: the caller aborts.
         out.end = FarmEnd::WorkerLost;
         out.error = silent.empty() ? o.message : silent;
+        out.lostRank = silent.empty() ? o.lostRank : silentRank_;
         out.abortRanks = t_.size() > 1;
         if (opts_.onEnd) opts_.onEnd(out);
         return out;
@@ -251,10 +253,10 @@ FarmOutcome FarmRun::conclude(Master& master, const MasterOutcome& o, const std:
         out.signal = interruptSignal();
         out.end = out.signal ? FarmEnd::Interrupted : FarmEnd::Cancelled;
         if (opts_.onEnd) opts_.onEnd(out);  // before the workers hear: SIGKILL is near
-        master.stopWorkers();
+        if (!opts_.keepWorkers) master.stopWorkers();
         return out;
     }
-    master.stopWorkers();
+    if (!opts_.keepWorkers) master.stopWorkers();
     if (o.end == RunEnd::Failed) throw std::runtime_error(o.message + "; " + out.videoHolds);
     if (!job_.statsPath.empty()) writeStatsJson(job_.statsPath, out.stats);
     if (opts_.onEnd) opts_.onEnd(out);
@@ -344,6 +346,7 @@ std::set<int> keptFramesForJob(const RenderJob& job, std::vector<int>* corrupt) 
 }
 
 FarmOutcome runFarm(Transport& t, const RenderJob& job, SharedScene& shared, FarmSinks sinks, const FarmOptions& opts) {
+    if (opts.views) return runViewSession(t, job, shared, opts);
     FarmOptions o = opts;
     if (!o.log) o.log = [](const std::string& line) { std::fprintf(stderr, "rayfarm: %s\n", line.c_str()); };
     FarmRun run(t, job, o, std::move(sinks));

@@ -11,9 +11,9 @@
 /// runFarm keeps the workers' loops running until it returns; after it, they have left them
 /// (told to stop, or the outcome asks the caller to abort them).
 ///
-/// Interactive frames (a camera or an epoch changing between frames) are not part of this call
-/// yet; they belong in a message of their own (messages.h) that a session over the same
-/// RenderEngine and workers would send, with FarmOptions' callbacks unchanged.
+/// Interactive frames go through the same call: with FarmOptions::views it runs a session
+/// (view_session.h) that renders the views a window posts, each camera change an epoch of its
+/// own (kTagView) that cancels older work on every rank; the workers are the same.
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -28,6 +28,7 @@
 #include "run_stats.h"
 #include "scene_broadcast.h"
 #include "transport.h"
+#include "view_session.h"
 
 namespace rf::farm {
 
@@ -59,6 +60,9 @@ struct FarmProgress {
     /// The frame in the job's PixelLayout (width × height × 3 sRGB bytes, or straight RGBA with a
     /// transparent background, then the linear plane with EXR frames), valid during the call.
     const std::vector<uint8_t>* rgb = nullptr;
+    /// An interactive session's picture (then rgb is view->size.width × height pixels): which
+    /// view and pass it is. Null for the frames of a job.
+    const ViewPicture* view = nullptr;
 };
 
 struct FarmOutcome;
@@ -80,6 +84,12 @@ struct FarmOptions {
     /// the workers are told to stop (under mpirun SIGKILL follows SIGTERM within about a second,
     /// so what the user must read goes out first). Not called when runFarm throws.
     std::function<void(const FarmOutcome&)> onEnd;
+    /// Set: an interactive session (view_session.h) renders the views posted here, instead of
+    /// job.frames() to sinks (which may then be empty), until cancel, a signal or a lost rank.
+    ViewInbox* views = nullptr;
+    /// The workers stay in their loops when the run ends (a viewer renders on with them); the
+    /// caller sends kTagStop when it is done.
+    bool keepWorkers = false;
     bool liveProgress = false;  ///< the master's live progress line (a terminal)
     bool quiet = false;         ///< no progress lines at all (a viewer shows its own)
     /// When the run started, for the wall time in the stats (the command's start, before loading).
@@ -98,6 +108,7 @@ enum class FarmEnd {
 struct FarmOutcome {
     FarmEnd end = FarmEnd::Done;
     std::string error;       ///< WorkerLost: which rank stopped answering and what it was rendering
+    int lostRank = -1;       ///< WorkerLost: that rank
     int signal = 0;          ///< Interrupted: SIGINT or SIGTERM
     std::string videoHolds;  ///< "the video out.mp4 holds frames 0–8 of 0–11"
     /// WorkerLost with workers left: they cannot be stopped politely; the caller ends every rank

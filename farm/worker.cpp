@@ -32,7 +32,7 @@ std::string whoAmI(const Transport& t) {
 
 }  // namespace
 
-int runWorker(Transport& t, RenderEngine& engine, double masterTimeout) {
+int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const std::function<void(const Message&)>& other) {
     using Clock = std::chrono::steady_clock;
     auto lastBeat = Clock::now() - std::chrono::seconds(1);
     auto lastFromMaster = Clock::now();
@@ -71,6 +71,8 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout) {
             }
             if (m.tag == kTagStop) return 0;
             if (m.tag == kTagWork && !signalled) engine.submit(decodeWorkItem(m.bytes));
+            else if (m.tag == kTagView) engine.setView(decodeViewSpec(m.bytes));
+            else if (m.tag != kTagWork && m.tag != kTagAlive && other) other(m);
         }
         if (const std::string err = engine.error(); !err.empty()) {
             reportWorkerError(t, err);

@@ -1,6 +1,8 @@
 #pragma once
 /// The worker loop (ranks 1…N−1): take work items from rank 0, render them on the rank's
 /// threads, send pixels back, and say it is alive every kHeartbeatSeconds meanwhile.
+#include <functional>
+
 #include "render_engine.h"
 #include "transport.h"
 
@@ -14,7 +16,10 @@ inline constexpr int kMasterSilentExit = 3;
 /// returns 1), a signal arrives and rank 0 does not say stop within a few seconds (returns 130),
 /// or rank 0 says nothing for `masterTimeout` seconds while this worker runs (prints why;
 /// returns kMasterSilentExit).
-int runWorker(Transport& t, RenderEngine& engine, double masterTimeout = 20.0);
+/// kTagView sets the engine's interactive epoch (RenderEngine::setView); other tags runWorker
+/// does not know go to `other` when given (a viewer's own messages).
+int runWorker(Transport& t, RenderEngine& engine, double masterTimeout = 20.0,
+              const std::function<void(const Message&)>& other = nullptr);
 
 /// Tells rank 0 this worker failed (before it could render anything, e.g. while loading).
 void reportWorkerError(Transport& t, const std::string& message);

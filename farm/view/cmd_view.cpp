@@ -35,15 +35,19 @@ const char* kViewHelp =
     "usage: rayfarm view SCENE|MODEL [options]\n"
     "\n"
     "Opens a window on a scene file (.json) or glTF model (.gltf/.glb) and renders it live on all\n"
-    "local cores: 1 spp while the camera moves, refined to the scene's spp at rest. The picture\n"
-    "at rest is the one `rayfarm still` renders with the same camera and options.\n"
+    "local cores (under mpirun, on every rank: the same farm as render): 1 spp while the camera\n"
+    "moves, refined to the scene's spp at rest. The picture at rest is the one `rayfarm still`\n"
+    "renders with the same camera and options.\n"
     "\n"
     "  --size WxH        image size (default: the scene's render.width/height)\n"
     "  --spp N           samples per pixel at rest, a square: 1, 4, 9, 16, ...\n"
     "  --depth N         maximum ray depth; the primary ray counts as 1\n"
     "  --min-weight W    do not trace secondary rays weighing less than W (0: never prune)\n"
-    "  --tonemap T       clamp or reinhard\n"
+    "  --tonemap T       clamp, reinhard or pbr-neutral (as still)\n"
+    "  --exposure EV     scale radiance by 2^EV before tone mapping, or auto (metered once)\n"
     "  --background B    #RRGGBB or R,G,B (linear); transparent shows coverage over black\n"
+    "  --environment F   light the scene with an equirectangular .hdr or .exr environment\n"
+    "  --environment-rotation DEG   turn it about +Y;  --environment-intensity K   scale it\n"
     "  --threads N       render threads (default: all cores)\n"
     "  --frame N         start at frame N of the scene's timeline (default 0)\n"
     "  --camera N        start from the model's glTF camera N\n"
@@ -154,9 +158,11 @@ int runFarmView(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job) {
         shared = farm::shareScene(
             t, o.scenePath, [&] { checkDisplayAndOutputs(o, p); },
             [&](Scene& scene, const FileBundle&) {
+                applyBackground(job.background, scene);  // as the window will: the meter sees it
                 job.settings = pictureSettings(p, scene);
                 return view::encodeViewJob(job);
-            });
+            },
+            sceneOptions(p));
     } catch (const farm::PeerFailed& e) {
         return e.code();
     } catch (const std::exception& e) {
@@ -167,11 +173,13 @@ int runFarmView(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job) {
     if (t.rank() != 0) {
         const view::ViewJob j = view::decodeViewJob(shared.job);
         applyBackground(j.background, shared.scene);
-        return view::runViewWorker(t, std::move(shared.scene), j.settings, j.threads);
+        const int code = view::runViewWorker(t, std::move(shared.scene), j.settings, j.threads);
+        if (code == farm::kMasterSilentExit) std::_Exit(1);  // MPI_Finalize would wait for rank 0
+        return code;
     }
     o.transport = &t;
     o.threads = job.threads;
-    farm::installInterruptHandlers();  // mpirun's SIGTERM: the window names the dead rank first
+    farm::installInterruptHandlers();  // mpirun's SIGTERM: the farm names the dead rank first
     const int status = runWindow(p, o, job, std::move(shared.scene));
     // A lost rank cannot be stopped politely and MPI_Finalize would wait for it: end them all.
     if (status != 0) t.abort(status);
@@ -202,7 +210,8 @@ int runView(const std::vector<std::string>& args) {
 namespace {
 int runViewParsed(const std::vector<std::string>& args) {
     ArgParser p("view");
-    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats", "--frame", "--camera", "--background", "--watch", "--total"}) p.option(o);
+    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats", "--frame", "--camera", "--background", "--exposure", "--watch", "--total"}) p.option(o);
+    declareSceneOptions(p);
     p.flag("--help");
     p.flag("-h");
     p.parse(args);
@@ -225,7 +234,7 @@ int runViewParsed(const std::vector<std::string>& args) {
 
     checkDisplayAndOutputs(o, p);
     DiskFileSource fs;
-    Scene scene = loadScene(o.scenePath, fs);
+    Scene scene = loadScene(o.scenePath, fs, sceneOptions(p));
     return runWindow(p, o, job, std::move(scene));
 }
 }  // namespace

@@ -2,22 +2,69 @@
 
 #include <algorithm>
 #include <cstring>
-#include <thread>
 
+#include <nlohmann/json.hpp>
+
+#include "interrupt.h"
+#include "loopback_transport.h"
 #include "messages.h"
 
 namespace rf::view {
 
-FarmView::FarmView(farm::Transport& t, RenderSettings settings, int threadsPerRank, Publish publish)
-    : t_(t), settings_(settings), threadsPerRank_(threadsPerRank), publish_(std::move(publish)) {
-    const auto now = Clock::now();
-    for (int r = 1; r < t_.size(); ++r) {
-        inFlight_[r] = 0;
-        heard_[r] = now;
+namespace {
+
+/// A rank silent this long, busy or idle, is reported lost (heartbeats come every 0.1 s).
+constexpr double kSilenceSeconds = 5.0;
+
+/// The 8-bit picture as the window draws it: RGB; a transparent background's straight RGBA
+/// is shown over black.
+void toRgb(const std::vector<uint8_t>& px, size_t pixels, std::vector<uint8_t>& rgb) {
+    if (px.size() == pixels * 3) {
+        rgb = px;
+        return;
     }
+    rgb.resize(pixels * 3);
+    for (size_t i = 0; i < pixels; ++i)
+        for (int c = 0; c < 3; ++c) rgb[3 * i + c] = uint8_t((px[4 * i + c] * px[4 * i + 3] + 127) / 255);
+}
+
+/// "rank 2 stopped answering (silent for 5.0 s) while rendering frame 0, on host vm" from the
+/// master's "rank 2 on vm stopped answering (silent for 5.0 s) while rendering frame 0 …".
+std::string lostRankLine(int rank, const std::string& master, bool signalled) {
+    const std::string who = "rank " + std::to_string(rank), verb = " stopped answering";
+    const size_t at = master.find(verb);
+    std::string detail = at == std::string::npos ? "" : master.substr(at + verb.size());
+    if (signalled) detail = " while mpirun ended the session (it died, and mpirun ends the whole session with it)";
+    std::string host;
+    if (at != std::string::npos && master.rfind(who + " on ", 0) == 0) host = master.substr(who.size() + 4, at - who.size() - 4);
+    return who + verb + detail + (host.empty() ? "" : ", on host " + host);
+}
+
+}  // namespace
+
+FarmView::FarmView(farm::Transport* t, Scene scene, RenderSettings settings, int threads, Publish publish,
+                   std::function<void(const SessionEnd&)> onEnd)
+    : hub_(t ? nullptr : std::make_unique<farm::LoopbackHub>(1)),
+      alone_(t ? nullptr : std::make_unique<farm::LoopbackTransport>(*hub_, 0)), t_(t ? *t : *alone_),
+      scene_(std::move(scene)), settings_(settings), threads_(threads > 0 ? threads : hardwareThreads()), ranks_(t_.size()),
+      publish_(std::move(publish)), onEnd_(std::move(onEnd)) {
+    timelineJson_ = scene_.timeline ? scene_.timeline->dump() : std::string();
+    thread_ = std::thread([this] { farmLoop(); });
 }
 
 FarmView::~FarmView() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        closing_ = true;
+    }
+    sessionCancel_ = true;
+    filmCancel_ = true;
+    cv_.notify_all();
+    thread_.join();
+    stopRanks();
+}
+
+void FarmView::stopRanks() {
     try {
         for (int r = 1; r < t_.size(); ++r) t_.send(r, farm::kTagStop, {});
         t_.flush(1.0);
@@ -27,155 +74,205 @@ FarmView::~FarmView() {
 }
 
 uint64_t FarmView::request(const ViewRequest& r) {
-    request_ = r;
-    ++epoch_;
-    active_ = true;
-    passes_ = r.moving ? std::vector<int>{1} : refinementSpp(settings_.spp);
-    pass_ = 0;
-    for (auto& [rank, n] : inFlight_) n = 0;  // their tiles are stale now; late ones are dropped
-    startPass();
-    return epoch_;
-}
-
-void FarmView::resumeAfterFilm() {
-    // Tiles out before the film were dropped by the ranks; the film's messages were runFarm's.
-    const auto now = Clock::now();
-    for (auto& [rank, n] : inFlight_) n = 0;
-    for (auto& [rank, when] : heard_) when = now;
-    active_ = false;
-}
-
-std::string FarmView::findSilentRank(double seconds) {
-    std::map<int, bool> answered;
-    for (int r = 1; r < t_.size(); ++r) answered[r] = false;
-    const auto end = Clock::now() + std::chrono::duration<double>(seconds);
-    while (Clock::now() < end) {
-        farm::Message m;
-        try {
-            while (t_.poll(m))
-                if (m.tag == farm::kTagHeartbeat && farm::decodeHeartbeat(m.bytes).signalled) answered[m.source] = true;
-        } catch (const std::exception&) {
-            // A failing receive says as much as silence.
-        }
-        if (std::all_of(answered.begin(), answered.end(), [](const auto& a) { return a.second; })) return "";
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    uint64_t id;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        id = ++nextId_;
+        current_ = r;
+        currentId_ = id;
     }
-    for (const auto& [rank, ok] : answered)
-        if (!ok) return "rank " + std::to_string(rank);
-    return "";
+    inbox_.post(orderFor(r, id));
+    return id;
 }
 
-void FarmView::setTimeline(const anim::Timeline&, const std::string& timelineJson) {
-    // Messages from rank 0 arrive in order, so the next work item already sees it.
-    for (int r = 1; r < t_.size(); ++r) t_.send(r, farm::kTagViewTimeline, timelineJson);
-}
-
-void FarmView::startPass() {
-    const int scale = request_.moving ? scale_ : 1;
-    const int w = std::max(1, (settings_.width + scale - 1) / scale), h = std::max(1, (settings_.height + scale - 1) / scale);
-    if (frame_.width != w || frame_.height != h) frame_.rgb.assign(size_t(w) * h * 3, 0);
-    frame_.epoch = epoch_;
-    frame_.width = w;
-    frame_.height = h;
-    frame_.spp = passes_[pass_];
-    frame_.moving = request_.moving;
-    frame_.camera = request_.camera;
-    frame_.frame = request_.frame;
-    frame_.input = request_.input;
-    const int cols = (settings_.width + kTintTile - 1) / kTintTile, rows = (settings_.height + kTintTile - 1) / kTintTile;
-    frame_.tileRank.assign(size_t(cols) * rows, 0);
-    tiles_ = makeTiles(w, h, kWorkTile);
-    nextTile_ = tilesDone_ = 0;
-    passStart_ = lastPublish_ = Clock::now();
-}
-
-void FarmView::dispatch() {
-    for (auto& [rank, n] : inFlight_) {
-        while (n < kInFlightPerRank && nextTile_ < tiles_.size()) {
-            ViewWork w;
-            w.epoch = epoch_;
-            w.frame = request_.frame;
-            w.spp = passes_[pass_];
-            w.width = frame_.width;
-            w.height = frame_.height;
-            w.followTimeline = request_.followTimeline ? 1 : 0;
-            w.rect = tiles_[nextTile_++];
-            w.camera = request_.camera;
-            t_.send(rank, farm::kTagViewWork, encodeViewWork(w));
-            ++n;
-        }
-    }
-}
-
-void FarmView::take(const farm::Message& m) {
-    heard_[m.source] = Clock::now();
-    if (m.tag == farm::kTagError) {
-        error_ = "rank " + std::to_string(m.source) + ": " + m.bytes;
-        return;
-    }
-    if (m.tag != farm::kTagViewTile) return;
-    const ViewTile tile = decodeViewTile(m.bytes);
-    if (tile.work.epoch != epoch_ || tile.work.spp != passes_[pass_] || tile.work.width != frame_.width) return;
-    --inFlight_[m.source];
-    frame_.camera = tile.work.camera;  // the timeline's camera when following it, as rendered
-    const TileRect& r = tile.work.rect;
-    for (int y = 0; y < r.height(); ++y)
-        std::memcpy(&frame_.rgb[(size_t(r.y0 + y) * frame_.width + r.x0) * 3], &tile.rgb[size_t(y) * r.width() * 3],
-                    size_t(r.width()) * 3);
-    // Cells of the target-size grid this rectangle covers, for the rank tint.
-    const int scale = (settings_.width + frame_.width - 1) / frame_.width;  // 1, 2 or 4
-    const int cols = (settings_.width + kTintTile - 1) / kTintTile;
-    for (int cy = r.y0 * scale / kTintTile; cy * kTintTile < r.y1 * scale && cy * kTintTile < settings_.height; ++cy)
-        for (int cx = r.x0 * scale / kTintTile; cx * kTintTile < r.x1 * scale && cx < cols; ++cx)
-            frame_.tileRank[size_t(cy) * cols + cx] = static_cast<uint8_t>(m.source);
-    ++tilesDone_;
-}
-
-void FarmView::publishNow(bool complete) {
-    ViewFrame copy = frame_;
-    copy.complete = complete;
-    copy.final = complete && (request_.moving || pass_ + 1 == passes_.size());
-    copy.passMs = std::chrono::duration<double, std::milli>(Clock::now() - passStart_).count();
-    publish_(std::move(copy));
-    lastPublish_ = Clock::now();
-}
-
-void FarmView::finishPass() {
-    publishNow(true);
-    if (request_.moving) {
-        scale_ = nextMovingScale(scale_, std::chrono::duration<double, std::milli>(Clock::now() - passStart_).count());
-        active_ = false;
-    } else if (++pass_ < passes_.size()) {
-        startPass();
+farm::ViewOrder FarmView::orderFor(const ViewRequest& r, uint64_t id) const {
+    farm::ViewOrder o;
+    o.id = id;
+    o.frame = r.frame;
+    o.followTimeline = r.followTimeline;
+    o.camera = r.camera;
+    if (r.moving) {
+        const int s = scale_;
+        o.passes.push_back({1, std::max(1, (settings_.width + s - 1) / s), std::max(1, (settings_.height + s - 1) / s)});
     } else {
-        active_ = false;
+        for (int spp : refinementSpp(settings_.spp)) o.passes.push_back({spp, settings_.width, settings_.height});
+    }
+    return o;
+}
+
+void FarmView::setTimeline(const std::string& timelineJson) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        timelineJson_ = timelineJson;
+        timelineChanged_ = true;
+    }
+    sessionCancel_ = true;  // the session starts again over the new timeline
+    cv_.notify_all();
+}
+
+void FarmView::startFilm(FilmRequest r, FilmCallbacks cb) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        film_.emplace(std::move(r), std::move(cb));
+    }
+    filmCancel_ = false;
+    sessionCancel_ = true;
+    cv_.notify_all();
+}
+
+std::string FarmView::error() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return error_;
+}
+
+void FarmView::farmLoop() {
+    for (;;) {
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            if (closing_ || ended_) return;
+        }
+        sendTimeline();
+        bool film;
+        {
+            std::lock_guard<std::mutex> lock(mutex_);
+            film = film_.has_value();
+        }
+        if (film) runFilm();
+        else runSession();
     }
 }
 
-void FarmView::step() {
-    if (stopped_) return;
-    try {
-        farm::Message m;
-        while (t_.poll(m)) take(m);
-        if (!error_.empty()) {
-            stopped_ = true;
-            return;
-        }
-        if (active_ && tilesDone_ == tiles_.size()) finishPass();
-        if (active_) {
-            dispatch();
-            if (Clock::now() - lastPublish_ > std::chrono::milliseconds(150)) publishNow(false);
-        }
-        const auto now = Clock::now();
-        for (const auto& [rank, n] : inFlight_)
-            if (n > 0 && now - heard_[rank] > std::chrono::duration<double>(kSilenceSeconds)) {
-                error_ = "rank " + std::to_string(rank) + " stopped answering";
-                stopped_ = true;
-            }
-    } catch (const std::exception& e) {
-        error_ = e.what();
-        stopped_ = true;
+void FarmView::sendTimeline() {
+    std::string json;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (!timelineChanged_) return;
+        timelineChanged_ = false;
+        json = timelineJson_;
     }
+    // Ranks 1…N−1 pose the scene as loaded with it (runViewWorker); rank 0 builds its engine
+    // for the next session or film from the same JSON.
+    for (int r = 1; r < t_.size(); ++r) t_.send(r, farm::kTagViewTimeline, json);
+}
+
+void FarmView::runSession() {
+    farm::SharedScene shared;
+    shared.scene = scene_;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        shared.scene.timeline = timelineJson_.empty() ? nullptr : std::make_shared<const nlohmann::json>(nlohmann::json::parse(timelineJson_));
+        sessionCancel_ = closing_ || film_.has_value() || timelineChanged_;
+        // Whatever was asked last is asked again of the new session.
+        if (current_) inbox_.post(orderFor(*current_, currentId_));
+    }
+    farm::RenderJob job;
+    job.settings = settings_;
+    job.workerTimeout = kSilenceSeconds;
+    farm::FarmOptions opts;
+    opts.views = &inbox_;
+    opts.keepWorkers = true;
+    opts.threads = threads_;
+    opts.cancel = &sessionCancel_;
+    opts.quiet = true;
+    opts.onFrame = [this](const farm::FarmProgress& p) { onPicture(p); };
+    try {
+        const farm::FarmOutcome o = farm::runFarm(t_, job, shared, {}, opts);
+        if (o.end != farm::FarmEnd::Cancelled) sessionEnded(o);
+    } catch (const std::exception& e) {
+        farm::FarmOutcome o;
+        o.end = farm::FarmEnd::WorkerLost;
+        o.error = e.what();
+        sessionEnded(o);
+    }
+}
+
+void FarmView::sessionEnded(const farm::FarmOutcome& o) {
+    SessionEnd end;
+    end.signalled = o.signal != 0 || (o.end == farm::FarmEnd::WorkerLost && farm::interruptSignal());
+    end.lostRank = o.lostRank;
+    if (o.lostRank > 0)
+        end.error = lostRankLine(o.lostRank, o.error, end.signalled);
+    else if (o.end == farm::FarmEnd::Interrupted)
+        end.error = "interrupted: mpirun ended the session";
+    else
+        end.error = o.error;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        error_ = end.error;
+        ended_ = true;
+    }
+    if (onEnd_) onEnd_(end);
+}
+
+void FarmView::runFilm() {
+    std::optional<std::pair<FilmRequest, FilmCallbacks>> film;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        film = std::move(film_);
+        film_.reset();
+        timelineJson_ = film->first.timelineJson;
+    }
+    for (int r = 1; r < t_.size(); ++r) t_.send(r, farm::kTagViewTimeline, film->first.timelineJson);
+    FilmEnd end;
+    try {
+        end = renderFilm(t_, film->first, film->second, filmCancel_);
+    } catch (const std::exception& e) {
+        end.kind = FilmEnd::Failed;
+        end.message = e.what();
+    }
+    if (end.kind == FilmEnd::RankLost) {
+        // The lost rank cannot be told to stop: no more views; the window says why.
+        std::lock_guard<std::mutex> lock(mutex_);
+        error_ = end.message;
+        ended_ = true;
+    }
+    if (film->second.onEnd) film->second.onEnd(end);
+}
+
+void FarmView::onPicture(const farm::FarmProgress& p) {
+    const farm::ViewPicture& pic = *p.view;
+    std::optional<ViewRequest> req;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        if (pic.id == currentId_) req = current_;
+    }
+    if (!req) return;  // the window has moved on
+    const int w = pic.size.width, h = pic.size.height;
+    ViewFrame f;
+    f.epoch = pic.id;
+    f.width = w;
+    f.height = h;
+    f.spp = pic.size.spp;
+    f.complete = pic.complete;
+    f.final = pic.complete && pic.pass + 1 == pic.passes;
+    f.moving = req->moving;
+    f.passMs = pic.ms;
+    f.camera = req->camera;
+    f.frame = req->frame;
+    f.input = req->input;
+    std::vector<uint8_t> rgb;
+    toRgb(*p.rgb, size_t(w) * h, rgb);
+    if (pic.complete) {
+        shown_ = rgb;
+        shownW_ = w, shownH_ = h;
+        if (req->moving) scale_ = nextMovingScale(scale_, pic.ms);
+        f.rgb = std::move(rgb);
+    } else {
+        // A slow pass paints its new tiles over the last whole pass of the same size.
+        f.rgb = shownW_ == w && shownH_ == h ? shown_ : std::vector<uint8_t>(size_t(w) * h * 3, 0);
+        for (const farm::ViewTile& t : *pic.tiles)
+            for (int y = t.rect.y0; y < t.rect.y1; ++y)
+                std::memcpy(&f.rgb[(size_t(y) * w + t.rect.x0) * 3], &rgb[(size_t(y) * w + t.rect.x0) * 3], size_t(t.rect.width()) * 3);
+    }
+    // The rank tint: each 32×32 cell of the target size takes the rank of a tile over it.
+    const int scale = (settings_.width + w - 1) / w;
+    const int cols = (settings_.width + kTintTile - 1) / kTintTile, rows = (settings_.height + kTintTile - 1) / kTintTile;
+    f.tileRank.assign(size_t(cols) * rows, 0);
+    for (const farm::ViewTile& t : *pic.tiles)
+        for (int cy = t.rect.y0 * scale / kTintTile; cy < rows && cy * kTintTile < t.rect.y1 * scale; ++cy)
+            for (int cx = t.rect.x0 * scale / kTintTile; cx < cols && cx * kTintTile < t.rect.x1 * scale; ++cx)
+                f.tileRank[size_t(cy) * cols + cx] = static_cast<uint8_t>(t.rank);
+    publish_(std::move(f));
 }
 
 }  // namespace rf::view

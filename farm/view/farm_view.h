@@ -1,69 +1,103 @@
 #pragma once
-/// The window's frames rendered across the farm's ranks (rank 0 of `mpirun … rayfarm view`):
-/// every pass is split into 64×64 work items handed to ranks 1…N−1 (pixel mode), a few in
-/// flight per rank, pixels assembled on rank 0. All transport calls happen in step(), on the
-/// thread that owns the transport (the window's). A new request starts a new epoch: the ranks
-/// drop older work as soon as it reaches them, and late tiles of older epochs are ignored.
-#include <map>
+/// What the window renders with: the farm's one entry point, runFarm, on a thread of its own
+/// that owns the transport. Interactive frames are a view session (farm/view_session.h): each
+/// request becomes a ViewOrder (one small 1 spp pass while moving; 1, 4, 16 … spp up to the
+/// target at rest) whose every pass is an epoch that cancels older work on every rank. A film
+/// (Ctrl+R) pauses the session, runs runFarm on the film's job with the same ranks, and the
+/// session starts again after it. Alone, the transport is a one-rank loopback and rank 0
+/// renders on its own threads; under mpirun, it is MPI and ranks 1…N−1 run runViewWorker.
+#include <atomic>
+#include <condition_variable>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
 #include <string>
-#include <vector>
+#include <thread>
 
+#include "film_render.h"
+#include "run_farm.h"
 #include "transport.h"
-#include "view_backend.h"
-#include "view_messages.h"
+#include "view_frame.h"
+
+namespace rf::farm {
+class LoopbackHub;
+}
 
 namespace rf::view {
 
-class FarmView : public ViewBackend {
+/// How the farm's session ended, for the window (any thread).
+struct SessionEnd {
+    std::string error;    ///< what stopped the rendering ("rank 2 stopped answering …")
+    int lostRank = -1;    ///< the rank that died or fell silent, if that is why
+    bool signalled = false;  ///< mpirun's SIGTERM (or Ctrl-C) ended it: SIGKILL follows soon
+};
+
+class FarmView {
 public:
-    /// t: rank 0's transport, with at least one other rank serving runViewWorker.
-    FarmView(farm::Transport& t, RenderSettings settings, int threadsPerRank, Publish publish);
-    /// Tells every rank to stop and waits (≤ 1 s) for the message to leave.
-    ~FarmView() override;
+    /// t: rank 0's transport with ranks 1…N−1 in runViewWorker, or null to render alone on
+    /// `threads` threads. scene: as loaded (the picture options applied); publish: where
+    /// pictures go; onEnd: called once (on the farm's thread) if the session stops for good.
+    FarmView(farm::Transport* t, Scene scene, RenderSettings settings, int threads, Publish publish,
+             std::function<void(const SessionEnd&)> onEnd);
+    /// Ends the session (and a film, its frames kept), then tells every rank to stop.
+    ~FarmView();
+    FarmView(const FarmView&) = delete;
+    FarmView& operator=(const FarmView&) = delete;
 
-    uint64_t request(const ViewRequest& r) override;
-    void setTimeline(const anim::Timeline& tl, const std::string& timelineJson) override;
-    std::string error() const override { return error_; }
-    int threads() const override { return threadsPerRank_; }
-    int ranks() const override { return t_.size(); }
-    void step() override;
-    bool wantsSteps() const override { return true; }
-    void resumeAfterFilm() override;
-    /// After mpirun's SIGTERM (it ends the whole job when a rank dies): listens up to
-    /// `seconds` for every rank's signalled heartbeat and returns "rank N" for the first that
-    /// stays silent (the one that died), or "" if all answered (a plain Ctrl-C).
-    std::string findSilentRank(double seconds) override;
+    /// Replaces whatever is pending or rendering; returns the request's epoch (ViewFrame::epoch).
+    uint64_t request(const ViewRequest& r);
+    /// Plays another timeline from the next request on (timelineJson: {"timeline": …} as in
+    /// Scene::timeline, serialised, or "" for none), over the scene as loaded.
+    void setTimeline(const std::string& timelineJson);
+    /// Renders the film through runFarm on this session's ranks; no views meanwhile.
+    void startFilm(FilmRequest r, FilmCallbacks cb);
+    /// Finished frames stay in the frames directory and in a playable MP4.
+    void cancelFilm() { filmCancel_ = true; }
+    bool filmCancelled() const { return filmCancel_; }
+    /// What stopped the rendering; empty while all is well.
+    std::string error() const;
+    int threads() const { return threads_; }
+    int ranks() const { return ranks_; }
 
-    static constexpr int kWorkTile = 64;
-    static constexpr int kInFlightPerRank = 3;
-    /// A rank silent this long while it holds work is reported lost.
-    static constexpr double kSilenceSeconds = 5.0;
+    /// Moving frames render 1/scale of the target size (nextMovingScale).
+    int movingScale() const { return scale_; }
 
 private:
-    void startPass();
-    void dispatch();
-    void take(const farm::Message& m);
-    void finishPass();
-    void publishNow(bool complete);
+    void farmLoop();
+    void runSession();
+    void runFilm();
+    void onPicture(const farm::FarmProgress& p);
+    void sessionEnded(const farm::FarmOutcome& o);
+    farm::ViewOrder orderFor(const ViewRequest& r, uint64_t id) const;
+    void sendTimeline();
+    void stopRanks();
 
+    std::unique_ptr<farm::LoopbackHub> hub_;  ///< alone: a farm of one rank
+    std::unique_ptr<farm::Transport> alone_;
     farm::Transport& t_;
-    RenderSettings settings_;
-    int threadsPerRank_;
+    const Scene scene_;  ///< as loaded: every session and film starts from a copy
+    const RenderSettings settings_;
+    const int threads_, ranks_;
     Publish publish_;
+    std::function<void(const SessionEnd&)> onEnd_;
+    farm::ViewInbox inbox_;
+
+    mutable std::mutex mutex_;
+    std::condition_variable cv_;
+    std::string timelineJson_;
+    bool timelineChanged_ = false;
+    std::optional<std::pair<FilmRequest, FilmCallbacks>> film_;
+    std::optional<ViewRequest> current_;  ///< the request the pictures answer
+    uint64_t currentId_ = 0, nextId_ = 0;
+    bool closing_ = false, ended_ = false;
     std::string error_;
-    uint64_t epoch_ = 0;
-    bool active_ = false;     ///< a request is being rendered
-    ViewRequest request_;
-    std::vector<int> passes_;  ///< spp of each pass of this request
-    size_t pass_ = 0;
-    int scale_ = 1;
-    std::vector<TileRect> tiles_;
-    size_t nextTile_ = 0, tilesDone_ = 0;
-    std::map<int, int> inFlight_;          ///< rank → work items of the current epoch out
-    std::map<int, Clock::time_point> heard_;  ///< rank → last message
-    ViewFrame frame_;
-    Clock::time_point passStart_, lastPublish_;
-    bool stopped_ = false;
+
+    std::atomic<bool> sessionCancel_{false}, filmCancel_{false};
+    std::atomic<int> scale_{1};
+    std::vector<uint8_t> shown_;  ///< the last complete pass, under partial ones (farm thread)
+    int shownW_ = 0, shownH_ = 0;
+    std::thread thread_;
 };
 
 }  // namespace rf::view

@@ -5,29 +5,12 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "loopback_transport.h"
-#include "messages.h"
 #include "png_sink.h"
 #include "run_farm.h"
 #include "scene_loader.h"
 #include "timeline.h"
 
 namespace rf::view {
-
-std::string encodeFilmStart(const std::string& workerJob, const std::string& timelineJson) {
-    const uint64_t n = workerJob.size();
-    std::string out(reinterpret_cast<const char*>(&n), sizeof n);
-    return out + workerJob + timelineJson;
-}
-
-void decodeFilmStart(const std::string& bytes, std::string& workerJob, std::string& timelineJson) {
-    uint64_t n = 0;
-    if (bytes.size() < sizeof n) throw std::runtime_error("malformed film message");
-    std::memcpy(&n, bytes.data(), sizeof n);
-    if (n > bytes.size() - sizeof n) throw std::runtime_error("malformed film message");
-    workerJob = bytes.substr(sizeof n, n);
-    timelineJson = bytes.substr(sizeof n + n);
-}
 
 farm::RenderJob filmJob(const FilmRequest& r, int ranks, std::string& note) {
     farm::RenderJob job;
@@ -61,51 +44,22 @@ farm::RenderJob filmJob(const FilmRequest& r, int ranks, std::string& note) {
     return job;
 }
 
-FilmRender::FilmRender(farm::Transport* t, FilmRequest r, FilmCallbacks cb) : t_(t), cb_(std::move(cb)) {
-    thread_ = std::thread([this, req = std::move(r)]() mutable { run(std::move(req)); });
-}
-
-FilmRender::~FilmRender() {
-    cancel_ = true;
-    if (thread_.joinable()) thread_.join();
-}
-
-void FilmRender::run(FilmRequest r) {
-    FilmEnd end;
-    try {
-        if (t_) {
-            end = render(*t_, r);
-        } else {
-            farm::LoopbackHub hub(1);  // alone: a farm of one rank, rendering on its own threads
-            farm::LoopbackTransport alone(hub, 0);
-            end = render(alone, r);
-        }
-    } catch (const std::exception& e) {
-        end.kind = FilmEnd::Failed;
-        end.message = e.what();
-    }
-    if (cb_.onEnd) cb_.onEnd(end);
-}
-
-FilmEnd FilmRender::render(farm::Transport& t, FilmRequest& r) {
+FilmEnd renderFilm(farm::Transport& t, FilmRequest& r, const FilmCallbacks& cb, const std::atomic<bool>& cancel) {
     std::string note;
     const farm::RenderJob job = filmJob(r, t.size(), note);
-    if (!note.empty() && cb_.log) cb_.log("note: " + note);
+    if (!note.empty() && cb.log) cb.log("note: " + note);
     farm::FarmSinks sinks = farm::sinksForJob(job);
-    // Every other rank leaves its view loop for runFarm's work items; messages from rank 0
-    // arrive in order, so no work item overtakes this.
-    const std::string start = encodeFilmStart(farm::encodeWorkerJob(job), r.timelineJson);
-    for (int rank = 1; rank < t.size(); ++rank) t.send(rank, farm::kTagFilm, start);
 
     farm::SharedScene shared;
     shared.scene = std::move(r.scene);
     farm::FarmOptions opts;
     opts.threads = job.threads;
-    opts.cancel = &cancel_;
+    opts.cancel = &cancel;
     opts.quiet = true;
-    opts.log = cb_.log;
+    opts.keepWorkers = true;  // they go back to the window's views
+    opts.log = cb.log;
     opts.onFrame = [&](const farm::FarmProgress& p) {
-        if (cb_.onFrame) cb_.onFrame(p.framesDone, p.framesTotal);
+        if (cb.onFrame) cb.onFrame(p.framesDone, p.framesTotal);
     };
     const farm::FarmOutcome o = farm::runFarm(t, job, shared, std::move(sinks), opts);
     FilmEnd end;

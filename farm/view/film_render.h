@@ -1,17 +1,13 @@
 #pragma once
 /// The window's Render action: the film to an MP4 through the farm's one entry point, runFarm,
-/// on the ranks the window already has. Under mpirun, the other ranks leave their view loop for
-/// the film (kTagFilm) and come back to it when runFarm tells them to stop; alone, rank 0 is
-/// the only rank of a one-rank transport and renders on its own threads.
-///
-/// runFarm runs on a thread of its own so the window stays live; while it runs, nothing else
-/// touches the transport (the window does not step its FarmView), which is what MPI's
-/// SERIALIZED thread level asks. Progress and the end come back through callbacks on that
-/// thread: the window posts them to its own.
+/// on the ranks the window already has (FarmView runs it on the thread that owns the
+/// transport, between two view sessions). Under mpirun the other ranks' render engines serve
+/// it as they serve the window's views; alone, rank 0 is the only rank of a one-rank transport.
+/// Progress and the end come back through callbacks on that thread: the window posts them to
+/// its own.
 #include <atomic>
 #include <functional>
 #include <string>
-#include <thread>
 
 #include "render_job.h"
 #include "scene.h"
@@ -49,29 +45,10 @@ struct FilmCallbacks {
 /// directory (fresh, or checked for a resume); throws cli::UsageError on a mismatch.
 farm::RenderJob filmJob(const FilmRequest& r, int ranks, std::string& note);
 
-class FilmRender {
-public:
-    /// Starts the render. t: the window's MPI transport (other ranks run runViewWorker), or
-    /// null to render alone.
-    FilmRender(farm::Transport* t, FilmRequest r, FilmCallbacks cb);
-    /// Cancels and waits.
-    ~FilmRender();
-    /// Finished frames stay in the frames directory and in a playable MP4.
-    void cancel() { cancel_ = true; }
-    bool cancelled() const { return cancel_; }
-
-private:
-    void run(FilmRequest r);
-    FilmEnd render(farm::Transport& t, FilmRequest& r);
-
-    farm::Transport* t_;
-    FilmCallbacks cb_;
-    std::atomic<bool> cancel_{false};
-    std::thread thread_;
-};
-
-/// kTagFilm's payload: the settings every rank renders the film with, and the timeline.
-std::string encodeFilmStart(const std::string& workerJob, const std::string& timelineJson);
-void decodeFilmStart(const std::string& bytes, std::string& workerJob, std::string& timelineJson);
+/// Renders r's film through runFarm on t, whose ranks 1…N−1 serve it from their view loop
+/// (runViewWorker) with the timeline the window last sent them; they stay in that loop after
+/// it. cancel: like Ctrl-C for render (the MP4 holds the frames done, their PNGs are kept).
+/// Runs on the thread that owns t; the callbacks run there too.
+FilmEnd renderFilm(farm::Transport& t, FilmRequest& r, const FilmCallbacks& cb, const std::atomic<bool>& cancel);
 
 }  // namespace rf::view

@@ -12,12 +12,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include "interrupt.h"
 #include "view_window.h"
 
 namespace rf::view {
 
 
 void ViewWindow::addKey() {
+    takeShownCamera();  // the key holds the camera on screen
     const double t = timeline_.frameTime(frame_);
     keys_.add(keyFromCamera(camera_, scene_.renderOrigin, t));
     renderResumable_ = false;
@@ -74,7 +76,8 @@ void ViewWindow::rebuildTimeline() {
     } else {
         timeline_ = anim::Timeline::fromScene(keyedScene(json));
     }
-    renderer_->setTimeline(timeline_, json);
+    renderer_->setTimeline(json);
+    followFrame_ = -1;  // the camera at a frame may differ now
     dirty_ = true;
     pump();
     sendRest();
@@ -101,7 +104,8 @@ void ViewWindow::save() {
 namespace rf::view {
 
 void ViewWindow::renderFilm() {
-    if (filmRender_) {  // the button reads Cancel while a render runs
+    if (reportedError_ || !renderer_) return;
+    if (filming_) {  // the button reads Cancel while a render runs
         cancelRender();
         return;
     }
@@ -138,7 +142,8 @@ void ViewWindow::renderFilm() {
     // While the film renders the window asks for no frames: the ranks (and the transport)
     // belong to runFarm until it returns.
     if (playing_) togglePlay();
-    filmRender_ = std::make_unique<FilmRender>(options_.transport, std::move(req), std::move(cb));
+    renderer_->startFilm(std::move(req), std::move(cb));
+    filming_ = true;
     renderButton_->setText("Cancel render (Ctrl+R)");
     renderBar_->setRange(0, std::max(1, renderTotal_));
     renderBar_->setValue(0);
@@ -150,18 +155,24 @@ void ViewWindow::renderFilm() {
 
 void ViewWindow::cancelRender() {
     // Like Ctrl-C for render: the MP4 is closed on the frames done and their PNGs are kept.
-    if (filmRender_) filmRender_->cancel();
+    if (filming_ && renderer_) renderer_->cancelFilm();
 }
 
-void ViewWindow::renderEnded(const FilmEnd& end) {
-    const bool cancelled = filmRender_ && filmRender_->cancelled();
-    filmRender_.reset();  // its thread has returned from runFarm: join it
-    renderButton_->setText("Render MP4 (Ctrl+R)");
-    renderResumable_ = end.kind != FilmEnd::Done;
+int ViewWindow::keptFrames() const {
     int kept = 0;
     std::error_code ec;
     for (const auto& e : std::filesystem::directory_iterator(renderFramesDir_, ec))
         if (e.path().extension() == ".png" && e.path().filename().string().rfind("frame_", 0) == 0) ++kept;
+    return kept;
+}
+
+void ViewWindow::renderEnded(const FilmEnd& end) {
+    if (!renderer_) return;  // the window closed meanwhile
+    const bool cancelled = renderer_->filmCancelled();
+    filming_ = false;
+    renderButton_->setText("Render MP4 (Ctrl+R)");
+    renderResumable_ = end.kind != FilmEnd::Done;
+    const int kept = keptFrames();
     if (end.kind == FilmEnd::Done) {
         renderBar_->setValue(renderBar_->maximum());
         message_ = "rendered " + renderOutput_;
@@ -169,7 +180,12 @@ void ViewWindow::renderEnded(const FilmEnd& end) {
         // The lost rank cannot be told to stop: the session ends with the window.
         reportedError_ = true;
         message_ = "render stopped: " + end.message;
-        std::fprintf(stderr, "rayfarm: error: view: %s; the session stops (close the window)\n", end.message.c_str());
+        std::fprintf(stderr, "rayfarm: error: view: %s; the session stops (close the window)\n", message_.c_str());
+        std::fflush(stderr);
+        // After mpirun's SIGTERM (it ends the job when a rank dies) SIGKILL follows within a
+        // second: leave first, the MP4 is closed and the line is out.
+        if (farm::interruptSignal()) std::_Exit(1);
+        showStopped(message_);
         updateStatus();
         return;
     } else {
@@ -177,7 +193,6 @@ void ViewWindow::renderEnded(const FilmEnd& end) {
                    std::to_string(kept) + " frames kept in " + renderFramesDir_ + "; Render resumes";
     }
     std::fprintf(stderr, "rayfarm: view: %s\n", message_.c_str());
-    renderer_->resumeAfterFilm();
     movingInFlight_ = 0;  // a moving frame asked for before the film never came back
     dirty_ = true;
     pump();

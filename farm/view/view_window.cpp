@@ -22,7 +22,6 @@
 
 #include "farm_view.h"
 #include "orbit_camera.h"
-#include "view_renderer.h"
 #include "interrupt.h"
 
 namespace rf::view {
@@ -83,7 +82,8 @@ ViewWindow::ViewWindow(Scene scene, anim::Timeline timeline, RenderSettings sett
     // The free camera starts where the timeline puts it at the first frame shown.
     Scene posed = scene_;
     timeline_.applyFrame(posed, frame_);
-    camera_ = posed.camera;
+    camera_ = followCamera_ = posed.camera;
+    followFrame_ = frame_;
     if (options_.gltfCamera >= 0) {
         camera_ = scene_.gltfCameras[size_t(options_.gltfCamera)];
         follow_ = false;
@@ -97,55 +97,41 @@ ViewWindow::ViewWindow(Scene scene, anim::Timeline timeline, RenderSettings sett
 ViewWindow::~ViewWindow() = default;
 
 void ViewWindow::startRenderer() {
-    // Frames come back on the render threads (or in step()); the window takes them on its
+    // Pictures and the session's end come on the farm's thread; the window takes them on its
     // own thread, from its event queue.
     Publish publish = [this](ViewFrame&& f) {
         auto shared = std::make_shared<ViewFrame>(std::move(f));
         QMetaObject::invokeMethod(this, [this, shared] { showFrame(std::move(*shared)); }, Qt::QueuedConnection);
     };
-    if (options_.transport) {
-        renderer_ = std::make_unique<FarmView>(*options_.transport, settings_, options_.threads, publish);
-    } else {
-        renderer_ = std::make_unique<ViewRenderer>(scene_, timeline_, settings_, options_.threads, publish);
-    }
-    if (renderer_->wantsSteps()) {
-        stepTimer_ = new QTimer(this);
-        stepTimer_->setInterval(1);
-        connect(stepTimer_, &QTimer::timeout, this, [this] {
-            if (filmRender_) return;  // runFarm has the transport (and watches for signals)
-            if (farm::interruptSignal()) return endOnSignal();
-            renderer_->step();
-            if (!renderer_->error().empty() && !reportedError_) {
-                // A rank died or failed: say so in the window (and on stderr), render no more.
-                reportedError_ = true;
-                std::fprintf(stderr, "rayfarm: error: view: %s; the session stops (close the window)\n", renderer_->error().c_str());
-                stepTimer_->stop();
-                playTimer_->stop();
-                updateStatus();
-            }
-        });
-        stepTimer_->start();
-    }
+    auto onEnd = [this](const SessionEnd& end) {
+        if (end.signalled) {
+            // mpirun's SIGTERM: SIGKILL follows within a second, the window thread may be busy.
+            std::fprintf(stderr, "rayfarm: error: view: %s\n", end.error.c_str());
+            std::fflush(stderr);
+        }
+        QMetaObject::invokeMethod(this, [this, end] { sessionEnded(end); }, Qt::QueuedConnection);
+    };
+    renderer_ = std::make_unique<FarmView>(options_.transport, scene_, settings_, options_.threads, publish, onEnd);
     dirty_ = true;
     pump();
     sendRest();
 }
 
-void ViewWindow::endOnSignal() {
-    // Under mpirun a SIGTERM means mpirun is ending the job, usually because a rank died (it
-    // does not wait for rank 0 to notice), and SIGKILL follows within a second: name the dead
-    // rank now, on the status line and on stderr, and leave before the kill.
-    stepTimer_->stop();
-    playTimer_->stop();
-    const std::string lost = renderer_->findSilentRank(0.5);
+void ViewWindow::sessionEnded(const SessionEnd& end) {
     reportedError_ = true;
-    message_ = lost.empty() ? "interrupted: mpirun ended the session"
-                            : lost + " stopped answering (it died, and mpirun ends the whole session with it)";
+    playTimer_->stop();
+    if (playing_) togglePlay();
+    if (end.signalled) {
+        // Under mpirun a SIGTERM means mpirun is ending the job, usually because a rank died (it
+        // does not wait for rank 0 to notice), and SIGKILL follows within a second: the line
+        // naming the dead rank is out (on the farm's thread); leave before the kill, as
+        // MPI_Finalize would wait for the dead rank.
+        std::_Exit(end.lostRank > 0 ? 1 : 130);
+    }
+    // A rank died or failed: say so where it stays in sight, render no more.
+    std::fprintf(stderr, "rayfarm: error: view: %s; the session stops (close the window)\n", end.error.c_str());
+    showStopped(end.error);
     updateStatus();
-    status_->repaint();
-    std::fprintf(stderr, "rayfarm: error: view: %s\n", message_.c_str());
-    std::fflush(stderr);
-    std::_Exit(lost.empty() ? 130 : 1);  // MPI_Finalize would wait for the dead rank
 }
 
 void ViewWindow::buildUi() {
@@ -154,7 +140,29 @@ void ViewWindow::buildUi() {
     grid->setSpacing(0);
     image_ = new ImageView(this, settings_.width, settings_.height);
     grid->addWidget(image_, 0, 0, Qt::AlignLeft | Qt::AlignTop);
+    // Across the window's top, over the picture, hidden until the farm stops for good.
+    banner_ = new QLabel(this);
+    banner_->setObjectName("stopped");
+    banner_->setWordWrap(true);
+    banner_->setStyleSheet("QLabel { background: #c00000; color: white; padding: 4px; font-weight: bold; }");
+    banner_->hide();
+    grid->addWidget(banner_, 0, 0, 1, 2, Qt::AlignTop);
+    grid->addLayout(buildSide(), 0, 1);
+    grid->addLayout(buildTimelineBar(), 1, 0, 1, 2);
+    status_ = new QLabel;
+    status_->setContentsMargins(6, 2, 6, 4);
+    grid->addWidget(status_, 2, 0, 1, 2);
 
+    restTimer_ = new QTimer(this);
+    restTimer_->setSingleShot(true);
+    connect(restTimer_, &QTimer::timeout, this, [this] { sendRest(); });
+    playTimer_ = new QTimer(this);
+    playTimer_->setInterval(std::max(1, int(std::lround(1000.0 / film_.fps))));
+    connect(playTimer_, &QTimer::timeout, this, [this] { setFrame((frame_ + 1) % film_.frames, false); });
+    image_->setFocus();
+}
+
+QVBoxLayout* ViewWindow::buildSide() {
     auto* side = new QVBoxLayout;
     side->setContentsMargins(6, 6, 6, 6);
     side->addWidget(new QLabel("Camera keys (K adds)"));
@@ -179,8 +187,10 @@ void ViewWindow::buildUi() {
     side->addWidget(renderButton_);
     side->addWidget(renderBar_);
     connect(renderButton_, &QPushButton::clicked, this, [this] { renderFilm(); });
-    grid->addLayout(side, 0, 1);
+    return side;
+}
 
+QHBoxLayout* ViewWindow::buildTimelineBar() {
     auto* bar = new QHBoxLayout;
     bar->setContentsMargins(6, 4, 6, 0);
     play_ = new QPushButton("Play");
@@ -193,22 +203,19 @@ void ViewWindow::buildUi() {
     bar->addWidget(play_);
     bar->addWidget(slider_, 1);
     bar->addWidget(timeLabel_);
-    grid->addLayout(bar, 1, 0, 1, 2);
-    status_ = new QLabel;
-    status_->setContentsMargins(6, 2, 6, 4);
-    grid->addWidget(status_, 2, 0, 1, 2);
-
     connect(play_, &QPushButton::clicked, this, [this] { togglePlay(); });
     connect(slider_, &QSlider::valueChanged, this, [this](int v) {
         if (v != frame_) setFrame(v, true);
     });
-    restTimer_ = new QTimer(this);
-    restTimer_->setSingleShot(true);
-    connect(restTimer_, &QTimer::timeout, this, [this] { sendRest(); });
-    playTimer_ = new QTimer(this);
-    playTimer_->setInterval(std::max(1, int(std::lround(1000.0 / film_.fps))));
-    connect(playTimer_, &QTimer::timeout, this, [this] { setFrame((frame_ + 1) % film_.frames, false); });
-    image_->setFocus();
+    return bar;
+}
+
+void ViewWindow::showStopped(const std::string& why) {
+    // It stays until the window closes: the status line below changes with every frame.
+    banner_->setText(QString::fromStdString("Rendering stopped: " + why + "\nClose the window to end the session."));
+    banner_->show();
+    banner_->raise();
+    setWindowTitle(QString::fromStdString("rayfarm view - " + options_.scenePath + " - stopped: " + why));
 }
 
 void ViewWindow::addShortcuts() {
@@ -216,7 +223,12 @@ void ViewWindow::addShortcuts() {
         auto* s = new QShortcut(k, this);
         connect(s, &QShortcut::activated, this, fn);
     };
-    add(QKeySequence(Qt::Key_F), [this] { camera_ = frameBox(camera_, bounds_, double(settings_.width) / settings_.height); follow_ = false; cameraEdited(); });
+    add(QKeySequence(Qt::Key_F), [this] {
+        takeShownCamera();
+        camera_ = frameBox(camera_, bounds_, double(settings_.width) / settings_.height);
+        follow_ = false;
+        cameraEdited();
+    });
     add(QKeySequence(Qt::Key_R), [this] { follow_ = true; cameraEdited(); });
     add(QKeySequence(Qt::Key_T), [this] { tint_ = !tint_; image_->update(); updateStatus(); });
     add(QKeySequence(Qt::Key_K), [this] { addKey(); });
@@ -242,7 +254,19 @@ void ViewWindow::togglePlay() {
     }
 }
 
+void ViewWindow::takeShownCamera() {
+    if (!follow_) return;
+    if (followFrame_ != frame_) {
+        Scene posed = scene_;
+        timeline_.applyFrame(posed, frame_);
+        followCamera_ = posed.camera;
+        followFrame_ = frame_;
+    }
+    camera_ = followCamera_;
+}
+
 void ViewWindow::dragBy(Qt::MouseButton button, Qt::KeyboardModifiers mods, double dx, double dy) {
+    takeShownCamera();
     if (button == Qt::MiddleButton || (mods & Qt::ShiftModifier)) camera_ = pan(camera_, dx, dy, settings_.height);
     else camera_ = orbit(camera_, dx, dy);
     follow_ = false;
@@ -250,6 +274,7 @@ void ViewWindow::dragBy(Qt::MouseButton button, Qt::KeyboardModifiers mods, doub
 }
 
 void ViewWindow::wheelBy(double steps) {
+    takeShownCamera();
     camera_ = zoom(camera_, steps);
     follow_ = false;
     cameraEdited();
@@ -274,7 +299,7 @@ void ViewWindow::setFrame(int frame, bool fromInput) {
 void ViewWindow::pump() {
     // One moving frame in flight at a time: newer input waits for it and then goes out as one
     // request, rather than cancelling every frame before it reaches the screen.
-    if (!dirty_ || movingInFlight_ != 0 || filmRender_) return;
+    if (!dirty_ || movingInFlight_ != 0 || filming_ || !renderer_ || reportedError_) return;
     ViewRequest r{camera_, frame_, true, follow_, pendingInput_};
     lastEpoch_ = movingInFlight_ = renderer_->request(r);
     pendingInput_.reset();
@@ -282,7 +307,7 @@ void ViewWindow::pump() {
 }
 
 void ViewWindow::sendRest() {
-    if (playing_ || filmRender_) return;
+    if (playing_ || filming_ || !renderer_ || reportedError_) return;
     if (dirty_ || movingInFlight_ != 0) {  // still moving: rest after the last moving frame
         restTimer_->start(50);
         return;
@@ -293,7 +318,6 @@ void ViewWindow::sendRest() {
 void ViewWindow::showFrame(ViewFrame&& f) {
     if (f.epoch != lastEpoch_) return;  // a view the user has left already
     if (f.moving && f.complete) movingInFlight_ = 0;
-    if (follow_ && f.complete) camera_ = f.camera;  // drags start from the picture on screen
     picture_ = QImage(f.rgb.data(), f.width, f.height, f.width * 3, QImage::Format_RGB888).copy();
     tileRanks_ = std::move(f.tileRank);
     image_->repaint();  // on screen now, so the latency below is input to display
@@ -336,11 +360,13 @@ double ViewWindow::nowS() const { return std::chrono::duration<double>(Clock::no
 
 void ViewWindow::closeEvent(QCloseEvent* e) {
     playTimer_->stop();
-    if (stepTimer_) stepTimer_->stop();
-    cancelRender();  // a film render started here ends with the window, its frames kept
-    filmRender_.reset();
     const int threads = this->threads(), ranks = renderer_ ? renderer_->ranks() : 1;
-    renderer_.reset();  // cancels the pass in flight and joins the render thread
+    // Cancels the pass in flight (and a film render started here, its frames kept), joins the
+    // farm's thread and tells every rank to stop.
+    renderer_.reset();
+    if (filming_)
+        std::fprintf(stderr, "rayfarm: view: render cancelled by closing the window: %d frames kept in %s; Render resumes\n",
+                     keptFrames(), renderFramesDir_.c_str());
     if (!options_.statsPath.empty()) {
         try {
             stats_.write(options_.statsPath, settings_.width, settings_.height, ranks, threads);

@@ -1,7 +1,7 @@
 #pragma once
 /// The viewer's window (Qt 6 Widgets): the picture at its rendered size in the top-left corner,
 /// the camera keys beside it, the timeline bar and the status line below. Input edits a camera
-/// and a frame index; the ViewRenderer turns them into pictures.
+/// and a frame index; the farm (FarmView, through runFarm) turns them into pictures.
 #include <QImage>
 #include <QWidget>
 #include <memory>
@@ -10,15 +10,17 @@
 
 #include "camera_keys.h"
 #include "film_render.h"
-#include "view_backend.h"
+#include "farm_view.h"
 #include "view_stats.h"
 
+class QHBoxLayout;
 class QLabel;
 class QProgressBar;
 class QListWidget;
 class QPushButton;
 class QSlider;
 class QTimer;
+class QVBoxLayout;
 
 namespace rf::farm {
 class Transport;
@@ -59,9 +61,18 @@ protected:
 
 private:
     void startRenderer();
-    [[noreturn]] void endOnSignal();
+    /// The farm stopped for good (a lost rank, a failure, mpirun's SIGTERM): say so in the
+    /// window, or after a signal leave before mpirun's SIGKILL.
+    void sessionEnded(const SessionEnd& end);
+    /// camera_ = the camera the picture shows (the timeline's at the current frame when
+    /// following it), before an edit starts from it.
+    void takeShownCamera();
     void togglePlay();
     void buildUi();
+    QVBoxLayout* buildSide();
+    QHBoxLayout* buildTimelineBar();
+    /// A lasting red banner over the picture and the window title name what stopped the farm.
+    void showStopped(const std::string& why);
     void addShortcuts();
     void cameraEdited();
     void setFrame(int frame, bool fromInput);
@@ -81,6 +92,8 @@ private:
     void renderFilm();
     void cancelRender();
     void renderEnded(const FilmEnd& end);
+    /// PNG frames in the film's frames directory.
+    int keptFrames() const;
     int threads() const { return renderer_ ? renderer_->threads() : 0; }
     double nowS() const;
     std::string ranksText() const;
@@ -91,12 +104,14 @@ private:
     Film film_;
     RenderSettings settings_;
     ViewOptions options_;
-    std::unique_ptr<ViewBackend> renderer_;
+    std::unique_ptr<FarmView> renderer_;
     ViewStats stats_;
     CameraKeys keys_;
     Aabb bounds_;
     Camera camera_;       ///< the free camera (valid once the user moved it or a frame came back)
     bool follow_ = true;  ///< show the timeline's camera
+    Camera followCamera_;   ///< the timeline's camera at followFrame_
+    int followFrame_ = -1;  ///< -1: followCamera_ is not known for the timeline shown
     int frame_ = 0;
     bool playing_ = false;
     bool dirty_ = false;  ///< the view changed since the last request
@@ -114,15 +129,15 @@ private:
     std::string message_;  ///< last action (saved, key added, error)
     ImageView* image_ = nullptr;
     QLabel* status_ = nullptr;
+    QLabel* banner_ = nullptr;  ///< why the farm stopped, over the picture (hidden until then)
     QLabel* timeLabel_ = nullptr;
     QSlider* slider_ = nullptr;
     QPushButton* play_ = nullptr;
     QListWidget* keyList_ = nullptr;
     QTimer* restTimer_ = nullptr;
     QTimer* playTimer_ = nullptr;
-    QTimer* stepTimer_ = nullptr;  ///< drives a farm backend's messages
     // The Render action: the film through runFarm on this window's ranks (film_render.h).
-    std::unique_ptr<FilmRender> filmRender_;
+    bool filming_ = false;
     QPushButton* renderButton_ = nullptr;
     QProgressBar* renderBar_ = nullptr;
     std::string renderFramesDir_, renderOutput_;

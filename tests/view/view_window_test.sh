@@ -6,7 +6,8 @@
 # the other ranks render every frame (pixel mode); the same checks apply, and after Ctrl+Q
 # mpirun itself exits 0 within 2 s and no rank or orted is left.
 #   no-display   without a display: one error line naming render and still, exit 2
-#   still SCENE  the window's picture at rest equals `still`'s PNG (exact: 0 differing pixels)
+#   still SCENE [OPTIONS]  the window's picture at rest equals `still`'s PNG with the same
+#                picture options (exact: 0 differing pixels)
 #   author SCENE a drag changes the picture; K then Ctrl+S writes a scene that `render` accepts,
 #                whose frame 0 equals the window exactly; Ctrl+R renders the film (runFarm on
 #                the window's own ranks, no child process), Ctrl+R
@@ -21,8 +22,13 @@
 #   preview SCENE  render --preview opens a window on the frames as they complete; closing it
 #                mid-render leaves the render to finish (status 0, every frame); a window on the
 #                finished frames directory (view --watch) shows the last frame exactly
+#   film-close SCENE  Ctrl+Q while Ctrl+R renders: status 0 within 2 s, the frames done kept
+#                (said on stderr) and playable in the MP4, no process left
+#   film-killed-rank SCENE  (VIEW_NP=3) a rank killed while Ctrl+R renders: the window stays,
+#                names it in its title and a red banner; the MP4 plays the frames done
 #   killed-rank SCENE  (VIEW_NP=3) rank 2 is killed while it renders: the window stays and names
-#                it on its status line and stderr; Ctrl+Q then ends the session (mpirun exits
+#                it on stderr, in its title and in a red banner over the picture that is still
+#                there 2 s later; Ctrl+Q then ends the session (mpirun exits
 #                non-zero within 5 s) and leaves no process. mpirun runs with
 #                --mca orte_abort_on_non_zero_status 0, so the window outlives the dead rank
 #                (killed-rank-default covers mpirun's defaults).
@@ -61,19 +67,41 @@ for tool in Xvfb xdotool import compare ffprobe; do
     command -v $tool >/dev/null || fail "$tool missing (tests/install-deps.sh installs it)"
 done
 
-# A private X server on a free display number (Xvfb picks it and writes it to fd 3).
-Xvfb -displayfd 3 -screen 0 1280x800x24 -nolisten tcp 3>display.txt 2>xvfb.log &
-XVFB=$!
+# A private X server on a display number of its own (Xvfb picks a free one and writes it to
+# fd 3 once it listens), then waited for until it answers a client: under load a window
+# started right after could still fail to connect. Three attempts before giving up.
+export HWLOC_COMPONENTS=-gl  # Open MPI's hwloc must not open X displays of its own
+XVFB=
 VIEW=
 cleanup() {
     [ -n "$VIEW" ] && kill "$VIEW" 2>/dev/null
-    kill "$XVFB" 2>/dev/null
+    [ -n "$XVFB" ] && kill "$XVFB" 2>/dev/null
     wait 2>/dev/null
 }
 trap cleanup EXIT
-for _ in $(seq 50); do [ -s display.txt ] && break; sleep 0.1; done
-[ -s display.txt ] || fail "Xvfb did not start: $(cat xvfb.log)"
-export DISPLAY=:$(cat display.txt)
+start_xvfb() {
+    local attempt
+    for attempt in 1 2 3; do
+        : >display.txt
+        Xvfb -displayfd 3 -screen 0 1280x800x24 -nolisten tcp 3>display.txt 2>xvfb.log &
+        XVFB=$!
+        for _ in $(seq 100); do [ -s display.txt ] && break; kill -0 $XVFB 2>/dev/null || break; sleep 0.1; done
+        if [ -s display.txt ]; then
+            export DISPLAY=:$(tr -dc 0-9 <display.txt)
+            for _ in $(seq 100); do
+                xdotool getdisplaygeometry >/dev/null 2>&1 && return 0
+                kill -0 $XVFB 2>/dev/null || break
+                sleep 0.1
+            done
+        fi
+        echo "note: Xvfb attempt $attempt did not answer: $(tail -2 xvfb.log)" >&2
+        kill $XVFB 2>/dev/null
+        wait $XVFB 2>/dev/null
+        XVFB=
+    done
+    fail "Xvfb did not start: $(cat xvfb.log)"
+}
+start_xvfb
 
 LAUNCH=()
 if [ -n "${VIEW_NP:-}" ]; then
@@ -117,6 +145,17 @@ close_view() {  # Ctrl+Q, then waits up to $1 s for the process (or mpirun) to e
 
 grab() {  # the picture area, top-left W×H of the window, as $1
     import -window "$WID" png:- 2>/dev/null | convert png:- -crop ${W}x${H}+0+0 +repage "$1"
+}
+
+# The lasting report of a stopped farm: the window's title names it, and the red banner
+# (#c00000) covers the picture's top-left corner. $1: text the title must contain.
+check_stopped_banner() {
+    local title px
+    title=$(xdotool getwindowname "$WID" 2>/dev/null)
+    case "$title" in *"stopped: "*"$1"*) ;; *) fail "the window title does not report it: '$title'" ;; esac
+    grab stopped.png
+    px=$(convert stopped.png -format '%[fx:int(255*p{2,2}.r)],%[fx:int(255*p{2,2}.g)],%[fx:int(255*p{2,2}.b)]' info:)
+    [ "$px" = "192,0,0" ] || fail "no red banner over the picture (pixel 2,2 is $px; see $WORK/stopped.png)"
 }
 
 differing() {  # pixels that differ between two images (ImageMagick AE, exact)
@@ -180,12 +219,67 @@ drag() {
 }
 
 scene=$1
+shift
 case "$CASE" in
 still)
-    "$RAYFARM" still "$scene" --size $SIZE --spp 4 -o still.png 2>/dev/null || fail "still"
-    start_view "$scene" --size $SIZE --spp 4
+    # Any picture options after the scene go to both (--environment, --exposure, --tonemap ...).
+    "$RAYFARM" still "$scene" --size $SIZE --spp 4 "$@" -o still.png 2>/dev/null || fail "still $*"
+    start_view "$scene" --size $SIZE --spp 4 "$@"
     wait_equal still.png 60 rest
-    echo "ok: window equals still.png ($SIZE, 4 spp)"
+    echo "ok: window equals still.png ($SIZE, 4 spp${*:+, $*})"
+    ;;
+film-close)
+    # Ctrl+Q while Ctrl+R renders: the window closes within 2 s with status 0, says how many
+    # frames it kept, the MP4 plays those frames, and nothing of the session is left.
+    rm -rf film.frames film.mp4
+    start_view "$scene" --size $SIZE --spp 16 -o "$PWD/film.json"
+    xdotool windowfocus --sync "$WID" key ctrl+r
+    for _ in $(seq 400); do [ -n "$(ls film.frames/frame_*.png 2>/dev/null)" ] && break; sleep 0.05; done
+    [ -n "$(ls film.frames/frame_*.png 2>/dev/null)" ] || fail "the film wrote no frame: $(tail -3 view.log)"
+    ours=$(descendants $VIEW)
+    close_view 2 view
+    [ $STATUS -eq 0 ] || fail "view exited with status $STATUS: $(cat view.log)"
+    kept=$(ls film.frames/frame_*.png | wc -l)
+    grep -q "rayfarm: view: render cancelled by closing the window: $kept frames kept in" view.log ||
+        fail "no line saying the $kept frames are kept: $(tail -3 view.log)"
+    n=$(ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames -of csv=p=0 film.mp4)
+    [ -n "$n" ] && [ "$n" -ge 1 ] && [ "$n" -le "$kept" ] || fail "the MP4 holds '$n' frames for $kept kept"
+    sleep 1
+    for pid in $ours; do
+        alive "$pid" && fail "process $pid of the session left behind: $(ps -o pid=,stat=,args= -p "$pid")"
+    done
+    echo "ok: closed mid-film with status 0 within 2 s; $kept frames kept, the MP4 plays $n"
+    ;;
+film-killed-rank)
+    # (VIEW_NP=3, a dead rank does not end mpirun) a rank killed while Ctrl+R renders: the
+    # window stays and reports it in its title and a red banner; the MP4 plays the frames
+    # done; Ctrl+Q ends the session (non-zero) and leaves no process.
+    [ -n "${VIEW_NP:-}" ] || fail "film-killed-rank runs under mpirun (VIEW_NP=3)"
+    LAUNCH=(mpirun --mca orte_abort_on_non_zero_status 0 --oversubscribe -np "$VIEW_NP")
+    rm -rf film.frames film.mp4
+    start_view "$scene" --size 320x180 --spp 64 -o "$PWD/film.json"
+    xdotool windowfocus --sync "$WID" key ctrl+r
+    for _ in $(seq 400); do [ -n "$(ls film.frames/frame_*.png 2>/dev/null)" ] && break; sleep 0.05; done
+    [ -n "$(ls film.frames/frame_*.png 2>/dev/null)" ] || fail "the film wrote no frame: $(tail -3 view.log)"
+    victim=
+    for pid in $(descendants $VIEW); do [ "$(ps -o comm= -p "$pid")" = rayfarm ] && victim=$pid; done
+    rank=$(tr '\0' '\n' </proc/"$victim"/environ | sed -n 's/^OMPI_COMM_WORLD_RANK=//p')
+    [ -n "$rank" ] && [ "$rank" != 0 ] || fail "process $victim is not a worker rank (rank '$rank')"
+    ours=$(descendants $VIEW)
+    kill -9 "$victim"
+    for _ in $(seq 120); do grep -q "rayfarm: error: view: render stopped: rank $rank" view.log && break; sleep 0.25; done
+    grep -q "rayfarm: error: view: render stopped: rank $rank" view.log || fail "no line naming rank $rank: $(cat view.log)"
+    kill -0 $VIEW 2>/dev/null || fail "the session ended with the rank, the window could not tell"
+    check_stopped_banner "rank $rank"
+    n=$(ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames -of csv=p=0 film.mp4)
+    [ -n "$n" ] && [ "$n" -ge 1 ] || fail "the MP4 of the stopped film does not play: '$n' frames"
+    close_view 5 mpirun
+    [ $STATUS -ne 0 ] || fail "a session that lost a rank exited 0"
+    sleep 1
+    for pid in $ours; do
+        alive "$pid" && fail "process $pid of the session left behind: $(ps -o pid=,stat=,args= -p "$pid")"
+    done
+    echo "ok: $(grep 'render stopped' view.log | head -1); the MP4 plays $n frames; closed with status $STATUS"
     ;;
 author)
     "$RAYFARM" still "$scene" --size $SIZE --spp 4 -o still.png 2>/dev/null || fail "still"
@@ -304,6 +398,9 @@ killed-rank)
     for _ in $(seq 60); do grep -q "rayfarm: error: view: rank [12] stopped answering" view.log && break; sleep 0.25; done
     grep -q "rayfarm: error: view: rank [12] stopped answering" view.log || fail "no line naming the lost rank: $(cat view.log)"
     kill -0 $VIEW 2>/dev/null || fail "the session ended with the rank, the window could not tell"
+    lost=$(sed -n 's/^rayfarm: error: view: rank \([12]\) stopped answering.*/\1/p' view.log | head -1)
+    sleep 2  # it lasts: not a status line that the next frame overwrites
+    check_stopped_banner "rank $lost stopped answering"
     close_view 5 mpirun
     [ $STATUS -ne 0 ] || fail "a session that lost a rank exited 0"
     sleep 1  # the killed rank and mpirun's helpers are reaped as mpirun ends

@@ -1,0 +1,27 @@
+#include "view_frame.h"
+
+#include <gtest/gtest.h>
+
+namespace rf::view {
+namespace {
+
+TEST(ViewFrame, RefinementPassesEndAtTheTarget) {
+    EXPECT_EQ(refinementSpp(1), (std::vector<int>{1}));
+    EXPECT_EQ(refinementSpp(9), (std::vector<int>{1, 4, 9}));
+    EXPECT_EQ(refinementSpp(16), (std::vector<int>{1, 4, 16}));
+    EXPECT_EQ(refinementSpp(64), (std::vector<int>{1, 4, 16, 64}));
+}
+
+TEST(ViewFrame, MovingResolutionHoldsTheFrameTime) {
+    // Over the budget: half the resolution (down to a quarter); far under it: back up.
+    EXPECT_EQ(nextMovingScale(1, kMovingFrameMs + 5.0), 2);
+    EXPECT_EQ(nextMovingScale(2, kMovingFrameMs + 5.0), 4);
+    EXPECT_EQ(nextMovingScale(4, 10.0 * kMovingFrameMs), 4);
+    EXPECT_EQ(nextMovingScale(4, 0.1 * kMovingFrameMs), 2);
+    // In between (4x the pixels would overrun): stay.
+    EXPECT_EQ(nextMovingScale(2, 0.5 * kMovingFrameMs), 2);
+    EXPECT_EQ(nextMovingScale(1, 0.1 * kMovingFrameMs), 1);
+}
+
+}  // namespace
+}  // namespace rf::view
