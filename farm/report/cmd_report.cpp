@@ -1,25 +1,31 @@
 // rayfarm report: error against run time for the quality settings, and the stiff-case table.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
 
+#include "background_option.h"
 #include "cli.h"
+#include "errors.h"
 #include "exposure_meter.h"
-#include "sample_count.h"
+#include "gltf_loader.h"
 #include "mp4_sink.h"
 #include "output_check.h"
+#include "report_csv.h"
 #include "report_plot.h"
 #include "report_run.h"
 #include "report_stability.h"
+#include "sample_count.h"
 #include "scene_loader.h"
 #include "timeline.h"
 
 namespace rf::cli {
 
 namespace {
-const char* kReportHelp =
+const char* kReportHelpHead =
     "usage: rayfarm report SCENE|MODEL --out DIR [options]\n"
+    "       rayfarm report SCENE|MODEL --reference FILE.png --out DIR [options]\n"
     "       rayfarm report --stability --out DIR [--threads N]\n"
     "\n"
     "Renders a reference of one frame (many samples, deep recursion, no pruning), then a sweep of\n"
@@ -30,17 +36,23 @@ const char* kReportHelp =
     "default.png and error_default.png (false-colour error of the default setting).\n"
     "\n"
     "  --out DIR               output folder (created if needed)\n"
+    "  --reference FILE.png    score every setting against this image instead (a Cycles render of\n"
+    "                          the same camera, say); nothing is rendered as the reference and no\n"
+    "                          reference.png is written. The render takes the image's size; a --size\n"
+    "                          that differs is refused, and so are --ref-spp and --ref-depth\n"
     "  --frame N               frame of the scene's timeline (default 0)\n"
+    "  --camera N              look through the model's glTF camera N instead of the scene camera\n"
     "  --size WxH              image size (default: the scene's)\n"
     "  --target-psnr DB        the error the summary answers for (default 30)\n"
     "  --threads N             worker threads (default: all cores)\n"
     "  --spp N, --depth N, --min-weight W, --tonemap T, --exposure EV|auto\n"
     "                          the default setting the sweep is centred on (default: the scene's)\n"
+    "  --environment F, --environment-rotation DEG, --environment-intensity K, --background B\n"
+    "                          the picture, as rayfarm still takes them (--background: a colour)\n"
     "  --grid ofat|full        one factor at a time around the default (ofat, default) or every\n"
-    "                          combination (full: |spp| x |depth| x |min weight| renders)\n"
-    "  --sweep-spp LIST        samples per pixel to sweep, squares (default 1,4,16,64)\n"
-    "  --sweep-depth LIST      maximum depths to sweep (default 1,2,3,4,5,6,7,8)\n"
-    "  --sweep-min-weight LIST pruning thresholds to sweep (default 0,0.001,0.01,0.1)\n"
+    "                          combination (full: the product of the lists' lengths)\n";
+
+const char* kReportHelpTail =
     "  --ref-spp N             reference samples per pixel, a square (default 256)\n"
     "  --ref-depth N           reference maximum depth (default 16)\n"
     "\n"
@@ -56,6 +68,20 @@ const char* kReportHelp =
     "  --stability             instead: run the stiff and extreme cases of the stability catalogue and\n"
     "                          write stability.md and stability.csv (measured error, pass/fail);\n"
     "                          exit status 1 if a case fails\n";
+
+/// The help text, with one --sweep-NAME line per knob of the sweep.
+std::string reportHelp() {
+    std::string s = kReportHelpHead;
+    for (const report::QualityKnob& k : report::qualityKnobs()) {
+        std::string line = "  " + report::sweepOption(k) + " LIST";
+        line.resize(std::max<size_t>(line.size() + 1, 26), ' ');
+        line += std::string(k.meaning) + " to sweep" + (k.values == report::KnobValues::Square ? ", squares" : "") +
+                " (default ";
+        for (size_t i = 0; i < k.sweep.size(); ++i) line += (i ? "," : "") + report::formatNumber(k.sweep[i]);
+        s += line + ")\n";
+    }
+    return s + kReportHelpTail;
+}
 
 std::vector<std::string> splitList(const std::string& name, const std::string& text) {
     std::vector<std::string> out;
@@ -87,21 +113,31 @@ std::vector<int> intList(const ArgParser& p, const std::string& name, std::vecto
     return out;
 }
 
-std::vector<float> weightList(const ArgParser& p, const std::string& name, std::vector<float> def) {
+/// A --sweep-NAME list, checked against what the knob takes.
+std::vector<double> knobList(const ArgParser& p, const report::QualityKnob& k, std::vector<double> def) {
+    const std::string name = report::sweepOption(k);
     const auto v = p.value(name);
     if (!v) return def;
-    std::vector<float> out;
+    std::vector<double> out;
     for (const std::string& s : splitList(name, *v)) {
         size_t used = 0;
-        double x = -1;
+        double x = std::nan("");
         try {
             x = std::stod(s, &used);
         } catch (const std::exception&) {
             used = 0;
         }
-        if (used == 0 || used != s.size() || !(x >= 0.0 && x <= 1.0))
-            throw UsageError(name + ": expected numbers from 0 to 1, got \"" + s + "\"");
-        out.push_back(static_cast<float>(x));
+        const bool whole = k.values != report::KnobValues::Fraction;
+        const bool ok = used != 0 && used == s.size() && x >= k.lo && x <= k.hi && (!whole || x == std::floor(x)) &&
+                        (k.values != report::KnobValues::Square || isSquareSpp(int(x)));
+        if (!ok)
+            throw UsageError(name + ": expected " +
+                             (k.values == report::KnobValues::Square ? "square integers"
+                              : whole                                ? "integers"
+                                                                     : "numbers") +
+                             " from " + report::formatNumber(k.lo) + " to " + report::formatNumber(k.hi) + ", got \"" +
+                             s + "\"");
+        out.push_back(x);
     }
     return out;
 }
@@ -125,17 +161,22 @@ report::QualityReportOptions qualityOptions(const ArgParser& p, const std::strin
     o.targetPsnr = p.doubleValue("--target-psnr", 30.0);
     if (!std::isfinite(o.targetPsnr)) throw UsageError("--target-psnr: expected a finite number of dB");
     o.sceneName = std::filesystem::path(scenePath).filename().string();
-    o.sweep.spp = intList(p, "--sweep-spp", o.sweep.spp, 1, 4096, true);
-    o.sweep.depth = intList(p, "--sweep-depth", o.sweep.depth, 1, 64, false);
-    o.sweep.minWeight = weightList(p, "--sweep-min-weight", o.sweep.minWeight);
+    const auto& knobs = report::qualityKnobs();
+    for (size_t k = 0; k < knobs.size(); ++k) o.sweep.lists[k] = knobList(p, knobs[k], o.sweep.lists[k]);
     if (auto g = p.value("--grid")) {
         if (*g == "full") o.sweep.kind = report::SweepKind::FullGrid;
         else if (*g != "ofat") throw UsageError("--grid: expected ofat or full, got \"" + *g + "\"");
     }
-    o.reference.spp = p.intValue("--ref-spp", 256, 1, 65536);
-    if (const std::string e = sppProblem(o.reference.spp); !e.empty()) throw UsageError("--ref-spp: " + e);
-    o.reference.maxDepth = p.intValue("--ref-depth", 16, 1, 64);
-    o.reference.minWeight = 0.f;
+    const int refSpp = p.intValue("--ref-spp", 256, 1, 65536);
+    if (const std::string e = sppProblem(refSpp); !e.empty()) throw UsageError("--ref-spp: " + e);
+    o.reference.setValue("spp", refSpp);
+    o.reference.setValue("depth", p.intValue("--ref-depth", 16, 1, 64));
+    o.reference.setValue("min_weight", 0.0);
+    if (auto r = p.value("--reference")) {
+        for (const char* opt : {"--ref-spp", "--ref-depth"})
+            if (p.has(opt)) throw UsageError(std::string(opt) + ": no reference is rendered with --reference");
+        o.external = report::readExternalReference(*r);  // a bad file stops the run here, before rendering
+    }
     return o;
 }
 
@@ -164,18 +205,52 @@ void checkVideoPresets(const report::VideoReportOptions& vo, const RenderSetting
     }
 }
 
-/// The scene at --frame, checked against its timeline.
+/// --camera N as a pose step (empty without it): a glTF camera replaces the timeline's camera,
+/// as in rayfarm still.
+std::function<void(Scene&)> cameraPose(const ArgParser& p) {
+    if (!p.has("--camera")) return {};
+    const int camera = p.intValue("--camera", 0, 0, 1 << 20);
+    return [camera](Scene& s) { useGltfCamera(s, camera); };
+}
+
+/// The scene at --frame, checked against its timeline, through --camera, over --background.
 Scene sceneAtFrame(const ArgParser& p, const std::string& scenePath, anim::Timeline& timeline, int& frame) {
+    BackgroundChoice background;
+    if (auto b = p.value("--background")) background = parseBackground(*b);
+    // The scores are of the opaque picture a viewer sees; an alpha plane has no counterpart there.
+    if (background.kind == BackgroundChoice::Transparent)
+        throw UsageError("--background: report scores an opaque picture; give a colour, not transparent");
     DiskFileSource fs;
     Scene scene = loadScene(scenePath, fs, sceneOptions(p));
     for (const std::string& note : scene.notes) std::fprintf(stderr, "rayfarm: note: %s\n", note.c_str());
+    applyBackground(background, scene);
     timeline = anim::Timeline::fromScene(scene);
     frame = p.intValue("--frame", 0, 0, 1 << 30);
     if (frame >= timeline.frameCount())
         throw UsageError("--frame: " + scenePath + " has " + std::to_string(timeline.frameCount()) +
                          " frame(s), numbered from 0; got " + std::to_string(frame));
     timeline.applyFrame(scene, frame);
+    if (const auto pose = cameraPose(p)) pose(scene);
     return scene;
+}
+
+/// The default setting the sweep is centred on; with --reference, at the reference's size.
+RenderSettings baseSettings(const ArgParser& p, const Scene& scene, const anim::Timeline& timeline,
+                            const report::QualityReportOptions& o, int threads) {
+    RenderSettings settings = scene.settings;
+    applyQualityOptions(p, settings);
+    if (o.external) {
+        const report::ExternalReference& ref = *o.external;
+        if (p.has("--size") && (settings.width != ref.width || settings.height != ref.height))
+            throw InputError(ref.path, "is " + std::to_string(ref.width) + "x" + std::to_string(ref.height) +
+                                           " but --size asks for " + std::to_string(settings.width) + "x" +
+                                           std::to_string(settings.height) +
+                                           " (leave --size out: the render takes the reference's size)");
+        settings.width = ref.width;
+        settings.height = ref.height;
+    }
+    resolveAutoExposure(scene, timeline, settings, threads, cameraPose(p));
+    return settings;
 }
 
 }  // namespace
@@ -183,13 +258,15 @@ Scene sceneAtFrame(const ArgParser& p, const std::string& scenePath, anim::Timel
 int runReport(const std::vector<std::string>& args) {
     ArgParser p("report");
     for (const char* o : {"--out", "--frame", "--size", "--target-psnr", "--threads", "--spp", "--depth",
-                          "--min-weight", "--tonemap", "--exposure", "--grid", "--sweep-spp", "--sweep-depth", "--sweep-min-weight",
-                          "--ref-spp", "--ref-depth", "--video-frames", "--video-crf", "--video-preset"})
+                          "--min-weight", "--tonemap", "--exposure", "--grid", "--ref-spp", "--ref-depth",
+                          "--reference", "--camera", "--background", "--video-frames", "--video-crf", "--video-preset"})
         p.option(o);
+    for (const report::QualityKnob& k : report::qualityKnobs()) p.option(report::sweepOption(k));
+    declareSceneOptions(p);
     for (const char* f : {"--stability", "--no-video", "--help", "-h"}) p.flag(f);
     p.parse(args);
     if (p.has("--help") || p.has("-h")) {
-        std::fputs(kReportHelp, stdout);
+        std::fputs(reportHelp().c_str(), stdout);
         return 0;
     }
     const auto out = p.value("--out");
@@ -200,7 +277,8 @@ int runReport(const std::vector<std::string>& args) {
     if (p.positional().size() != 1) throw UsageError("report: expected one SCENE or MODEL (see rayfarm report --help)");
     const std::string scenePath = p.positional()[0];
     report::QualityReportOptions o = qualityOptions(p, *out, threads, scenePath);
-    const report::VideoReportOptions vo = videoOptions(p, *out, threads);
+    report::VideoReportOptions vo = videoOptions(p, *out, threads);
+    vo.pose = cameraPose(p);
     // Fail before hours of rendering, not after.
     if (report::findOnPath("gnuplot").empty())
         throw std::runtime_error("report: gnuplot not found on PATH (install the Debian package gnuplot-nox)");
@@ -208,10 +286,8 @@ int runReport(const std::vector<std::string>& args) {
 
     anim::Timeline timeline;
     Scene scene = sceneAtFrame(p, scenePath, timeline, o.frame);
-    RenderSettings settings = scene.settings;
-    applyQualityOptions(p, settings);
-    resolveAutoExposure(scene, timeline, settings, p.intValue("--threads", 0, 0, 4096));
-    o.sweep.base = {settings.spp, settings.maxDepth, settings.minWeight};
+    const RenderSettings settings = baseSettings(p, scene, timeline, o, threads);
+    o.sweep.base = report::qualityOf(settings);
     const bool video = !p.has("--no-video");
     if (video) checkVideoPresets(vo, settings);
 

@@ -23,12 +23,6 @@ namespace {
 /// A log axis cannot show 0: an exact match is drawn at this floor (and said so in the key).
 constexpr double kRmseFloor = 1e-6;
 
-std::string shortName(const QualitySetting& q) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%dspp d%d w%g", q.spp, q.maxDepth, double(q.minWeight));
-    return buf;
-}
-
 void point(std::ostream& s, const SweepRow& r) {
     char buf[160];
     std::snprintf(buf, sizeof buf, "%.6g %.6g \"%s\"\n", r.seconds, std::max(r.error.rmse, kRmseFloor),

@@ -1,11 +1,14 @@
 #include "report_run.h"
 
 #include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
 
+#include "errors.h"
 #include "image.h"
 #include "image_metrics.h"
 #include "render.h"
@@ -38,6 +41,38 @@ std::vector<uint8_t> renderReference(const Scene& scene, const RenderSettings& s
     return ref8;
 }
 
+/// Takes the external reference as the reference row (no setting, no time, no rays); returns
+/// its pixels.
+std::vector<uint8_t> takeExternalReference(const RenderSettings& settings, const QualityReportOptions& o,
+                                           QualityReport& rep) {
+    const ExternalReference& ext = *o.external;
+    if (ext.width != settings.width || ext.height != settings.height)
+        throw InputError(ext.path, "is " + std::to_string(ext.width) + "x" + std::to_string(ext.height) +
+                                       "; the render is " + std::to_string(settings.width) + "x" +
+                                       std::to_string(settings.height));
+    rep.referencePath = ext.path;
+    rep.reference.q = qualityOf(settings);
+    rep.reference.factor = "reference";
+    rep.reference.external = true;
+    rep.reference.error = compareRgb8(ext.rgb8, ext.rgb8, ext.width, ext.height);
+    if (o.progress)
+        std::fprintf(stderr, "rayfarm: report: scoring against %s (%dx%d)\n", ext.path.c_str(), ext.width, ext.height);
+    return ext.rgb8;
+}
+
+/// The most rays of each kind any one render traced: what the ray-kind notes go by when no
+/// reference was rendered here.
+RayStats mostRaysOfEachKind(const std::vector<SweepRow>& rows) {
+    RayStats m;
+    for (const SweepRow& r : rows) {
+        m.primary = std::max(m.primary, r.rays.primary);
+        m.shadow = std::max(m.shadow, r.rays.shadow);
+        m.reflection = std::max(m.reflection, r.rays.reflection);
+        m.refraction = std::max(m.refraction, r.rays.refraction);
+    }
+    return m;
+}
+
 /// Renders the default setting to default.png and its error against the reference, in false
 /// colour, to errorImagePath; returns the error scale used.
 double writeDefaultImages(const Scene& scene, const RenderSettings& settings, const QualityReportOptions& o,
@@ -57,6 +92,22 @@ double writeDefaultImages(const Scene& scene, const RenderSettings& settings, co
 
 }  // namespace
 
+ExternalReference readExternalReference(const std::string& path) {
+    ExternalReference ext;
+    ext.path = path;
+    if (std::FILE* f = std::fopen(path.c_str(), "rb"))
+        std::fclose(f);
+    else
+        throw InputError(path, std::string("cannot open the reference image: ") + std::strerror(errno));
+    try {
+        ext.rgb8 = readImageRgb8(path, ext.width, ext.height);
+    } catch (const std::runtime_error&) {
+        // readImageRgb8's message names the path and stb's terse reason; say what the file was for.
+        throw InputError(path, "not a readable reference image (expected a PNG; truncated or another format?)");
+    }
+    return ext;
+}
+
 QualityReport runQualityReport(const Scene& scene, const RenderSettings& settings, const QualityReportOptions& o) {
     namespace fs = std::filesystem;
     const fs::path dir(o.outDir);
@@ -68,7 +119,8 @@ QualityReport runQualityReport(const Scene& scene, const RenderSettings& setting
     rep.referencePath = (dir / "reference.png").string();
     const int w = settings.width, h = settings.height;
 
-    const std::vector<uint8_t> ref8 = renderReference(scene, settings, o, rep);
+    const std::vector<uint8_t> ref8 =
+        o.external ? takeExternalReference(settings, o, rep) : renderReference(scene, settings, o, rep);
     rep.rows = runSweep(scene, settings, o.sweep, ref8, o.frame, o.threads, [&](int i, int n, const SweepRow& r) {
         if (o.progress)
             std::fprintf(stderr, "rayfarm: report: [%d/%d] %s: %.4g s, PSNR %.2f dB, SSIM %.4f\n", i, n,
@@ -77,12 +129,15 @@ QualityReport runQualityReport(const Scene& scene, const RenderSettings& setting
     writeReportCsv(rep.csvPath, rep.reference, rep.rows);
 
     const double scale = writeDefaultImages(scene, settings, o, ref8, rep.errorImagePath);
+    const std::string against = o.external ? " against " + fs::path(o.external->path).filename().string() : "";
     if (o.plot)
-        plotErrorVsTime(rep.rows, o.sceneName + ": error against run time, " + std::to_string(w) + "x" +
-                                      std::to_string(h) + ", frame " + std::to_string(o.frame),
+        plotErrorVsTime(rep.rows,
+                        o.sceneName + ": error" + against + " against run time, " + std::to_string(w) + "x" +
+                            std::to_string(h) + ", frame " + std::to_string(o.frame),
                         (dir / "error_vs_time.gp").string(), rep.plotPath);
 
-    rep.rayNotes = missingRayKinds(rep.reference.rays, scene);
+    const RayStats rays = o.external ? mostRaysOfEachKind(rep.rows) : rep.reference.rays;
+    rep.rayNotes = missingRayKinds(rays, scene);
     SummaryInfo info;
     info.sceneName = o.sceneName;
     info.frame = o.frame;
@@ -95,7 +150,9 @@ QualityReport runQualityReport(const Scene& scene, const RenderSettings& setting
     info.csvFile = "report.csv";
     info.plotFile = o.plot ? "error_vs_time.png" : "(not drawn)";
     info.errorImageFile = "error_default.png";
-    info.referenceImageFile = "reference.png";
+    info.referenceImageFile = o.external ? o.external->path : "reference.png";
+    info.externalReference = o.external.has_value();
+    info.rays = rays;
     info.errorScale = scale;
     info.rayNotes = rep.rayNotes;
     writeSummary(rep.summaryPath, info, rep.rows);
@@ -115,6 +172,7 @@ VideoReport runVideoReport(Scene& scene, const anim::Timeline& timeline, const R
     std::vector<std::vector<uint8_t>> frames;
     for (int i = 0; i < rep.frames; ++i) {
         timeline.applyFrame(scene, i);
+        if (o.pose) o.pose(scene);
         RayStats rays;
         frames.push_back(toRgb8(renderFrame(scene, scene.camera, settings, i, o.threads, rays), settings));
     }

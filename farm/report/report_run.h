@@ -1,6 +1,9 @@
 #pragma once
 /// The quality report as a whole: reference render, sweep, and the files in the output folder
 /// (report.csv, error_vs_time.png/.gp, summary.md, reference.png, default.png, error_default.png).
+#include <cstdint>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,6 +14,18 @@
 
 namespace rf::report {
 
+/// An image made elsewhere, a Cycles render for instance, that the sweep is scored against
+/// instead of a reference rendered here: 8-bit sRGB as a viewer sees it.
+struct ExternalReference {
+    std::string path;
+    int width = 0, height = 0;
+    std::vector<uint8_t> rgb8;
+};
+
+/// Reads path (PNG or any stb-readable image) as 8-bit RGB; throws InputError naming path if it
+/// cannot be read.
+ExternalReference readExternalReference(const std::string& path);
+
 struct QualityReportOptions {
     std::string outDir;
     std::string sceneName;  ///< for titles
@@ -19,6 +34,9 @@ struct QualityReportOptions {
     double targetPsnr = 30.0;
     SweepSpec sweep;
     QualitySetting reference{256, 16, 0.f};
+    /// If set, the sweep is scored against this image (of the settings' size) and no reference
+    /// is rendered: `reference` is unused and reference.png is not written.
+    std::optional<ExternalReference> external;
     bool plot = true;      ///< draw error_vs_time.png with gnuplot
     bool progress = true;  ///< one line per render on stderr
 };
@@ -37,6 +55,8 @@ struct VideoReportOptions {
     VideoSweepSpec sweep;
     bool plot = true;
     bool progress = true;
+    /// Called after the timeline poses each frame (e.g. to look through a glTF camera).
+    std::function<void(Scene&)> pose;
 };
 
 struct VideoReport {
@@ -51,8 +71,10 @@ struct VideoReport {
 VideoReport runVideoReport(Scene& scene, const anim::Timeline& timeline, const RenderSettings& settings,
                            const VideoReportOptions& options, const std::string& summaryPath);
 
-/// Renders the reference and the sweep of `scene` (posed at options.frame, settings giving the
-/// image size and tone mapping) and writes every file. Throws std::runtime_error on I/O failure.
+/// Renders the reference (or takes options.external) and the sweep of `scene` (posed at
+/// options.frame, settings giving the image size and tone mapping) and writes every file.
+/// Throws std::runtime_error on I/O failure, InputError if the external reference's size is not
+/// the settings'.
 QualityReport runQualityReport(const Scene& scene, const RenderSettings& settings, const QualityReportOptions& options);
 
 }  // namespace rf::report

@@ -26,6 +26,31 @@ std::string rowCells(const SweepRow& r) {
            std::to_string(r.rays.total()) + " |\n";
 }
 
+/// Where the reference came from.
+std::string referenceSentence(const SummaryInfo& in) {
+    if (in.externalReference)
+        return "Reference: `" + in.referenceImageFile + "`, an image made elsewhere (not rendered here), " +
+               std::to_string(in.width) + "×" + std::to_string(in.height) + ". Renders ran on " +
+               std::to_string(in.threads) + " thread(s).";
+    return "Reference: " + describe(in.reference.q) + ", rendered in " + fmt("%.2f s", in.reference.seconds) + " on " +
+           std::to_string(in.threads) + " thread(s) (`" + in.referenceImageFile + "`).";
+}
+
+/// How the sweep was laid out, in the knob table's words.
+std::string sweepSentence(SweepKind kind) {
+    const auto& knobs = qualityKnobs();
+    std::string lines, others;
+    for (size_t i = 0; i < knobs.size(); ++i) {
+        lines += std::string(i == 0 ? "" : ", then the ") + knobs[i].meaning;
+        if (i > 0) others += std::string(i == 1 ? "" : " × ") + "|" + knobs[i].meaning + "|";
+    }
+    if (kind == SweepKind::FullGrid) return "Full grid: every combination of " + lines + ".";
+    return "One factor at a time around the default: " + lines +
+           ", each with the others at their default. This costs about as much as the " + knobs[0].meaning +
+           " line alone; the full grid (`--grid full`) renders every combination and costs about " + others +
+           " times more.";
+}
+
 const char* kTableHead =
     "| setting | sweep | seconds | RMSE | PSNR | max error | SSIM | rays |\n"
     "|---|---|---:|---:|---:|---:|---:|---:|\n";
@@ -64,17 +89,21 @@ std::string summaryMarkdown(const SummaryInfo& in, const std::vector<SweepRow>& 
     std::ostringstream s;
     s << "# Error against run time: " << in.sceneName << ", frame " << in.frame << ", " << in.width << "×"
       << in.height << "\n\n";
-    s << "Reference: " << describe(in.reference.q) << ", rendered in " << fmt("%.2f s", in.reference.seconds)
-      << " on " << in.threads << " thread(s) (`" << in.referenceImageFile << "`). Every setting below renders the "
+    s << referenceSentence(in) << " Every setting below renders the "
       << "same frame and is scored against it on the tone-mapped 8-bit sRGB image a viewer sees: RMSE and largest "
       << "per-pixel channel error on the 0..1 scale, PSNR with peak 1, SSIM (Wang et al. 2004) on luma with an "
-      << "11×11 Gaussian window (σ 1.5). Times are the fastest of up to nine renders of each setting, repeated round robin over all settings until a setting has had a second, since other work on the machine only ever adds time.\n\n";
+      << "11×11 Gaussian window (σ 1.5). Times are the fastest of up to nine renders of each setting, repeated round "
+         "robin over all settings until a setting has had a second, since other work on the machine only ever adds "
+         "time.\n\n";
 
     s << "## Cheapest setting within " << fmt("%g", in.targetPsnr) << " dB PSNR\n\n";
     if (const SweepRow* best = cheapestWithin(rows, in.targetPsnr)) {
         s << "**" << describe(best->q) << "**: " << fmt("%.4g s", best->seconds) << ", PSNR "
-          << psnrText(best->error.psnr) << ", SSIM " << fmt("%.4f", best->error.ssim) << ", "
-          << fmt("%.1f×", in.reference.seconds / std::max(best->seconds, 1e-12)) << " faster than the reference.\n\n";
+          << psnrText(best->error.psnr) << ", SSIM " << fmt("%.4f", best->error.ssim);
+        if (!in.externalReference)
+            s << ", " << fmt("%.1f×", in.reference.seconds / std::max(best->seconds, 1e-12))
+              << " faster than the reference";
+        s << ".\n\n";
     } else {
         const auto it = std::max_element(rows.begin(), rows.end(),
                                          [](const SweepRow& a, const SweepRow& b) { return a.error.psnr < b.error.psnr; });
@@ -92,9 +121,10 @@ std::string summaryMarkdown(const SummaryInfo& in, const std::vector<SweepRow>& 
           << "yellow, red at " << fmt("%.3g", in.errorScale) << " — the 99th percentile — and above).\n\n";
     }
 
-    s << "## Ray kinds\n\nReference render: primary " << in.reference.rays.primary << ", shadow "
-      << in.reference.rays.shadow << ", reflection " << in.reference.rays.reflection << ", refraction "
-      << in.reference.rays.refraction << ".\n\n";
+    s << "## Ray kinds\n\n"
+      << (in.externalReference ? "Most rays of each kind in one render of the sweep" : "Reference render")
+      << ": primary " << in.rays.primary << ", shadow " << in.rays.shadow << ", reflection " << in.rays.reflection
+      << ", refraction " << in.rays.refraction << ".\n\n";
     if (in.rayNotes.empty()) s << "The scene uses every ray kind.\n\n";
     for (const std::string& n : in.rayNotes) s << "- " << n << "\n";
     if (!in.rayNotes.empty()) s << "\n";
@@ -108,13 +138,7 @@ std::string summaryMarkdown(const SummaryInfo& in, const std::vector<SweepRow>& 
     for (const SweepRow* r : front) s << rowCells(*r);
 
     s << "\n## The sweep\n\n";
-    if (in.kind == SweepKind::OneFactor)
-        s << "One factor at a time around the default: samples per pixel, then maximum depth, then the pruning "
-          << "weight, each with the other two at their default. This costs about as much as the samples line "
-          << "alone; the full grid (`--grid full`) renders every combination and costs about |depth| × "
-          << "|min weight| times more.\n\n";
-    else
-        s << "Full grid: every combination of samples per pixel, maximum depth and pruning weight.\n\n";
+    s << sweepSentence(in.kind) << "\n\n";
     s << rows.size() << " renders; every row is in `" << in.csvFile << "`.\n\n" << kTableHead;
     for (const SweepRow& r : rows) s << rowCells(r);
     return s.str();

@@ -24,6 +24,8 @@ struct SummaryInfo {
     int threads = 0;
     SweepKind kind = SweepKind::OneFactor;
     SweepRow reference;
+    bool externalReference = false;  ///< the reference is an image from elsewhere (referenceImageFile)
+    RayStats rays;  ///< what the ray notes went by: the reference render's, or the most of each kind in the sweep
     double targetPsnr = 30.0;
     std::string csvFile, plotFile, errorImageFile, referenceImageFile;
     double errorScale = 0.0;  ///< error shown as full red in the error image (99th percentile)

@@ -8,37 +8,48 @@
 
 namespace rf::report {
 
-std::string describe(const QualitySetting& q) {
-    char buf[96];
-    std::snprintf(buf, sizeof buf, "spp %d, depth %d, min weight %g", q.spp, q.maxDepth, double(q.minWeight));
-    return buf;
+std::vector<std::vector<double>> SweepSpec::defaultLists() {
+    std::vector<std::vector<double>> out;
+    for (const QualityKnob& k : qualityKnobs()) out.push_back(k.sweep);
+    return out;
 }
+
+namespace {
+
+/// Every combination of the lists, the first knob varying slowest.
+void addGrid(const SweepSpec& spec, size_t knob, QualitySetting& q,
+             const std::function<void(const QualitySetting&, const std::string&)>& add) {
+    if (knob == spec.lists.size()) return add(q, "grid");
+    for (double v : spec.lists[knob]) {
+        q.values[knob] = v;
+        addGrid(spec, knob + 1, q, add);
+    }
+}
+
+}  // namespace
 
 std::vector<SweepPoint> makeSweep(const SweepSpec& spec) {
     std::vector<SweepPoint> out;
-    auto add = [&](const QualitySetting& q, const std::string& factor) {
+    auto add = [&](const QualitySetting& raw, const std::string& factor) {
+        const QualitySetting q = normalized(raw);
         for (const SweepPoint& p : out)
             if (p.q == q) return;
         out.push_back({q, factor});
     };
     add(spec.base, "default");
     if (spec.kind == SweepKind::FullGrid) {
-        for (int s : spec.spp)
-            for (int d : spec.depth)
-                for (float w : spec.minWeight) add({s, d, w}, "grid");
+        QualitySetting q = spec.base;
+        addGrid(spec, 0, q, add);
         return out;
     }
-    for (int s : spec.spp) add({s, spec.base.maxDepth, spec.base.minWeight}, "spp");
-    for (int d : spec.depth) add({spec.base.spp, d, spec.base.minWeight}, "depth");
-    for (float w : spec.minWeight) add({spec.base.spp, spec.base.maxDepth, w}, "min_weight");
+    const auto& knobs = qualityKnobs();
+    for (size_t k = 0; k < knobs.size(); ++k)
+        for (double v : spec.lists[k]) {
+            QualitySetting q = spec.base;
+            q.values[k] = v;
+            add(q, knobs[k].name);
+        }
     return out;
-}
-
-RenderSettings withQuality(RenderSettings base, const QualitySetting& q) {
-    base.spp = q.spp;
-    base.maxDepth = q.maxDepth;
-    base.minWeight = q.minWeight;
-    return base;
 }
 
 TimedRender renderTimed(const Scene& scene, const RenderSettings& settings, int frame, int threads,
@@ -75,7 +86,7 @@ std::vector<SweepRow> runSweep(const Scene& scene, const RenderSettings& setting
         SweepRow row;
         row.q = points[i].q;
         row.factor = points[i].factor;
-        row.isDefault = points[i].q == spec.base;
+        row.isDefault = points[i].q == normalized(spec.base);
         row.seconds = r.seconds;
         row.repeats = r.repeats;
         row.rays = r.rays;

@@ -7,46 +7,41 @@
 
 #include "image.h"
 #include "image_metrics.h"
+#include "report_knobs.h"
 #include "scene.h"
 #include "settings.h"
 #include "stats.h"
 
 namespace rf::report {
 
-/// The three knobs the report turns.
-struct QualitySetting {
-    int spp = 1;
-    int maxDepth = 5;
-    float minWeight = 1e-3f;
-    bool operator==(const QualitySetting&) const = default;
-};
-
-/// "spp 4, depth 5, min weight 0.001".
-std::string describe(const QualitySetting& q);
-
 /// One factor at a time around the base (cheap: about the cost of the spp line alone), or every
-/// combination (the full grid: |spp| × |depth| × |minWeight| renders).
+/// combination (the full grid: the product of the lists' lengths).
 enum class SweepKind { OneFactor, FullGrid };
 
 struct SweepSpec {
-    std::vector<int> spp{1, 4, 16, 64};
-    std::vector<int> depth{1, 2, 3, 4, 5, 6, 7, 8};
-    std::vector<float> minWeight{0.f, 1e-3f, 1e-2f, 0.1f};
+    /// The values to sweep, one list per knob in qualityKnobs() order (the table's defaults).
+    std::vector<std::vector<double>> lists = defaultLists();
+    /// The list of the knob called name ("spp", "depth", "min_weight", ...).
+    std::vector<double>& list(const std::string& name) { return lists[knobIndex(name)]; }
     QualitySetting base;  ///< the default setting; always part of the sweep
     SweepKind kind = SweepKind::OneFactor;
     /// Timing: each setting is rendered again (round robin over all settings) until its renders
     /// add up to minTimingSeconds or it has maxRepeats; the fastest counts.
     double minTimingSeconds = 1.0;
     int maxRepeats = 9;
+
+    /// Each knob's QualityKnob::sweep.
+    static std::vector<std::vector<double>> defaultLists();
 };
 
-/// A setting to render and the sweep line it belongs to ("spp", "depth", "min_weight", "grid").
+/// A setting to render and the sweep line it belongs to (a knob's name, "default" or "grid").
 struct SweepPoint {
     QualitySetting q;
     std::string factor;
 };
 
-/// The settings to render, without duplicates, the base first.
+/// The settings to render, without duplicates (compared as RenderSettings holds them), the base
+/// first.
 std::vector<SweepPoint> makeSweep(const SweepSpec& spec);
 
 /// A render with its time: the fastest of a few repeats, since other work on the machine only
@@ -68,6 +63,7 @@ struct SweepRow {
     QualitySetting q;
     std::string factor;  ///< sweep line, "reference" for the reference itself
     bool isDefault = false;
+    bool external = false;  ///< the reference is an image from elsewhere: no setting, time or rays
     double seconds = 0.0;
     int repeats = 0;
     RayStats rays;
@@ -84,8 +80,5 @@ std::vector<SweepRow> runSweep(const Scene& scene, const RenderSettings& setting
 /// Sets SweepRow::pareto over (seconds, rmse): a row is on the front if no other row has
 /// seconds ≤ and rmse ≤ with one of them strictly smaller.
 void markPareto(std::vector<SweepRow>& rows);
-
-/// Settings with q applied over base.
-RenderSettings withQuality(RenderSettings base, const QualitySetting& q);
 
 }  // namespace rf::report

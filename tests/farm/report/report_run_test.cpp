@@ -1,15 +1,18 @@
 // The whole quality report on a tiny scene: every file written, every row in the CSV, a plot
 // that decodes, a summary that names what the scene left out; and the CLI's refusals.
+#include "report_run.h"
+
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
 
 #include "cli.h"
+#include "errors.h"
 #include "image.h"
 #include "report_csv.h"
-#include "report_run.h"
 #include "report_test_scene.h"
 #include "scene_loader.h"
 #include "timeline.h"
@@ -31,6 +34,14 @@ std::vector<std::vector<std::string>> readCsv(const std::string& path) {
     return rows;
 }
 
+/// The cell of row in the column named name (looked up in the header row).
+const std::string& cell(const std::vector<std::vector<std::string>>& csv, size_t row, const std::string& name) {
+    const auto& head = csv.at(0);
+    const auto it = std::find(head.begin(), head.end(), name);
+    if (it == head.end()) throw std::out_of_range("no CSV column " + name);
+    return csv.at(row).at(size_t(it - head.begin()));
+}
+
 std::string readText(const std::string& path) {
     std::ifstream f(path);
     return std::string(std::istreambuf_iterator<char>(f), {});
@@ -42,9 +53,9 @@ QualityReportOptions tinyOptions(const std::string& dir) {
     o.sceneName = "tiny";
     o.threads = 2;
     o.progress = false;
-    o.sweep.spp = {1, 4, 16};
-    o.sweep.depth = {1, 2, 5};
-    o.sweep.minWeight = {0.f, 0.1f};
+    o.sweep.list("spp") = {1, 4, 16};
+    o.sweep.list("depth") = {1, 2, 5};
+    o.sweep.list("min_weight") = {0.f, 0.1f};
     o.sweep.base = {1, 5, 1e-3f};
     o.reference = {64, 8, 0.f};
     o.targetPsnr = 20.0;
@@ -64,13 +75,13 @@ TEST(ReportRun, WritesEveryRowAPlotThatDecodesAndASummary) {
     const size_t columns = std::count(header.begin(), header.end(), ',') + 1;
     for (const auto& r : csv) EXPECT_EQ(r.size(), columns);
     EXPECT_EQ(csv[1][0], "reference");
-    EXPECT_EQ(csv[1][15], "inf");  // psnr_db of the reference against itself
-    EXPECT_EQ(csv[1][14], "0");    // rmse
+    EXPECT_EQ(cell(csv, 1, "psnr_db"), "inf");  // the reference against itself
+    EXPECT_EQ(cell(csv, 1, "rmse"), "0");
     int defaults = 0;
     for (size_t i = 2; i < csv.size(); ++i) {
-        defaults += csv[i][4] == "1";
-        EXPECT_TRUE(std::isfinite(std::stod(csv[i][15]))) << i;  // nothing else matches exactly
-        EXPECT_GT(std::stod(csv[i][6]), 0.0);                   // seconds
+        defaults += cell(csv, i, "is_default") == "1";
+        EXPECT_TRUE(std::isfinite(std::stod(cell(csv, i, "psnr_db")))) << i;  // nothing else matches exactly
+        EXPECT_GT(std::stod(cell(csv, i, "seconds")), 0.0);
     }
     EXPECT_EQ(defaults, 1);
 
@@ -94,13 +105,72 @@ TEST(ReportRun, SceneWithGlassAndLightsUsesEveryRayKind) {
     const Scene sc = testing::edgeScene(true);
     QualityReportOptions o = tinyOptions(testing::freshDir("report_run_glass"));
     o.plot = false;
-    o.sweep.spp = {1};
-    o.sweep.depth = {5};
-    o.sweep.minWeight = {1e-3f};
+    o.sweep.list("spp") = {1};
+    o.sweep.list("depth") = {5};
+    o.sweep.list("min_weight") = {1e-3f};
     const QualityReport rep = runQualityReport(sc, sc.settings, o);
     EXPECT_TRUE(rep.rayNotes.empty());
     EXPECT_GT(rep.reference.rays.refraction, 0u);
     EXPECT_NE(readText(rep.summaryPath).find("The scene uses every ray kind."), std::string::npos);
+}
+
+/// A picture of sc at q written as a PNG: an "external" reference that equals one render.
+std::string writeRender(const Scene& sc, const QualitySetting& q, const std::string& path) {
+    const RenderSettings s = withQuality(sc.settings, q);
+    writePng(path, s.width, s.height, toRgb8(renderTimed(sc, s, 0, 2, 0.0, 1).image, s));
+    return path;
+}
+
+TEST(ReportRun, AnExternalReferenceEqualToOneRenderScoresThatSettingExactly) {
+    const Scene sc = testing::edgeScene(true);
+    const std::string dir = testing::freshDir("report_run_external");
+    std::filesystem::create_directories(dir + "/out");
+    QualityReportOptions o = tinyOptions(dir + "/out");
+    o.sweep.list("spp") = {1, 4, 16};
+    o.sweep.list("depth") = {5};
+    o.sweep.list("min_weight") = {1e-3f};
+    const QualitySetting match{4, 5, 1e-3f};
+    o.external = readExternalReference(writeRender(sc, match, dir + "/external.png"));
+    const QualityReport rep = runQualityReport(sc, sc.settings, o);
+
+    ASSERT_EQ(rep.rows.size(), 3u);
+    for (const SweepRow& r : rep.rows) {
+        if (r.q == normalized(match)) {
+            EXPECT_EQ(r.error.rmse, 0.0);
+            EXPECT_TRUE(std::isinf(r.error.psnr));
+            EXPECT_DOUBLE_EQ(r.error.ssim, 1.0);
+        } else {  // another picture of the same scene: close, not equal
+            EXPECT_GT(r.error.rmse, 0.0) << describe(r.q);
+            EXPECT_TRUE(std::isfinite(r.error.psnr)) << describe(r.q);
+            EXPECT_LT(r.error.ssim, 1.0) << describe(r.q);
+            EXPECT_GT(r.error.ssim, 0.5) << describe(r.q);
+        }
+    }
+    EXPECT_TRUE(rep.reference.external);
+    EXPECT_EQ(rep.referencePath, dir + "/external.png");
+    EXPECT_FALSE(std::filesystem::exists(dir + "/out/reference.png"));  // nothing rendered as the reference
+    const auto csv = readCsv(rep.csvPath);
+    ASSERT_EQ(csv.size(), 1u + 1 + 3);
+    EXPECT_EQ(cell(csv, 1, "factor"), "reference");
+    EXPECT_EQ(cell(csv, 1, "psnr_db"), "inf");
+    EXPECT_EQ(cell(csv, 1, "spp"), "");      // no setting
+    EXPECT_EQ(cell(csv, 1, "seconds"), "");  // and no time
+    const std::string md = readText(rep.summaryPath);
+    EXPECT_NE(md.find("Reference: `" + dir + "/external.png`, an image made elsewhere"), std::string::npos) << md;
+    EXPECT_EQ(md.find("faster than the reference"), std::string::npos) << md;
+    EXPECT_NE(md.find("Most rays of each kind"), std::string::npos) << md;
+}
+
+TEST(ReportRun, AnExternalReferenceOfAnotherSizeIsRefused) {
+    const Scene sc = testing::edgeScene(false);
+    const std::string dir = testing::freshDir("report_run_external_size");
+    Scene small = sc;
+    small.settings.width = 24;
+    small.settings.height = 16;
+    QualityReportOptions o = tinyOptions(dir);
+    o.external = readExternalReference(writeRender(small, {1, 5, 1e-3f}, dir + "/small.png"));
+    EXPECT_THROW(runQualityReport(sc, sc.settings, o), InputError);
+    EXPECT_FALSE(std::filesystem::exists(dir + "/report.csv"));
 }
 
 std::string writeScene(const std::string& dir) {
@@ -181,6 +251,33 @@ TEST(ReportCli, FramePosesTheSceneByItsTimeline) {
     const int frames = anim::Timeline::fromScene(loadScene(scene, fs)).frameCount();
     EXPECT_GE(frames, 10);
     EXPECT_THROW(cli::runReport({scene, "--out", dir, "--frame", std::to_string(frames)}), cli::UsageError);
+}
+
+TEST(ReportCli, TheRenderTakesTheReferenceSizeAndRefusesAnother) {
+    const std::string dir = testing::freshDir("report_cli_reference");
+    const std::string scene = writeScene(dir);  // 24x16 of its own
+    const std::string ref = dir + "/ref.png";
+    writePng(ref, 30, 20, std::vector<uint8_t>(30 * 20 * 3, 128));
+    const std::string out = dir + "/out";
+    EXPECT_EQ(cli::runReport({scene, "--out", out, "--reference", ref, "--no-video", "--sweep-spp", "1",
+                              "--sweep-depth", "2", "--sweep-min-weight", "0", "--threads", "1"}),
+              0);
+    int w = 0, h = 0;
+    readImageRgb8(out + "/default.png", w, h);
+    EXPECT_EQ(w, 30);
+    EXPECT_EQ(h, 20);
+    const auto csv = readCsv(out + "/report.csv");
+    ASSERT_EQ(csv.size(), 1u + 1 + 3);
+    for (size_t i = 2; i < csv.size(); ++i) EXPECT_LT(std::stod(cell(csv, i, "ssim")), 1.0);  // grey is no render
+
+    const std::string out2 = dir + "/out2";
+    EXPECT_THROW(cli::runReport({scene, "--out", out2, "--reference", ref, "--size", "24x16"}), InputError);
+    EXPECT_THROW(cli::runReport({scene, "--out", out2, "--reference", dir + "/none.png"}), InputError);
+    EXPECT_THROW(cli::runReport({scene, "--out", out2, "--reference", scene}), InputError);  // not an image
+    EXPECT_THROW(cli::runReport({scene, "--out", out2, "--reference", ref, "--ref-spp", "4"}), cli::UsageError);
+    EXPECT_THROW(cli::runReport({scene, "--out", out2, "--reference", ref, "--background", "transparent"}),
+                 cli::UsageError);
+    EXPECT_FALSE(std::filesystem::exists(out2 + "/report.csv"));
 }
 
 TEST(ReportCli, RefusesAnUnknownVideoPresetBeforeRendering) {

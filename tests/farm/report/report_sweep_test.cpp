@@ -21,7 +21,7 @@ TEST(ReportSweep, OneFactorAtATimeHasEachValueOnceAroundTheBase) {
         for (size_t j = i + 1; j < pts.size(); ++j) EXPECT_FALSE(pts[i].q == pts[j].q) << i << " " << j;
     // Every non-base point differs from the base in exactly one knob.
     for (const SweepPoint& p : pts) {
-        const int diff = (p.q.spp != 1) + (p.q.maxDepth != 5) + (p.q.minWeight != 1e-3f);
+        const int diff = (p.q.value("spp") != 1) + (p.q.value("depth") != 5) + (p.q.value("min_weight") != 1e-3f);
         EXPECT_LE(diff, 1) << describe(p.q);
     }
 }
@@ -65,9 +65,9 @@ TEST(ReportSweep, ErrorShrinksAsSamplesGrowOnASceneWithEdges) {
     const TimedRender ref = renderTimed(sc, withQuality(s, {256, 8, 0.f}), 0, 2, 0.0, 1);
     const auto ref8 = toRgb8(ref.image, s.toneMap);
     SweepSpec spec;
-    spec.spp = {1, 4, 16, 64};
-    spec.depth = {8};
-    spec.minWeight = {0.f};
+    spec.list("spp") = {1, 4, 16, 64};
+    spec.list("depth") = {8};
+    spec.list("min_weight") = {0.f};
     spec.base = {1, 8, 0.f};
     const auto rows = runSweep(sc, s, spec, ref8, 0, 2);
     ASSERT_EQ(rows.size(), 4u);
@@ -85,9 +85,9 @@ TEST(ReportSweep, TheReferenceSettingScoresInfinitePsnrAgainstTheReference) {
     const QualitySetting refQ{16, 8, 0.f};
     const TimedRender ref = renderTimed(sc, withQuality(s, refQ), 0, 2, 0.0, 1);
     SweepSpec spec;
-    spec.spp = {16};
-    spec.depth = {8};
-    spec.minWeight = {0.f};
+    spec.list("spp") = {16};
+    spec.list("depth") = {8};
+    spec.list("min_weight") = {0.f};
     spec.base = refQ;
     const auto rows = runSweep(sc, s, spec, toRgb8(ref.image, s.toneMap), 0, 2);
     ASSERT_EQ(rows.size(), 1u);
@@ -99,9 +99,9 @@ TEST(ReportSweep, TheReferenceSettingScoresInfinitePsnrAgainstTheReference) {
 TEST(ReportSweep, RepeatsStopAtTheTimingBudgetOrTheRepeatLimit) {
     const Scene sc = testing::edgeScene(false);
     SweepSpec spec;
-    spec.spp = {1};
-    spec.depth = {2};
-    spec.minWeight = {0.f};
+    spec.list("spp") = {1};
+    spec.list("depth") = {2};
+    spec.list("min_weight") = {0.f};
     spec.base = {1, 2, 0.f};
     spec.maxRepeats = 4;
     spec.minTimingSeconds = 1e9;  // never reached: the limit decides
