@@ -68,7 +68,8 @@ Timeline Timeline::fromScene(const Scene& scene, double fps) {
         TurntableSettings s = defaultModelTurntable();
         if (fps > 0.0) s.fps = fps;
         p.spec.players = defaultPlayers(scene);
-        p.spec.turntable = Turntable::framed(s, scene, filmBounds(scene, p.spec.players, anim::frameCount(s.seconds, s.fps), s.fps));
+        p.spec.turntable = Turntable::framed(s, scene, filmBounds(scene, p.spec.players, anim::frameCount(s.seconds, s.fps), s.fps),
+                                             !p.spec.players.empty());
         p.frames = p.spec.turntable->frameCount();
         p.fps = s.fps;
     } else {

@@ -279,6 +279,7 @@ TurntableSettings defaultModelTurntable() {
     s.fps = 30.0;
     s.elevationDeg = 20.0;
     s.lightsFollow = true;
+    s.fitSilhouette = true;
     return s;
 }
 
@@ -315,7 +316,8 @@ ParsedTimeline parseTimeline(const Scene& scene, double fps) {
         const Parser p(scene.sourcePath, "", scene);
         const TurntableSettings s = p.turntable(root["turntable"], "turntable", fps);
         out.spec.players = p.animations(root["turntable"], "turntable");
-        out.spec.turntable = Turntable::framed(s, scene, filmBounds(scene, out.spec.players, anim::frameCount(s.seconds, s.fps), s.fps));
+        out.spec.turntable = Turntable::framed(s, scene, filmBounds(scene, out.spec.players, anim::frameCount(s.seconds, s.fps), s.fps),
+                                               !out.spec.players.empty());
         out.frames = out.spec.turntable->frameCount();
         out.fps = s.fps;
         return out;

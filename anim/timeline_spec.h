@@ -49,7 +49,7 @@ struct ParsedTimeline {
 
 
 /// Default turntable of a bare glTF model: 4 s at 30 fps (120 frames), 20° elevation, distance
-/// auto, lights following the camera.
+/// auto fitted to the model's silhouette over the orbit, lights following the camera.
 TurntableSettings defaultModelTurntable();
 
 /// Interprets scene.timeline (see timeline_parse.cpp for the format). fps > 0 replaces the

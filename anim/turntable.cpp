@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "frame_time.h"
+#include "turntable_fit.h"
 
 namespace rf::anim {
 
@@ -15,9 +16,33 @@ DVec3 yawAbout(const DVec3& p, const DVec3& c, double yaw) {
     const DVec3 r = p - c;
     return c + DVec3(co * r.x + s * r.z, r.y, -s * r.x + co * r.z);
 }
+
+/// Tangents of half the view angle across and up for the camera's field of view and the
+/// render settings' aspect ratio.
+void viewTangents(const Scene& scene, double fovDeg, double& tanX, double& tanY) {
+    const double fov = glm::radians(fovDeg);
+    const double aspect = double(scene.settings.width) / double(std::max(1, scene.settings.height));
+    if (scene.camera.fovHorizontal) {
+        tanX = std::tan(0.5 * fov);
+        tanY = tanX / aspect;
+    } else {
+        tanY = std::tan(0.5 * fov);
+        tanX = tanY * aspect;
+    }
+}
+
+/// Yaws of the film's frames (a dense, even sample of the loop for very long films).
+std::vector<double> frameYaws(int frames, double startYaw) {
+    constexpr int kMaxYaws = 1024;  // 0.35° apart: the silhouette moves by less than a vertex bin
+    const int n = std::min(frames, kMaxYaws);
+    std::vector<double> yaws(size_t(std::max(1, n)));
+    for (int i = 0; i < int(yaws.size()); ++i) yaws[size_t(i)] = startYaw + kTwoPi * double(i) / double(yaws.size());
+    return yaws;
+}
+
 }  // namespace
 
-Turntable Turntable::framed(const TurntableSettings& s, const Scene& scene, const Aabb& b) {
+Turntable Turntable::framed(const TurntableSettings& s, const Scene& scene, const Aabb& b, bool geometryMoves) {
     Turntable t;
     t.fps_ = s.fps;
     t.frames_ = anim::frameCount(s.seconds, s.fps);
@@ -27,31 +52,18 @@ Turntable Turntable::framed(const TurntableSettings& s, const Scene& scene, cons
     if (s.fovDeg) t.fov_ = static_cast<float>(*s.fovDeg);
 
     const DVec3 camTarget(scene.camera.target), camEye(scene.camera.eye);
-    double radius;
-    if (!b.empty()) {
-        t.center_ = DVec3(b.center());
-        radius = 0.5 * glm::length(DVec3(b.extent()));
-    } else {
-        t.center_ = camTarget;
-        radius = 0.0;
-    }
+    const double radius = b.empty() ? 0.0 : 0.5 * glm::length(DVec3(b.extent()));
+    t.center_ = b.empty() ? camTarget : DVec3(b.center());
     if (s.center) t.center_ = *s.center - scene.renderOrigin;
+    double tanX, tanY;
+    viewTangents(scene, double(t.fov_.value_or(scene.camera.fovDeg)), tanX, tanY);
     if (s.distance > 0.0) {
         t.distance_ = s.distance;
+    } else if (radius > 0.0 && s.fitSilhouette && t.fitToSilhouette(s, scene, b, geometryMoves, tanX, tanY)) {
+        // distance and look-at height set from the model's projection
     } else if (radius > 0.0) {
         // Fit the bounding sphere into the narrower of the two view angles, with a 10 % margin.
-        const double fov = glm::radians(double(t.fov_.value_or(scene.camera.fovDeg)));
-        const double aspect = double(scene.settings.width) / double(std::max(1, scene.settings.height));
-        double tanX, tanY;
-        if (scene.camera.fovHorizontal) {
-            tanX = std::tan(0.5 * fov);
-            tanY = tanX / aspect;
-        } else {
-            tanY = std::tan(0.5 * fov);
-            tanX = tanY * aspect;
-        }
-        const double halfMin = std::atan(std::min(tanX, tanY));
-        t.distance_ = 1.1 * radius / std::sin(halfMin);
+        t.distance_ = 1.1 * radius / std::sin(std::atan(std::min(tanX, tanY)));
     } else {
         const double d = glm::length(camEye - camTarget);
         t.distance_ = d > 0.0 ? d : 1.0;
@@ -59,20 +71,33 @@ Turntable Turntable::framed(const TurntableSettings& s, const Scene& scene, cons
     return t;
 }
 
+bool Turntable::fitToSilhouette(const TurntableSettings& s, const Scene& scene, const Aabb& b, bool geometryMoves,
+                              double tanX, double tanY) {
+    const std::vector<DVec3> pts = geometryMoves ? boxCorners(b, center_) : silhouettePoints(scene, center_);
+    OrbitView view;
+    view.yaws = frameYaws(frames_, startYaw_);
+    view.elevation = elevation_;
+    view.tanX = tanX;
+    view.tanY = tanY;
+    // A centre the user gave stays where it is; otherwise the look-at point may rise or sink
+    // within the bounds to centre the model in the picture.
+    const double maxLift = s.center ? 0.0 : 0.5 * double(b.extent().y);
+    const OrbitFit fit = fitOrbit(pts, view, s.fill, maxLift);
+    if (!(fit.distance > 0.0)) return false;
+    distance_ = fit.distance;
+    center_.y += fit.lift;
+    return true;
+}
+
 double Turntable::yawAtFrame(int frame) const { return kTwoPi * double(frame) / double(frames_); }
 
 double Turntable::yawAt(double t) const { return kTwoPi * (t * fps_) / double(frames_); }
 
 void Turntable::apply(Scene& scene, double t, const std::vector<Light>& restLights) const {
-    const double yaw = yawAt(t) + startYaw_;
-    const double ce = std::cos(elevation_), se = std::sin(elevation_);
-    const DVec3 horizontal(std::sin(yaw), 0.0, std::cos(yaw));
-    const DVec3 eye = center_ + distance_ * (ce * horizontal + DVec3(0.0, se, 0.0));
-    scene.camera.eye = Vec3(eye);
+    const OrbitPose pose = orbitPose(yawAt(t) + startYaw_, elevation_);
+    scene.camera.eye = Vec3(center_ + distance_ * pose.toEye);
     scene.camera.target = Vec3(center_);
-    // At a pole the view is parallel to the world up; screen-up then points away from the camera
-    // horizontally, which keeps the basis orthonormal and still turning with the yaw.
-    scene.camera.up = std::abs(ce) < 1e-6 ? Vec3(-std::copysign(1.0, se) * horizontal) : Vec3(0.f, 1.f, 0.f);
+    scene.camera.up = Vec3(pose.up);
     if (fov_) scene.camera.fovDeg = *fov_;
     if (!lightsFollow_) return;
     const double turn = yawAt(t);  // lights keep their placement relative to frame 0's camera

@@ -13,11 +13,18 @@ struct TurntableSettings {
     double seconds = 4.0;
     double fps = 30.0;
     double elevationDeg = 20.0;  ///< above the horizontal plane through the centre; ±90 = poles
-    double distance = 0.0;       ///< from the centre; 0 = auto (bounding sphere fills the view)
+    double distance = 0.0;       ///< from the centre; 0 = auto (see fitSilhouette)
     double startYawDeg = 0.0;    ///< yaw of frame 0; 0 puts the camera on +z looking towards −z
     bool lightsFollow = false;   ///< lights orbit with the camera (the object seems to turn)
     std::optional<DVec3> center; ///< world space; default: centre of the scene's bounds
     std::optional<double> fovDeg;
+    /// Auto distance: false fits the bounds' sphere into the narrower view angle (scene files);
+    /// true fits the model's projected silhouette over every frame of the orbit, and raises the
+    /// look-at point to centre it when `center` is not given (a bare glTF's turntable).
+    bool fitSilhouette = false;
+    /// With fitSilhouette: the share of the image's half-width or half-height the model reaches
+    /// in the frame where it is largest.
+    double fill = 0.94;
 };
 
 class Turntable {
@@ -28,7 +35,9 @@ public:
     /// when the scene has no bounded geometry.
     static Turntable framed(const TurntableSettings& s, const Scene& scene) { return framed(s, scene, scene.bounds()); }
     /// The same, framed on the given bounds (render space), e.g. those an animation sweeps.
-    static Turntable framed(const TurntableSettings& s, const Scene& scene, const Aabb& bounds);
+    /// geometryMoves: an animation moves meshes, so a silhouette fit uses the bounds' corners
+    /// (the rest pose's vertices say nothing of the other frames).
+    static Turntable framed(const TurntableSettings& s, const Scene& scene, const Aabb& bounds, bool geometryMoves = false);
 
     int frameCount() const { return frames_; }
     double fps() const { return fps_; }
@@ -40,10 +49,16 @@ public:
     /// t and the rest state alone.
     void apply(Scene& scene, double t, const std::vector<Light>& restLights) const;
 
+    /// The look-at point (render space): the orbit centre, raised by a silhouette fit's lift.
     DVec3 centerRender() const { return center_; }
     double distance() const { return distance_; }
 
 private:
+    /// Sets distance_ and lifts center_ from the silhouette fit; false when there is nothing to
+    /// fit (the caller falls back to the bounding sphere).
+    bool fitToSilhouette(const TurntableSettings& s, const Scene& scene, const Aabb& b, bool geometryMoves, double tanX,
+                         double tanY);
+
     int frames_ = 1;
     double fps_ = 30.0;
     double elevation_ = 0.0;  ///< radians

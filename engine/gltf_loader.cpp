@@ -449,6 +449,7 @@ void loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFrom
 Scene loadGltfScene(const std::string& path, FileSource& fs, const SceneOptions& options) {
     Scene s;
     s.sourcePath = path;
+    applyRenderSize(options, s.settings);
     GltfModel model(path, fs);
     glm::dvec3 lo, hi;
     if (!model.bounds(DMat4(1.0), lo, hi)) throw InputError(path, model.emptyReason());

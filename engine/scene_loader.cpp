@@ -200,6 +200,7 @@ public:
         }
         s.ambientLight = rd_.color(root, "ambient", "", s.ambientLight);
         if (root.contains("render")) readRender(rd_, root["render"], s.settings);
+        applyRenderSize(options_, s.settings);
         if (root.contains("exposure")) readExposure(rd_, root["exposure"], s.settings);
         readMaterials(root, s);
         if (root.contains("lights")) {

@@ -3,6 +3,8 @@
 #include <optional>
 #include <string>
 
+#include "settings.h"
+
 namespace rf {
 
 /// An environment light: a file, or the built-in studio when file is empty.
@@ -16,6 +18,17 @@ struct SceneOptions {
     std::optional<EnvironmentSpec> environment;  ///< replaces the scene's own
     std::optional<float> environmentRotation;    ///< overrides the rotation of whichever is used
     std::optional<float> environmentIntensity;   ///< overrides its intensity
+    /// The render's size (--size; 0: the scene's own). The scene carries it so that a framing
+    /// built from the scene (a turntable's auto distance) fits the picture's aspect ratio.
+    int width = 0, height = 0;
 };
+
+/// The options' render size over the scene's settings.
+inline void applyRenderSize(const SceneOptions& o, RenderSettings& s) {
+    if (o.width > 0 && o.height > 0) {
+        s.width = o.width;
+        s.height = o.height;
+    }
+}
 
 }  // namespace rf

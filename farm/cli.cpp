@@ -124,6 +124,7 @@ void declareSceneOptions(ArgParser& p) {
 
 SceneOptions sceneOptions(const ArgParser& p) {
     SceneOptions o;
+    p.sizeValue("--size", o.width, o.height);  // an undeclared --size is simply absent
     if (auto f = p.value("--environment")) {
         if (f->empty()) throw UsageError("--environment: expected an .hdr or .exr file");
         o.environment = EnvironmentSpec{*f, 0.f, 1.f};

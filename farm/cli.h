@@ -51,7 +51,8 @@ void printLine(const std::string& kind, const std::string& text);
 void writeStderr(const std::string& text);
 /// Declares --environment FILE, --environment-rotation DEG and --environment-intensity K.
 void declareSceneOptions(ArgParser& p);
-/// Reads them (declare them first); throws UsageError for values that are not numbers.
+/// Reads them (declare them first), and --size where the command has it; throws UsageError for
+/// values that are not numbers.
 SceneOptions sceneOptions(const ArgParser& p);
 
 int runStill(const std::vector<std::string>& args);
