@@ -13,6 +13,7 @@ using Clock = std::chrono::steady_clock;
 Master::Master(Transport& t, Scheduler& s, FrameAssembler& a, RenderEngine* local, std::function<void(ReadyFrame&)> emit,
                MasterConfig cfg)
     : t_(t), sched_(&s), asm_(&a), local_(local), emit_(std::move(emit)), cfg_(cfg) {
+    epoch_ = cfg_.epoch;
     workers_.resize(size_t(t.size()));
     out_.perRank.resize(size_t(t.size()));
     const auto now = Clock::now();

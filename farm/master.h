@@ -28,6 +28,8 @@ struct MasterConfig {
     /// Called between scheduling steps (an interactive session: partial pictures, a newer
     /// view); true ends run() with RunEnd::Yielded, the work out left to the next retarget.
     std::function<bool()> between;
+    /// Stamped on every item handed out; results of other epochs are dropped (newEpoch()).
+    uint64_t epoch = 0;
 };
 
 enum class RunEnd { Done, Interrupted, WorkerLost, Failed, Yielded };

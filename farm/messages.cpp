@@ -1,5 +1,6 @@
 #include "messages.h"
 
+#include <atomic>
 #include <cstring>
 #include <stdexcept>
 #include <type_traits>
@@ -79,6 +80,11 @@ TileResult decodeTileResult(const std::string& bytes) {
     r.rays = h.rays;
     r.rgb.assign(bytes.begin() + sizeof h, bytes.end());
     return r;
+}
+
+uint64_t newEpoch() {
+    static std::atomic<uint64_t> next{1};
+    return next++;
 }
 
 std::string encodeViewSpec(const ViewSpec& v) { return bytesOf(v); }

@@ -38,8 +38,9 @@ inline constexpr double kMasterBeatSeconds = 0.5;
 struct WorkItem {
     int32_t frame = 0;
     TileRect rect;
-    /// 0: a frame of the job (render, a film), through the timeline's camera at the job's
-    /// settings. Otherwise the interactive epoch whose ViewSpec says how to render it.
+    /// The run or interactive pass it belongs to (newEpoch()): rank 0 drops results of any
+    /// other, late ones of a cancelled run included. An epoch a ViewSpec names renders as that
+    /// says; any other (0 too) is a frame of the job, through the timeline's camera.
     uint64_t epoch = 0;
 };
 
@@ -91,6 +92,10 @@ WorkItem decodeWorkItem(const std::string& bytes);
 std::string encodeTileResult(const TileResult& r);
 /// Throws std::runtime_error on a malformed payload (wrong pixel count).
 TileResult decodeTileResult(const std::string& bytes);
+
+/// A fresh epoch: unique for the life of the process (never 0), so work of an earlier run on
+/// the same workers (a cancelled film, a view session) is never taken for a later one's.
+uint64_t newEpoch();
 
 std::string encodeViewSpec(const ViewSpec& v);
 /// Throws std::runtime_error on a payload of the wrong size.

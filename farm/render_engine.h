@@ -2,7 +2,7 @@
 /// One rank's renderer: a thread that takes work items in order, sets the scene to the item's
 /// frame through the timeline, and renders the item's rectangle with all the rank's threads
 /// (the rectangle split into sub-tiles). The rank's main thread stays free for messages.
-/// Items of an interactive epoch (WorkItem::epoch) render as the engine's ViewSpec says; a new
+/// Items of the epoch the engine's ViewSpec names (WorkItem::epoch) render as it says; a new
 /// ViewSpec drops the work of every other epoch, the item being rendered included.
 #include <atomic>
 #include <condition_variable>

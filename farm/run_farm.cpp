@@ -129,6 +129,9 @@ MasterConfig FarmRun::masterConfig(int totalFrames) const {
     cfg.quiet = opts_.quiet;
     cfg.totalFrames = totalFrames;
     cfg.cancel = opts_.cancel;
+    // Its own epoch: on workers that served an earlier run (a viewer's cancelled film), late
+    // results of that run are dropped rather than taken for work this one never gave.
+    cfg.epoch = newEpoch();
     return cfg;
 }
 

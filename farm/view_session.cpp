@@ -20,10 +20,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-/// Epochs are unique for the life of the process: a session that starts after a film (or after
-/// another session) must never take a late result of an earlier epoch for one of its own.
-std::atomic<uint64_t> gNextEpoch{1};
-
 /// A slow pass shows the tiles done so far this often.
 constexpr auto kPartialEvery = std::chrono::milliseconds(150);
 /// Items each rank holds: one rendering and the next ones waiting, as in render's pixel mode.
@@ -101,7 +97,7 @@ FarmOutcome ViewSession::run(SharedScene& shared) {
 void ViewSession::startPass(Master& master) {
     const ViewPass& p = view_.passes[pass_];
     ViewSpec spec;
-    spec.epoch = gNextEpoch++;
+    spec.epoch = newEpoch();  // never one of an earlier run's
     spec.frame = view_.frame;
     spec.followTimeline = view_.followTimeline ? 1 : 0;
     spec.spp = p.spp;

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <mutex>
 #include <thread>
 
@@ -254,4 +255,61 @@ TEST(ViewSession, JobFramesAreUntouchedByViews) {
     std::optional<TileResult> r = engine.takeResult(30.0);
     ASSERT_TRUE(r) << engine.error();
     EXPECT_TRUE(r->rgb == rf::testing::referenceFarmFrames().at(2));
+}
+
+namespace {
+class KeepingSink : public FrameSink {
+public:
+    explicit KeepingSink(std::map<int, std::vector<uint8_t>>& out) : out_(out) {}
+    void write(int frame, const std::vector<uint8_t>& rgb) override { out_[frame] = rgb; }
+    void close() override {}
+
+private:
+    std::map<int, std::vector<uint8_t>>& out_;
+};
+}  // namespace
+
+TEST(ViewSession, ALateResultOfAnEarlierRunIsDropped) {
+    // A viewer renders a film, cancels it and renders again on the same workers (keepWorkers):
+    // tiles the workers still held from the first run come back during the second, which must
+    // not take them for its own ("returned work it was not given"). Here such a tile (the
+    // epoch 0 every run had before runs got epochs of their own) waits in rank 0's mailbox.
+    const std::string path = writeSceneFile();
+    LoopbackHub hub(3);
+    std::vector<int> codes(3, -1);
+    std::vector<std::thread> workers;
+    for (int r = 1; r < 3; ++r)
+        workers.emplace_back([&, r] {
+            LoopbackTransport t(hub, r);
+            SharedScene s = shareScene(t, path, nullptr, nullptr);
+            codes[size_t(r)] = runFarmWorker(t, s, 0.0, 1, 20.0);
+        });
+    LoopbackTransport t(hub, 0);
+    RenderJob job;
+    SharedScene shared = shareScene(t, path, nullptr, [&](Scene& scene, const FileBundle&) {
+        job.output = "memory.mp4";
+        job.settings = scene.settings;
+        const anim::Timeline tl = anim::Timeline::fromScene(scene);
+        job.timelineFrames = tl.frameCount();
+        job.first = 0;
+        job.last = tl.frameCount() - 1;
+        job.mode = Mode::Pixel;
+        job.tileSize = 16;
+        return encodeWorkerJob(job);
+    });
+    TileResult late;
+    late.item = {3, {0, 0, 16, 16}, 0};
+    late.rgb.assign(late.layout.bytes(16 * 16), 0);
+    LoopbackTransport(hub, 1).send(0, kTagResult, encodeTileResult(late));
+    std::map<int, std::vector<uint8_t>> frames;
+    FarmOptions opts;
+    opts.quiet = true;
+    FarmSinks sinks;
+    sinks.video = std::make_unique<KeepingSink>(frames);
+    FarmOutcome o;
+    EXPECT_NO_THROW(o = runFarm(t, job, shared, std::move(sinks), opts));
+    for (auto& w : workers) w.join();
+    EXPECT_EQ(o.end, FarmEnd::Done) << o.error;
+    EXPECT_EQ(frames, rf::testing::referenceFarmFrames());
+    for (int r = 1; r < 3; ++r) EXPECT_EQ(codes[size_t(r)], 0) << "rank " << r;
 }
