@@ -80,6 +80,7 @@ uint64_t FarmView::request(const ViewRequest& r) {
         id = ++nextId_;
         current_ = r;
         currentId_ = id;
+        currentAnswered_ = false;
     }
     inbox_.post(orderFor(r, id));
     return id;
@@ -162,8 +163,9 @@ void FarmView::runSession() {
         std::lock_guard<std::mutex> lock(mutex_);
         shared.scene.timeline = timelineJson_.empty() ? nullptr : std::make_shared<const nlohmann::json>(nlohmann::json::parse(timelineJson_));
         sessionCancel_ = closing_ || film_.has_value() || timelineChanged_;
-        // Whatever was asked last is asked again of the new session.
-        if (current_) inbox_.post(orderFor(*current_, currentId_));
+        // The last request, if it is not answered yet, is asked again of the new session (an
+        // answered one again would count its input's latency twice).
+        if (current_ && !currentAnswered_) inbox_.post(orderFor(*current_, currentId_));
     }
     farm::RenderJob job;
     job.settings = settings_;
@@ -235,6 +237,7 @@ void FarmView::onPicture(const farm::FarmProgress& p) {
     {
         std::lock_guard<std::mutex> lock(mutex_);
         if (pic.id == currentId_) req = current_;
+        if (pic.id == currentId_ && pic.complete && pic.pass + 1 == pic.passes) currentAnswered_ = true;
     }
     if (!req) return;  // the window has moved on
     const int w = pic.size.width, h = pic.size.height;
@@ -255,7 +258,7 @@ void FarmView::onPicture(const farm::FarmProgress& p) {
     if (pic.complete) {
         shown_ = rgb;
         shownW_ = w, shownH_ = h;
-        if (req->moving) scale_ = nextMovingScale(scale_, pic.ms);
+        if (req->moving) scale_ = movingScale_.next(pic.ms);
         f.rgb = std::move(rgb);
     } else {
         // A slow pass paints its new tiles over the last whole pass of the same size.

@@ -90,11 +90,13 @@ private:
     std::optional<std::pair<FilmRequest, FilmCallbacks>> film_;
     std::optional<ViewRequest> current_;  ///< the request the pictures answer
     uint64_t currentId_ = 0, nextId_ = 0;
+    bool currentAnswered_ = false;  ///< its last pass was published
     bool closing_ = false, ended_ = false;
     std::string error_;
 
     std::atomic<bool> sessionCancel_{false}, filmCancel_{false};
-    std::atomic<int> scale_{1};
+    std::atomic<int> scale_{1};  ///< movingScale_.scale(), for the window's thread
+    MovingScale movingScale_;    ///< the farm's thread's
     std::vector<uint8_t> shown_;  ///< the last complete pass, under partial ones (farm thread)
     int shownW_ = 0, shownH_ = 0;
     std::thread thread_;

@@ -21,4 +21,22 @@ int nextMovingScale(int scale, double ms) {
     return scale;
 }
 
+int MovingScale::next(double ms) {
+    const int wanted = nextMovingScale(scale_, ms);
+    if (wanted > scale_) {  // too slow: down now, and a step up that led here was premature
+        if (justUp_) needed_ = std::min(kLongestRun, needed_ * 2);
+        scale_ = wanted;
+        fastRun_ = 0;
+    } else if (wanted < scale_ && ++fastRun_ >= needed_) {
+        scale_ = wanted;
+        fastRun_ = 0;
+        justUp_ = true;
+        return scale_;
+    } else if (wanted == scale_) {
+        fastRun_ = 0;
+    }
+    justUp_ = false;
+    return scale_;
+}
+
 }  // namespace rf::view

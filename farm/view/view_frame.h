@@ -55,4 +55,23 @@ inline constexpr double kMovingFrameMs = 20.0;
 /// still take under 3/4 of it. 1, 2 or 4.
 int nextMovingScale(int scale, double frameMs);
 
+/// The moving frames' scale over a drag: down at once when a frame overran (nextMovingScale),
+/// but up only after a run of frames that all say so, a run twice as long after each step up
+/// that the next frame undid. A step up costs one frame of 4× the pixels; made on one fast
+/// frame it made the resolution flicker and put those slow frames in the latency's 95th
+/// percentile.
+class MovingScale {
+public:
+    static constexpr int kFirstRun = 8, kLongestRun = 128;
+    int scale() const { return scale_; }
+    /// A moving frame rendered at scale() took frameMs; returns the scale of the next one.
+    int next(double frameMs);
+
+private:
+    int scale_ = 1;
+    int fastRun_ = 0;  ///< frames in a row that would step up
+    int needed_ = kFirstRun;
+    bool justUp_ = false;
+};
+
 }  // namespace rf::view
