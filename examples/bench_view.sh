@@ -19,7 +19,9 @@ xvfb=$!
 view=
 trap '[ -n "$view" ] && kill $view 2>/dev/null; kill $xvfb 2>/dev/null; wait 2>/dev/null; rm -rf "$tmp"' EXIT
 for _ in $(seq 50); do [ -s "$tmp/display" ] && break; sleep 0.1; done
-export DISPLAY=:$(cat "$tmp/display")
+export DISPLAY=:$(tr -dc 0-9 <"$tmp/display")
+# Wait until the server answers a client: a window started earlier may fail to connect.
+for _ in $(seq 50); do xdotool getdisplaygeometry >/dev/null 2>&1 && break; sleep 0.1; done
 
 launch=()
 [ -n "${NP:-}" ] && launch=(mpirun --oversubscribe -np "$NP")

@@ -58,6 +58,10 @@ const char* kViewHelp =
     "  shows the PNG frames a render writes to DIR as they complete, with frames done, fps and\n"
     "  ETA (of N frames); 'render --preview' opens it. Closing it does not stop the render.\n"
     "\n"
+    "rayfarm view --stopped TEXT [--picture PNG]\n"
+    "  a window saying why a session stopped over its last picture; a view under mpirun opens it\n"
+    "  as mpirun ends the job (a rank died), so that the report outlives the job.\n"
+    "\n"
     "Mouse: left drag orbits, middle or shift drag pans, the wheel zooms.\n"
     "Keys: F frames the model, R returns to the timeline's camera, Space plays/pauses, Left/Right\n"
     "step a frame, Home/End jump to the first/last frame, T tints tiles\n"
@@ -136,6 +140,18 @@ int runWindow(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job, Scen
     return window.failed() ? 1 : status;
 }
 
+int runStopped(const std::string& why, const std::string& picture) {
+    if (!haveDisplay()) throw UsageError(kNoDisplay);
+    qInstallMessageHandler(qtMessages);
+    int argc = 1;
+    char name[] = "rayfarm";
+    char* argv[] = {name, nullptr};
+    QApplication app(argc, argv);
+    view::StoppedWindow window(why, picture);
+    window.show();
+    return app.exec();
+}
+
 int runPreview(const std::string& dir, int total) {
     if (!haveDisplay()) throw UsageError(kNoDisplay);
     qInstallMessageHandler(qtMessages);
@@ -210,7 +226,7 @@ int runView(const std::vector<std::string>& args) {
 namespace {
 int runViewParsed(const std::vector<std::string>& args) {
     ArgParser p("view");
-    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats", "--frame", "--camera", "--background", "--exposure", "--watch", "--total"}) p.option(o);
+    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats", "--frame", "--camera", "--background", "--exposure", "--watch", "--total", "--stopped", "--picture"}) p.option(o);
     declareSceneOptions(p);
     p.flag("--help");
     p.flag("-h");
@@ -219,6 +235,7 @@ int runViewParsed(const std::vector<std::string>& args) {
         std::fputs(kViewHelp, stdout);
         return 0;
     }
+    if (auto why = p.value("--stopped")) return runStopped(*why, p.value("--picture").value_or(""));
     if (auto dir = p.value("--watch")) {
         if (!p.positional().empty()) throw UsageError("view: --watch takes a frames directory, not a scene");
         return runPreview(*dir, p.intValue("--total", 0, 0, 1 << 30));

@@ -66,4 +66,25 @@ void PreviewWindow::scan() {
     status_->setText(QString::fromUtf8(buf) + (count > 0 ? QString::fromStdString("| showing " + *seen_.rbegin()) : QString()));
 }
 
+StoppedWindow::StoppedWindow(const std::string& why, const std::string& picturePath) {
+    auto* layout = new QVBoxLayout(this);
+    layout->setContentsMargins(0, 0, 0, 0);
+    layout->setSpacing(0);
+    // The same banner as the view window's (ViewWindow::showStopped).
+    auto* banner = new QLabel(QString::fromStdString("Rendering stopped: " + why + "\nmpirun ended the session; close this window."));
+    banner->setWordWrap(true);
+    banner->setStyleSheet("QLabel { background: #c00000; color: white; padding: 4px; font-weight: bold; }");
+    layout->addWidget(banner);
+    auto* picture = new QLabel;
+    const QImage img(QString::fromStdString(picturePath));
+    if (!img.isNull()) {
+        picture->setPixmap(QPixmap::fromImage(img));
+        picture->setFixedSize(img.size());
+    }
+    layout->addWidget(picture, 1, Qt::AlignLeft | Qt::AlignTop);
+    setWindowTitle(QString::fromStdString("rayfarm view - stopped: " + why));
+    auto* quit = new QShortcut(QKeySequence(Qt::CTRL | Qt::Key_Q), this);
+    connect(quit, &QShortcut::activated, this, [this] { close(); });
+}
+
 }  // namespace rf::view

@@ -31,4 +31,12 @@ private:
     QTimer* timer_ = nullptr;
 };
 
+/// `rayfarm view --stopped TEXT --picture PNG`: what a view session's window opens as it goes
+/// when mpirun ends the whole job (a rank died): the last picture under a red banner saying
+/// why, in a process of its own that outlives the job, until the user closes it.
+class StoppedWindow : public QWidget {
+public:
+    StoppedWindow(const std::string& why, const std::string& picturePath);
+};
+
 }  // namespace rf::view

@@ -1,5 +1,6 @@
 #include "view_window.h"
 
+#include <QBuffer>
 #include <QCloseEvent>
 #include <QGridLayout>
 #include <QHBoxLayout>
@@ -17,12 +18,15 @@
 #include <QWheelEvent>
 #include <cmath>
 #include <cstdio>
+#include <sys/mman.h>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
 #include "farm_view.h"
 #include "orbit_camera.h"
 #include "interrupt.h"
+#include "preview_spawn.h"
 
 namespace rf::view {
 
@@ -124,14 +128,31 @@ void ViewWindow::sessionEnded(const SessionEnd& end) {
     if (end.signalled) {
         // Under mpirun a SIGTERM means mpirun is ending the job, usually because a rank died (it
         // does not wait for rank 0 to notice), and SIGKILL follows within a second: the line
-        // naming the dead rank is out (on the farm's thread); leave before the kill, as
-        // MPI_Finalize would wait for the dead rank.
+        // naming the dead rank is out (on the farm's thread). The report must outlive the job:
+        // a window of its own process shows it over the last picture. Then leave before the
+        // kill, as MPI_Finalize would wait for the dead rank.
+        if (end.lostRank > 0) openStoppedReport(end.error);
         std::_Exit(end.lostRank > 0 ? 1 : 130);
     }
     // A rank died or failed: say so where it stays in sight, render no more.
     std::fprintf(stderr, "rayfarm: error: view: %s; the session stops (close the window)\n", end.error.c_str());
     showStopped(end.error);
     updateStatus();
+}
+
+void ViewWindow::openStoppedReport(const std::string& why) {
+    // The picture travels in an anonymous file as the report's fd 3: nothing is left on disk.
+    QByteArray png;
+    QBuffer buffer(&png);
+    buffer.open(QIODevice::WriteOnly);
+    picture_.save(&buffer, "PNG");
+    const int fd = memfd_create("rayfarm-view-stopped", 0);
+    if (fd < 0 || ::write(fd, png.constData(), size_t(png.size())) != png.size()) {
+        std::fprintf(stderr, "rayfarm: note: view: cannot keep the last picture for the report window\n");
+    }
+    const std::string err = farm::spawnView({"--stopped", why, "--picture", fd >= 0 ? "/dev/fd/3" : ""}, fd);
+    if (!err.empty()) std::fprintf(stderr, "rayfarm: note: view: cannot open the report window (%s)\n", err.c_str());
+    std::fflush(stderr);
 }
 
 void ViewWindow::buildUi() {

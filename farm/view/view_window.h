@@ -64,6 +64,9 @@ private:
     /// The farm stopped for good (a lost rank, a failure, mpirun's SIGTERM): say so in the
     /// window, or after a signal leave before mpirun's SIGKILL.
     void sessionEnded(const SessionEnd& end);
+    /// After mpirun's SIGTERM: a StoppedWindow in a process of its own (it outlives the job)
+    /// with the picture on screen and why the session stopped.
+    void openStoppedReport(const std::string& why);
     /// camera_ = the camera the picture shows (the timeline's at the current frame when
     /// following it), before an edit starts from it.
     void takeShownCamera();
