@@ -22,6 +22,9 @@ public:
     virtual void write(int frame, const std::vector<uint8_t>& rgb) = 0;
     /// Completes the output so it is valid (MP4 trailer). Safe to call twice.
     virtual void close() = 0;
+    /// Frames already in the output file, playable if the process died now; -1 for a sink that
+    /// writes its file only at close (GIF) or keeps no such count. Safe from any thread.
+    virtual int framesInOutput() const { return -1; }
 };
 
 /// Hands every frame to several sinks in turn (the video and the contact sheet, the PNG and the
@@ -31,6 +34,8 @@ public:
     explicit TeeSink(std::vector<std::unique_ptr<FrameSink>> sinks) : sinks_(std::move(sinks)) {}
     void write(int frame, const std::vector<uint8_t>& pixels) override;
     void close() override;
+    /// The first sink's (the video, beside its contact sheet and poster).
+    int framesInOutput() const override { return sinks_.empty() ? -1 : sinks_[0]->framesInOutput(); }
 
 private:
     std::vector<std::unique_ptr<FrameSink>> sinks_;
@@ -44,6 +49,7 @@ public:
     ~AsyncSink() override;
     void write(int frame, const std::vector<uint8_t>& rgb) override;
     void close() override;
+    int framesInOutput() const override { return inner_->framesInOutput(); }
 
     /// Seconds the thread spent inside the inner sink (write and close).
     double busySeconds() const;

@@ -1,5 +1,9 @@
 #include "mp4_sink.h"
 
+#include "mp4_remux.h"
+
+#include <atomic>
+#include <cstdio>
 #include <cstring>
 #include <stdexcept>
 
@@ -84,6 +88,11 @@ struct Mp4Sink::Impl {
     std::vector<uint8_t> flat, padded;
     int64_t nextPts = 0;
     bool closed = false;
+    /// MP4 and MOV: written fragmented, remuxed to faststart at close (mp4_remux.h).
+    bool fragmented = false;
+    AVRational rate{30, 1};
+    /// Packets on disk: each is flushed as it is muxed (its own fragment, or WebM cluster).
+    std::atomic<int> flushed{0};
 
     [[noreturn]] void fail(const std::string& what, int rc) {
         throw std::runtime_error(path + ": " + what + (rc < 0 ? ": " + avErrorText(rc) : std::string()));
@@ -98,7 +107,18 @@ struct Mp4Sink::Impl {
             pkt->stream_index = stream->index;
             rc = av_interleaved_write_frame(fmt, pkt);  // takes ownership of the packet's data
             if (rc < 0) fail("writing failed", rc);
+            flush();
         }
+    }
+
+    /// Ends the fragment (MP4/MOV) or cluster (WebM) holding the packet just muxed and pushes it
+    /// to the file: a process killed after this leaves a file that plays it.
+    void flush() {
+        int rc = av_write_frame(fmt, nullptr);
+        if (rc < 0) fail("writing failed", rc);
+        avio_flush(fmt->pb);
+        if (fmt->pb->error < 0) fail("writing failed", fmt->pb->error);
+        flushed.fetch_add(1, std::memory_order_relaxed);
     }
 
     void release() {
@@ -129,7 +149,7 @@ void Mp4Sink::Impl::openEncoder(const VideoFormat& vf, const Mp4Options& o) {
     ctx = avcodec_alloc_context3(codec);
     if (!stream || !ctx) fail("out of memory", 0);
 
-    const AVRational rate = av_d2q(o.fps, 1001000);
+    rate = av_d2q(o.fps, 1001000);
     const AVPixelFormat pix = av_get_pix_fmt(vf.pixFmt.c_str());
     ctx->width = encW;
     ctx->height = encH;
@@ -168,8 +188,13 @@ void Mp4Sink::Impl::openEncoder(const VideoFormat& vf, const Mp4Options& o) {
 void Mp4Sink::Impl::openFile(const VideoFormat& vf) {
     int rc = avio_open(&fmt->pb, path.c_str(), AVIO_FLAG_WRITE);
     if (rc < 0) fail("cannot open for writing", rc);
+    std::remove(remuxTempPath(path).c_str());  // a run killed during its remux left it
     AVDictionary* fopts = nullptr;
-    if (vf.container == Container::Mp4 || vf.container == Container::Mov) av_dict_set(&fopts, "movflags", "+faststart", 0);
+    // MP4 and MOV: an empty moov, then one fragment per frame, flushed by flush() (frag_custom):
+    // the file plays up to its last frame whatever ends the process. close() remuxes it to
+    // faststart.
+    fragmented = vf.container == Container::Mp4 || vf.container == Container::Mov;
+    if (fragmented) av_dict_set(&fopts, "movflags", "+frag_custom+empty_moov+default_base_moof", 0);
     rc = avformat_write_header(fmt, &fopts);
     av_dict_free(&fopts);
     if (rc < 0) fail("cannot write the " + vf.muxer + " header", rc);
@@ -289,6 +314,9 @@ void Mp4Sink::close() {
     if (rc < 0) m.fail("cannot finish the " + std::string(m.fmt->oformat->name), rc);
     rc = avio_closep(&m.fmt->pb);
     if (rc < 0) m.fail("cannot close", rc);
+    if (m.fragmented) remuxFaststart(m.path, m.fmt->oformat->name, m.rate.num, m.rate.den);
 }
+
+int Mp4Sink::framesInOutput() const { return impl_->flushed.load(std::memory_order_relaxed); }
 
 }  // namespace rf::farm

@@ -2,7 +2,9 @@
 /// The video file through the FFmpeg libraries; the container and codec follow the output's
 /// name (video_format.h): H.264 in MP4 (yuv420p, BT.709 tags, TV range, faststart), VP9 in
 /// WebM (yuva420p with alpha), ProRes 4444 in MOV (yuva444p10le with alpha). Constant frame rate
-/// with timestamps from the frame count. (GIF: gif_sink.h.)
+/// with timestamps from the frame count. (GIF: gif_sink.h.) Every packet reaches the disk as it
+/// is encoded (MP4/MOV fragmented, remuxed to faststart at close: mp4_remux.h; a WebM cluster per
+/// frame), so the file plays whatever ends the process.
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
@@ -49,6 +51,8 @@ public:
     ~Mp4Sink() override;
     void write(int frame, const std::vector<uint8_t>& rgb) override;
     void close() override;
+    /// Frames flushed to the file (thread-safe: read while another thread writes).
+    int framesInOutput() const override;
 
 private:
     struct Impl;

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <set>
 #include <thread>
+#include <utility>
 
 #include "background_option.h"
 #include "contact_sheet.h"
@@ -96,6 +97,9 @@ class FarmRun {
 public:
     FarmRun(Transport& t, const RenderJob& job, const FarmOptions& opts, FarmSinks sinks)
         : t_(t), job_(job), opts_(opts), sinks_(std::move(sinks)) {}
+    ~FarmRun() {
+        if (closer_.joinable()) closer_.join();
+    }
 
     FarmOutcome run(SharedScene& shared);
 
@@ -106,6 +110,9 @@ private:
     int lastWords();
     std::string videoHolds() const;
     std::string closeSinks(Master& master, const MasterOutcome& o);
+    void startClose();
+    bool closeFinishedWithin(double seconds) const;
+    void finishClose();
     FarmOutcome conclude(Master& master, const MasterOutcome& o, const std::string& silent, const SharedScene& shared);
     RunStats stats(const MasterOutcome& o, Clock::time_point end, const SharedScene& shared) const;
 
@@ -117,7 +124,17 @@ private:
     int framesPassed_ = 0, encodedKept_ = 0;
     int silentRank_ = -1;
     Clock::time_point end_{};
+    /// After an interrupt the sinks close on a thread of their own (startClose), so the
+    /// interrupted line goes out before mpirun's SIGKILL even while a slow encoder drains.
+    std::thread closer_;
+    std::atomic<bool> closed_{false};
+    std::exception_ptr closeError_;
 };
+
+/// How long an interrupted run waits for its video to close before saying what it holds:
+/// mpirun sends SIGKILL about a second after SIGTERM, and the file plays at every moment
+/// (mp4_sink.h), so the line must not wait for a slow encoder.
+constexpr double kInterruptCloseBudget = 0.6;
 
 MasterConfig FarmRun::masterConfig(int totalFrames) const {
     MasterConfig cfg;
@@ -165,29 +182,64 @@ MasterOutcome FarmRun::runMaster(Master& master, SignalDeadline& deadline) {
 /// On the watchdog's thread, the main one being held inside MPI: the video is closed with the
 /// frames done so far, and onEnd hears of the interrupt. Returns the exit status.
 int FarmRun::lastWords() {
-    try {
-        sinks_.close();
-    } catch (...) {
-        // The video is as complete as it gets; the user must still hear how the run ended.
-    }
+    startClose();
+    // The watchdog fires 0.25 s after the signal: less time is left than on the main thread.
+    closeFinishedWithin(kInterruptCloseBudget - 0.25);
     FarmOutcome out;
     out.videoHolds = videoHolds();
     out.signal = interruptSignal();
     out.end = FarmEnd::Interrupted;
     if (opts_.onEnd) opts_.onEnd(out);
+    try {
+        finishClose();
+    } catch (...) {
+        // The video is as complete as it gets, and the user has heard how the run ended.
+    }
     return out.signal == SIGINT ? 130 : 143;
 }
 
+void FarmRun::startClose() {
+    closer_ = std::thread([this] {
+        try {
+            sinks_.close();
+        } catch (...) {
+            closeError_ = std::current_exception();
+        }
+        closed_ = true;
+    });
+}
+
+/// True once the sinks closed; waits at most `seconds` for it.
+bool FarmRun::closeFinishedWithin(double seconds) const {
+    const auto until = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
+    while (!closed_ && Clock::now() < until) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    return closed_;
+}
+
+/// Waits for startClose's thread; rethrows what the closing threw.
+void FarmRun::finishClose() {
+    if (closer_.joinable()) closer_.join();
+    if (std::exception_ptr e = std::exchange(closeError_, nullptr)) std::rethrow_exception(e);
+}
+
+/// What the video file holds now: the frames flushed to it (they play if the process dies next),
+/// or for a sink that writes only at close, the frames it took. While an interrupted run's
+/// encoder still drains (startClose), also what it will hold when that is done.
 std::string FarmRun::videoHolds() const {
-    const int encoded = sinks_.video->framesDone();
-    return "the video " + job_.output + " holds " +
-           (encoded ? "frames " + frameSpan(job_.first, job_.first + encoded - 1) : std::string("no frames")) + " of " +
-           frameSpan(job_.first, job_.last);
+    int encoded = sinks_.video->framesInOutput();
+    if (encoded < 0) encoded = sinks_.video->framesDone();
+    std::string s = "the video " + job_.output + " holds " +
+                    (encoded ? "frames " + frameSpan(job_.first, job_.first + encoded - 1) : std::string("no frames")) + " of " +
+                    frameSpan(job_.first, job_.last);
+    if (closer_.joinable() && !closed_ && framesPassed_ > encoded)
+        s += " so far, " + frameSpan(job_.first, job_.first + framesPassed_ - 1) + " once its encoder finishes";
+    return s;
 }
 
 /// Closes the sinks. After an interrupt, under mpirun SIGKILL follows SIGTERM within about a
-/// second: the video is finished first, and meanwhile the master finds out whether a worker's
-/// death is why we were signalled; returns that worker's description, or "".
+/// second: the video closes on its own thread while the master finds out whether a worker's
+/// death is why we were signalled; returns that worker's description, or "". A close that takes
+/// longer than kInterruptCloseBudget goes on after the outcome is told (conclude).
 std::string FarmRun::closeSinks(Master& master, const MasterOutcome& o) {
     if (o.end != RunEnd::Interrupted) {
         try {
@@ -198,19 +250,12 @@ std::string FarmRun::closeSinks(Master& master, const MasterOutcome& o) {
         }
         return "";
     }
-    std::exception_ptr closeError;
-    std::thread closer([&] {
-        try {
-            sinks_.close();
-        } catch (...) {
-            closeError = std::current_exception();
-        }
-    });
+    const auto start = Clock::now();
+    startClose();
     // A cancel is the caller's wish: no worker died for it.
     std::string silent;
     if (t_.size() > 1 && interruptSignal()) silent = master.findSilentWorker(0.5, &silentRank_);
-    closer.join();
-    if (closeError) std::rethrow_exception(closeError);
+    if (closeFinishedWithin(kInterruptCloseBudget - secondsBetween(start, Clock::now()))) finishClose();
     return silent;
 }
 
@@ -257,6 +302,12 @@ FarmOutcome FarmRun::conclude(Master& master, const MasterOutcome& o, const std:
         out.end = out.signal ? FarmEnd::Interrupted : FarmEnd::Cancelled;
         if (opts_.onEnd) opts_.onEnd(out);  // before the workers hear: SIGKILL is near
         if (!opts_.keepWorkers) master.stopWorkers();
+        try {
+            finishClose();  // a slow encoder still draining: the file plays what it holds meanwhile
+        } catch (const std::exception& e) {
+            opts_.log(std::string("error: ") + e.what());
+        }
+        out.videoHolds = videoHolds();
         return out;
     }
     if (!opts_.keepWorkers) master.stopWorkers();

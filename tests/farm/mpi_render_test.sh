@@ -4,7 +4,7 @@
 #   modes SCENE [ARGS...]  np 1, 2, 3 × pixel, frame: PNGs bit-identical everywhere; every MP4
 #                          has the timeline's frame count, size and rate and each frame is within
 #                          PSNR_MIN dB of its PNG; a lossless MP4 decodes to the PNGs exactly
-#   resume | interrupt | killed-worker | stalled-worker | suspend-all | suspend-master | signals | one-frame
+#   resume | interrupt | interrupt-slow | killed-master EXT | killed-worker | stalled-worker | suspend-all | suspend-master | signals | one-frame
 #   | odd-size | bad-output
 set -euo pipefail
 RAYFARM=$1 SRC=$2 WORK=$3 CASE=$4
@@ -161,6 +161,82 @@ interrupt)
     cmp -s <(pngs_md5 int.frames) <(pngs_md5 ref.frames) || fail "interrupted+resumed PNGs differ from one uninterrupted run"
     cmp -s <(video_md5 int.mp4) <(video_md5 ref.mp4) || fail "interrupted+resumed video differs from one uninterrupted run"
     echo "interrupt: resumed video identical to an uninterrupted run"
+    ;;
+interrupt-slow)
+    # Issue 14 #3: SIGTERM while a slow encoder is behind (--preset slow looks 50 frames ahead):
+    # the interrupted line and the resume command still go out before mpirun's SIGKILL, and the
+    # file plays what it held.
+    rm -rf slow.*
+    mpirun --oversubscribe -np 2 "$RAYFARM" render "$FLIGHT" --size 320x180 --spp 4 --preset slow -o slow.mp4 2> slow.log &
+    pid=$!
+    wait_for_pngs slow.frames 20 60
+    kill -TERM "$pid"
+    set +e; wait "$pid"; set -e
+    grep -q "^rayfarm: interrupted (SIGTERM): the video slow.mp4 holds .* (playable)$" slow.log || { cat slow.log; fail "no interrupted line"; }
+    grep -A1 "rayfarm: interrupted" slow.log | grep -q "^rayfarm: to resume: mpirun .*--resume$" || { cat slow.log; fail "no resume command"; }
+    read -r frames w h rate < <(probe slow.mp4)
+    [ -n "$frames" ] && [ "$frames" -ge 1 ] || fail "slow.mp4 does not play after SIGTERM"
+    said=$(sed -n 's/^rayfarm: interrupted (SIGTERM): the video slow.mp4 holds frames 0–\([0-9]*\) .*/\1/p' slow.log)
+    [ -n "$said" ] && [ "$frames" -ge $((said + 1)) ] || fail "the line said frames 0–$said, the file plays $frames"
+    echo "interrupt-slow: $(grep 'rayfarm: interrupted' slow.log | cut -d: -f3-); it plays $frames frames"
+    ;;
+killed-master)
+    # Issue 14 #3: kill -9 of rank 0 itself mid-film (nothing of rayfarm runs after it): the file
+    # plays the frames finished (written one fragment per frame), holding the packets an
+    # uninterrupted run holds for them, and --resume gives the file an uninterrupted run gives.
+    # EXT: mp4 (lossless, so every decoded frame is checked against its PNG) or mov (ProRes 4444).
+    ext=$1
+    lossless=()
+    [ "$ext" = mp4 ] && lossless=(--lossless)
+    args=(render "$FLIGHT" --size 160x90 --spp 9 --frames 0:47 "${lossless[@]}")
+    rm -rf k9.* ref9.*
+    "$RAYFARM" "${args[@]}" -o ref9.$ext 2> ref9.log || { cat ref9.log; fail "uninterrupted run failed"; }
+    mpirun --oversubscribe -np 2 "$RAYFARM" "${args[@]}" -o k9.$ext 2> k9.log &
+    pid=$!
+    wait_for_pngs k9.frames 8 60
+    master=$(rank_pid "$pid" 0)
+    [ -n "$master" ] || fail "rank 0 not found"
+    start=$(date +%s.%N)
+    kill -9 "$master"
+    set +e; wait "$pid"; rc=$?; set -e
+    took=$(python3 -c "import sys,time; print(round(time.time()-float(sys.argv[1]),2))" "$start")
+    [ "$rc" -ne 0 ] || fail "a run whose rank 0 was killed exited 0"
+    kept=$(ls k9.frames | grep -c '^frame_.*\.png$')
+    # Frames 0..prefix-1 all have their PNG: the video can hold at most those.
+    prefix=0
+    while [ -e "k9.frames/$(printf 'frame_%06d.png' $prefix)" ]; do prefix=$((prefix + 1)); done
+    read -r frames w h rate < <(probe k9.$ext)
+    [ -n "$frames" ] && [ "$frames" -ge 1 ] || { cat k9.log; fail "after kill -9 of rank 0 the $ext does not play"; }
+    [ "$frames" -le "$prefix" ] || fail "the $ext plays $frames frames, but only frames 0-$((prefix - 1)) were finished"
+    read -r _ rw rh rrate < <(probe ref9.$ext)
+    [ "$w $h $rate" = "$rw $rh $rrate" ] || fail "the partial $ext is ${w}x$h at $rate, the uninterrupted one ${rw}x$rh at $rrate"
+    # Not re-encoded at the end: its packets are the uninterrupted run's first packets, bit for bit.
+    packets() { ffmpeg -v error -i "$1" -map 0:v -c copy -f framemd5 - | grep -v '^#' | awk -F, '{print $NF}'; }
+    cmp -s <(packets k9.$ext) <(packets ref9.$ext | head -n "$frames") ||
+        fail "the partial $ext's packets are not the first $frames of an uninterrupted run"
+    if [ "$ext" = mp4 ]; then
+        cmp -s <(video_md5 k9.$ext) <(pngs_rgb_md5 k9.frames 0 | head -n "$frames") ||
+            fail "the partial MP4's frames do not decode to their PNGs"
+    fi
+    [ ! -e k9.$ext.remux ] || fail "a remux file was left although the film never completed"
+    echo "killed-master ($ext): mpirun ended $took s after kill -9 of rank 0; the $ext plays $frames frames ($prefix finished in order, $kept PNGs)"
+    mpi 2 "${args[@]}" -o k9.$ext --resume 2> resume9.log || { cat resume9.log; fail "resume after kill -9 of rank 0 failed"; }
+    grep -q "frames kept in k9.frames" resume9.log || { cat resume9.log; fail "resume kept no frames"; }
+    read -r frames w h rate < <(probe k9.$ext)
+    [ "$frames" = 48 ] || fail "resumed $ext has $frames frames"
+    # Complete: faststart (moov before mdat) and no fragments left.
+    python3 - k9.$ext <<'PY' || fail "the resumed $ext is not one faststart moov"
+import struct, sys
+d = open(sys.argv[1], "rb").read()
+boxes, i = [], 0
+while i + 8 <= len(d):
+    size, kind = struct.unpack(">I4s", d[i:i + 8])
+    if size == 1: size = struct.unpack(">Q", d[i + 8:i + 16])[0]
+    boxes.append(kind.decode("latin1")); i += size if size else len(d)
+sys.exit(not (boxes.index("moov") < boxes.index("mdat") and "moof" not in boxes))
+PY
+    cmp -s k9.$ext ref9.$ext || fail "killed+resumed $ext differs from one uninterrupted run"
+    echo "killed-master ($ext): resumed to a faststart file byte-identical to an uninterrupted run"
     ;;
 killed-worker)
     rm -rf kill.*

@@ -146,9 +146,10 @@ modes-alpha)
     echo "modes-alpha: PNG, EXR and WebM identical at np 1-3 in pixel and frame mode"
     ;;
 interrupt)
-    # Ctrl-C: every format is playable with the frames done, the contact sheet holds only those,
-    # and --resume gives the same GIF as a run never interrupted.
-    ext=$1 np=$2 mode=$3
+    # Ctrl-C (or SIG=TERM: scancel, a shutdown): every format is playable with the frames done,
+    # the contact sheet holds only those, and --resume gives the same file as a run never
+    # interrupted. EXT NP MODE [SIG]
+    ext=$1 np=$2 mode=$3 sig=${4:-INT}
     # Many short frames (a frame in progress finishes before the run stops, and mpirun sends
     # SIGKILL about a second after SIGTERM), each slow enough (64 spp) that the run is still
     # going when the third frame lands: at 16 spp all 60 were done before the signal.
@@ -157,9 +158,10 @@ interrupt)
     mpirun --oversubscribe -np "$np" "$RAYFARM" "${args[@]}" -o "int.$ext" --contact-sheet sheet.png 2> int.log &
     pid=$!
     wait_for_pngs int.frames 3 120
-    kill -INT "$pid"
+    kill -"$sig" "$pid"
     set +e; wait "$pid"; set -e
-    grep -q "rayfarm: interrupted" int.log || { cat int.log; fail "no interrupt message"; }
+    grep -q "rayfarm: interrupted (SIG$sig): the video int.$ext holds .* (playable)" int.log || { cat int.log; fail "no interrupt message naming SIG$sig"; }
+    grep -A1 "rayfarm: interrupted" int.log | grep -q "^rayfarm: to resume: mpirun .*--resume$" || { cat int.log; fail "no resume command"; }
     read -r frames w h rate < <(probe "int.$ext")
     kept=$(ls int.frames | grep -c '^frame_.*\.png$')
     [ "$frames" -ge 1 ] && [ "$frames" -lt 60 ] && [ "$frames" -le "$kept" ] || fail "partial $ext has $frames frames ($kept kept)"
@@ -177,7 +179,7 @@ for i in range(12):
     if grey == (f < done):
         sys.exit("cell of frame %d: %s, but the video holds %d frames" % (f, "empty" if grey else "filled", done))
 PY
-    echo "interrupt ($ext, np $np $mode): partial file plays $frames frames, contact sheet holds exactly those"
+    echo "interrupt ($ext, np $np $mode, SIG$sig): partial file plays $frames frames, contact sheet holds exactly those"
     mpi "$np" "${args[@]}" -o "int.$ext" --resume 2> resume.log || { cat resume.log; fail "resume failed"; }
     read -r frames w h rate < <(probe "int.$ext")
     [ "$frames" = 60 ] || fail "resumed $ext has $frames frames"

@@ -1,0 +1,106 @@
+#include "mp4_remux.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <stdexcept>
+
+extern "C" {
+#include <libavformat/avformat.h>
+}
+
+#include "video_format.h"
+
+namespace rf::farm {
+
+std::string remuxTempPath(const std::string& path) { return path + ".remux"; }
+
+namespace {
+
+/// Both files of the pass; everything FFmpeg allocated is freed on every way out.
+struct Remux {
+    std::string path, temp;
+    AVFormatContext* in = nullptr;
+    AVFormatContext* out = nullptr;
+    AVPacket* pkt = nullptr;
+
+    ~Remux() {
+        av_packet_free(&pkt);
+        avformat_close_input(&in);
+        if (out) {
+            if (out->pb) avio_closep(&out->pb);
+            avformat_free_context(out);
+        }
+    }
+
+    [[noreturn]] void fail(const std::string& what, int rc) {
+        throw std::runtime_error(path + ": " + what + (rc < 0 ? ": " + avErrorText(rc) : std::string()));
+    }
+
+    void open(const std::string& muxer, AVRational rate);
+    void copyPackets();
+    void finish();
+};
+
+void Remux::open(const std::string& muxer, AVRational rate) {
+    int rc = avformat_open_input(&in, path.c_str(), nullptr, nullptr);
+    if (rc < 0) fail("cannot read the fragmented video back", rc);
+    if (in->nb_streams != 1) fail("expected one video stream", 0);
+    const AVStream* src = in->streams[0];
+    rc = avformat_alloc_output_context2(&out, nullptr, muxer.c_str(), temp.c_str());
+    if (rc < 0 || !out) fail("cannot set up the " + muxer + " muxer", rc);
+    AVStream* dst = avformat_new_stream(out, nullptr);
+    pkt = av_packet_alloc();
+    if (!dst || !pkt) fail("out of memory", 0);
+    rc = avcodec_parameters_copy(dst->codecpar, src->codecpar);
+    if (rc < 0) fail("cannot copy the stream parameters", rc);
+    dst->time_base = src->time_base;
+    dst->avg_frame_rate = rate;
+    dst->r_frame_rate = rate;
+    rc = avio_open(&out->pb, temp.c_str(), AVIO_FLAG_WRITE);
+    if (rc < 0) fail("cannot open " + temp + " for writing", rc);
+    AVDictionary* opts = nullptr;
+    av_dict_set(&opts, "movflags", "+faststart", 0);
+    rc = avformat_write_header(out, &opts);
+    av_dict_free(&opts);
+    if (rc < 0) fail("cannot write the " + muxer + " header", rc);
+}
+
+void Remux::copyPackets() {
+    for (;;) {
+        int rc = av_read_frame(in, pkt);
+        if (rc == AVERROR_EOF) return;
+        if (rc < 0) fail("cannot read the fragmented video back", rc);
+        av_packet_rescale_ts(pkt, in->streams[0]->time_base, out->streams[0]->time_base);
+        pkt->stream_index = 0;
+        pkt->pos = -1;
+        rc = av_interleaved_write_frame(out, pkt);  // takes the packet's data
+        if (rc < 0) fail("writing " + temp + " failed", rc);
+    }
+}
+
+void Remux::finish() {
+    int rc = av_write_trailer(out);  // faststart: moves the moov before the media data
+    if (rc < 0) fail("cannot finish " + temp, rc);
+    rc = avio_closep(&out->pb);
+    if (rc < 0) fail("cannot close " + temp, rc);
+    avformat_close_input(&in);
+    if (std::rename(temp.c_str(), path.c_str()) != 0) fail("cannot rename " + temp + " over it", AVERROR(errno));
+}
+
+}  // namespace
+
+void remuxFaststart(const std::string& path, const std::string& muxer, int fpsNum, int fpsDen) {
+    Remux r;
+    r.path = path;
+    r.temp = remuxTempPath(path);
+    try {
+        r.open(muxer, AVRational{fpsNum, fpsDen});
+        r.copyPackets();
+        r.finish();
+    } catch (...) {
+        std::remove(r.temp.c_str());  // the fragmented file stays: it plays
+        throw;
+    }
+}
+
+}  // namespace rf::farm
