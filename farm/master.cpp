@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <thread>
+#include <utility>
 
 #include "interrupt.h"
 #include "progress.h"
@@ -271,6 +272,7 @@ std::string Master::findSilentWorker(double seconds, int* rank) {
 }
 
 void Master::stopWorkers() {
+    if (std::exchange(stopped_, true)) return;  // a second word would wait for ranks that left
     for (int r = 1; r < t_.size(); ++r) {
         try {
             t_.send(r, kTagStop, "");

@@ -72,7 +72,7 @@ public:
     /// message for the first that does not (it probably died, which is why mpirun signalled us),
     /// or "" if all answered.
     std::string findSilentWorker(double seconds, int* rank = nullptr);
-    /// Tells every worker to stop.
+    /// Tells every worker to stop (once: later calls return at once).
     void stopWorkers();
 
 private:
@@ -111,6 +111,7 @@ private:
     std::vector<WorkerState> workers_;  ///< index = rank; rank 0 is the local engine if any
     MasterOutcome out_;
     bool dispatched_ = false;
+    bool stopped_ = false;  ///< stopWorkers has sent its word
     PauseDetector pause_;
     std::chrono::steady_clock::time_point lastBeat_{};
     void keepAlive(std::chrono::steady_clock::time_point now);

@@ -165,18 +165,31 @@ void FarmRun::emit(ReadyFrame& rf, int total) {
     if (opts_.onFrame) opts_.onFrame(FarmProgress{rf.frame, framesPassed_, total, rf.onDisk, &rf.rgb});
 }
 
+/// Turns the outcome into a failure with `what`, unless it already is one (the first error is
+/// the one the user reads).
+void failWith(MasterOutcome& o, const std::string& what) {
+    if (o.end == RunEnd::Failed) return;
+    o.end = RunEnd::Failed;
+    o.message = what;
+}
+
 /// The master's loop. Its end is claimed from the deadline's watchdog, which otherwise winds the
-/// run down by itself (lastWords) when a signal finds this thread held inside MPI.
+/// run down by itself (lastWords) when a signal finds this thread held inside MPI. An error
+/// thrown from the loop (a sink that cannot write, on the master's thread) is a Failed outcome,
+/// as one caught inside it is: conclude words every failure the same way.
 MasterOutcome FarmRun::runMaster(Master& master, SignalDeadline& deadline) {
+    MasterOutcome o;
     try {
-        MasterOutcome o = master.run();
-        if (!deadline.claim()) deadline.waitForEnd();
-        return o;
+        o = master.run();
+    } catch (const std::exception& e) {
+        failWith(o, e.what());
     } catch (...) {
         if (!deadline.claim()) deadline.waitForEnd();
         master.stopWorkers();
         throw;
     }
+    if (!deadline.claim()) deadline.waitForEnd();
+    return o;
 }
 
 /// On the watchdog's thread, the main one being held inside MPI: the video is closed with the
@@ -242,12 +255,7 @@ std::string FarmRun::videoHolds() const {
 /// longer than kInterruptCloseBudget goes on after the outcome is told (conclude).
 std::string FarmRun::closeSinks(Master& master, const MasterOutcome& o) {
     if (o.end != RunEnd::Interrupted) {
-        try {
-            sinks_.close();
-        } catch (...) {
-            master.stopWorkers();
-            throw;
-        }
+        sinks_.close();
         return "";
     }
     const auto start = Clock::now();
@@ -277,8 +285,13 @@ FarmOutcome FarmRun::run(SharedScene& shared) {
         master.onFrameComplete([&](int frame, const std::vector<uint8_t>& rgb) { sinks_.frames->write(frame, rgb); });
     // mpirun's SIGKILL follows its SIGTERM within about a second (signal_deadline.h).
     SignalDeadline deadline(0.25, [this] { return lastWords(); });
-    const MasterOutcome o = runMaster(master, deadline);
-    const std::string silent = closeSinks(master, o);
+    MasterOutcome o = runMaster(master, deadline);
+    std::string silent;
+    try {
+        silent = closeSinks(master, o);
+    } catch (const std::exception& e) {
+        failWith(o, e.what());  // a frame write that failed last surfaces here, at the close
+    }
     end_ = Clock::now();
     local.reset();
     return conclude(master, o, silent, shared);
@@ -311,6 +324,8 @@ FarmOutcome FarmRun::conclude(Master& master, const MasterOutcome& o, const std:
         return out;
     }
     if (!opts_.keepWorkers) master.stopWorkers();
+    // Every failure, wherever it was caught (inside the master's loop, thrown from it, or at the
+    // close), in one form: what failed, then what the video holds.
     if (o.end == RunEnd::Failed) throw std::runtime_error(o.message + "; " + out.videoHolds);
     if (!job_.statsPath.empty()) writeStatsJson(job_.statsPath, out.stats);
     if (opts_.onEnd) opts_.onEnd(out);

@@ -37,8 +37,9 @@ if mount -t tmpfs -o size=64k tmpfs "$mnt" 2>/dev/null; then
     set +e; "$RAYFARM" render "$SCENE" --size 320x180 -o full.mp4 --frames-dir "$mnt/frames" 2> disk_render.log; rc=$?; set -e
     [ "$rc" = 1 ] || { cat disk_render.log; fail "render onto a full disk: exit $rc, expected 1"; }
     [ "$(grep -c 'rayfarm: error' disk_render.log)" = 1 ] || { cat disk_render.log; fail "render onto a full disk: expected one error line"; }
-    # The line may also say what the video holds so far, before where the frames are.
-    grep -Eq "rayfarm: error: $mnt/frames/frame_[0-9]*\.png.*: cannot write: No space left on device; (the video [^;]* holds [^;]*; )?finished frames are in $mnt/frames; to resume: .*--resume" disk_render.log ||
+    # One form whichever thread saw the failure first: the file and the reason, what the video
+    # holds, where the frames are and how to resume.
+    grep -Eq "^rayfarm: error: $mnt/frames/frame_[0-9]*\.png.*: cannot write: No space left on device; the video full\.mp4 holds (frames [0-9–]+|no frames) of 0–96; finished frames are in $mnt/frames; to resume: .*--resume\$" disk_render.log ||
         { cat disk_render.log; fail "render onto a full disk: no file, reason or resume command"; }
     if ls "$mnt/frames" | grep -q '\.part$'; then fail "render onto a full disk left a .part file"; fi
     echo "full-disk: render stops with the file, ENOSPC and the resume command; no .part left"

@@ -153,3 +153,69 @@ TEST(RunFarm, MissingVideoSinkIsRefused) {
     const RenderJob job = jobFor(shared.scene, Mode::Frame);
     EXPECT_THROW(runFarm(t, job, shared, FarmSinks{}, FarmOptions{}), std::invalid_argument);
 }
+
+namespace {
+
+/// A sink whose write of frame `failAt` (or, failAt < 0, whose close) throws, as a full disk
+/// does; it keeps nothing.
+class FailingSink : public FrameSink {
+public:
+    explicit FailingSink(int failAt) : failAt_(failAt) {}
+    void write(int frame, const std::vector<uint8_t>&) override {
+        if (frame == failAt_) throw std::runtime_error("out/frame.png: cannot write: No space left on device");
+    }
+    void close() override {
+        if (failAt_ < 0) throw std::runtime_error("out/frame.png: cannot write: No space left on device");
+    }
+
+private:
+    int failAt_;
+};
+
+/// Two loopback ranks with the given sinks; returns what runFarm threw ("" if it returned).
+std::string failedRunMessage(std::unique_ptr<FrameSink> video, std::unique_ptr<FrameSink> frames) {
+    const std::string path = writeSceneFile();
+    LoopbackHub hub(2);
+    std::thread worker([&] {
+        LoopbackTransport t(hub, 1);
+        SharedScene s = shareScene(t, path, nullptr, nullptr);
+        runFarmWorker(t, s, 0.0, 1, 20.0);
+    });
+    LoopbackTransport t(hub, 0);
+    RenderJob job;
+    SharedScene shared = shareScene(t, path, nullptr, [&](Scene& scene, const FileBundle&) {
+        job = jobFor(scene, Mode::Frame);
+        return encodeWorkerJob(job);
+    });
+    FarmSinks sinks;
+    sinks.video = std::move(video);
+    sinks.frames = std::move(frames);
+    FarmOptions opts;
+    opts.quiet = true;
+    std::string what;
+    try {
+        runFarm(t, job, shared, std::move(sinks), opts);
+    } catch (const std::exception& e) {
+        what = e.what();
+    }
+    worker.join();
+    return what;
+}
+
+}  // namespace
+
+// A failed frame write reached the user in two forms, depending on which thread saw it first
+// (caught inside the master's loop, or thrown from the sinks' close): now one, whatever the path.
+TEST(RunFarm, AFailedWriteGivesOneMessageWhicheverPathItTakes) {
+    std::vector<std::pair<int, std::vector<uint8_t>>> kept;
+    const std::string prefix = "out/frame.png: cannot write: No space left on device; the video memory.mp4 holds ";
+    const std::string atWrite = failedRunMessage(std::make_unique<CollectingSink>(kept), std::make_unique<FailingSink>(2));
+    const std::string atClose = failedRunMessage(std::make_unique<CollectingSink>(kept), std::make_unique<FailingSink>(-1));
+    const std::string inVideo = failedRunMessage(std::make_unique<FailingSink>(3), std::make_unique<CollectingSink>(kept));
+    for (const std::string& m : {atWrite, atClose, inVideo}) {
+        EXPECT_EQ(m.rfind(prefix, 0), 0u) << m;
+        EXPECT_NE(m.find(" of 0–5"), std::string::npos) << m;
+        EXPECT_EQ(m.find(prefix, 1), std::string::npos) << "said twice: " << m;
+    }
+    EXPECT_EQ(atClose, prefix + "frames 0–5 of 0–5");  // every frame reached the video before the close failed
+}
