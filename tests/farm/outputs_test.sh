@@ -194,6 +194,90 @@ PY
     fi
     echo "interrupt ($ext): resumed film identical to an uninterrupted run"
     ;;
+alpha-modes)
+    # Issue 15: straight or premultiplied alpha, per format, at the anti-aliased edge of the box
+    # (pixels 25-75% covered), where the two differ most. Each file of one frame is decoded with
+    # FFmpeg and compared with the PNG frame (straight by the PNG specification) and the EXR frame
+    # (premultiplied, "associated", by OpenEXR's):
+    #   .png  straight, and consistent with the EXR: sRGB(EXR rgb / EXR a) = PNG rgb;
+    #   .exr  premultiplied: its rgb are the PNG's linear colour times coverage;
+    #   .mov  straight (yuva444p: FFmpeg's alpha pixel formats are straight; ProRes and MOV have
+    #         no flag for premultiplied): decoded rgba = PNG rgba;
+    #   .webm straight (the same yuva420p to libvpx; Chromium lays it over the page as straight:
+    #         web_page_test.sh): alpha and luma (full resolution in 4:2:0) follow the PNG's;
+    #   .gif  one bit: opaque where coverage >= 50% (paletteuse alpha_threshold 128) with the
+    #         straight colour, transparent below.
+    one=(render "$BOX" --size 96x72 --frames 4:4 --spp 16 --background transparent --tonemap clamp --exposure 0)
+    rm -rf edge.*
+    "$RAYFARM" "${one[@]}" -o edge.mov --frames-dir edge.frames --frames-format exr 2> edge.log || { cat edge.log; fail "render failed"; }
+    for ext in webm gif; do
+        "$RAYFARM" "${one[@]}" -o edge.$ext --no-frames 2>> edge.log || { cat edge.log; fail "render .$ext failed"; }
+    done
+    python3 - edge.frames/frame_000004.png edge.frames/frame_000004.exr edge.mov edge.webm edge.gif <<'PY' || fail "alpha at the edge"
+import struct, subprocess, sys
+png, exr, mov, webm, gif = sys.argv[1:]
+W, H = 96, 72
+def raw(args, fmt):
+    return subprocess.run(["ffmpeg", "-v", "error"] + args + ["-frames:v", "1", "-f", "rawvideo", "-pix_fmt", fmt, "-"],
+                          check=True, stdout=subprocess.PIPE).stdout
+def rgba(path, dec=()):
+    d = raw(list(dec) + ["-i", path], "rgba")
+    return [tuple(d[4 * i:4 * i + 4]) for i in range(W * H)]
+ref = rgba(png)
+planes = raw(["-i", exr], "gbrapf32le")  # planes G, B, R, A
+f = struct.unpack("<%df" % (4 * W * H), planes)
+lin = [(f[2 * W * H + i], f[i], f[W * H + i], f[3 * W * H + i]) for i in range(W * H)]
+def to_srgb8(v):
+    v = min(max(v, 0.0), 1.0)
+    return round(255 * (12.92 * v if v <= 0.0031308 else 1.055 * v ** (1 / 2.4) - 0.055))
+def to_lin(c):
+    c /= 255.0
+    return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
+luma = lambda p: 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]
+edge = [i for i in range(W * H) if 64 <= ref[i][3] <= 192 and luma(ref[i]) >= 40]
+if len(edge) < 8:
+    sys.exit("only %d edge pixels 25-75%% covered and not dark" % len(edge))
+def mean(xs): return sum(xs) / len(xs)
+fails = []
+def check(name, ok, what):
+    print("alpha-modes: %-5s %s" % (name, what))
+    if not ok: fails.append(name)
+# PNG and EXR: the same pixel, straight and premultiplied.
+a_err = mean([abs(lin[i][3] * 255 - ref[i][3]) for i in edge])
+straight = mean([max(abs(to_srgb8(lin[i][c] / lin[i][3]) - ref[i][c]) for c in range(3)) for i in edge])
+as_if = mean([max(abs(to_srgb8(lin[i][c]) - ref[i][c]) for c in range(3)) for i in edge])
+check("png", a_err <= 1.0 and straight <= 2.0 and as_if > 10,
+      "%d edge pixels: sRGB(EXR rgb/a) - PNG rgb %.2f levels (read as premultiplied: %.1f); alpha %.2f" % (len(edge), straight, as_if, a_err))
+# (Where the straight colour stays below 0.9: the EXR is not tone-mapped, the PNG clamps at 1.)
+lit = [i for i in edge if max(lin[i][c] / lin[i][3] for c in range(3)) < 0.9]
+pre = mean([max(abs(lin[i][c] - to_lin(ref[i][c]) * ref[i][3] / 255) for c in range(3)) for i in lit]) if lit else 1
+unpre = mean([max(abs(lin[i][c] - to_lin(ref[i][c])) for c in range(3)) for i in lit]) if lit else 0
+check("exr", len(lit) >= 8 and pre <= 0.01 and unpre > 5 * pre,
+      "%d of them below 0.9: EXR rgb - PNG linear x alpha %.4f (without the alpha: %.4f)" % (len(lit), pre, unpre))
+m = rgba(mov)
+s_err = mean([max(abs(m[i][c] - ref[i][c]) for c in range(3)) for i in edge])
+p_err = mean([max(abs(m[i][c] - round(ref[i][c] * ref[i][3] / 255)) for c in range(3)) for i in edge])
+a_err = max(abs(m[i][3] - ref[i][3]) for i in edge)
+check("mov", s_err <= 4 and p_err > 3 * s_err and a_err <= 1,
+      "decoded rgb - PNG straight %.2f levels (- premultiplied: %.1f); alpha within %d" % (s_err, p_err, a_err))
+v = rgba(webm, ["-c:v", "libvpx-vp9"])
+s_err = mean([abs(luma(v[i]) - luma(ref[i])) for i in edge])
+p_err = mean([abs(luma(v[i]) - luma(ref[i]) * ref[i][3] / 255) for i in edge])
+a_err = mean([abs(v[i][3] - ref[i][3]) for i in edge])
+check("webm", s_err <= 12 and p_err > 2 * s_err and a_err <= 8,
+      "decoded luma - PNG straight %.1f levels (- premultiplied: %.1f); alpha %.1f" % (s_err, p_err, a_err))
+g = rgba(gif)
+wrong_bit = [i for i in edge if (g[i][3] == 255) != (ref[i][3] >= 128) or g[i][3] not in (0, 255)]
+opaque = [i for i in edge if ref[i][3] >= 128]
+s_err = mean([abs(luma(g[i]) - luma(ref[i])) for i in opaque]) if opaque else 0
+p_err = mean([abs(luma(g[i]) - luma(ref[i]) * ref[i][3] / 255) for i in opaque]) if opaque else 0
+check("gif", not wrong_bit and opaque and s_err <= 16 and p_err > s_err,
+      "%d of %d edge pixels with the wrong bit; opaque ones: luma - PNG straight %.1f (- premultiplied: %.1f)"
+      % (len(wrong_bit), len(edge), s_err, p_err))
+if fails:
+    sys.exit("wrong alpha in: " + ", ".join(fails))
+PY
+    ;;
 refusals)
     # Unsupported combinations: one line, exit 2, before rendering (no output file).
     for bad in "-o x.mov --crf 20:--crf: ProRes" "-o x.mp4 --codec vp9:--codec vp9" "-o x.gif --lossless:--lossless: a GIF" \

@@ -33,6 +33,23 @@ for y in range(H):
         se += sum((s[c] - want[c]) ** 2 for c in range(3)); n += 3
         if f[3] == 0: around += max(abs(s[c] - page[c]) for c in range(3)) <= 3
         if f[3] == 255: model += max(abs(s[c] - f[c]) for c in range(3)) <= 24
+# Issue 15: the anti-aliased edge (25-75% covered) composites as straight alpha, C·a + P·(1−a);
+# had Chromium read the WebM as premultiplied it would show C + P·(1−a). Compared in luma, which
+# 4:2:0 keeps at full resolution.
+luma = lambda p: 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]
+s_err, p_err = [], []
+for i in range(W * H):
+    f = frame[4 * i:4 * i + 4]
+    if not (64 <= f[3] <= 192 and luma(f) >= 40):
+        continue
+    y, x = divmod(i, W)
+    s = shot[4 * (y * SW + x):4 * (y * SW + x) + 3]
+    a = f[3] / 255
+    s_err.append(abs(luma(s) - luma([f[c] * a + page[c] * (1 - a) for c in range(3)])))
+    p_err.append(abs(luma(s) - luma([min(255, f[c] + page[c] * (1 - a)) for c in range(3)])))
+edge_ok = len(s_err) >= 8 and sum(s_err) / len(s_err) <= 12 and sum(p_err) > 2 * sum(s_err)
+print("edge: %d pixels 25-75%% covered: luma off the straight composite by %.1f levels (off a premultiplied one: %.1f)"
+      % (len(s_err), sum(s_err) / max(1, len(s_err)), sum(p_err) / max(1, len(p_err))))
 transparent = sum(frame[4 * i + 3] == 0 for i in range(W * H))
 opaque = sum(frame[4 * i + 3] == 255 for i in range(W * H))
 psnr = 10 * math.log10(255 * 255 * n / max(se, 1))
@@ -41,6 +58,6 @@ psnr = 10 * math.log10(255 * 255 * n / max(se, 1))
 print("page colour around the model: %d of %d; model pixels its own: %d of %d; PSNR %.1f dB" % (around, transparent, model, opaque, psnr))
 outside = shot[4 * (130 * SW + 180):4 * (130 * SW + 180) + 3]  # beyond the video: the page itself
 sys.exit(not (around >= 0.99 * transparent and model >= 0.90 * opaque and psnr >= 25 and tuple(outside) == page
-              and transparent > 1000 and opaque > 1000))
+              and transparent > 1000 and opaque > 1000 and edge_ok))
 PY
 echo ok
