@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer harnesses (clang, ASan + UBSan) and runs each for SECONDS (default 20).
-#   bash tests/fuzz/run.sh [SECONDS]
+#   bash tests/fuzz/run.sh [SECONDS [HARNESS...]]   (default: every harness, one after another)
 # First replays every input in tests/fuzz/regressions/HARNESS/ (inputs that once crashed);
 # then fuzzes from seed corpora made of scenes/ and assimp-testmodels. Exits non-zero on any
 # crash, leak, timeout or sanitizer report; the input that did it is left in
@@ -11,20 +11,27 @@ secs=${1:-20}
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 build=${RAYFARM_FUZZ_BUILD:-$root/build-fuzz}
-harnesses=(scene_json gltf_text glb scene_bundle farm_messages)
+harnesses=(scene_json gltf_text glb scene_bundle farm_messages environment)
+[ $# -gt 1 ] && harnesses=("${@:2}")
 models=/usr/share/assimp/models/glTF2
 
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ -DRAYFARM_FUZZ=ON \
   -DRAYFARM_BUILD_FARM=OFF -DRAYFARM_BUILD_TESTS=OFF -DRAYFARM_BUILD_BENCH=OFF -DRAYFARM_LTO=OFF >/dev/null
 cmake --build "$build" -j"$(nproc 2>/dev/null || echo 2)" --target "${harnesses[@]/#/fuzz_}" >/dev/null
 
+# libFuzzer's input length cap: 64 KiB, and 128 KiB for environment images (the shipped studio
+# .exr, a DWAB file, is 96 KiB).
+max_len() { [ "$1" = environment ] && echo 131072 || echo 65536; }
+
 # Seed corpora (small files only: libFuzzer's input length is capped below).
 seed() {  # seed HARNESS FILE...
-  local dir="$build/corpus/$1"; shift
+  local dir="$build/corpus/$1" limit
+  limit=$(max_len "$1")
+  shift
   mkdir -p "$dir"
   local f
   for f in "$@"; do
-    [ -f "$f" ] && [ "$(stat -c %s "$f")" -le 65536 ] && cp -f "$f" "$dir/$(basename "$(dirname "$f")")-$(basename "$f")"
+    [ -f "$f" ] && [ "$(stat -c %s "$f")" -le "$limit" ] && cp -f "$f" "$dir/$(basename "$(dirname "$f")")-$(basename "$f")"
   done
   return 0
 }
@@ -34,6 +41,7 @@ mapfile -t embedded < <(grep -rl --include='*.gltf' 'data:' "$models" 2>/dev/nul
 seed gltf_text "$root"/scenes/*.gltf "${embedded[@]}"
 mapfile -t glbs < <(find "$models" -name '*.glb' -size -64k 2>/dev/null)
 seed glb "${glbs[@]}"
+seed environment "$root"/scenes/environments/*.exr
 python3 - "$build/corpus" "$root/scenes" <<'PY'
 import os, struct, sys
 out, scenes = sys.argv[1], sys.argv[2]
@@ -54,6 +62,42 @@ header = struct.pack('<6id5Q', 3, 0, 0, 2, 1, 0, 0.5, 2, 1, 0, 0, 0)
 open(f'{out}/farm_messages/work', 'wb').write(b'\0' + work)
 open(f'{out}/farm_messages/result', 'wb').write(b'\1' + header + bytes(6))
 open(f'{out}/farm_messages/heartbeat', 'wb').write(b'\2' + bytes(16))
+# Small made-up environment images: Radiance .hdr flat and run-length coded, OpenEXR uncompressed.
+env = f'{out}/environment'
+os.makedirs(env, exist_ok=True)
+def hdr(w, h, rle):
+    head = b'#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n' % (h, w)
+    rows = b''
+    for y in range(h):
+        px = [((x * 37 + y * 11) % 256, (x * 5) % 256, (y * 50) % 256, 128 + (x + y) % 8) for x in range(w)]
+        if not rle:
+            rows += b''.join(bytes(p) for p in px)
+            continue
+        rows += bytes([2, 2, w >> 8, w & 255])
+        for c in range(4):  # each component: one literal run of the first half, one repeat run
+            half = w // 2
+            rows += bytes([half]) + bytes(p[c] for p in px[:half]) + bytes([128 + (w - half), px[half][c]])
+    return head + rows
+open(f'{env}/flat.hdr', 'wb').write(hdr(4, 2, False))
+open(f'{env}/rle.hdr', 'wb').write(hdr(16, 4, True))
+def exr(w, h):  # scanline, NO_COMPRESSION, half B, G, R
+    def attr(name, kind, data):
+        return name.encode() + b'\0' + kind.encode() + b'\0' + struct.pack('<i', len(data)) + data
+    chl = b''.join(c.encode() + b'\0' + struct.pack('<i4Bii', 1, 0, 0, 0, 0, 1, 1) for c in 'BGR') + b'\0'
+    box = struct.pack('<4i', 0, 0, w - 1, h - 1)
+    head = (struct.pack('<ii', 20000630, 2) + attr('channels', 'chlist', chl) + attr('compression', 'compression', b'\0') +
+            attr('dataWindow', 'box2i', box) + attr('displayWindow', 'box2i', box) + attr('lineOrder', 'lineOrder', b'\0') +
+            attr('pixelAspectRatio', 'float', struct.pack('<f', 1)) + attr('screenWindowCenter', 'v2f', struct.pack('<ff', 0, 0)) +
+            attr('screenWindowWidth', 'float', struct.pack('<f', 1)) + b'\0')
+    half = lambda v: struct.unpack('<H', struct.pack('<e', v))[0]
+    blocks, offsets = b'', []
+    start = len(head) + 8 * h
+    for y in range(h):
+        line = b''.join(struct.pack('<%dH' % w, *[half(0.1 * (x + c + y)) for x in range(w)]) for c in range(3))
+        offsets.append(start + len(blocks))
+        blocks += struct.pack('<ii', y, len(line)) + line
+    return head + struct.pack('<%dQ' % h, *offsets) + blocks
+open(f'{env}/tiny.exr', 'wb').write(exr(8, 4))
 PY
 
 mkdir -p "$build/findings"
@@ -68,7 +112,7 @@ for h in "${harnesses[@]}"; do
     fi
   fi
   log="$build/findings/$h.log"
-  if "$bin" -max_total_time="$secs" -timeout=25 -rss_limit_mb=2560 -max_len=65536 -print_final_stats=1 \
+  if "$bin" -max_total_time="$secs" -timeout=25 -rss_limit_mb=2560 -max_len="$(max_len "$h")" -print_final_stats=1 \
       -artifact_prefix="$build/findings/$h-" "$build/corpus/$h" >"$log" 2>&1; then
     result=ok
   else
