@@ -41,23 +41,23 @@ float decodeComponent(const unsigned char* p, int type, bool normalized) {
         case TINYGLTF_COMPONENT_TYPE_BYTE: {
             int8_t v;
             std::memcpy(&v, p, 1);
-            return normalized ? std::max(float(v) / 127.f, -1.f) : float(v);
+            return componentValue(v, type, normalized);
         }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? float(*p) / 255.f : float(*p);
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return componentValue(*p, type, normalized);
         case TINYGLTF_COMPONENT_TYPE_SHORT: {
             int16_t v;
             std::memcpy(&v, p, 2);
-            return normalized ? std::max(float(v) / 32767.f, -1.f) : float(v);
+            return componentValue(v, type, normalized);
         }
         case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
             uint16_t v;
             std::memcpy(&v, p, 2);
-            return normalized ? float(v) / 65535.f : float(v);
+            return componentValue(v, type, normalized);
         }
         case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
             uint32_t v;
             std::memcpy(&v, p, 4);
-            return normalized ? float(double(v) / 4294967295.0) : float(v);
+            return componentValue(v, type, normalized);
         }
         default: {
             float v;
@@ -195,6 +195,18 @@ std::vector<uint32_t> readIndices(const tinygltf::Model& model, int index, const
     std::vector<uint32_t> out(d.count);
     for (size_t i = 0; i < d.count; ++i) out[i] = static_cast<uint32_t>(d.values[i]);
     return out;
+}
+
+float componentValue(double stored, int componentType, bool normalized) {
+    if (!normalized) return float(stored);
+    switch (componentType) {
+        case TINYGLTF_COMPONENT_TYPE_BYTE: return std::max(float(stored) / 127.f, -1.f);
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return float(stored) / 255.f;
+        case TINYGLTF_COMPONENT_TYPE_SHORT: return std::max(float(stored) / 32767.f, -1.f);
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return float(stored) / 65535.f;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return float(stored / 4294967295.0);
+        default: return float(stored);
+    }
 }
 
 }  // namespace rf::gltf

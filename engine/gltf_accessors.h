@@ -31,6 +31,11 @@ ByteSpan bufferViewSpan(const tinygltf::Model& model, int view, const std::strin
 AccessorData readAccessor(const tinygltf::Model& model, int index, const std::string& file,
                           const std::vector<int>& types = {});
 
+/// A component as readAccessor delivers it, from its stored value (an integer for integer
+/// types): normalized integers map to [0, 1] or [−1, 1] per glTF 2.0, the rest are unchanged.
+/// Also for what is written in the stored units, as an accessor's min and max are.
+float componentValue(double stored, int componentType, bool normalized);
+
 /// Reads an index accessor (SCALAR, unsigned byte/short/int, not normalized).
 std::vector<uint32_t> readIndices(const tinygltf::Model& model, int index, const std::string& file);
 

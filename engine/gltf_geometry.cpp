@@ -44,11 +44,10 @@ std::vector<uint32_t> unroll(const std::vector<uint32_t>& v, int mode) {
 /// POSITION's declared min/max, which glTF requires; a vertex outside them (beyond float
 /// rounding of the written bounds) marks a corrupt buffer, e.g. a flipped exponent bit.
 struct DeclaredBounds {
-    bool present = false;  ///< min and max given (or not needed: quantized data is not checked)
-    bool checked = false;
+    bool present = false;  ///< min and max given
     glm::dvec3 lo{0.0}, hi{0.0}, slack{0.0};
     bool contain(const Vec3& p) const {
-        if (!checked) return true;
+        if (!present) return true;
         for (int c = 0; c < 3; ++c)
             if (double(p[c]) < lo[c] - slack[c] || double(p[c]) > hi[c] + slack[c]) return false;
         return true;
@@ -57,16 +56,13 @@ struct DeclaredBounds {
 
 DeclaredBounds declaredBounds(const tinygltf::Accessor& a) {
     DeclaredBounds b;
-    // Quantized (integer) positions may declare bounds before or after normalization; only
-    // float data is checked.
-    if (a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || a.minValues.size() != 3 || a.maxValues.size() != 3) {
-        b.present = a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT;
-        return b;
-    }
-    b.present = b.checked = true;
+    if (a.minValues.size() != 3 || a.maxValues.size() != 3) return b;
+    b.present = true;
     for (int c = 0; c < 3; ++c) {
-        b.lo[c] = a.minValues[size_t(c)];
-        b.hi[c] = a.maxValues[size_t(c)];
+        // Quantized positions (KHR_mesh_quantization) declare their bounds in the stored units:
+        // integers, normalized to the values read only by the same rule as the data.
+        b.lo[c] = componentValue(a.minValues[size_t(c)], a.componentType, a.normalized);
+        b.hi[c] = componentValue(a.maxValues[size_t(c)], a.componentType, a.normalized);
         b.slack[c] = 1e-4 * (std::abs(b.hi[c] - b.lo[c]) + std::abs(b.lo[c]) + std::abs(b.hi[c])) + 1e-30;
     }
     return b;

@@ -2,6 +2,8 @@
 // case either refuses the file (InputError naming it) or leaves a note saying what was done.
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include "errors.h"
 #include "gltf_loader.h"
 #include "gltf_test_util.h"
@@ -115,6 +117,59 @@ TEST(GltfInputChecks, BoundsThatHoldGiveNoBoundsNote) {
     Scene t;
     EXPECT_EQ(load(oneTriangleGltf("tri.bin"), t), "");
     EXPECT_EQ(notesWith(t, "POSITION has no min/max"), 1);
+}
+
+namespace {
+
+/// Two triangles with normalized unsigned-short POSITION (KHR_mesh_quantization), 8-byte
+/// stride, stored values as given; min/max as written into the accessor (stored units).
+Scene loadQuantized(const std::vector<std::array<uint16_t, 3>>& v, std::vector<double> lo, std::vector<double> hi) {
+    TempDir dir;
+    std::string buf;
+    for (const auto& p : v) put<uint16_t>(buf, {p[0], p[1], p[2], 0});
+    writeFile(dir / "q.bin", buf);
+    json doc = withBounds(oneTriangleGltf("q.bin"), std::move(lo), std::move(hi));
+    doc["extensionsUsed"] = {"KHR_mesh_quantization"};
+    doc["extensionsRequired"] = {"KHR_mesh_quantization"};
+    doc["accessors"][0]["componentType"] = 5123;
+    doc["accessors"][0]["normalized"] = true;
+    doc["accessors"][0]["count"] = v.size();
+    doc["bufferViews"][0]["byteStride"] = 8;
+    doc["bufferViews"][0]["byteLength"] = buf.size();
+    doc["buffers"][0]["byteLength"] = buf.size();
+    writeFile(dir / "q.gltf", doc.dump());
+    DiskFileSource files;
+    Scene s;
+    loadGltfModel(s, dir / "q.gltf", DMat4(1.0), files);
+    return s;
+}
+
+}  // namespace
+
+TEST(GltfInputChecks, QuantizedPositionsAreCheckedAgainstBoundsInStoredUnits) {
+    // Issue 14 #7: quantized POSITION declares min/max in the accessor's stored units (here
+    // unsigned shorts 0–65535, read normalized to 0–1); they were not checked at all.
+    const std::vector<std::array<uint16_t, 3>> good = {{0, 0, 0}, {1000, 0, 0}, {0, 1000, 0}};
+    Scene ok = loadQuantized(good, {0, 0, 0}, {1000, 1000, 0});
+    EXPECT_EQ(notesWith(ok, "min/max"), 0);
+    ASSERT_EQ(ok.meshes.size(), 1u);
+    EXPECT_EQ(ok.meshes[0].indices.size(), 3u);
+    // A corrupt vertex (a flipped high bit: 1000 became 33768) is outside the stored bounds.
+    std::vector<std::array<uint16_t, 3>> two = good;
+    two.insert(two.end(), {{0, 0, 0}, {33768, 0, 0}, {0, 1000, 0}});
+    Scene bad = loadQuantized(two, {0, 0, 0}, {1000, 1000, 0});
+    EXPECT_EQ(notesWith(bad, "1 vertices lie outside POSITION's declared min/max"), 1);
+    ASSERT_EQ(bad.meshes.size(), 1u);
+    EXPECT_EQ(bad.meshes[0].indices.size(), 3u);  // the good triangle only
+    for (const Vec3& p : bad.meshes[0].positions) EXPECT_LE(p.x, 1000.f / 65535.f + 1e-6f);
+    // Bounds written in the normalized units (0–1) are wrong for this file: both vertices away
+    // from the origin lie outside them, and no triangle is left.
+    Scene wrong = loadQuantized(good, {0, 0, 0}, {1, 1, 0});
+    EXPECT_EQ(notesWith(wrong, "2 vertices lie outside POSITION's declared min/max"), 1);
+    for (const auto& m : wrong.meshes) EXPECT_EQ(m.indices.size(), 0u);
+    // Quantized positions without min/max get the note float ones get.
+    Scene none = loadQuantized(good, {}, {});
+    EXPECT_EQ(notesWith(none, "POSITION has no min/max"), 1);
 }
 
 TEST(GltfInputChecks, SceneIndexOutOfRangeIsAnError) {
