@@ -293,8 +293,11 @@ FarmOutcome FarmRun::run(SharedScene& shared) {
         failWith(o, e.what());  // a frame write that failed last surfaces here, at the close
     }
     end_ = Clock::now();
+    // Rank 0's engine finishes the item in hand before it goes (in frame mode a whole frame,
+    // seconds at a high spp): only once the user has been told how the run ended.
+    FarmOutcome out = conclude(master, o, silent, shared);
     local.reset();
-    return conclude(master, o, silent, shared);
+    return out;
 }
 
 FarmOutcome FarmRun::conclude(Master& master, const MasterOutcome& o, const std::string& silent, const SharedScene& shared) {
