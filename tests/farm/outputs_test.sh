@@ -160,7 +160,10 @@ interrupt)
     wait_for_pngs int.frames 3 120
     kill -"$sig" "$pid"
     set +e; wait "$pid"; set -e
-    grep -q "rayfarm: interrupted (SIG$sig): the video int.$ext holds .* (playable)" int.log || { cat int.log; fail "no interrupt message naming SIG$sig"; }
+    # mpirun passes a Ctrl-C on to the ranks as SIGTERM.
+    named=SIG$sig
+    [ "$sig" = INT ] && named="SIG(INT|TERM)"
+    grep -Eq "rayfarm: interrupted \($named\): the video int\.$ext holds .* \(playable\)" int.log || { cat int.log; fail "no interrupt message naming $named"; }
     grep -A1 "rayfarm: interrupted" int.log | grep -q "^rayfarm: to resume: mpirun .*--resume$" || { cat int.log; fail "no resume command"; }
     read -r frames w h rate < <(probe "int.$ext")
     kept=$(ls int.frames | grep -c '^frame_.*\.png$')
