@@ -7,7 +7,7 @@
 # rank's RSS may grow more than 5% over its level at the end of the warm-up, up to 3 s before
 # the end (the close, with rank 0's remux, is left out): a leak per frame or per message shows
 # as steady growth. Also checks the video holds every frame.
-# The default suite runs a 1500-frame 64x36 smoke version; the full one (5th argument opt-in) runs with
+# The default suite runs a 2400-frame 128x72 smoke version; the full one (5th argument opt-in) runs with
 # RAYFARM_SOAK=1: RAYFARM_SOAK=1 ctest -R soak_rss_3600.
 set -euo pipefail
 RAYFARM=$1 WORK=$2 FRAMES=${3:-3600} SIZE=${4:-160x90}
