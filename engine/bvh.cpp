@@ -76,8 +76,13 @@ uint32_t Bvh::collapseNode(uint32_t node2) {
     for (int i = 0; i < n; ++i) {
         const BvhNode& c = nodes_[kids[i]];
         for (int a = 0; a < 3; ++a) {
-            out.lo[a][i] = c.box.lo[a];
-            out.hi[a][i] = c.box.hi[a];
+            // Traversal reads the near slab by the ray's sign, so each lane needs lo ≤ hi: an
+            // inverted box is stored as the box the old per-box swap tested, a NaN as all space.
+            float lo = c.box.lo[a], hi = c.box.hi[a];
+            if (lo > hi) std::swap(lo, hi);
+            else if (!(lo <= hi)) lo = -kInf, hi = kInf;
+            out.lo[a][i] = lo;
+            out.hi[a][i] = hi;
         }
         out.valid |= 1u << i;
         if (c.count > 0) {

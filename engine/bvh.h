@@ -2,6 +2,8 @@
 /// Bounding volume hierarchy: binned SAH build (Wald 2007), collapsed to a 4-wide tree whose
 /// four child boxes are tested at once (GCC/Clang vector extensions: SSE2 on any x86-64), with
 /// conservative, NaN-safe, front-to-back traversal.
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -25,6 +27,7 @@ struct alignas(16) Bvh4Node {
     uint16_t count[4];   ///< 0: interior child; > 0: leaf with this many primitives
     uint32_t valid = 0;  ///< bit i: child i exists
 };
+static_assert(offsetof(Bvh4Node, hi) == 12 * sizeof(float), "traversal reads lo and hi as one block");
 
 class Bvh {
 public:
@@ -90,10 +93,18 @@ template <typename LeafFn>
 bool Bvh::traverseLeaves(const Ray& ray, float tMax, bool anyHit, LeafFn&& leaf) const {
     if (nodes4_.empty()) return false;
     const RayBoxPrecomp pre(ray);
+    // Per axis, the slab the ray enters first: lo for a positive direction, hi for a negative
+    // one (the sign of 1/d, so -0 counts as negative). (near − o)·inv ≤ (far − o)·inv then holds
+    // for every box, so no per-box swap is needed; a NaN (0·inf, the origin on a slab of a
+    // direction with a zero component) is skipped by maxKeep4/minKeep4 as by the scalar test.
     F4 o[3], inv[3];
+    int nearOff[3], farOff[3];  // float offsets into a Bvh4Node's lo/hi block
     for (int a = 0; a < 3; ++a) {
         o[a] = splat4(pre.o[a]);
         inv[a] = splat4(pre.invD[a]);
+        const bool neg = std::signbit(pre.invD[a]);
+        nearOff[a] = 4 * a + (neg ? 12 : 0);
+        farOff[a] = 4 * a + (neg ? 0 : 12);
     }
     const float widen = 1.f + 2.f * gamma(3);
     const F4 widenV = splat4(widen);
@@ -114,20 +125,15 @@ bool Bvh::traverseLeaves(const Ray& ray, float tMax, bool anyHit, LeafFn&& leaf)
             }
         } else {
             const Bvh4Node& n = nodes4_[cur.ref];
-            // The scalar slab test of intersectAabb, four boxes at a time: swap only when
-            // tNear > tFar, so a NaN (0·inf on a slab the origin lies in) leaves the bound as is.
+            const float* planes = &n.lo[0][0];
             F4 t0 = splat4(0.f);
             F4 t1 = splat4(tMax);
             for (int a = 0; a < 3; ++a) {
-                F4 lo, hi;
-                __builtin_memcpy(&lo, n.lo[a], sizeof lo);
-                __builtin_memcpy(&hi, n.hi[a], sizeof hi);
-                const F4 tn = (lo - o[a]) * inv[a], tf = (hi - o[a]) * inv[a];
-                const I4 swap = tn > tf;
-                const F4 tNear = swap ? tf : tn;
-                const F4 tFar = (swap ? tn : tf) * widenV;
-                t0 = (tNear > t0) ? tNear : t0;
-                t1 = (tFar < t1) ? tFar : t1;
+                F4 near, far;
+                __builtin_memcpy(&near, planes + nearOff[a], sizeof near);
+                __builtin_memcpy(&far, planes + farOff[a], sizeof far);
+                t0 = maxKeep4((near - o[a]) * inv[a], t0);
+                t1 = minKeep4((far - o[a]) * inv[a] * widenV, t1);
             }
             uint32_t mask = laneMask(t0 <= t1) & n.valid;
             if (mask != 0) {

@@ -10,6 +10,24 @@ typedef int I4 __attribute__((vector_size(16)));
 
 inline F4 splat4(float v) { return F4{v, v, v, v}; }
 
+/// a > b ? a : b lane by lane: a NaN in a keeps b (one maxps where SSE is there).
+inline F4 maxKeep4(F4 a, F4 b) {
+#if defined(__SSE__)
+    return __builtin_ia32_maxps(a, b);
+#else
+    return a > b ? a : b;
+#endif
+}
+
+/// a < b ? a : b lane by lane: a NaN in a keeps b (one minps where SSE is there).
+inline F4 minKeep4(F4 a, F4 b) {
+#if defined(__SSE__)
+    return __builtin_ia32_minps(a, b);
+#else
+    return a < b ? a : b;
+#endif
+}
+
 /// Lane signs as four bits (movmskps where SSE is there, a loop elsewhere).
 inline uint32_t laneMask(I4 m) {
 #if defined(__SSE__)
