@@ -19,9 +19,10 @@ class Integrator {
 public:
     virtual ~Integrator() = default;
     /// Radiance arriving at the camera along primary ray r; counts the rays it traces in stats.
-    /// *hit (if not null) gets whether r met geometry: the pixel's coverage (alpha). With a
+    /// seed (sampler.h's sampleSeed of frame, pixel and sample) drives every random choice the
+    /// integrator makes along the ray, so a pixel is the same on any rank and thread. *hit (if not null) gets whether r met geometry: the pixel's coverage (alpha). With a
     /// transparent background a primary ray that misses brings no radiance.
-    virtual Color Li(const Ray& r, RayStats& stats, bool* hit) const = 0;
+    virtual Color Li(const Ray& r, uint64_t seed, RayStats& stats, bool* hit) const = 0;
 };
 
 /// The integrator settings.integrator names, over scene (which must outlive it).

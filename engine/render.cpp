@@ -36,7 +36,8 @@ void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, 
                     }
                     const Ray r = rays.generate(x + (sx + jx) * invN, y + (sy + jy) * invN);
                     bool hit = false;
-                    Color c = integrator->Li(r, local, alpha ? &hit : nullptr);
+                    const uint64_t seed = sampleSeed(frame, pixel, uint64_t(sy * n + sx));
+                    Color c = integrator->Li(r, seed, local, alpha ? &hit : nullptr);
                     hits += hit;
                     if (!isFinite(c)) {
                         c = Color(0.f);

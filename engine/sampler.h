@@ -13,10 +13,23 @@ inline uint64_t mix64(uint64_t z) {
     return z ^ (z >> 31);
 }
 
+/// The seed of one camera sample: a pure function of (frame, pixel, sample), never 0 (0 is
+/// kNoSampleSeed, "take no random samples here").
+inline uint64_t sampleSeed(uint64_t frame, uint64_t pixel, uint64_t sample) {
+    return mix64(mix64(mix64(frame) ^ pixel) ^ sample) | 1u;
+}
+constexpr uint64_t kNoSampleSeed = 0;
+/// A seed derived from seed for a sub-stream k (a ray spawned at some depth, a sample set);
+/// kNoSampleSeed stays kNoSampleSeed.
+inline uint64_t childSeed(uint64_t seed, uint64_t k) {
+    return seed == kNoSampleSeed ? kNoSampleSeed : mix64(seed ^ (k * 0xD6E8FEB86659FD93ull)) | 1u;
+}
+
 class SampleRng {
 public:
     SampleRng(uint64_t frame, uint64_t pixel, uint64_t sample)
         : state_(mix64(mix64(mix64(frame) ^ pixel) ^ sample)) {}
+    explicit SampleRng(uint64_t seed) : state_(seed) {}
     /// Uniform in [0, 1).
     float next() {
         state_ = mix64(state_);

@@ -46,7 +46,7 @@ void readCamera(const Reader& rd, const json& j, Camera& cam, DVec3& eye, DVec3&
 
 void readRender(const Reader& rd, const json& j, RenderSettings& s) {
     const std::string w = "render";
-    rd.allowKeys(j, w, {"width", "height", "spp", "max_depth", "min_weight", "tonemap", "shading", "tile_size"});
+    rd.allowKeys(j, w, {"width", "height", "spp", "max_depth", "min_weight", "tonemap", "shading", "tile_size", "indirect"});
     s.width = rd.integer(j, "width", w, s.width, 1, 16384);
     s.height = rd.integer(j, "height", w, s.height, 1, 16384);
     s.spp = rd.integer(j, "spp", w, s.spp, 1, 4096);
@@ -63,6 +63,7 @@ void readRender(const Reader& rd, const json& j, RenderSettings& s) {
     else if (sh == "blinn-phong") s.shading = ShadingModel::BlinnPhong;
     else rd.fail("render.shading", "expected \"phong\" or \"blinn-phong\"");
     s.tileSize = rd.integer(j, "tile_size", w, s.tileSize, 1, 4096);
+    s.indirectSamples = rd.integer(j, "indirect", w, s.indirectSamples, 0, kMaxIndirectSamples);
 }
 
 /// "exposure": an EV (radiance × 2^EV before tone mapping) or "auto" (metered once per film).

@@ -23,7 +23,15 @@ struct RenderSettings {
     bool autoExposure = false;   ///< meter exposure once per film (the CLI resolves it into exposure)
     ShadingModel shading = ShadingModel::Phong;
     int tileSize = 32;
+    /// Indirect light of glTF materials. 0 (the default): the environment's split sum,
+    /// unshadowed and noise-free. N > 0: N stratified samples each of the diffuse and of the
+    /// glossy lobe per shading point seen by a camera, mirror or refraction ray, traced
+    /// against the scene: the environment where they escape (occlusion) and the shaded surface
+    /// where they hit (one bounce), converging towards a path tracer as N grows.
+    int indirectSamples = 0;
     IntegratorKind integrator = IntegratorKind::Whitted;
 };
+/// The most --indirect (and the scene file's render.indirect) accepts.
+constexpr int kMaxIndirectSamples = 1024;
 
 }  // namespace rf

@@ -10,9 +10,10 @@ struct RayStats {
     uint64_t shadow = 0;
     uint64_t reflection = 0;
     uint64_t refraction = 0;
+    uint64_t indirect = 0;   ///< sampled indirect light (RenderSettings::indirectSamples)
     uint64_t nonFinite = 0;  ///< samples whose radiance was NaN/Inf, replaced by black
 
-    uint64_t total() const { return primary + shadow + reflection + refraction; }
+    uint64_t total() const { return primary + shadow + reflection + refraction + indirect; }
     RayStats& operator+=(const RayStats& o);
 };
 
@@ -25,11 +26,12 @@ struct RayCounter {
 /// Every counter, once. Summing, the stats file and the tests walk this list (the farm's wire
 /// format copies the whole struct), so a counter added to RayStats needs one line here, and the
 /// static_assert below refuses to build until it has it.
-inline constexpr std::array<RayCounter, 5> kRayCounters{{
+inline constexpr std::array<RayCounter, 6> kRayCounters{{
     {"primary", &RayStats::primary},
     {"shadow", &RayStats::shadow},
     {"reflection", &RayStats::reflection},
     {"refraction", &RayStats::refraction},
+    {"indirect", &RayStats::indirect},
     {"non_finite_samples", &RayStats::nonFinite},
 }};
 static_assert(sizeof(RayStats) == kRayCounters.size() * sizeof(uint64_t),

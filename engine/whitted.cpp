@@ -3,6 +3,7 @@
 #include "light_eval.h"
 #include "material_eval.h"
 #include "optics.h"
+#include "sampler.h"
 #include "shading_frame.h"
 
 namespace rf {
@@ -63,26 +64,28 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
     return c;
 }
 
-Color WhittedTracer::Li(const Ray& r, RayStats& stats, bool* hit) const {
+Color WhittedTracer::Li(const Ray& r, uint64_t seed, RayStats& stats, bool* hit) const {
     ++stats.primary;
-    if (!hit && !scene_.transparentBackground) return trace(r, 1, Color(1.f), stats);
+    if (settings_.indirectSamples <= 0) seed = kNoSampleSeed;
+    if (!hit && !scene_.transparentBackground) return trace(r, 1, Color(1.f), stats, seed);
     Hit h;
     const bool met = scene_.intersect(r, h);
     if (hit) *hit = met;
     if (!met) return scene_.transparentBackground ? Color(0.f) : primaryMiss(r.d);
-    return traceHit(r, h, 1, Color(1.f), stats);
+    return traceHit(r, h, 1, Color(1.f), stats, seed);
 }
 
-Color WhittedTracer::trace(const Ray& r, int depth, const Color& weight, RayStats& stats, uint32_t skip) const {
+Color WhittedTracer::trace(const Ray& r, int depth, const Color& weight, RayStats& stats, uint64_t seed, uint32_t skip) const {
     Hit hit;
     if (!scene_.intersect(r, hit, skip)) return depth == 1 ? primaryMiss(r.d) : missRadiance(r.d);
-    return traceHit(r, hit, depth, weight, stats);
+    return traceHit(r, hit, depth, weight, stats, seed);
 }
 
-Color WhittedTracer::traceHit(const Ray& r, const Hit& hit, int depth, const Color& weight, RayStats& stats) const {
+Color WhittedTracer::traceHit(const Ray& r, const Hit& hit, int depth, const Color& weight, RayStats& stats,
+                              uint64_t seed) const {
     const SurfaceInteraction si = scene_.interaction(r, hit);
     const bool gltf = scene_.materials[si.material].gltfPbr;
-    Color c = gltf ? shadeGltf(si, r.d, depth, weight, stats) : shade(si, r.d, stats, weight);
+    Color c = gltf ? shadeGltf(si, r.d, depth, weight, stats, childSeed(seed, 0)) : shade(si, r.d, stats, weight);
     if (depth >= settings_.maxDepth) return c;
 
     const Material& m = scene_.materials[si.material];
@@ -110,7 +113,7 @@ Color WhittedTracer::traceHit(const Ray& r, const Hit& hit, int depth, const Col
             rr.o = spawnOrigin(si.p, si, ng, dir, skip);
             rr.d = dir;
             ++stats.reflection;
-            c += kr * trace(rr, depth + 1, w, stats, skip);
+            c += kr * trace(rr, depth + 1, w, stats, childSeed(seed, 1), skip);
         }
     }
     if (kt > 0.f) {
@@ -122,7 +125,7 @@ Color WhittedTracer::traceHit(const Ray& r, const Hit& hit, int depth, const Col
             tr.o = spawnOrigin(si.p, si, ng, refrDir, skip);
             tr.d = refrDir;
             ++stats.refraction;
-            c += kt * filter * trace(tr, depth + 1, w, stats, skip);
+            c += kt * filter * trace(tr, depth + 1, w, stats, childSeed(seed, 2), skip);
         }
     }
     return c;

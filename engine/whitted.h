@@ -4,8 +4,10 @@
 /// rule that prunes secondary rays whose weight would not show.
 #include <vector>
 
+#include "brdf_gltf.h"
 #include "integrator.h"
 #include "scene.h"
+#include "shading_frame.h"
 
 namespace rf {
 
@@ -14,7 +16,7 @@ public:
     WhittedTracer(const Scene& scene, const RenderSettings& settings);
 
     /// Radiance along a primary ray (counted as primary); see Integrator::Li.
-    Color Li(const Ray& r, RayStats& stats, bool* hit) const override;
+    Color Li(const Ray& r, uint64_t seed, RayStats& stats, bool* hit) const override;
 
     /// Local illumination at a surface point seen along direction d (the seed's Phong formula).
     /// weight: what the result is worth in the pixel; a light whose term would count for no
@@ -22,12 +24,33 @@ public:
     Color shade(const SurfaceInteraction& si, const Vec3& d, RayStats& stats, const Color& weight = Color(1.f)) const;
 
 private:
-    Color trace(const Ray& r, int depth, const Color& weight, RayStats& stats, uint32_t skip = Scene::kNoPrim) const;
+    /// seed: the ray's sample stream (sampler.h); kNoSampleSeed for rays that must not sample
+    /// indirect light themselves (the samples' own rays: one bounce, not a path).
+    Color trace(const Ray& r, int depth, const Color& weight, RayStats& stats, uint64_t seed,
+                uint32_t skip = Scene::kNoPrim) const;
     /// trace() once the ray's closest hit is known.
-    Color traceHit(const Ray& r, const Hit& hit, int depth, const Color& weight, RayStats& stats) const;
+    Color traceHit(const Ray& r, const Hit& hit, int depth, const Color& weight, RayStats& stats, uint64_t seed) const;
     /// The glTF material model (whitted_gltf.cpp): the metallic-roughness BRDF under the lights,
     /// the environment and, for smooth surfaces, the traced mirror ray. depth: of the ray that hit.
-    Color shadeGltf(const SurfaceInteraction& si, const Vec3& d, int depth, const Color& weight, RayStats& stats) const;
+    Color shadeGltf(const SurfaceInteraction& si, const Vec3& d, int depth, const Color& weight, RayStats& stats,
+                    uint64_t seed) const;
+    /// What sampled indirect light (settings.indirectSamples, indirect_light.cpp) found: the
+    /// glossy radiance around the lobe and the diffuse radiance (irradiance/π), with occlusion
+    /// and one bounce, in the units pbr::environmentLight takes.
+    struct IndirectRadiance {
+        Color specular{0.f};
+        Color diffuse{0.f};
+    };
+    /// Samples the glossy lobe (when glossy > 0: its share of the specular light) and the diffuse
+    /// lobe (when diffuse) of s at si, in place of `unshadowed` (the environment's split sum);
+    /// weight: what the result is worth in the pixel.
+    IndirectRadiance sampleIndirect(const SurfaceInteraction& si, const ShadingFrame& frame, const pbr::Surface& s,
+                                    const Vec3& V, float glossy, bool diffuse, const IndirectRadiance& unshadowed,
+                                    int depth, const Color& weight, RayStats& stats, uint64_t seed) const;
+    /// The radiance the ray along dir (above the facet) from si brings back (one bounce: its hit
+    /// shaded without sampling), and whether it escaped to the environment.
+    Color sampleRay(const SurfaceInteraction& si, const ShadingFrame& frame, Vec3 dir, int depth, const Color& weight,
+                    RayStats& stats, bool& escaped) const;
     /// What a secondary ray that meets nothing brings: the environment, else the background.
     Color missRadiance(const Vec3& d) const;
     /// What a primary ray that meets nothing shows: the environment where it is the background.

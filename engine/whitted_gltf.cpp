@@ -5,6 +5,7 @@
 #include "light_eval.h"
 #include "material_gltf.h"
 #include "optics.h"
+#include "sampler.h"
 #include "shading_frame.h"
 #include "whitted.h"
 
@@ -15,6 +16,9 @@ namespace {
 /// environment; the traced share fades out linearly towards it (a sharp reflection of a lobe
 /// this wide would look wrong, and rough surfaces are where rays cost most and show least).
 constexpr float kTracedRoughness = 0.4f;
+/// With sampled indirect light, only surfaces smoother than this trace the one mirror ray; the
+/// rest sample their lobe (at this roughness the lobe is a degree or so wide).
+constexpr float kSampledMirrorRoughness = 0.1f;
 }  // namespace
 
 Color WhittedTracer::missRadiance(const Vec3& d) const {
@@ -26,7 +30,7 @@ Color WhittedTracer::primaryMiss(const Vec3& d) const {
 }
 
 Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int depth, const Color& weight,
-                               RayStats& stats) const {
+                               RayStats& stats, uint64_t seed) const {
     const Vec3 V = -d;
     const ShadingFrame frame = shadingFrame(scene_, si, V);
     const GltfSample g = gltfSample(scene_, si);
@@ -57,6 +61,8 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
     }
 
     // Indirect light: the environment (split sum) and, for smooth surfaces, the traced mirror ray.
+    // With sampled indirect light (indirect_light.cpp) all but near-mirrors sample their lobe.
+    const bool sampled = seed != kNoSampleSeed && depth < settings_.maxDepth;
     const float nv = std::max(glm::dot(frame.ns, V), 1e-4f);
     Vec3 R = reflect(d, frame.ns);
     if (glm::dot(R, frame.ng) <= 0.f) R = reflect(d, frame.ng);  // below the facet: mirror on ng
@@ -64,7 +70,8 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
     float traced = 0.f;
     // Glass reflects through the refraction path's exact Fresnel (traceHit); not twice here.
     if (s.transmission <= 0.f && depth < settings_.maxDepth) {
-        const float share = std::clamp(1.f - s.roughness / kTracedRoughness, 0.f, 1.f);
+        const float share = sampled ? (s.roughness < kSampledMirrorRoughness ? 1.f : 0.f)
+                                    : std::clamp(1.f - s.roughness / kTracedRoughness, 0.f, 1.f);
         const Color w = weight * share * s.occlusion * pbr::specularAlbedo(s, nv);
         if (share > 0.f && maxComponent(w) > settings_.minWeight) {
             const uint32_t skip = scene_.skipFor(si, R);
@@ -72,17 +79,23 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
             rr.o = spawnOrigin(si.p, si, frame.ng, R, skip);
             rr.d = R;
             ++stats.reflection;
-            specular = share * trace(rr, depth + 1, w, stats, skip);
+            specular = share * trace(rr, depth + 1, w, stats, childSeed(seed, 3), skip);
             traced = share;
         }
     }
-    Color diffuse(0.f);
+    // Glass reflects the environment through the traced Fresnel ray already.
+    const float glossy = (1.f - traced) * (1.f - s.transmission);
+    IndirectRadiance ind;
     if (scene_.environment) {
-        // Glass reflects the environment through the traced Fresnel ray already.
-        specular += (1.f - traced) * (1.f - s.transmission) * scene_.environment->specular(R, s.roughness);
-        diffuse = scene_.environment->diffuse(frame.ns);
+        ind.specular = scene_.environment->specular(R, s.roughness);
+        ind.diffuse = scene_.environment->diffuse(frame.ns);
     }
-    if (specular != Color(0.f) || diffuse != Color(0.f)) c += pbr::environmentLight(s, nv, specular, diffuse);
+    if (sampled) {
+        const bool diffuse = (1.f - s.metallic) * (1.f - s.transmission) > 0.f;
+        ind = sampleIndirect(si, frame, s, V, glossy, diffuse, ind, depth, weight, stats, seed);
+    }
+    specular += glossy * ind.specular;
+    if (specular != Color(0.f) || ind.diffuse != Color(0.f)) c += pbr::environmentLight(s, nv, specular, ind.diffuse);
     return c;
 }
 

@@ -29,6 +29,9 @@ const char* kStillHelp =
     "  --spp N           samples per pixel, a square: 1, 4, 9, 16, ... (stratified)\n"
     "  --depth N         maximum ray depth; the primary ray counts as 1\n"
     "  --min-weight W    do not trace secondary rays weighing less than W (0: never prune)\n"
+    "  --indirect N      glTF materials: N traced samples per lobe of environment and bounce\n"
+    "                    light (occlusion, one bounce) instead of the unshadowed split sum\n"
+    "                    (0, the default: noise-free); converges to a path tracer as N grows\n"
     "  --tonemap T       clamp, reinhard or pbr-neutral (default: clamp for scene files,\n"
     "                    pbr-neutral for glTF models)\n"
     "  --exposure EV     scale radiance by 2^EV before tone mapping; 0 shows glTF's photometric\n"
@@ -88,7 +91,7 @@ void writeStillStats(const std::string& path, const Scene& scene, const RenderSe
 
 int runStill(const std::vector<std::string>& args) {
     ArgParser p("still");
-    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--tonemap", "--threads", "--stats", "--frame", "--time", "--camera", "--background", "--exposure"}) p.option(o);
+    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--indirect", "--tonemap", "--threads", "--stats", "--frame", "--time", "--camera", "--background", "--exposure"}) p.option(o);
     declareSceneOptions(p);
     p.flag("--help");
     p.flag("-h");

@@ -27,6 +27,7 @@ const char* kRenderHelp =
     "  --environment F, --environment-rotation DEG, --environment-intensity K   as for still\n"
     "  --depth N         maximum ray depth; --min-weight W, --tonemap clamp|reinhard|pbr-neutral,\n"
     "                    --exposure EV|auto as for still (auto: one EV metered for the whole film)\n"
+    "  --indirect N      glTF materials: N traced samples of indirect light (as for still)\n"
     "  --frames-dir DIR  keep a PNG per frame here as frames complete (default: OUT.frames next\n"
     "                    to the output, e.g. out.frames/ for out.mp4)\n"
     "  --no-frames       keep no PNG frames (then nothing can be resumed)\n"
@@ -60,7 +61,7 @@ const char* kRenderHelp =
     "renders with the cores it is bound to (mpirun --bind-to none: the node's cores shared).\n";
 
 void declareRenderOptions(cli::ArgParser& p) {
-    for (const char* o : {"-o", "--mode", "--frames", "--fps", "--size", "--spp", "--depth", "--min-weight", "--tonemap",
+    for (const char* o : {"-o", "--mode", "--frames", "--fps", "--size", "--spp", "--depth", "--min-weight", "--indirect", "--tonemap",
                           "--exposure", "--frames-dir", "--crf", "--preset", "--stats", "--threads", "--timeout", "--codec",
                           "--background", "--frames-format", "--contact-sheet", "--poster", "--poster-frame"})
         p.option(o);
@@ -170,6 +171,7 @@ std::string RenderJob::identity() const {
     if (background.kind == cli::BackgroundChoice::Transparent) j["background"] = "transparent";
     if (background.kind == cli::BackgroundChoice::Colour) j["background"] = {background.r, background.g, background.b};
     if (exrFrames) j["frames_format"] = "exr";
+    if (settings.indirectSamples > 0) j["indirect"] = settings.indirectSamples;
     return j.dump();
 }
 
