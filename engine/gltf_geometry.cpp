@@ -176,6 +176,27 @@ struct PrimitiveReader {
         if (int a = attribute(p, "TEXCOORD_0"); a >= 0) m.uvs = toVectors<Vec2>(read(a, TINYGLTF_TYPE_VEC2, "TEXCOORD_0"));
         if (int a = attribute(p, "TEXCOORD_1"); a >= 0) m.uvs1 = toVectors<Vec2>(read(a, TINYGLTF_TYPE_VEC2, "TEXCOORD_1"));
         if (int a = attribute(p, "TANGENT"); a >= 0) m.tangents = toVectors<Vec4>(read(a, TINYGLTF_TYPE_VEC4, "TANGENT"));
+        if (int a = attribute(p, "COLOR_0"); a >= 0) m.colors = colors(a);
+    }
+
+    /// COLOR_0: RGB or RGBA (alpha 1), float or normalized unsigned byte/short, as the core
+    /// specification allows; linear, multiplying the base colour.
+    std::vector<Vec4> colors(int a) const {
+        const tinygltf::Accessor& acc = model.accessors[size_t(a)];
+        const bool normalizedInt = acc.normalized && (acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                                                      acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+        if (acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT && !normalizedInt)
+            throw InputError(file, w + ": COLOR_0 must be float or normalized unsigned byte/short");
+        const AccessorData d = readAccessor(model, a, file, {TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4});
+        if (d.count != nv)
+            throw InputError(file, w + ": COLOR_0 has " + std::to_string(d.count) + " elements, POSITION has " + std::to_string(nv));
+        std::vector<Vec4> out(d.count, Vec4(1.f));
+        for (size_t i = 0; i < d.count; ++i)
+            for (int c = 0; c < d.components; ++c) {
+                const float x = d.at(i, c);
+                out[i][c] = std::isfinite(x) ? std::clamp(x, 0.f, 1.f) : 1.f;
+            }
+        return out;
     }
 
     /// The vertex order (indices, or 0…n−1), checked against the vertex count.

@@ -35,6 +35,8 @@ Color baseColor(const Scene& scene, const SurfaceInteraction& si, float* alphaOu
         c *= Color(t);
         alpha *= t.a;
     }
+    c *= Color(si.color);  // COLOR_0 (white without one)
+    alpha *= si.color.a;
     if (alphaOut) *alphaOut = alpha;
     return c;
 }

@@ -24,8 +24,8 @@ inline float materialAlpha(const std::vector<Texture>& textures, const Material&
     return m.baseColorTexture >= 0 ? m.alpha * baseColorTexel(textures, m, uv0, uv1).a : m.alpha;
 }
 
-/// Base colour of the material at a surface point (checker, texture, factor); *alpha gets the
-/// alpha factor × texture alpha when asked for.
+/// Base colour of the material at a surface point (checker, texture, factor) × the vertex
+/// colour (COLOR_0); *alpha gets the alpha factor × texture alpha × vertex alpha when asked for.
 Color baseColor(const Scene& scene, const SurfaceInteraction& si, float* alpha = nullptr);
 
 /// The tangent-space normal of m's normal texture at (uv0, uv1), scaled by normalScale in x and

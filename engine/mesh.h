@@ -15,6 +15,7 @@ struct TriangleMesh {
     std::vector<Vec2> uvs;       ///< empty, or one per position (TEXCOORD_0)
     std::vector<Vec2> uvs1;      ///< empty, or one per position (TEXCOORD_1)
     std::vector<Vec4> tangents;  ///< empty, or one per position (xyz, handedness w)
+    std::vector<Vec4> colors;    ///< empty, or one per position (COLOR_0, linear RGBA)
     std::vector<uint32_t> indices;  ///< three per triangle
     int material = 0;
 

@@ -181,7 +181,9 @@ bool Scene::triangleAlphaPasses(uint32_t tri, const TriangleHit& h) const {
     const uint32_t* idx = &mesh.indices[3 * triLocal_[tri]];
     if (!mesh.uvs.empty()) uv0 = h.b0 * mesh.uvs[idx[0]] + h.b1 * mesh.uvs[idx[1]] + h.b2 * mesh.uvs[idx[2]];
     if (!mesh.uvs1.empty()) uv1 = h.b0 * mesh.uvs1[idx[0]] + h.b1 * mesh.uvs1[idx[1]] + h.b2 * mesh.uvs1[idx[2]];
-    return materialAlpha(textures, mat, uv0, uv1) >= mat.alphaCutoff;
+    float alpha = materialAlpha(textures, mat, uv0, uv1);
+    if (!mesh.colors.empty()) alpha *= h.b0 * mesh.colors[idx[0]].a + h.b1 * mesh.colors[idx[1]].a + h.b2 * mesh.colors[idx[2]].a;
+    return alpha >= mat.alphaCutoff;
 }
 
 bool Scene::intersectSlot(uint32_t slot, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit, uint32_t skip) const {
@@ -413,6 +415,7 @@ SurfaceInteraction Scene::interaction(const Ray& r, const Hit& hit) const {
         if (!mesh.uvs1.empty()) si.uv1 = b0 * mesh.uvs1[idx[0]] + b1 * mesh.uvs1[idx[1]] + b2 * mesh.uvs1[idx[2]];
         if (!mesh.tangents.empty())
             si.tangent = b0 * mesh.tangents[idx[0]] + b1 * mesh.tangents[idx[1]] + b2 * mesh.tangents[idx[2]];
+        if (!mesh.colors.empty()) si.color = b0 * mesh.colors[idx[0]] + b1 * mesh.colors[idx[1]] + b2 * mesh.colors[idx[2]];
         si.material = mesh.material;
         si.mesh = static_cast<int>(triMesh_[hit.prim]);
         si.tri = triLocal_[hit.prim];

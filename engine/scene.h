@@ -41,6 +41,7 @@ struct SurfaceInteraction {
     Vec2 uv{0.f};
     Vec2 uv1{0.f};
     Vec4 tangent{0.f};
+    Vec4 color{1.f};   ///< vertex colour (glTF COLOR_0, linear RGBA); white without one
     int material = 0;
     int mesh = -1;
     uint32_t tri = 0;

@@ -2,6 +2,7 @@
 // formulas and, end to end, against a hand-computed pixel of a lit floor.
 #include <gtest/gtest.h>
 
+#include "errors.h"
 #include "gltf_loader.h"
 #include "gltf_materials.h"
 #include "gltf_test_util.h"
@@ -185,4 +186,94 @@ TEST(GltfMaterials, PrimitiveWithoutMaterialGetsAMatteWhiteDefault) {
     EXPECT_EQ(s.materials[0].color, Color(1.f));
     EXPECT_FLOAT_EQ(s.materials[0].metallic, 0.f);  // read as a dielectric: a rough metal reads as grey plastic anyway
     EXPECT_FLOAT_EQ(s.materials[0].reflection, 0.f);
+}
+
+namespace {
+
+/// floorModel with a COLOR_0 accessor (componentType, type "VEC3"/"VEC4", normalized) over the
+/// given per-vertex bytes, lit by a 683 cd light 1 above its centre and seen from 3 above
+/// (as A683CandelaLight...: a white floor there reads exactly 1/π).
+Image renderColouredFloor(int componentType, const std::string& type, bool normalized, const std::string& colourBytes,
+                          int stride = 0) {
+    const double h = std::sqrt(0.5);
+    json g = floorModel({{{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 1, 1, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}}},
+                          {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0}}}}}}},
+                        {{{"translation", {0, 1, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}},
+                         {{"translation", {0, 3, 0}}, {"rotation", {-h, 0, 0, h}}, {"camera", 0}}});
+    g["extensionsUsed"] = {"KHR_lights_punctual", "KHR_materials_specular"};
+    g["extensions"] = {{"KHR_lights_punctual", {{"lights", {{{"type", "point"}, {"intensity", 683}}}}}}};
+    g["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}}};
+    std::string buf;
+    put<float>(buf, {-10, 0, -10, -10, 0, 10, 10, 0, 10, 10, 0, -10});
+    put<uint16_t>(buf, {0, 1, 2, 0, 2, 3});
+    const size_t at = buf.size();
+    buf += colourBytes;
+    g["buffers"][0] = {{"uri", dataUri(buf)}, {"byteLength", buf.size()}};
+    g["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", at}, {"byteLength", colourBytes.size()}});
+    if (stride) g["bufferViews"][2]["byteStride"] = stride;
+    json acc = {{"bufferView", 2}, {"componentType", componentType}, {"count", 4}, {"type", type}};
+    if (normalized) acc["normalized"] = true;
+    g["accessors"].push_back(acc);
+    g["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = 2;
+    Scene s = loadScene(g);
+    useGltfCamera(s, 0);
+    RenderSettings rs = s.settings;
+    rs.width = rs.height = 65;
+    rs.exposure = 0.f;
+    RayStats stats;
+    return renderFrame(s, s.camera, rs, 0, 1, stats);
+}
+
+}  // namespace
+
+TEST(GltfMaterials, VertexColourMultipliesBaseColour) {
+    // baseColorFactor (0.5, 1, 1) × COLOR_0 under E = 1 W/m²: L = base × colour / π.
+    std::string f;
+    for (int i = 0; i < 4; ++i) put<float>(f, {0.8f, 0.5f, 0.25f});
+    Image img = renderColouredFloor(5126, "VEC3", false, f);
+    EXPECT_NEAR(img.pixel(32, 32)[0], 0.5 * 0.8 / M_PI, 1e-5);
+    EXPECT_NEAR(img.pixel(32, 32)[1], 0.5 / M_PI, 1e-5);
+    EXPECT_NEAR(img.pixel(32, 32)[2], 0.25 / M_PI, 1e-5);
+
+    // Normalized unsigned bytes, RGBA (alpha does not darken an opaque material).
+    std::string b;
+    for (int i = 0; i < 4; ++i) put<uint8_t>(b, {255, 51, 102, 128});
+    img = renderColouredFloor(5121, "VEC4", true, b);
+    EXPECT_NEAR(img.pixel(32, 32)[0], 0.5 / M_PI, 1e-5);
+    EXPECT_NEAR(img.pixel(32, 32)[1], 0.2 / M_PI, 1e-5);
+    EXPECT_NEAR(img.pixel(32, 32)[2], 0.4 / M_PI, 1e-5);
+
+    // Normalized unsigned shorts, RGB (vertex attributes align to 4 bytes: a stride of 8).
+    std::string u;
+    for (int i = 0; i < 4; ++i) put<uint16_t>(u, {0, 65535, 13107, 0});
+    img = renderColouredFloor(5123, "VEC3", true, u, 8);
+    EXPECT_NEAR(img.pixel(32, 32)[0], 0.0, 1e-6);
+    EXPECT_NEAR(img.pixel(32, 32)[1], 1.0 / M_PI, 1e-5);
+    EXPECT_NEAR(img.pixel(32, 32)[2], 0.2 / M_PI, 1e-5);
+}
+
+TEST(GltfMaterials, VertexColourIsInterpolatedAcrossTheTriangle) {
+    // Red at vertex 0, blue at vertex 2 (the quad's diagonal runs between them through the
+    // centre), green at 1 and 3: the centre is half red, half blue. Base colour factor 0.5 in red.
+    std::string f;
+    put<float>(f, {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 0});
+    const Image img = renderColouredFloor(5126, "VEC3", false, f);
+    EXPECT_NEAR(img.pixel(32, 32)[0], 0.5 * 0.5 / M_PI, 2e-3);
+    EXPECT_NEAR(img.pixel(32, 32)[1], 0.0, 2e-3);
+    EXPECT_NEAR(img.pixel(32, 32)[2], 0.5 / M_PI, 2e-3);
+    // Off the diagonal, towards vertex 1 (−10, 0, 10): green shows.
+    float greenLeft = 0.f;
+    for (int x = 0; x < 65; ++x) greenLeft = std::max(greenLeft, img.pixel(x, 64)[1] + img.pixel(x, 0)[1]);
+    EXPECT_GT(greenLeft, 2e-3f);
+}
+
+TEST(GltfMaterials, VertexColourOfAnIntegerTypeThatIsNotNormalizedIsRefused) {
+    std::string b;
+    for (int i = 0; i < 4; ++i) put<uint8_t>(b, {255, 51, 102, 128});
+    try {
+        renderColouredFloor(5121, "VEC4", false, b);
+        ADD_FAILURE() << "a non-normalized unsigned byte COLOR_0 loaded";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("COLOR_0"), std::string::npos) << e.what();
+    }
 }
