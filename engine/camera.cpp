@@ -39,6 +39,7 @@ CameraRays::CameraRays(const Camera& cam, int w, int h) : origin(cam.eye), width
     if (cam.leftHanded) tanHalfX = -tanHalfX;  // mirror the image's x axis
     twoOverW = 2.f / static_cast<float>(w);
     twoOverH = 2.f / static_cast<float>(h);
+    pixelSpread = 2.f * std::abs(tanHalfY) / static_cast<float>(h);
 }
 
 Ray CameraRays::generate(float x, float y) const {
@@ -47,6 +48,7 @@ Ray CameraRays::generate(float x, float y) const {
     Ray r;
     r.o = origin;
     r.d = glm::normalize(basis.forward + sx * basis.right + sy * basis.up);
+    r.coneSpread = pixelSpread;
     return r;
 }
 

@@ -33,9 +33,11 @@ struct CameraRays {
     float tanHalfX = 1.f, tanHalfY = 1.f;  ///< tanHalfX < 0 for a left-handed camera
     int width = 1, height = 1;
     float twoOverW = 2.f, twoOverH = 2.f;   ///< pixel to [0, 2] scale, so rays need no division
+    float pixelSpread = 0.f;  ///< a pixel's angle at the image centre: each ray's Ray::coneSpread
 
     CameraRays(const Camera& cam, int width, int height);
-    /// Ray through image position (x, y) in pixels, (0, 0) the top-left corner.
+    /// Ray through image position (x, y) in pixels, (0, 0) the top-left corner, with a cone one
+    /// pixel wide.
     Ray generate(float x, float y) const;
 };
 

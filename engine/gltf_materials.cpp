@@ -194,6 +194,7 @@ int MaterialBuilder::textureFor(int index, bool srgb, const std::string& where) 
         t->wrapT = wrapOf(s.wrapT);
         t->filter = s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST ? Filter::Nearest : Filter::Linear;
     }
+    buildMipmaps(*t);
     const int id = int(scene_.textures.size());
     scene_.textures.push_back(std::move(*t));
     textures_[key] = id;

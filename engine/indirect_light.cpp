@@ -73,6 +73,8 @@ Color WhittedTracer::sampleRay(const SurfaceInteraction& si, const ShadingFrame&
     const Vec3 pad(gamma(7) * maxComponent(glm::abs(si.p)));
     r.o = skip == si.prim ? si.p : offsetRayOrigin(si.p, si.pError + pad, frame.ng, dir);
     r.d = dir;
+    r.coneWidth = si.coneWidth;
+    r.coneSpread = si.coneSpread;
     ++stats.indirect;
     Hit hit;
     escaped = !scene_.intersect(r, hit, skip);

@@ -4,9 +4,10 @@
 
 namespace rf {
 
-Vec4 baseColorTexel(const std::vector<Texture>& textures, const Material& m, Vec2 uv0, Vec2 uv1) {
+Vec4 baseColorTexel(const std::vector<Texture>& textures, const Material& m, Vec2 uv0, Vec2 uv1, Vec2 area) {
     if (m.baseColorTexture < 0) return Vec4(1.f);
-    return sampleTexture(textures[m.baseColorTexture], textureUv(m.baseColorTransform, uv0, uv1));
+    return sampleTexture(textures[m.baseColorTexture], textureUv(m.baseColorTransform, uv0, uv1),
+                         textureFootprint(m.baseColorTransform, area));
 }
 
 namespace {
@@ -31,7 +32,7 @@ Color baseColor(const Scene& scene, const SurfaceInteraction& si, float* alphaOu
         c = (cell & 1) ? m.color2 : m.color;
     }
     if (m.baseColorTexture >= 0) {
-        const Vec4 t = baseColorTexel(scene.textures, m, si.uv, si.uv1);
+        const Vec4 t = baseColorTexel(scene.textures, m, si.uv, si.uv1, si.uvArea);
         c *= Color(t);
         alpha *= t.a;
     }
@@ -41,8 +42,9 @@ Color baseColor(const Scene& scene, const SurfaceInteraction& si, float* alphaOu
     return c;
 }
 
-Vec3 normalTextureSample(const std::vector<Texture>& textures, const Material& m, Vec2 uv0, Vec2 uv1) {
-    Vec3 tn = Vec3(sampleTexture(textures[m.normalTexture], textureUv(m.normalTransform, uv0, uv1))) * 2.f - 1.f;
+Vec3 normalTextureSample(const std::vector<Texture>& textures, const Material& m, Vec2 uv0, Vec2 uv1, Vec2 area) {
+    Vec3 tn = Vec3(sampleTexture(textures[m.normalTexture], textureUv(m.normalTransform, uv0, uv1),
+                                 textureFootprint(m.normalTransform, area))) * 2.f - 1.f;
     tn.x *= m.normalScale;
     tn.y *= m.normalScale;
     return tn;

@@ -16,10 +16,18 @@ inline Vec2 textureUv(const TextureTransform& t, Vec2 uv0, Vec2 uv1) {
     return applyTextureTransform(t, t.texCoord == 1 ? uv1 : uv0);
 }
 
-/// The base-colour texture's RGBA at (uv0, uv1); white where m has none.
-Vec4 baseColorTexel(const std::vector<Texture>& textures, const Material& m, Vec2 uv0, Vec2 uv1);
+/// The texture-coordinate area a lookup through slot t covers, from the footprint per set
+/// (SurfaceInteraction::uvArea: TEXCOORD_0 in x, TEXCOORD_1 in y) and t's transform.
+inline float textureFootprint(const TextureTransform& t, Vec2 area) {
+    return (t.texCoord == 1 ? area.y : area.x) * textureTransformAreaScale(t);
+}
 
-/// Alpha factor × texture alpha: what the alpha-MASK test compares with the cut-off.
+/// The base-colour texture's RGBA at (uv0, uv1), filtered over a footprint of area (per set,
+/// as textureFootprint; 0: unfiltered); white where m has none.
+Vec4 baseColorTexel(const std::vector<Texture>& textures, const Material& m, Vec2 uv0, Vec2 uv1, Vec2 area = Vec2(0.f));
+
+/// Alpha factor × texture alpha: what the alpha-MASK test compares with the cut-off (unfiltered:
+/// traversal has no footprint, and a cut-out edge stays where the texture puts it).
 inline float materialAlpha(const std::vector<Texture>& textures, const Material& m, Vec2 uv0, Vec2 uv1) {
     return m.baseColorTexture >= 0 ? m.alpha * baseColorTexel(textures, m, uv0, uv1).a : m.alpha;
 }
@@ -30,6 +38,6 @@ Color baseColor(const Scene& scene, const SurfaceInteraction& si, float* alpha =
 
 /// The tangent-space normal of m's normal texture at (uv0, uv1), scaled by normalScale in x and
 /// y as glTF defines it (not normalised). Only for materials with a normal texture.
-Vec3 normalTextureSample(const std::vector<Texture>& textures, const Material& m, Vec2 uv0, Vec2 uv1);
+Vec3 normalTextureSample(const std::vector<Texture>& textures, const Material& m, Vec2 uv0, Vec2 uv1, Vec2 area = Vec2(0.f));
 
 }  // namespace rf

@@ -15,7 +15,7 @@ GltfSample gltfSample(const Scene& scene, const SurfaceInteraction& si) {
     s.ior = m.ior;
     s.specular = m.specularWeight;
     auto texel = [&](int tex, const TextureTransform& t) {
-        return sampleTexture(scene.textures[size_t(tex)], textureUv(t, si.uv, si.uv1));
+        return sampleTexture(scene.textures[size_t(tex)], textureUv(t, si.uv, si.uv1), textureFootprint(t, si.uvArea));
     };
     if (m.metallicRoughnessTexture >= 0) {
         const pbr::MetallicRoughness mr =

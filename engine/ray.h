@@ -8,6 +8,11 @@ struct Ray {
     Vec3 o{0.f};
     Vec3 d{0.f, 0.f, -1.f};
     float tMax = kInf;
+    /// The ray's cone (Akenine-Möller et al. 2019, "Texture Level of Detail Strategies for
+    /// Real-Time Ray Tracing"): its width at o and how much it widens per unit distance; what
+    /// a texture lookup at the hit filters over. Zero: a thin ray (textures read unfiltered).
+    float coneWidth = 0.f;
+    float coneSpread = 0.f;
 };
 
 /// Where a spawned ray starts: the hit point pushed off the surface by its error bound.

@@ -34,7 +34,8 @@ void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, 
                         jx = rng.next();
                         jy = rng.next();
                     }
-                    const Ray r = rays.generate(x + (sx + jx) * invN, y + (sy + jy) * invN);
+                    Ray r = rays.generate(x + (sx + jx) * invN, y + (sy + jy) * invN);
+                    r.coneSpread *= invN;  // each of n×n samples covers its stratum of the pixel
                     bool hit = false;
                     const uint64_t seed = sampleSeed(frame, pixel, uint64_t(sy * n + sx));
                     Color c = integrator->Li(r, seed, local, alpha ? &hit : nullptr);

@@ -388,9 +388,23 @@ uint32_t Scene::skipFor(const SurfaceInteraction& si, const Vec3& dir) const {
     return kNoPrim;
 }
 
+namespace {
+/// The texture-coordinate area a cone of width w covers where it meets a triangle with world
+/// edge cross product length len and texture coordinates t0, t1, t2 at incidence cosine
+/// `cosine`: the footprint's area on the surface (w²/|cos|, capped at grazing), times the
+/// triangle's ratio of texture area to world area.
+float uvFootprint(float w, float cosine, float len, Vec2 t0, Vec2 t1, Vec2 t2) {
+    const Vec2 a = t1 - t0, b = t2 - t0;
+    const float uvLen = std::abs(a.x * b.y - a.y * b.x);
+    return w * w / std::max(std::abs(cosine), 1e-2f) * (uvLen / len);
+}
+}  // namespace
+
 SurfaceInteraction Scene::interaction(const Ray& r, const Hit& hit) const {
     SurfaceInteraction si;
     si.prim = hit.prim;
+    si.coneWidth = r.coneWidth + r.coneSpread * hit.t;
+    si.coneSpread = r.coneSpread;
     const uint32_t nTri = static_cast<uint32_t>(triMesh_.size());
     const uint32_t nSph = static_cast<uint32_t>(spheres.size());
     if (hit.prim < nTri) {
@@ -416,6 +430,13 @@ SurfaceInteraction Scene::interaction(const Ray& r, const Hit& hit) const {
         if (!mesh.tangents.empty())
             si.tangent = b0 * mesh.tangents[idx[0]] + b1 * mesh.tangents[idx[1]] + b2 * mesh.tangents[idx[2]];
         if (!mesh.colors.empty()) si.color = b0 * mesh.colors[idx[0]] + b1 * mesh.colors[idx[1]] + b2 * mesh.colors[idx[2]];
+        if (si.coneWidth > 0.f && len > 0.f) {
+            const float cosine = glm::dot(si.ng, r.d);
+            if (!mesh.uvs.empty())
+                si.uvArea.x = uvFootprint(si.coneWidth, cosine, len, mesh.uvs[idx[0]], mesh.uvs[idx[1]], mesh.uvs[idx[2]]);
+            if (!mesh.uvs1.empty())
+                si.uvArea.y = uvFootprint(si.coneWidth, cosine, len, mesh.uvs1[idx[0]], mesh.uvs1[idx[1]], mesh.uvs1[idx[2]]);
+        }
         si.material = mesh.material;
         si.mesh = static_cast<int>(triMesh_[hit.prim]);
         si.tri = triLocal_[hit.prim];

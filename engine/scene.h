@@ -42,6 +42,11 @@ struct SurfaceInteraction {
     Vec2 uv1{0.f};
     Vec4 tangent{0.f};
     Vec4 color{1.f};   ///< vertex colour (glTF COLOR_0, linear RGBA); white without one
+    /// The hit ray's cone (Ray::coneWidth, coneSpread) at p: the width there and its spread.
+    float coneWidth = 0.f, coneSpread = 0.f;
+    /// Texture-coordinate area the cone's footprint covers on the surface, for TEXCOORD_0 (x)
+    /// and TEXCOORD_1 (y): what texture lookups filter over (mip level). 0: unfiltered.
+    Vec2 uvArea{0.f};
     int material = 0;
     int mesh = -1;
     uint32_t tri = 0;

@@ -9,7 +9,7 @@ namespace {
 /// ns bent by the normal texture in the frame of the interpolated tangent (Gram–Schmidt against
 /// ns, handedness in tangent.w); ns unchanged where that frame or the result degenerates.
 Vec3 normalMapped(const Scene& scene, const Material& m, const SurfaceInteraction& si, const Vec3& ns) {
-    const Vec3 tn = normalTextureSample(scene.textures, m, si.uv, si.uv1);
+    const Vec3 tn = normalTextureSample(scene.textures, m, si.uv, si.uv1, si.uvArea);
     Vec3 t = Vec3(si.tangent) - ns * glm::dot(ns, Vec3(si.tangent));
     const float tl = glm::length(t);
     if (!(tl > 0.f)) return ns;

@@ -112,6 +112,8 @@ Color WhittedTracer::traceHit(const Ray& r, const Hit& hit, int depth, const Col
             Ray rr;
             rr.o = spawnOrigin(si.p, si, ng, dir, skip);
             rr.d = dir;
+            rr.coneWidth = si.coneWidth;
+            rr.coneSpread = si.coneSpread;
             ++stats.reflection;
             c += kr * trace(rr, depth + 1, w, stats, childSeed(seed, 1), skip);
         }
@@ -124,6 +126,8 @@ Color WhittedTracer::traceHit(const Ray& r, const Hit& hit, int depth, const Col
             Ray tr;
             tr.o = spawnOrigin(si.p, si, ng, refrDir, skip);
             tr.d = refrDir;
+            tr.coneWidth = si.coneWidth;
+            tr.coneSpread = si.coneSpread;
             ++stats.refraction;
             c += kt * filter * trace(tr, depth + 1, w, stats, childSeed(seed, 2), skip);
         }

@@ -78,6 +78,8 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
             Ray rr;
             rr.o = spawnOrigin(si.p, si, frame.ng, R, skip);
             rr.d = R;
+            rr.coneWidth = si.coneWidth;
+            rr.coneSpread = si.coneSpread;
             ++stats.reflection;
             specular = share * trace(rr, depth + 1, w, stats, childSeed(seed, 3), skip);
             traced = share;
