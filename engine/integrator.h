@@ -20,9 +20,12 @@ public:
     virtual ~Integrator() = default;
     /// Radiance arriving at the camera along primary ray r; counts the rays it traces in stats.
     /// seed (sampler.h's sampleSeed of frame, pixel and sample) drives every random choice the
-    /// integrator makes along the ray, so a pixel is the same on any rank and thread. *hit (if not null) gets whether r met geometry: the pixel's coverage (alpha). With a
-    /// transparent background a primary ray that misses brings no radiance.
-    virtual Color Li(const Ray& r, uint64_t seed, RayStats& stats, bool* hit) const = 0;
+    /// integrator makes along the ray, so a pixel is the same on any rank and thread.
+    /// *coverage (if not null) gets the sample's share of the pixel's alpha: 1 where r met
+    /// geometry, 0 where it missed, the shadow's strength where it met a shadow catcher over a
+    /// transparent background. With a transparent background a primary ray that misses brings
+    /// no radiance, and the radiance is premultiplied by the coverage.
+    virtual Color Li(const Ray& r, uint64_t seed, RayStats& stats, float* coverage) const = 0;
 };
 
 /// The integrator settings.integrator names, over scene (which must outlive it).

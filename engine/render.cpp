@@ -25,7 +25,7 @@ void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, 
         for (int x = rect.x0; x < rect.x1; ++x) {
             const uint64_t pixel = uint64_t(y) * uint64_t(settings.width) + uint64_t(x);
             Color sum(0.f);
-            int hits = 0;
+            float hits = 0.f;  // coverage: whole samples add exactly, as the count of hits did
             for (int sy = 0; sy < n; ++sy) {
                 for (int sx = 0; sx < n; ++sx) {
                     float jx = 0.5f, jy = 0.5f;
@@ -36,10 +36,10 @@ void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, 
                     }
                     Ray r = rays.generate(x + (sx + jx) * invN, y + (sy + jy) * invN);
                     r.coneSpread *= invN;  // each of n×n samples covers its stratum of the pixel
-                    bool hit = false;
+                    float covered = 0.f;
                     const uint64_t seed = sampleSeed(frame, pixel, uint64_t(sy * n + sx));
-                    Color c = integrator->Li(r, seed, local, alpha ? &hit : nullptr);
-                    hits += hit;
+                    Color c = integrator->Li(r, seed, local, alpha ? &covered : nullptr);
+                    hits += covered;
                     if (!isFinite(c)) {
                         c = Color(0.f);
                         ++local.nonFinite;

@@ -3,6 +3,7 @@
 /// structure over them. World position = render position + renderOrigin (kept in double, so a
 /// model far from the world origin keeps its float precision).
 #include <memory>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json_fwd.hpp>
@@ -86,6 +87,9 @@ public:
     /// Primary rays that miss everything see the environment instead of `background`
     /// (secondary rays see it whenever there is one).
     bool environmentBackground = false;
+    /// Render-space height of the shadow catcher of --ground shadow (shadow_catcher.h): camera
+    /// rays that reach it see what lies behind it dimmed by the model's shadow. None: no ground.
+    std::optional<float> shadowCatcherHeight;
     Color ambientLight{1.f};  ///< I_amb of the seed's model
     RenderSettings settings;  ///< defaults from the scene file; the CLI may override
     DVec3 renderOrigin{0.0};

@@ -12,6 +12,7 @@
 #include "json_reader.h"
 #include "model_path.h"
 #include "sample_count.h"
+#include "shadow_catcher.h"
 #include "gltf_loader.h"
 #include "json_guard.h"
 
@@ -180,7 +181,7 @@ public:
         const std::string text = fs_.read(path_, 1ull << 30);
         const json root = parseUserJson(path_, text);
         rd_.allowKeys(root, "", {"camera", "background", "ambient", "render", "materials", "lights", "objects", "timeline",
-                                 "turntable", "exposure", "environment", "comment"});
+                                 "turntable", "exposure", "environment", "ground", "comment"});
         Scene s;
         s.sourcePath = path_;
         DVec3 eye(0, 0, 5), target(0.0);
@@ -200,6 +201,7 @@ public:
             s.background = rd_.color(root, "background", "", s.background);
         }
         s.ambientLight = rd_.color(root, "ambient", "", s.ambientLight);
+        const bool fileGround = root.contains("ground") && readGround(root["ground"]) == Ground::Shadow;
         if (root.contains("render")) readRender(rd_, root["render"], s.settings);
         applyRenderSize(options_, s.settings);
         if (root.contains("exposure")) readExposure(rd_, root["exposure"], s.settings);
@@ -231,6 +233,7 @@ public:
         attachEnvironment(s, root.contains("environment") ? std::optional(readEnvironment(root["environment"])) : std::nullopt,
                           options_, fs_);
         s.build();
+        if (fileGround) placeGround(s, Ground::Shadow);  // the command line's --ground, if any, comes after
         return s;
     }
 
@@ -339,6 +342,14 @@ private:
         s.meshes.push_back(std::move(m));
     }
 
+    /// "ground": "shadow" (an invisible shadow catcher under the model) or "none".
+    Ground readGround(const json& j) const {
+        const std::string g = j.is_string() ? j.get<std::string>() : "";
+        if (g == "shadow") return Ground::Shadow;
+        if (g != "none") rd_.fail("ground", "expected \"shadow\" or \"none\"");
+        return Ground::None;
+    }
+
     /// "environment": "FILE" or {"file": FILE (none: the built-in studio), "rotation": degrees
     /// about +Y, "intensity": k}. FILE is relative to the scene file.
     EnvironmentSpec readEnvironment(const json& j) const {
@@ -376,9 +387,12 @@ Scene loadJsonScene(const std::string& path, FileSource& fs, const SceneOptions&
 }
 
 Scene loadScene(const std::string& path, FileSource& fs, const SceneOptions& options) {
-    if (lowerExtension(path) == ".json") return loadJsonScene(path, fs, options);
-    if (isGltfPath(path)) return loadGltfScene(path, fs, options);
-    throw InputError(path, "unknown scene type (expected .json, .gltf or .glb)");
+    Scene s;
+    if (lowerExtension(path) == ".json") s = loadJsonScene(path, fs, options);
+    else if (isGltfPath(path)) s = loadGltfScene(path, fs, options);
+    else throw InputError(path, "unknown scene type (expected .json, .gltf or .glb)");
+    if (options.ground) placeGround(s, *options.ground);
+    return s;
 }
 
 }  // namespace rf

@@ -14,6 +14,12 @@ struct EnvironmentSpec {
     float intensity = 1.f;
 };
 
+/// What `--ground` (the scene file's "ground") puts under the model.
+enum class Ground {
+    None,
+    Shadow,  ///< an invisible shadow catcher at the bottom of the bounds (shadow_catcher.h)
+};
+
 struct SceneOptions {
     std::optional<EnvironmentSpec> environment;  ///< replaces the scene's own
     std::optional<float> environmentRotation;    ///< overrides the rotation of whichever is used
@@ -21,6 +27,7 @@ struct SceneOptions {
     /// The render's size (--size; 0: the scene's own). The scene carries it so that a framing
     /// built from the scene (a turntable's auto distance) fits the picture's aspect ratio.
     int width = 0, height = 0;
+    std::optional<Ground> ground;  ///< replaces the scene file's "ground"
 };
 
 /// The options' render size over the scene's settings.

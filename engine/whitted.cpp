@@ -14,6 +14,7 @@ WhittedTracer::WhittedTracer(const Scene& scene, const RenderSettings& settings)
     for (const Material& m : scene.materials)
         specFloor_.push_back(m.shininess > 0.f ? std::exp2(-40.f / m.shininess) : 0.f);
     for (const Material& m : scene.materials) seeThroughShadows_ |= m.gltfPbr && m.transmission > 0.f;
+    if (scene.shadowCatcherHeight) catcher_.emplace(scene);
 }
 
 std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const RenderSettings& settings) {
@@ -64,15 +65,29 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
     return c;
 }
 
-Color WhittedTracer::Li(const Ray& r, uint64_t seed, RayStats& stats, bool* hit) const {
+Color WhittedTracer::Li(const Ray& r, uint64_t seed, RayStats& stats, float* coverage) const {
     ++stats.primary;
     if (settings_.indirectSamples <= 0) seed = kNoSampleSeed;
-    if (!hit && !scene_.transparentBackground) return trace(r, 1, Color(1.f), stats, seed);
     Hit h;
     const bool met = scene_.intersect(r, h);
-    if (hit) *hit = met;
+    float tGround = 0.f;
+    if (catcher_ && catcher_->hit(r, met ? h.t : kInf, tGround)) return groundLi(r, tGround, stats, coverage);
+    if (coverage) *coverage = met ? 1.f : 0.f;
     if (!met) return scene_.transparentBackground ? Color(0.f) : primaryMiss(r.d);
     return traceHit(r, h, 1, Color(1.f), stats, seed);
+}
+
+Color WhittedTracer::groundLi(const Ray& r, float t, RayStats& stats, float* coverage) const {
+    // p = o + t·d to a few ulps of each term (pbrt's bound for a point on a ray).
+    const Vec3 p = r.o + t * r.d;
+    const Vec3 pError = gamma(5) * (glm::abs(r.o) + glm::abs(t * r.d));
+    const CatcherLight l = catcher_->light(p, pError, stats);
+    if (scene_.transparentBackground) {
+        if (coverage) *coverage = l.shadow;
+        return Color(0.f);
+    }
+    if (coverage) *coverage = 1.f;
+    return primaryMiss(r.d) * l.share;
 }
 
 Color WhittedTracer::trace(const Ray& r, int depth, const Color& weight, RayStats& stats, uint64_t seed, uint32_t skip) const {

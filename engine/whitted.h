@@ -2,12 +2,14 @@
 /// The seed's recursive (Whitted) tracer: ambient + Lambert + Phong per light with distance
 /// attenuation, hard shadows, mirror reflection and Snell refraction, a depth limit and the
 /// rule that prunes secondary rays whose weight would not show.
+#include <optional>
 #include <vector>
 
 #include "brdf_gltf.h"
 #include "integrator.h"
 #include "scene.h"
 #include "shading_frame.h"
+#include "shadow_catcher.h"
 
 namespace rf {
 
@@ -16,7 +18,7 @@ public:
     WhittedTracer(const Scene& scene, const RenderSettings& settings);
 
     /// Radiance along a primary ray (counted as primary); see Integrator::Li.
-    Color Li(const Ray& r, uint64_t seed, RayStats& stats, bool* hit) const override;
+    Color Li(const Ray& r, uint64_t seed, RayStats& stats, float* coverage) const override;
 
     /// Local illumination at a surface point seen along direction d (the seed's Phong formula).
     /// weight: what the result is worth in the pixel; a light whose term would count for no
@@ -55,6 +57,9 @@ private:
     Color missRadiance(const Vec3& d) const;
     /// What a primary ray that meets nothing shows: the environment where it is the background.
     Color primaryMiss(const Vec3& d) const;
+    /// A primary ray that meets the shadow catcher at distance t: what lies behind it dimmed by
+    /// the shadow, or over a transparent background no colour and the shadow as coverage.
+    Color groundLi(const Ray& r, float t, RayStats& stats, float* coverage) const;
     /// The Phong (or Blinn–Phong) specular term k_spec·x^n for light direction l.
     float specular(const Material& m, int material, const Vec3& ns, const Vec3& l, const Vec3& V) const;
 
@@ -62,6 +67,7 @@ private:
     RenderSettings settings_;
     std::vector<float> specFloor_;  ///< per material: the Phong term is skipped below this cosine
     bool seeThroughShadows_ = false;  ///< some material transmits: shadow rays filter through it
+    std::optional<ShadowCatcher> catcher_;  ///< --ground shadow
 };
 
 }  // namespace rf

@@ -120,7 +120,7 @@ void applyQualityOptions(const ArgParser& p, RenderSettings& s) {
 }
 
 void declareSceneOptions(ArgParser& p) {
-    for (const char* o : {"--environment", "--environment-rotation", "--environment-intensity"}) p.option(o);
+    for (const char* o : {"--environment", "--environment-rotation", "--environment-intensity", "--ground"}) p.option(o);
 }
 
 SceneOptions sceneOptions(const ArgParser& p) {
@@ -135,6 +135,11 @@ SceneOptions sceneOptions(const ArgParser& p) {
         const double k = p.doubleValue("--environment-intensity", 1.0);
         if (k < 0.0) throw UsageError("--environment-intensity: expected a number >= 0");
         o.environmentIntensity = float(k);
+    }
+    if (auto g = p.value("--ground")) {
+        if (*g == "shadow") o.ground = Ground::Shadow;
+        else if (*g == "none") o.ground = Ground::None;
+        else throw UsageError("--ground: expected shadow or none, got \"" + *g + "\"");
     }
     return o;
 }

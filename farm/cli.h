@@ -49,7 +49,8 @@ void applyQualityOptions(const ArgParser& p, RenderSettings& s);
 void printLine(const std::string& kind, const std::string& text);
 /// Writes text (whole lines) to stderr in a single write().
 void writeStderr(const std::string& text);
-/// Declares --environment FILE, --environment-rotation DEG and --environment-intensity K.
+/// Declares --environment FILE, --environment-rotation DEG, --environment-intensity K and
+/// --ground shadow|none.
 void declareSceneOptions(ArgParser& p);
 /// Reads them (declare them first), and --size where the command has it; throws UsageError for
 /// values that are not numbers.

@@ -45,7 +45,10 @@ const char* kStillHelp =
     "                    #RRGGBB (sRGB) or R,G,B (linear); default: the scene's\n"
     "  --environment F   light the scene with an equirectangular .hdr or .exr environment\n"
     "                    (Blender's orientation), also seen where rays miss everything\n"
-    "  --environment-rotation DEG   turn it about +Y;  --environment-intensity K   scale it\n";
+    "  --environment-rotation DEG   turn it about +Y;  --environment-intensity K   scale it\n"
+    "  --ground G        shadow: an invisible ground under the model that shows only the shadows\n"
+    "                    and contact darkening on it (with a transparent background, as alpha);\n"
+    "                    none: no ground (default: the scene file's \"ground\")\n";
 
 /// Sets the scene to the still's moment and returns its frame index (the noise seed). The still
 /// is one frame of the scene's film: frame 0 unless --frame or --time says otherwise.
