@@ -45,7 +45,7 @@ const char* kReportHelpHead =
     "  --size WxH              image size (default: the scene's)\n"
     "  --target-psnr DB        the error the summary answers for (default 30)\n"
     "  --threads N             worker threads (default: all cores)\n"
-    "  --spp N, --depth N, --min-weight W, --tonemap T, --exposure EV|auto\n"
+    "  --spp N, --depth N, --min-weight W, --indirect N, --tonemap T, --exposure EV|auto\n"
     "                          the default setting the sweep is centred on (default: the scene's)\n"
     "  --environment F, --environment-rotation DEG, --environment-intensity K, --background B\n"
     "                          the picture, as rayfarm still takes them (--background: a colour)\n"
@@ -258,8 +258,9 @@ RenderSettings baseSettings(const ArgParser& p, const Scene& scene, const anim::
 int runReport(const std::vector<std::string>& args) {
     ArgParser p("report");
     for (const char* o : {"--out", "--frame", "--size", "--target-psnr", "--threads", "--spp", "--depth",
-                          "--min-weight", "--tonemap", "--exposure", "--grid", "--ref-spp", "--ref-depth",
-                          "--reference", "--camera", "--background", "--video-frames", "--video-crf", "--video-preset"})
+                          "--min-weight", "--indirect", "--tonemap", "--exposure", "--grid", "--ref-spp", "--ref-depth",
+                          "--reference", "--camera", "--background", "--video-frames", "--video-crf",
+                          "--video-preset"})
         p.option(o);
     for (const report::QualityKnob& k : report::qualityKnobs()) p.option(report::sweepOption(k));
     declareSceneOptions(p);

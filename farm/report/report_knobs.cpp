@@ -50,6 +50,8 @@ const std::vector<QualityKnob>& qualityKnobs() {
                                         1, 64, {1, 2, 3, 4, 5, 6, 7, 8}),
         knob<&RenderSettings::minWeight>("min_weight", "min_weight", "min weight %g", "w%g", "pruning weight",
                                          KnobValues::Fraction, 0, 1, {0, 1e-3, 1e-2, 0.1}),
+        knob<&RenderSettings::indirectSamples>("indirect", "indirect_samples", "indirect %g", "i%g", "indirect samples",
+                                               KnobValues::Integer, 0, kMaxIndirectSamples, {0, 1, 4, 16}),
     };
     return knobs;
 }

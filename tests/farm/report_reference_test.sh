@@ -10,7 +10,8 @@ model=$src/scenes/pbr_grid/pbr_grid.gltf
 rm -rf "$out" && mkdir -p "$out"
 fail() { echo "FAIL: $*"; exit 1; }
 pic=(--camera 0 --exposure 0 --tonemap clamp)
-sweep=(--no-video --spp 1 --depth 5 --min-weight 0.001 --sweep-spp 1,4 --sweep-depth 5 --sweep-min-weight 0.001)
+sweep=(--no-video --spp 1 --depth 5 --min-weight 0.001 --indirect 0 --sweep-spp 1,4 --sweep-depth 5
+       --sweep-min-weight 0.001 --sweep-indirect 0)
 
 # The CSV cell of the row whose first cells are "factor,spp" in column NAME.
 cell() {  # file factor spp name
@@ -30,6 +31,13 @@ awk -v p="$psnr4" -v s="$ssim4" 'BEGIN { exit !(p != "inf" && p + 0 > 10 && s + 
 [ -e "$out/same/reference.png" ] && fail "an external reference was copied or rendered as reference.png"
 grep -q "an image made elsewhere" "$out/same/summary.md" || fail "summary.md does not name the external reference"
 [ -s "$out/same/error_vs_time.png" ] || fail "no plot"
+
+# The indirect-light knob is swept too, and changes the picture.
+"$rayfarm" report "$model" "${pic[@]}" "${sweep[@]}" --sweep-spp 1 --sweep-indirect 0,1 --reference "$out/still.png" \
+  --out "$out/indirect" 2>"$out/indirect.log" || fail "report --sweep-indirect 0,1: $(cat "$out/indirect.log")"
+ind=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+  $c["factor"] == "indirect" && $c["indirect_samples"] == 1 { print $c["psnr_db"] }' "$out/indirect/report.csv")
+[ -n "$ind" ] && [ "$ind" != inf ] || fail "indirect 1 against the indirect-0 still: PSNR '$ind' (want a finite score)"
 
 # Another picture (one stop brighter) scores lower, and a reference of another size sets the size.
 "$rayfarm" still "$model" --camera 0 --exposure 1 --tonemap clamp --spp 1 --size 48x27 -o "$out/bright.png" \

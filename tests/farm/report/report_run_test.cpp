@@ -56,6 +56,7 @@ QualityReportOptions tinyOptions(const std::string& dir) {
     o.sweep.list("spp") = {1, 4, 16};
     o.sweep.list("depth") = {1, 2, 5};
     o.sweep.list("min_weight") = {0.f, 0.1f};
+    o.sweep.list("indirect") = {0};
     o.sweep.base = {1, 5, 1e-3f};
     o.reference = {64, 8, 0.f};
     o.targetPsnr = 20.0;
@@ -108,6 +109,7 @@ TEST(ReportRun, SceneWithGlassAndLightsUsesEveryRayKind) {
     o.sweep.list("spp") = {1};
     o.sweep.list("depth") = {5};
     o.sweep.list("min_weight") = {1e-3f};
+    o.sweep.list("indirect") = {0};
     const QualityReport rep = runQualityReport(sc, sc.settings, o);
     EXPECT_TRUE(rep.rayNotes.empty());
     EXPECT_GT(rep.reference.rays.refraction, 0u);
@@ -129,6 +131,7 @@ TEST(ReportRun, AnExternalReferenceEqualToOneRenderScoresThatSettingExactly) {
     o.sweep.list("spp") = {1, 4, 16};
     o.sweep.list("depth") = {5};
     o.sweep.list("min_weight") = {1e-3f};
+    o.sweep.list("indirect") = {0};
     const QualitySetting match{4, 5, 1e-3f};
     o.external = readExternalReference(writeRender(sc, match, dir + "/external.png"));
     const QualityReport rep = runQualityReport(sc, sc.settings, o);
@@ -190,6 +193,8 @@ TEST(ReportCli, RefusesBadOptionsBeforeRendering) {
     EXPECT_THROW(cli::runReport({scene, "--out", dir, "--sweep-spp", "1,3"}), UsageError);
     EXPECT_THROW(cli::runReport({scene, "--out", dir, "--sweep-depth", "0"}), UsageError);
     EXPECT_THROW(cli::runReport({scene, "--out", dir, "--sweep-min-weight", "x"}), UsageError);
+    EXPECT_THROW(cli::runReport({scene, "--out", dir, "--sweep-indirect", "1.5"}), UsageError);
+    EXPECT_THROW(cli::runReport({scene, "--out", dir, "--sweep-indirect", "-1"}), UsageError);
     EXPECT_THROW(cli::runReport({scene, "--out", dir, "--grid", "half"}), UsageError);
     EXPECT_THROW(cli::runReport({scene, "--out", dir, "--ref-spp", "10"}), UsageError);
     EXPECT_THROW(cli::runReport({scene, "--out", dir, "--frame", "1"}), UsageError);  // one frame only
@@ -203,8 +208,8 @@ TEST(ReportCli, RunsEndToEndOnASceneFile) {
     const std::string scene = writeScene(dir);
     const std::string out = dir + "/out";
     EXPECT_EQ(cli::runReport({scene, "--out", out, "--sweep-spp", "1,4", "--sweep-depth", "1,2", "--sweep-min-weight",
-                              "0", "--ref-spp", "16", "--threads", "1", "--video-crf", "18,40", "--video-preset",
-                              "ultrafast"}),
+                              "0", "--sweep-indirect", "0", "--ref-spp", "16", "--threads", "1", "--video-crf", "18,40",
+                              "--video-preset", "ultrafast"}),
               0);
     const auto csv = readCsv(out + "/report.csv");
     // Base (scene default 1 spp, depth 5, 1e-3) + 2 + 2 + 1 − 1 (base on the spp line).
@@ -238,9 +243,10 @@ TEST(ReportCli, FramePosesTheSceneByItsTimeline) {
                    "camera": {"orbit": {"center": [0, 0, 0], "radius": 5, "height": 2, "period": 1}}}})";
     auto run = [&](const std::string& frame) {
         const std::string out = dir + "/f" + frame;
-        EXPECT_EQ(cli::runReport({scene, "--out", out, "--frame", frame, "--no-video", "--sweep-spp", "1",
-                                  "--sweep-depth", "2", "--sweep-min-weight", "0", "--ref-spp", "4"}),
-                  0);
+        EXPECT_EQ(
+            cli::runReport({scene, "--out", out, "--frame", frame, "--no-video", "--sweep-spp", "1", "--sweep-depth",
+                            "2", "--sweep-min-weight", "0", "--sweep-indirect", "0", "--ref-spp", "4"}),
+            0);
         int w = 0, h = 0;
         return readImageRgb8(out + "/reference.png", w, h);
     };
@@ -259,9 +265,10 @@ TEST(ReportCli, TheRenderTakesTheReferenceSizeAndRefusesAnother) {
     const std::string ref = dir + "/ref.png";
     writePng(ref, 30, 20, std::vector<uint8_t>(30 * 20 * 3, 128));
     const std::string out = dir + "/out";
-    EXPECT_EQ(cli::runReport({scene, "--out", out, "--reference", ref, "--no-video", "--sweep-spp", "1",
-                              "--sweep-depth", "2", "--sweep-min-weight", "0", "--threads", "1"}),
-              0);
+    EXPECT_EQ(
+        cli::runReport({scene, "--out", out, "--reference", ref, "--no-video", "--sweep-spp", "1", "--sweep-depth", "2",
+                        "--sweep-min-weight", "0", "--sweep-indirect", "0", "--threads", "1"}),
+        0);
     int w = 0, h = 0;
     readImageRgb8(out + "/default.png", w, h);
     EXPECT_EQ(w, 30);
