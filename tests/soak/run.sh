@@ -3,8 +3,9 @@
 # renders FRAMES frames (default 3600: two minutes of video at 30 fps) of SIZE (default 160x90)
 # at 1 spp under
 # `mpirun -np 3` in frame mode, keeping PNG frames, and samples the resident set (VmRSS) of every
-# rank once a second. After the warm-up (the first fifth of the samples, at least 3 s), no
-# rank's RSS may grow more than 5% over its level at the end of the warm-up, up to 3 s before
+# rank once a second (SOAK_PERIOD seconds; the smoke run samples four times a second, so a quick
+# machine still gives it enough samples). After the warm-up (the first fifth of the samples, at least 3), no
+# rank's RSS may grow more than 5% over its level at the end of the warm-up, up to 3 samples before
 # the end (the close, with rank 0's remux, is left out): a leak per frame or per message shows
 # as steady growth. Also checks the video holds every frame.
 # The default suite runs a 2400-frame 128x72 smoke version; the full one (5th argument opt-in) runs with
@@ -42,10 +43,10 @@ PY
 
 mpirun --oversubscribe -np 3 "$RAYFARM" render soak.json -o soak.mp4 --size "$SIZE" --spp 1 --mode frame 2> soak.log &
 pid=$!
-# One sample a second of every rank's VmRSS (kB), by the ranks' own environment: "seconds rank kB".
-python3 - "$pid" > rss.csv <<'PY'
+# One sample a period of every rank's VmRSS (kB), by the ranks' own environment: "tick rank kB".
+python3 - "$pid" "${SOAK_PERIOD:-1}" > rss.csv <<'PY'
 import os, sys, time
-parent, start = sys.argv[1], time.monotonic()
+parent, period, start = sys.argv[1], float(sys.argv[2]), time.monotonic()
 def ranks():
     for p in os.listdir("/proc"):
         try:
@@ -66,7 +67,7 @@ while os.path.exists("/proc/" + parent):
         except OSError:
             pass
     tick += 1
-    time.sleep(max(0.0, start + tick - time.monotonic()))
+    time.sleep(max(0.0, start + tick * period - time.monotonic()))
 PY
 wait "$pid" || { cat soak.log; fail "the $FRAMES-frame run failed"; }
 frames=$(ffprobe -v error -select_streams v:0 -count_frames -show_entries stream=nb_read_frames -of csv=p=0 soak.mp4)
@@ -83,15 +84,15 @@ worst = []
 for rank, samples in sorted(rss.items()):
     n = len(samples)
     if n < 8:
-        sys.exit("FAIL: rank %d: only %d samples (the run must last at least 8 s)" % (rank, n))
+        sys.exit("FAIL: rank %d: only %d samples (the run must last at least 8 sample periods)" % (rank, n))
     warm = max(3, n // 5)
     base = max(kb for _, kb in samples[warm - 2:warm + 1])  # the level the warm-up reached
-    # Up to 3 s before the end: the close is no steady state (rank 0 remuxes the whole film to
+    # Up to 3 samples before the end: the close is no steady state (rank 0 remuxes the whole film to
     # faststart there, its index in memory: +2.7 MB for 3,600 frames).
     peak = max(kb for _, kb in samples[warm:n - 3])
     growth = (peak - base) / base
     worst.append(growth)
-    print("soak: rank %d: %d samples, RSS %.1f MB after warm-up (%d s), peak %.1f MB later: %+.1f%%"
+    print("soak: rank %d: %d samples, RSS %.1f MB after warm-up (sample %d), peak %.1f MB later: %+.1f%%"
           % (rank, n, base / 1024, samples[warm][0], peak / 1024, 100 * growth))
     if growth >= 0.05:
         sys.exit("FAIL: rank %d's RSS grew %.1f%% after warm-up (bound 5%%)" % (rank, 100 * growth))
