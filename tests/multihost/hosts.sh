@@ -47,6 +47,33 @@ on_host() { local h=$1; shift; "$AGENT" "$h" "$(printf '%q ' "$@")"; }
 
 cut_link() { ip link set "$(host_port "$1")" down; }
 
+# Plugs host H's cable back in and waits (up to 10 s) until farm1 reaches it over TCP again: the
+# next mpirun's daemon there must connect back at once, and right after the link comes up the
+# first connections can fail ("ORTE was unable to reliably start one or more daemons").
+restore_link() {
+    local h=$1 port=47999 i
+    ip link set "$(host_port "$h")" up
+    ip netns exec "$(host_ns "$h")" python3 -c '
+import socket, sys
+s = socket.socket()
+s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+s.bind(("0.0.0.0", int(sys.argv[1])))
+s.listen(8)
+s.settimeout(10)
+try:
+    s.accept()[0].close()
+except socket.timeout:
+    pass' "$port" &
+    local listener=$!
+    for i in $(seq 100); do
+        ip netns exec "$(host_ns farm1)" python3 -c '
+import socket, sys
+socket.create_connection((sys.argv[1], int(sys.argv[2])), timeout=0.5).close()' "$h" "$port" 2> /dev/null && break
+        sleep 0.1
+    done
+    wait "$listener" 2> /dev/null || true
+}
+
 hosts_down() {
     local h ns pids
     for h in "${HOSTS[@]}"; do

@@ -140,7 +140,7 @@ grep -q "rayfarm: error: rank 2 on farm3 stopped answering" cut0.log || { cat cu
 within "$shell0_s" 15 || fail "default keepalive: mpirun returned $shell0_s s after the cut (bound 15 s)"
 left=$(host_pids farm3 | xargs -r ps -o comm= -p | sort | uniq -c | xargs)
 kill -9 $(host_pids farm2) $(host_pids farm3) 2> /dev/null || true
-ip link set "$(host_port farm3)" up
+restore_link farm3
 KEEPALIVE=("${saved[@]}")
 echo "multihost: farm3 cut off, default keepalive: named after ${named_s:-?} s, shell back in $shell0_s s, farm3's worker left by itself in $worker_s s;" \
      "left on farm3: ${left:-nothing}"
