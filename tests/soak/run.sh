@@ -4,7 +4,10 @@
 # at 1 spp under
 # `mpirun -np 3` in frame mode, keeping PNG frames, and samples the resident set (VmRSS) of every
 # rank once a second (SOAK_PERIOD seconds; the smoke run samples four times a second, so a quick
-# machine still gives it enough samples). After the warm-up (the first fifth of the samples, at least 3), no
+# machine still gives it enough samples), with the size of the video written so far. The warm-up
+# lasts until the video holds a tenth of its final size (and at least a fifth of the samples, at
+# least 3): under load, start-up (the encoder's buffers, the first frames) takes longer than any
+# fixed share of the samples. After it, no
 # rank's RSS may grow more than 5% over its level at the end of the warm-up, up to 3 samples before
 # the end (the close, with rank 0's remux, is left out): a leak per frame or per message shows
 # as steady growth. Also checks the video holds every frame.
@@ -43,7 +46,8 @@ PY
 
 mpirun --oversubscribe -np 3 "$RAYFARM" render soak.json -o soak.mp4 --size "$SIZE" --spp 1 --mode frame 2> soak.log &
 pid=$!
-# One sample a period of every rank's VmRSS (kB), by the ranks' own environment: "tick rank kB".
+# One sample a period of every rank's VmRSS (kB), by the ranks' own environment: "tick rank kB",
+# and of the video's size so far: "tick video bytes".
 python3 - "$pid" "${SOAK_PERIOD:-1}" > rss.csv <<'PY'
 import os, sys, time
 parent, period, start = sys.argv[1], float(sys.argv[2]), time.monotonic()
@@ -66,6 +70,10 @@ while os.path.exists("/proc/" + parent):
                 print(tick, rank, kb[0], flush=True)
         except OSError:
             pass
+    try:
+        print(tick, "video", os.path.getsize("soak.mp4"), flush=True)
+    except OSError:
+        print(tick, "video", 0, flush=True)
     tick += 1
     time.sleep(max(0.0, start + tick * period - time.monotonic()))
 PY
@@ -75,9 +83,16 @@ frames=$(ffprobe -v error -select_streams v:0 -count_frames -show_entries stream
 python3 - rss.csv <<'PY'
 import collections, sys
 rss = collections.defaultdict(list)
+video = {}
 for line in open(sys.argv[1]):
-    t, rank, kb = line.split()
-    rss[int(rank)].append((int(t), int(kb)))
+    t, rank, value = line.split()
+    if rank == "video":
+        video[int(t)] = int(value)
+    else:
+        rss[int(rank)].append((int(t), int(value)))
+final = max(video.values(), default=0)
+# The first tick at which the video holds a tenth of its final size: start-up is over by then.
+warm_tick = min((t for t, size in video.items() if size >= final / 10), default=0)
 if len(rss) != 3:
     sys.exit("FAIL: RSS sampled for ranks %s, expected 0-2" % sorted(rss))
 worst = []
@@ -85,7 +100,9 @@ for rank, samples in sorted(rss.items()):
     n = len(samples)
     if n < 8:
         sys.exit("FAIL: rank %d: only %d samples (the run must last at least 8 sample periods)" % (rank, n))
-    warm = max(3, n // 5)
+    warm = max(3, n // 5, sum(1 for t, _ in samples if t < warm_tick))
+    if warm + 4 > n:
+        sys.exit("FAIL: rank %d: %d samples, the warm-up takes %d (the run must last longer)" % (rank, n, warm))
     base = max(kb for _, kb in samples[warm - 2:warm + 1])  # the level the warm-up reached
     # Up to 3 samples before the end: the close is no steady state (rank 0 remuxes the whole film to
     # faststart there, its index in memory: +2.7 MB for 3,600 frames).
