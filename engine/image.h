@@ -44,6 +44,9 @@ float srgbDecode(float encoded);
 float toneMap(float x, ToneMap op);
 /// [0, 1] → 0..255 with rounding; NaN and negatives give 0, +Inf and > 1 give 255.
 uint8_t toByte(float v);
+/// toByte(srgbEncode(v)) for any float, by a table of the 255 thresholds between bytes: the same
+/// byte, without a pow.
+uint8_t srgbByte(float v);
 
 /// Khronos PBR Neutral of a linear colour: unchanged below 0.76 (but for a small black offset),
 /// highlights rolled off towards white along the colour's own hue. Result in [0, 1].

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 
@@ -26,6 +27,52 @@ TEST(Image, SrgbBranchesMeetAtTheThreshold) {
     EXPECT_NEAR(pw, lin, 1e-5f);
     EXPECT_NEAR(srgbEncode(std::nextafter(x, 0.f)), srgbEncode(std::nextafter(x, 1.f)), 1e-5f);
     for (float v : {0.001f, 0.0031308f, 0.01f, 0.2f, 0.5f, 0.9f}) EXPECT_NEAR(srgbDecode(srgbEncode(v)), v, 1e-5f * std::max(1.f, v / 0.01f));
+}
+
+// srgbByte's threshold table gives toByte(srgbEncode(v)) for every float: every 61st bit pattern
+// of [0, 1] (17 million of them), the four floats either side of each of the 255 steps, and the
+// values outside [0, 1]. (Every float of [0, 1], 1.07 billion, was checked once by hand.)
+TEST(Image, SrgbByteMatchesTheFunctionItTabulates) {
+    int mismatches = 0;
+    auto check = [&](float v) {
+        if (srgbByte(v) != toByte(srgbEncode(v)) && ++mismatches <= 5)
+            ADD_FAILURE() << "v = " << v << ": srgbByte " << int(srgbByte(v)) << ", toByte(srgbEncode) " << int(toByte(srgbEncode(v)));
+    };
+    const uint32_t one = 0x3f800000u;
+    for (uint32_t bits = 0; bits <= one; bits += 61) {
+        float v;
+        std::memcpy(&v, &bits, sizeof v);
+        check(v);
+    }
+    int steps = 0;
+    float prev = 0.f;
+    for (int k = 1; k <= 255; ++k) {
+        // The least v of byte k, by the function itself (bisection on the bit patterns).
+        uint32_t lo = 0, hi = one;
+        while (lo < hi) {
+            const uint32_t mid = lo + (hi - lo) / 2;
+            float v;
+            std::memcpy(&v, &mid, sizeof v);
+            if (toByte(srgbEncode(v)) >= k) hi = mid;
+            else lo = mid + 1;
+        }
+        float step;
+        std::memcpy(&step, &lo, sizeof step);
+        EXPECT_GT(step, prev);
+        prev = step;
+        float v = step;
+        for (int i = 0; i < 4; ++i) v = std::nextafter(v, 0.f);
+        for (int i = 0; i < 8; ++i, v = std::nextafter(v, 2.f)) check(v);
+        steps += srgbByte(step) == k && srgbByte(std::nextafter(step, 0.f)) == k - 1;
+    }
+    EXPECT_EQ(steps, 255);
+    for (float v : {-0.f, -1e-30f, -300.f, 1.f, 1.0000001f, 1.5f, 1e30f})
+        check(v);
+    EXPECT_EQ(srgbByte(std::nanf("")), 0);
+    EXPECT_EQ(srgbByte(std::numeric_limits<float>::infinity()), 255);
+    EXPECT_EQ(srgbByte(-std::numeric_limits<float>::infinity()), 0);
+    EXPECT_EQ(srgbByte(0.5f), 188);
+    EXPECT_EQ(mismatches, 0);
 }
 
 TEST(Image, ToByteHandlesOutOfRangeAndNonFinite) {
