@@ -48,42 +48,55 @@ uint8_t toByte(float v) {
 
 namespace {
 
-/// The sRGB byte of a display value by thresholds instead of a pow per channel: kSrgbSteps[k]
-/// is the least float v with toByte(srgbEncode(v)) ≥ k + 1, found by bisection on the float bit
-/// patterns of [0, 1] (ordered like the floats). The composite is non-decreasing, so counting
-/// the thresholds at or below v gives the same byte as computing it; a 256-entry search is
-/// eight compares, against a powf of some 12 ns (7% of a Whitted film's CPU time).
-struct SrgbSteps {
-    float at[256];
-    SrgbSteps() {
+/// The sRGB byte of a display value by table instead of a pow per channel (a powf is some 12 ns,
+/// 7% of a Whitted film's CPU time). step[k] is the least float v with toByte(srgbEncode(v)) ≥
+/// k + 1, found by bisection on the float bit patterns of [0, 1] (ordered like the floats), so
+/// the byte of v is the number of steps at or below it: the composite is non-decreasing.
+/// Counting them is one look-up: the upper 16 bits of v pick a bucket (1/128 of an octave) that
+/// holds at most one step (checked here), and bucket[i] is the byte at the bucket's lowest float.
+struct SrgbTable {
+    float step[256];
+    uint8_t bucket[(0x3f800000u >> 16) + 1];
+    SrgbTable() {
         for (int k = 1; k <= 255; ++k) {
             uint32_t lo = 0, hi = 0x3f800000u;  // bits of 0 and of 1: toByte(srgbEncode(1)) = 255
             while (lo < hi) {
                 const uint32_t mid = lo + (hi - lo) / 2;
-                float v;
-                std::memcpy(&v, &mid, sizeof v);
-                if (toByte(srgbEncode(v)) >= k) hi = mid;
+                if (toByte(srgbEncode(fromBits(mid))) >= k) hi = mid;
                 else lo = mid + 1;
             }
-            std::memcpy(&at[k - 1], &lo, sizeof(float));
+            step[k - 1] = fromBits(lo);
         }
-        at[255] = std::numeric_limits<float>::infinity();  // no byte 256: a sentinel above 1
+        step[255] = std::numeric_limits<float>::infinity();  // no byte 256
+        for (uint32_t i = 0; i < sizeof bucket; ++i) {
+            bucket[i] = toByte(srgbEncode(fromBits(i << 16)));
+            const float last = fromBits(std::min((i << 16) | 0xffffu, 0x3f800000u));
+            if (bucket[i] < 254 && step[bucket[i] + 1] <= last)
+                throw std::logic_error("srgbByte: two sRGB steps in one bucket");
+        }
+    }
+    static float fromBits(uint32_t bits) {
+        float v;
+        std::memcpy(&v, &bits, sizeof v);
+        return v;
     }
 };
 
-const SrgbSteps& srgbSteps() {
-    static const SrgbSteps steps;
-    return steps;
+const SrgbTable& srgbTable() {
+    static const SrgbTable table;
+    return table;
 }
 
 }  // namespace
 
 uint8_t srgbByte(float v) {
-    // Branch-free binary search: after it, i thresholds lie at or below v (NaN passes none).
-    const float* t = srgbSteps().at;
-    unsigned i = 0;
-    for (unsigned half = 128; half; half >>= 1) i += (v >= t[i + half - 1]) ? half : 0;
-    return static_cast<uint8_t>(i);
+    if (!(v > 0.f)) return 0;  // NaN, −0, negatives
+    if (!(v < 1.f)) return 255;
+    static const SrgbTable& t = srgbTable();
+    uint32_t bits;
+    std::memcpy(&bits, &v, sizeof bits);
+    const uint8_t b = t.bucket[bits >> 16];
+    return static_cast<uint8_t>(b + (v >= t.step[b]));
 }
 
 Color pbrNeutral(Color c) {
