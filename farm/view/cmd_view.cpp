@@ -8,6 +8,7 @@
 #include <iostream>
 #include <string>
 #include <thread>
+#include <utility>
 #include <unistd.h>
 
 #include "background_option.h"
@@ -142,29 +143,26 @@ int runWindow(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job, Scen
     return window.failed() ? 1 : status;
 }
 
-int runStopped(const std::string& why, const std::string& picture) {
+/// A window of type W, made from args, in an application of its own (the display checked first)
+/// until it closes: the plain windows that need nothing of the farm.
+template <class W, class... Args>
+int runPlainWindow(Args&&... args) {
     if (!haveDisplay()) throw UsageError(kNoDisplay);
     qInstallMessageHandler(qtMessages);
     int argc = 1;
     char name[] = "rayfarm";
     char* argv[] = {name, nullptr};
     QApplication app(argc, argv);
-    view::StoppedWindow window(why, picture);
+    W window(std::forward<Args>(args)...);
     window.show();
     return app.exec();
 }
 
-int runPreview(const std::string& dir, int total) {
-    if (!haveDisplay()) throw UsageError(kNoDisplay);
-    qInstallMessageHandler(qtMessages);
-    int argc = 1;
-    char name[] = "rayfarm";
-    char* argv[] = {name, nullptr};
-    QApplication app(argc, argv);
-    view::PreviewWindow window(dir, total);
-    window.show();
-    return app.exec();
+int runStopped(const std::string& why, const std::string& picture) {
+    return runPlainWindow<view::StoppedWindow>(why, picture);
 }
+
+int runPreview(const std::string& dir, int total) { return runPlainWindow<view::PreviewWindow>(dir, total); }
 
 /// Under mpirun: rank 0 checks the display and loads the scene, every rank gets it by
 /// broadcast; rank 0 opens the window and the others render for it.
