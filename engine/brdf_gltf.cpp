@@ -39,7 +39,19 @@ Color schlickFresnel(const Color& f0, float vh) {
     return f0 + (Color(1.f) - f0) * (m2 * m2 * m);
 }
 
-Color evalBrdf(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l) {
+ViewTerms viewTerms(const Surface& s, const Vec3& n, const Vec3& v) {
+    ViewTerms vt;
+    const float nv = glm::dot(n, v);
+    if (!(nv > 0.f) || s.metallic >= 1.f || s.transmission >= 1.f) return vt;  // evalBrdf needs neither
+    const float f0 = f0FromIor(s.ior), w = s.specular;
+    vt.diffuseOut = 1.f - w * dielectricAlbedo(f0, s.roughness, nv);
+    vt.diffuseAvg = std::max(1e-4f, 1.f - w * dielectricAlbedoAverage(f0, s.roughness));
+    return vt;
+}
+
+Color evalBrdf(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l) { return evalBrdf(s, n, v, l, viewTerms(s, n, v)); }
+
+Color evalBrdf(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l, const ViewTerms& vt) {
     const float nl = glm::dot(n, l), nv = glm::dot(n, v);
     if (!(nl > 0.f) || !(nv > 0.f)) return Color(0.f);
     Vec3 h = v + l;
@@ -56,17 +68,20 @@ Color evalBrdf(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l) {
     const Color fresnel = s.metallic * schlickFresnel(s.baseColor, vh) + Color((1.f - s.metallic) * s.specular * schlickFresnel(f0, vh));
     const Color spec = fresnel * dv;
     if (s.metallic >= 1.f || s.transmission >= 1.f) return spec;
-    const float w = s.specular;
-    const float couple = (1.f - w * dielectricAlbedo(f0, s.roughness, nv)) * (1.f - w * dielectricAlbedo(f0, s.roughness, nl)) /
-                         std::max(1e-4f, 1.f - w * dielectricAlbedoAverage(f0, s.roughness));
+    const float couple = vt.diffuseOut * (1.f - s.specular * dielectricAlbedo(f0, s.roughness, nl)) / vt.diffuseAvg;
     const Color diffuse = (1.f - s.metallic) * (1.f - s.transmission) * couple * s.baseColor * (1.f / kPi);
     return diffuse + spec;
 }
 
 Color directLight(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l, const Color& irradiance) {
+    return directLight(s, n, v, l, irradiance, viewTerms(s, n, v));
+}
+
+Color directLight(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l, const Color& irradiance,
+                  const ViewTerms& vt) {
     const float nl = glm::dot(n, l);
     if (!(nl > 0.f)) return Color(0.f);
-    return evalBrdf(s, n, v, l) * irradiance * nl;
+    return evalBrdf(s, n, v, l, vt) * irradiance * nl;
 }
 
 MetallicRoughness metallicRoughnessFromTexel(float metallicFactor, float roughnessFactor, const Vec4& texel) {
@@ -201,16 +216,20 @@ float dielectricAlbedoAverage(float f0, float roughness) {
     return f0 * ab.x + ab.y;
 }
 
-Color specularAlbedo(const Surface& s, float nv) {
-    const Vec2 ab = specularScaleBias(nv, s.roughness);
+Color specularAlbedo(const Surface& s, float nv) { return specularAlbedo(s, specularScaleBias(nv, s.roughness)); }
+
+Color specularAlbedo(const Surface& s, Vec2 ab) {
     const float dielectric = s.specular * (f0FromIor(s.ior) * ab.x + ab.y);
     return s.metallic * (s.baseColor * ab.x + Color(ab.y)) + Color((1.f - s.metallic) * dielectric);
 }
 
 Color environmentLight(const Surface& s, float nv, const Color& specularRadiance, const Color& diffuseRadiance) {
-    const Vec2 ab = specularScaleBias(nv, s.roughness);
+    return environmentLight(s, specularScaleBias(nv, s.roughness), specularRadiance, diffuseRadiance);
+}
+
+Color environmentLight(const Surface& s, Vec2 ab, const Color& specularRadiance, const Color& diffuseRadiance) {
     const float ed = s.specular * (f0FromIor(s.ior) * ab.x + ab.y);
-    const Color spec = specularAlbedo(s, nv) * specularRadiance;
+    const Color spec = specularAlbedo(s, ab) * specularRadiance;
     // The coupled diffuse layer under light arriving evenly: (1 − E(n·v))·c times irradiance/π.
     const Color diffuse = (1.f - s.metallic) * (1.f - s.transmission) * (1.f - ed) * s.baseColor * diffuseRadiance;
     return s.occlusion * (spec + diffuse);

@@ -47,9 +47,21 @@ float schlickFresnel(float f0, float vh);
 /// light it receives at n·v = 0.1, and a white furnace must not glow.
 Color evalBrdf(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l);
 
+/// What evalBrdf needs of the surface and the view direction alone: the coupled diffuse's
+/// 1 − w·E(n·v) and 1 − w·E_avg. A shading point computes them once for all its lights (each is
+/// a table look-up in two dimensions); evalBrdf with them gives the same colour to the bit.
+struct ViewTerms {
+    float diffuseOut = 0.f;  ///< 1 − w·E(n·v)
+    float diffuseAvg = 1.f;  ///< max(1e-4, 1 − w·E_avg)
+};
+ViewTerms viewTerms(const Surface& s, const Vec3& n, const Vec3& v);
+Color evalBrdf(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l, const ViewTerms& vt);
+
 /// Reflected radiance from a light arriving along l with irradiance E (at normal incidence):
 /// f · E · (n·l). Occlusion does not enter: it describes ambient visibility only.
 Color directLight(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l, const Color& irradiance);
+Color directLight(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l, const Color& irradiance,
+                  const ViewTerms& vt);
 
 /// glTF's metallicRoughnessTexture: G is roughness, B is metallic, both linear, multiplied by
 /// the factors. R (often occlusion in packed ORM textures) is ignored.
@@ -66,12 +78,15 @@ float occlusionFromTexel(float strength, const Vec4& texel);
 Vec2 specularScaleBias(float nv, float roughness);
 /// The share of light a surface reflects specularly from a uniform environment, per channel.
 Color specularAlbedo(const Surface& s, float nv);
+/// The same from specularScaleBias(n·v, s.roughness), for a caller that needs it more than once.
+Color specularAlbedo(const Surface& s, Vec2 scaleBias);
 /// The dielectric layer's specular albedo E(μ) and its cosine-weighted mean E_avg = 2∫E(μ)μ dμ.
 float dielectricAlbedo(float f0, float roughness, float nv);
 float dielectricAlbedoAverage(float f0, float roughness);
 /// Reflected radiance under environment light: prefiltered specular radiance (GGX lobe around
 /// the mirror direction) and diffuse irradiance/π, weighted by the split sum and the occlusion.
 Color environmentLight(const Surface& s, float nv, const Color& specularRadiance, const Color& diffuseRadiance);
+Color environmentLight(const Surface& s, Vec2 scaleBias, const Color& specularRadiance, const Color& diffuseRadiance);
 
 /// A GGX half vector about +Z sampled proportionally to D(h)·cos θh, from two uniforms in [0, 1).
 Vec3 sampleGgxHalfVector(float alpha, float u1, float u2);

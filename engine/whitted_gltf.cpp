@@ -40,12 +40,13 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
     // Punctual lights through the BRDF, shadowed and pruned as the Phong model's are.
     ShadowRays shadows(scene_, si, frame);
     float pruned = 0.f;
+    const pbr::ViewTerms view = scene_.lights.empty() ? pbr::ViewTerms{} : pbr::viewTerms(s, frame.ns, V);
     for (const Light& L : scene_.lights) {
         LightIncidence li;
         if (!lightIncidence(L, si.p, frame.ns, li)) continue;
         const bool behindFacet = glm::dot(frame.ng, li.dir) <= 0.f;
         if (behindFacet && (si.mesh < 0 || !L.castShadows)) continue;
-        const Color term = pbr::directLight(s, frame.ns, V, li.dir, li.att * L.intensity * L.color);
+        const Color term = pbr::directLight(s, frame.ns, V, li.dir, li.att * L.intensity * L.color, view);
         const float worth = maxComponent(weight * term);
         if (pruned + worth <= settings_.minWeight) {
             pruned += worth;
@@ -64,6 +65,7 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
     // With sampled indirect light (indirect_light.cpp) all but near-mirrors sample their lobe.
     const bool sampled = seed != kNoSampleSeed && depth < settings_.maxDepth;
     const float nv = std::max(glm::dot(frame.ns, V), 1e-4f);
+    const Vec2 scaleBias = pbr::specularScaleBias(nv, s.roughness);  // the split sum's, used twice below
     Vec3 R = reflect(d, frame.ns);
     if (glm::dot(R, frame.ng) <= 0.f) R = reflect(d, frame.ng);  // below the facet: mirror on ng
     Color specular(0.f);
@@ -72,7 +74,7 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
     if (s.transmission <= 0.f && depth < settings_.maxDepth) {
         const float share = sampled ? (s.roughness < kSampledMirrorRoughness ? 1.f : 0.f)
                                     : std::clamp(1.f - s.roughness / kTracedRoughness, 0.f, 1.f);
-        const Color w = weight * share * s.occlusion * pbr::specularAlbedo(s, nv);
+        const Color w = weight * share * s.occlusion * pbr::specularAlbedo(s, scaleBias);
         if (share > 0.f && maxComponent(w) > settings_.minWeight) {
             const uint32_t skip = scene_.skipFor(si, R);
             Ray rr;
@@ -97,7 +99,7 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
         ind = sampleIndirect(si, frame, s, V, glossy, diffuse, ind, depth, weight, stats, seed);
     }
     specular += glossy * ind.specular;
-    if (specular != Color(0.f) || ind.diffuse != Color(0.f)) c += pbr::environmentLight(s, nv, specular, ind.diffuse);
+    if (specular != Color(0.f) || ind.diffuse != Color(0.f)) c += pbr::environmentLight(s, scaleBias, specular, ind.diffuse);
     return c;
 }
 
