@@ -95,6 +95,10 @@ TEST(Environment, DirectionsMapAsLibmDoesToAThousandthOfATexel) {
     EXPECT_EQ(equirectUv(Vec3(-1, 0, -0.f)).x, 0.f);    // the seam, from below
     EXPECT_EQ(equirectUv(Vec3(-1, 0, 0.f)).x, 1.f);     // and from above, as libm's atan2
     EXPECT_EQ(equirectUv(Vec3(0, -1, 0)).y, 1.f);       // −Y: the bottom row
+    // Denormal components keep their angle (0.5 turn + atan2(1, 2)/2π), and NaN stays NaN so
+    // that sample() falls back to its first texel.
+    EXPECT_NEAR(equirectUv(Vec3(2e-40f, 0.f, 1e-40f)).x, 0.5f + std::atan2(1.0, 2.0) / (2 * M_PI), 1e-6);
+    EXPECT_TRUE(std::isnan(equirectUv(Vec3(1.f, 0.f, std::nanf(""))).x));
 }
 
 TEST(Environment, StripeAtTheCentreIsSeenLookingAlongPlusX) {
