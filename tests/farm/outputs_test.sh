@@ -158,6 +158,12 @@ interrupt)
     mpirun --oversubscribe -np "$np" "$RAYFARM" "${args[@]}" -o "int.$ext" --contact-sheet sheet.png 2> int.log &
     pid=$!
     wait_for_pngs int.frames 3 120
+    if [ "$sig" = TERM ]; then
+        # scancel signals every process of the job, the ranks as well as mpirun (which also
+        # passes it on). Signalling mpirun alone once went unanswered in a CI run under load:
+        # the 60-frame film finished with no interrupt.
+        pkill -TERM -P "$pid" || true
+    fi
     kill -"$sig" "$pid"
     set +e; wait "$pid"; set -e
     # mpirun passes a Ctrl-C on to the ranks as SIGTERM.
