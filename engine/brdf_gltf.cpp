@@ -110,18 +110,14 @@ Vec3 sampleGgxHalfVector(float alpha, float u1, float u2) {
     return Vec3(sinT * std::cos(phi), sinT * std::sin(phi), cosT);
 }
 
-namespace {
-
-constexpr int kLutSize = 32;
-constexpr uint32_t kLutSamples = 1024;
-
-/// (A, B) for one (n·v, α) by quadrature over GGX half vectors: the lobe's albedo is
-/// ∫ F·D·V·(n·l) dω = f0·A + B with A = ∫(1 − Fc)w, B = ∫Fc·w, Fc = (1 − v·h)⁵.
 Vec2 integrateScaleBias(float nv, float alpha) {
+    // The lobe's albedo is ∫ F·D·V·(n·l) dω = f0·A + B with A = ∫(1 − Fc)w, B = ∫Fc·w and
+    // Fc = (1 − v·h)⁵, by quadrature over GGX half vectors.
+    constexpr uint32_t kSamples = 1024;
     const Vec3 v(std::sqrt(std::max(0.f, 1.f - nv * nv)), 0.f, nv);
     double a = 0.0, b = 0.0;
-    for (uint32_t i = 0; i < kLutSamples; ++i) {
-        const Vec2 u = hammersley(i, kLutSamples);
+    for (uint32_t i = 0; i < kSamples; ++i) {
+        const Vec2 u = hammersley(i, kSamples);
         const Vec3 h = sampleGgxHalfVector(alpha, u.x, u.y);
         const float vh = glm::dot(v, h);
         const Vec3 l = 2.f * vh * h - v;
@@ -132,26 +128,28 @@ Vec2 integrateScaleBias(float nv, float alpha) {
         a += (1.f - fc) * w;
         b += fc * w;
     }
-    return Vec2(float(a / kLutSamples), float(b / kLutSamples));
+    return Vec2(float(a / kSamples), float(b / kSamples));
 }
 
-using Lut = std::array<Vec2, kLutSize * kLutSize>;
+Vec2 integrateScaleBiasNode(int roughnessRow, int nvColumn) {
+    const float nv = std::max(1e-3f, float(nvColumn) / (kScaleBiasLutSize - 1));
+    const float r = float(roughnessRow) / (kScaleBiasLutSize - 1);
+    return integrateScaleBias(nv, alphaFromRoughness(r));
+}
+
+namespace {
+
+constexpr int kLutSize = kScaleBiasLutSize;
 using AverageLut = std::array<Vec2, kLutSize>;
 
-const Lut& scaleBiasLut() {
-    static const Lut lut = [] {
-        Lut t{};
-        for (int j = 0; j < kLutSize; ++j) {      // roughness
-            for (int i = 0; i < kLutSize; ++i) {  // n·v
-                const float nv = std::max(1e-3f, float(i) / (kLutSize - 1));
-                const float r = float(j) / (kLutSize - 1);
-                t[size_t(j) * kLutSize + i] = integrateScaleBias(nv, alphaFromRoughness(r));
-            }
-        }
-        return t;
-    }();
-    return lut;
-}
+// integrateScaleBiasNode(j, i) at row j, column i, written out by tests/engine/brdf_lut_gen
+// (a million GGX samples, 200 million instructions that every process spent at start-up).
+// BrdfLut.ShippedTableIsTheQuadrature checks it against the quadrature.
+constexpr float kScaleBiasTable[kLutSize * kLutSize][2] = {
+#include "brdf_lut_table.inc"
+};
+
+Vec2 lutNode(size_t k) { return Vec2(kScaleBiasTable[k][0], kScaleBiasTable[k][1]); }
 
 /// A row of the table at n·v; roughness row 0 is a mirror and so exact in closed form.
 Vec2 lutRow(int j, float nv) {
@@ -159,11 +157,11 @@ Vec2 lutRow(int j, float nv) {
         const float fc = schlickFresnel(0.f, nv);
         return Vec2(1.f - fc, fc);
     }
-    const Lut& t = scaleBiasLut();
     const float x = nv * (kLutSize - 1);
     const int i0 = std::min(int(x), kLutSize - 2);
     const float fx = x - i0;
-    return glm::mix(t[size_t(j) * kLutSize + i0], t[size_t(j) * kLutSize + i0 + 1], fx);
+    const size_t k = size_t(j) * kLutSize + size_t(i0);
+    return glm::mix(lutNode(k), lutNode(k + 1), fx);
 }
 
 /// Per roughness row: 2∫(A, B)(μ) μ dμ over the interpolated row, so E_avg matches the E the
@@ -195,6 +193,10 @@ int rowOf(float roughness, float& frac) {
 }
 
 }  // namespace
+
+Vec2 scaleBiasLutEntry(int roughnessRow, int nvColumn) {
+    return lutNode(size_t(roughnessRow) * kLutSize + size_t(nvColumn));
+}
 
 Vec2 specularScaleBias(float nv, float roughness) {
     nv = std::clamp(std::isfinite(nv) ? nv : 0.f, 0.f, 1.f);

@@ -88,6 +88,16 @@ float dielectricAlbedoAverage(float f0, float roughness);
 Color environmentLight(const Surface& s, float nv, const Color& specularRadiance, const Color& diffuseRadiance);
 Color environmentLight(const Surface& s, Vec2 scaleBias, const Color& specularRadiance, const Color& diffuseRadiance);
 
+/// The split-sum table: kScaleBiasLutSize² nodes, roughness rows by n·v columns, each
+/// integrateScaleBiasNode's quadrature, shipped as engine/brdf_lut_table.inc (run at start-up,
+/// the quadrature cost every process 200 million instructions, about 50 ms).
+constexpr int kScaleBiasLutSize = 32;
+Vec2 scaleBiasLutEntry(int roughnessRow, int nvColumn);
+/// (A, B) of the GGX lobe at (n·v, α) by 1024-point Hammersley quadrature.
+Vec2 integrateScaleBias(float nv, float alpha);
+/// integrateScaleBias at a table node: n·v = max(10⁻³, i/31), roughness j/31.
+Vec2 integrateScaleBiasNode(int roughnessRow, int nvColumn);
+
 /// A GGX half vector about +Z sampled proportionally to D(h)·cos θh, from two uniforms in [0, 1).
 Vec3 sampleGgxHalfVector(float alpha, float u1, float u2);
 /// The i-th of n points of the Hammersley set in [0, 1)² (deterministic quadrature).

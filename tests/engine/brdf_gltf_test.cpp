@@ -215,3 +215,28 @@ TEST(BrdfGltf, TransmissionTakesTheDiffuseBaseButNotTheReflection) {
     EXPECT_NEAR(fg.g, spec.g, 1e-7f);
     EXPECT_GT(fo.g, 2.f * fg.g);
 }
+
+TEST(BrdfLut, ShippedTableIsTheQuadrature) {
+    // engine/brdf_lut_table.inc is brdf_lut_gen's output: every node the quadrature's result,
+    // bit for bit in a baseline x86-64 build. A -march with FMA may contract the quadrature's
+    // sums differently; there the nodes agree to float rounding of values ≤ 1.
+#if defined(__FMA__)
+    constexpr float kTol = 1e-5f;
+#else
+    constexpr float kTol = 0.f;
+#endif
+    int checked = 0;
+    for (int j = 0; j < kScaleBiasLutSize; ++j)
+        for (int i = 0; i < kScaleBiasLutSize; ++i) {
+            const Vec2 shipped = scaleBiasLutEntry(j, i), quad = integrateScaleBiasNode(j, i);
+            ASSERT_NEAR(shipped.x, quad.x, kTol) << "row " << j << " column " << i;
+            ASSERT_NEAR(shipped.y, quad.y, kTol) << "row " << j << " column " << i;
+            ++checked;
+        }
+    EXPECT_EQ(checked, 32 * 32);
+    // And the table is what the split sum interpolates: at a node, specularScaleBias returns it
+    // (roughness row 0 excepted: a mirror, in closed form).
+    const Vec2 mid = specularScaleBias(10.f / 31.f, 17.f / 31.f);
+    EXPECT_NEAR(mid.x, scaleBiasLutEntry(17, 10).x, 1e-6f);
+    EXPECT_NEAR(mid.y, scaleBiasLutEntry(17, 10).y, 1e-6f);
+}
