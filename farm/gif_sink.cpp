@@ -2,10 +2,13 @@
 
 #include "video_format.h"
 
+#include <dlfcn.h>
+
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
+#include <type_traits>
 
 extern "C" {
 #include <libavcodec/avcodec.h>
@@ -20,7 +23,54 @@ namespace rf::farm {
 
 namespace {
 struct GifFile;
+
+/// libavfilter, opened the first time a GIF is written rather than linked: it brings about 30
+/// more shared libraries (Vulkan, libplacebo, speech and audio filters) whose loading cost every
+/// rayfarm process 27 ms at start-up, though only a GIF needs its two palette filters.
+struct AvFilterApi {
+    decltype(&avfilter_graph_alloc) graphAlloc = nullptr;
+    decltype(&avfilter_graph_free) graphFree = nullptr;
+    decltype(&avfilter_get_by_name) getByName = nullptr;
+    decltype(&avfilter_graph_create_filter) createFilter = nullptr;
+    decltype(&avfilter_inout_alloc) inoutAlloc = nullptr;
+    decltype(&avfilter_inout_free) inoutFree = nullptr;
+    decltype(&avfilter_graph_parse_ptr) parse = nullptr;
+    decltype(&avfilter_graph_config) config = nullptr;
+    decltype(&av_buffersrc_add_frame) addFrame = nullptr;
+    decltype(&av_buffersink_get_frame) getFrame = nullptr;
+    std::string error;  ///< why it could not be opened, or ""
+};
+
+const AvFilterApi& avfilterApi() {
+    static const AvFilterApi api = [] {
+        AvFilterApi a;
+        // The major version this was compiled against: its ABI.
+        const std::string name = "libavfilter.so." + std::to_string(LIBAVFILTER_VERSION_MAJOR);
+        void* lib = dlopen(name.c_str(), RTLD_NOW | RTLD_LOCAL);  // kept open for the process
+        if (!lib) {
+            a.error = "cannot load " + name + " (GIF output needs FFmpeg's libavfilter): " + dlerror();
+            return a;
+        }
+        bool missing = false;
+        auto bind = [&](auto& fn, const char* symbol) {
+            fn = reinterpret_cast<std::remove_reference_t<decltype(fn)>>(dlsym(lib, symbol));
+            if (!fn && !missing) a.error = name + " has no " + symbol, missing = true;
+        };
+        bind(a.graphAlloc, "avfilter_graph_alloc");
+        bind(a.graphFree, "avfilter_graph_free");
+        bind(a.getByName, "avfilter_get_by_name");
+        bind(a.createFilter, "avfilter_graph_create_filter");
+        bind(a.inoutAlloc, "avfilter_inout_alloc");
+        bind(a.inoutFree, "avfilter_inout_free");
+        bind(a.parse, "avfilter_graph_parse_ptr");
+        bind(a.config, "avfilter_graph_config");
+        bind(a.addFrame, "av_buffersrc_add_frame");
+        bind(a.getFrame, "av_buffersink_get_frame");
+        return a;
+    }();
+    return api;
 }
+}  // namespace
 
 struct GifSink::Impl {
     std::string path, dither;
@@ -42,35 +92,37 @@ struct GifSink::Impl {
     void encodeAll();
     ~Impl() {
         av_frame_free(&frame);
-        avfilter_graph_free(&graph);
+        if (graph) avfilterApi().graphFree(&graph);
     }
 };
 
 void GifSink::Impl::buildGraph() {
-    graph = avfilter_graph_alloc();
+    const AvFilterApi& api = avfilterApi();
+    if (!api.error.empty()) fail(api.error);
+    graph = api.graphAlloc();
     if (!graph) fail("out of memory");
     const char* pix = channels == 4 ? "rgba" : "rgb24";
     const std::string srcArgs = "video_size=" + std::to_string(width) + "x" + std::to_string(height) + ":pix_fmt=" + pix +
                                 ":time_base=" + std::to_string(rate.den) + "/" + std::to_string(rate.num) + ":pixel_aspect=1/1";
-    int rc = avfilter_graph_create_filter(&src, avfilter_get_by_name("buffer"), "in", srcArgs.c_str(), nullptr, graph);
+    int rc = api.createFilter(&src, api.getByName("buffer"), "in", srcArgs.c_str(), nullptr, graph);
     if (rc < 0) fail("cannot set up the GIF filters", rc);
-    rc = avfilter_graph_create_filter(&sink, avfilter_get_by_name("buffersink"), "out", nullptr, nullptr, graph);
+    rc = api.createFilter(&sink, api.getByName("buffersink"), "out", nullptr, nullptr, graph);
     if (rc < 0) fail("cannot set up the GIF filters", rc);
     // One palette from every pixel of every frame (stats_mode=full). With alpha, one entry is
     // kept for transparency; without, all 256 go to colours.
     const std::string chain = std::string("split[a][b];[a]palettegen=stats_mode=full:reserve_transparent=") +
                               (channels == 4 ? "1" : "0") + "[p];[b][p]paletteuse=dither=" + dither + ":alpha_threshold=128";
-    AVFilterInOut* outputs = avfilter_inout_alloc();
-    AVFilterInOut* inputs = avfilter_inout_alloc();
+    AVFilterInOut* outputs = api.inoutAlloc();
+    AVFilterInOut* inputs = api.inoutAlloc();
     outputs->name = av_strdup("in");
     outputs->filter_ctx = src;
     inputs->name = av_strdup("out");
     inputs->filter_ctx = sink;
-    rc = avfilter_graph_parse_ptr(graph, chain.c_str(), &inputs, &outputs, nullptr);
-    avfilter_inout_free(&inputs);
-    avfilter_inout_free(&outputs);
+    rc = api.parse(graph, chain.c_str(), &inputs, &outputs, nullptr);
+    api.inoutFree(&inputs);
+    api.inoutFree(&outputs);
     if (rc < 0) fail("cannot set up the GIF filters (palettegen, paletteuse)", rc);
-    rc = avfilter_graph_config(graph, nullptr);
+    rc = api.config(graph, nullptr);
     if (rc < 0) fail("cannot set up the GIF filters", rc);
 }
 
@@ -148,7 +200,7 @@ void GifSink::Impl::encodeAll() {
         GifFile g;
         openFile(g, tmp);
         for (;;) {
-            int rc = av_buffersink_get_frame(sink, g.out);
+            int rc = avfilterApi().getFrame(sink, g.out);
             if (rc == AVERROR_EOF || rc == AVERROR(EAGAIN)) break;
             if (rc < 0) fail("palette filters failed", rc);
             rc = avcodec_send_frame(g.ctx, g.out);
@@ -209,7 +261,7 @@ void GifSink::write(int, const std::vector<uint8_t>& pixels) {
     if (rc < 0) m.fail("out of memory", rc);
     for (int y = 0; y < m.height; ++y) std::memcpy(m.frame->data[0] + size_t(y) * m.frame->linesize[0], pixels.data() + row * y, row);
     m.frame->pts = m.nextPts++;
-    rc = av_buffersrc_add_frame(m.src, m.frame);  // takes the frame's buffers
+    rc = avfilterApi().addFrame(m.src, m.frame);  // takes the frame's buffers
     av_frame_unref(m.frame);
     if (rc < 0) m.fail("palette filters failed", rc);
 }
@@ -219,7 +271,7 @@ void GifSink::close() {
     if (m.closed) return;
     m.closed = true;
     if (m.nextPts == 0) return;  // nothing rendered: no GIF rather than an empty one
-    int rc = av_buffersrc_add_frame(m.src, nullptr);
+    int rc = avfilterApi().addFrame(m.src, nullptr);
     if (rc < 0) m.fail("palette filters failed", rc);
     m.encodeAll();
 }
