@@ -70,7 +70,7 @@ Color WhittedTracer::sampleRay(const SurfaceInteraction& si, const ShadingFrame&
     // A facet lying in an axis plane has no rounding error across it (pError 0 along its
     // normal), yet a ray starting exactly on it can meet it again at t ≈ 1e-7 (the watertight
     // test rounds in the other axes): the bound is padded by the point's own scale.
-    const Vec3 pad(gamma(7) * maxComponent(glm::abs(si.p)));
+    const Vec3 pad(gamma(7) * maxComponent(absComponents(si.p)));
     r.o = skip == si.prim ? si.p : offsetRayOrigin(si.p, si.pError + pad, frame.ng, dir);
     r.d = dir;
     r.coneWidth = si.coneWidth;

@@ -19,7 +19,7 @@ struct Ray {
 /// pError bounds the absolute error of p per axis; n is the geometric normal; w the new direction.
 /// After pbrt-v4's OffsetRayOrigin: the offset scales with the point, never a fixed epsilon.
 inline Vec3 offsetRayOrigin(const Vec3& p, const Vec3& pError, const Vec3& n, const Vec3& w) {
-    const float d = glm::dot(glm::abs(n), pError);
+    const float d = glm::dot(absComponents(n), pError);
     Vec3 offset = d * n;
     if (glm::dot(w, n) < 0.f) offset = -offset;
     Vec3 po = p + offset;

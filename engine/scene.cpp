@@ -72,7 +72,7 @@ void Scene::build() {
             sphX_[i] = s.center.x;
             sphY_[i] = s.center.y;
             sphZ_[i] = s.center.z;
-            const float err = 32.f * kMachineEps * (maxComponent(glm::abs(s.center)) + s.radius);
+            const float err = 32.f * kMachineEps * (maxComponent(absComponents(s.center)) + s.radius);
             sphReach_[i] = used ? s.radius + err : -kInf;
             sphInner_[i] = used ? s.radius - err : -kInf;
         }
@@ -216,7 +216,7 @@ uint32_t Scene::sphereCandidates(const Ray& r, float tMax, uint32_t* sure) const
     // (a·v = a·f − b·d). GCC/Clang vector extensions: SSE2 on any x86-64, NEON elsewhere.
     static_assert(kBvhThreshold == 8, "two lanes of four");
     const float a = glm::dot(r.d, r.d);
-    const float oErr = 32.f * kMachineEps * maxComponent(glm::abs(r.o));
+    const float oErr = 32.f * kMachineEps * maxComponent(absComponents(r.o));
     const F4 ox = {r.o.x, r.o.x, r.o.x, r.o.x}, oy = {r.o.y, r.o.y, r.o.y, r.o.y}, oz = {r.o.z, r.o.z, r.o.z, r.o.z};
     const F4 dx = {r.d.x, r.d.x, r.d.x, r.d.x}, dy = {r.d.y, r.d.y, r.d.y, r.d.y}, dz = {r.d.z, r.d.z, r.d.z, r.d.z};
     const F4 av = {a, a, a, a}, errv = {oErr, oErr, oErr, oErr}, zero = {0.f, 0.f, 0.f, 0.f};
@@ -444,7 +444,7 @@ SurfaceInteraction Scene::interaction(const Ray& r, const Hit& hit) const {
     } else if (hit.prim < nTri + nSph) {
         const Sphere& s = spheres[hit.prim - nTri];
         si.p = s.center + hit.sphereRel;
-        si.pError = gamma(5) * glm::abs(hit.sphereRel) + gamma(2) * glm::abs(si.p);
+        si.pError = gamma(5) * absComponents(hit.sphereRel) + gamma(2) * absComponents(si.p);
         si.ng = si.ns = hit.sphereRel * (1.f / s.radius);
         si.material = s.material;
     } else {

@@ -11,7 +11,7 @@ bool sphereMayHit(const Sphere& s, const Ray& r, float tMax) {
     const Vec3 v = f - (b / a) * r.d;
     // 32 ulps of the largest magnitude involved bounds the float error of f, b and v generously;
     // the test only rejects, the exact answer comes from the double path.
-    const float err = 32.f * kMachineEps * (maxComponent(glm::abs(r.o)) + maxComponent(glm::abs(s.center)) + s.radius);
+    const float err = 32.f * kMachineEps * (maxComponent(absComponents(r.o)) + maxComponent(absComponents(s.center)) + s.radius);
     const float reach = s.radius + err;
     const float reach2 = reach * reach;
     if (glm::dot(v, v) > reach2) return false;  // the line passes beside the sphere
@@ -141,7 +141,7 @@ Vec3 planeHitPoint(const Plane& pl, const Ray& r, float t, Vec3& pError) {
     Vec3 p = r.o + t * r.d;
     // One projection step removes the error that grew with t; what is left scales with |p|.
     p -= pl.n * (glm::dot(pl.n, p) + pl.d);
-    pError = gamma(6) * (glm::abs(p) + Vec3(std::abs(pl.d)));
+    pError = gamma(6) * (absComponents(p) + Vec3(std::abs(pl.d)));
     return p;
 }
 

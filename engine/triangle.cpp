@@ -47,7 +47,7 @@ bool intersectTriangleMT(const Ray& r, const Vec3& p0, const Vec3& p1, const Vec
 }
 
 WatertightRay::WatertightRay(const Ray& r) : o(r.o) {
-    const Vec3 ad = glm::abs(r.d);
+    const Vec3 ad = absComponents(r.d);
     kz = (ad.x > ad.y) ? (ad.x > ad.z ? 0 : 2) : (ad.y > ad.z ? 1 : 2);
     kx = (kz + 1) % 3;
     ky = (kx + 1) % 3;

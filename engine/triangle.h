@@ -35,7 +35,7 @@ bool intersectTriangleWatertight(const WatertightRay& wr, const Vec3& p0, const 
 /// Hit point from barycentrics, and its error bound (independent of the ray length).
 inline Vec3 triangleHitPoint(const Vec3& p0, const Vec3& p1, const Vec3& p2, const TriangleHit& h, Vec3& pError) {
     const Vec3 a = h.b0 * p0, b = h.b1 * p1, c = h.b2 * p2;
-    pError = gamma(7) * (glm::abs(a) + glm::abs(b) + glm::abs(c));
+    pError = gamma(7) * (absComponents(a) + absComponents(b) + absComponents(c));
     return a + b + c;
 }
 

@@ -27,6 +27,11 @@ constexpr float kMachineEps = std::numeric_limits<float>::epsilon() * 0.5f;
 constexpr float gamma(int n) { return (n * kMachineEps) / (1 - n * kMachineEps); }
 
 inline float maxComponent(const Vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+/// |v| per component without a branch. glm::abs on a vector calls its scalar abs through a
+/// function pointer, which GCC left out of line as three compares and jumps on the signs: on the
+/// random signs of secondary rays' directions those jumps were mispredicted. std::fabs clears
+/// the sign bit (andps). The only difference: -0 and NaN come out positive.
+inline Vec3 absComponents(const Vec3& v) { return Vec3(std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)); }
 inline float luminanceMax(const Color& c) { return maxComponent(c); }
 inline bool isFinite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 

@@ -80,7 +80,7 @@ Color WhittedTracer::Li(const Ray& r, uint64_t seed, RayStats& stats, float* cov
 Color WhittedTracer::groundLi(const Ray& r, float t, RayStats& stats, float* coverage) const {
     // p = o + t·d to a few ulps of each term (pbrt's bound for a point on a ray).
     const Vec3 p = r.o + t * r.d;
-    const Vec3 pError = gamma(5) * (glm::abs(r.o) + glm::abs(t * r.d));
+    const Vec3 pError = gamma(5) * (absComponents(r.o) + absComponents(t * r.d));
     const CatcherLight l = catcher_->light(p, pError, stats);
     if (scene_.transparentBackground) {
         if (coverage) *coverage = l.shadow;
