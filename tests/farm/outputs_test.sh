@@ -300,13 +300,15 @@ refusals)
     done
     # libavfilter is opened only for a GIF: a broken one on the library path is one error line
     # naming it, before any frame is rendered, and no GIF; the other formats never touch it.
-    mkdir -p fakelib && : > fakelib/libavfilter.so.8
+    rm -rf x.frames; mkdir -p fakelib && : > fakelib/libavfilter.so.8
     set +e; LD_LIBRARY_PATH=$PWD/fakelib "$RAYFARM" render "$BOX" --size 32x24 --frames 0:1 -o x.gif 2> gif.log; rc=$?; set -e
     [ "$rc" = 1 ] && grep -q "^rayfarm: error: x.gif: cannot load libavfilter" gif.log || { cat gif.log; fail "a broken libavfilter: exit $rc"; }
     [ -e x.gif ] && fail "a broken libavfilter left x.gif"
     ls x.frames 2>/dev/null | grep -q '^frame_' && fail "frames rendered before the GIF sink could open"
-    LD_LIBRARY_PATH=$PWD/fakelib "$RAYFARM" render "$BOX" --size 32x24 --frames 0:1 -o x.mp4 --no-frames 2> mp4.log \
+    rm -f nofilter.mp4  # not x.mp4: the refusals above check that none is ever left
+    LD_LIBRARY_PATH=$PWD/fakelib "$RAYFARM" render "$BOX" --size 32x24 --frames 0:1 -o nofilter.mp4 --no-frames 2> mp4.log \
         || { cat mp4.log; fail "an MP4 needed libavfilter"; }
+    [ -s nofilter.mp4 ] || fail "no MP4 without libavfilter"
     ;;
 *) fail "unknown case $CASE" ;;
 esac
