@@ -10,6 +10,7 @@
 #include "background_option.h"
 #include "cli.h"
 #include "exposure_meter.h"
+#include "gif_sink.h"
 #include "interrupt.h"
 #include "launch_command.h"
 #include "output_check.h"
@@ -23,6 +24,7 @@
 #include "scene_broadcast.h"
 #include "timeline.h"
 #include "transport.h"
+#include "video_format.h"
 #include "worker.h"
 
 namespace rf::cli {
@@ -223,6 +225,7 @@ int runRender(const std::vector<std::string>& args) {
             t, job.scenePath,
             [&] {
                 checkWritableFile(job.output);
+                if (containerFor(job.output) == Container::Gif) requireGifFilters(job.output);
                 for (const std::string* f : {&job.statsPath, &job.contactSheet, &job.poster})
                     if (!f->empty()) checkWritableFile(*f);
             },

@@ -72,6 +72,11 @@ const AvFilterApi& avfilterApi() {
 }
 }  // namespace
 
+void requireGifFilters(const std::string& path) {
+    const AvFilterApi& api = avfilterApi();
+    if (!api.error.empty()) throw std::runtime_error(path + ": " + api.error);
+}
+
 struct GifSink::Impl {
     std::string path, dither;
     int width = 0, height = 0, channels = 3;

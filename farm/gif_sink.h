@@ -10,6 +10,11 @@
 
 namespace rf::farm {
 
+/// Throws std::runtime_error naming path if libavfilter (opened at run time, not linked) cannot
+/// be loaded: rank 0 checks it before the scene is shared, so no rank starts on a film whose
+/// GIF could never be written.
+void requireGifFilters(const std::string& path);
+
 class GifSink : public FrameSink {
 public:
     /// channels: 3, or 4 for one-bit transparency (alpha below half is transparent).

@@ -217,11 +217,14 @@ TEST(BrdfGltf, TransmissionTakesTheDiffuseBaseButNotTheReflection) {
 }
 
 TEST(BrdfLut, ShippedTableIsTheQuadrature) {
-    // engine/brdf_lut_table.inc is brdf_lut_gen's output: every node the quadrature's result,
-    // bit for bit in a baseline x86-64 build. A -march with FMA may contract the quadrature's
-    // sums differently; there the nodes agree to float rounding of values ≤ 1.
-#if defined(__FMA__)
-    constexpr float kTol = 1e-5f;
+    // engine/brdf_lut_table.inc is brdf_lut_gen's output from a baseline x86-64 build: there
+    // every node is the quadrature's result bit for bit. A build whose -march has FMA contracts
+    // the quadrature's products (1 + (α² − 1)·u near u = 1 is ill-conditioned at low α): on this
+    // project's EPYC with -march=native the nodes differ by up to 1.4e-4 (row 1, n·v = 10⁻³,
+    // A = 0.0194), so there the table must agree to 3e-4. Such a build still renders with the
+    // shipped table, so every node of a mixed cluster shades the same.
+#if defined(__FMA__) || defined(__FMA4__)
+    constexpr float kTol = 3e-4f;
 #else
     constexpr float kTol = 0.f;
 #endif
