@@ -92,7 +92,7 @@ const SrgbTable& srgbTable() {
 uint8_t srgbByte(float v) {
     if (!(v > 0.f)) return 0;  // NaN, −0, negatives
     if (!(v < 1.f)) return 255;
-    static const SrgbTable& t = srgbTable();
+    const SrgbTable& t = srgbTable();  // its own function-local static: one guard, not two
     uint32_t bits;
     std::memcpy(&bits, &v, sizeof bits);
     const uint8_t b = t.bucket[bits >> 16];

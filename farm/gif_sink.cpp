@@ -102,8 +102,8 @@ struct GifSink::Impl {
 };
 
 void GifSink::Impl::buildGraph() {
+    requireGifFilters(path);
     const AvFilterApi& api = avfilterApi();
-    if (!api.error.empty()) fail(api.error);
     graph = api.graphAlloc();
     if (!graph) fail("out of memory");
     const char* pix = channels == 4 ? "rgba" : "rgb24";
