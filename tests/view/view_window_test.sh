@@ -133,7 +133,9 @@ start_view() {  # args for rayfarm view; sets VIEW (the process, or mpirun) and 
         VIEW=$!
         WID=
         for _ in $(seq 100); do
-            WID=$(xdotool search --name '^rayfarm (view|preview)' 2>/dev/null | head -1)
+            # Only once it is mapped: focusing a window found but not yet viewable fails with
+            # BadMatch (X_SetInputFocus), and xdotool then sends no key (seen in CI under load).
+            WID=$(xdotool search --onlyvisible --name '^rayfarm (view|preview)' 2>/dev/null | head -1)
             [ -n "$WID" ] && return 0
             kill -0 $VIEW 2>/dev/null || break
             sleep 0.2
