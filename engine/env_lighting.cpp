@@ -27,11 +27,7 @@ Color sampleMips(const std::vector<EquirectImage>& mips, Vec2 uv, float lod) {
 
 /// E(n)/π over a small copy of the radiance, by summing every texel: exact for that copy, and
 /// no ringing (spherical harmonics ring around bright, small lights).
-EquirectImage convolveIrradiance(const EquirectImage& src, int threads) {
-    EquirectImage out;
-    out.width = 32;
-    out.height = 16;
-    out.texels.resize(size_t(out.width) * out.height);
+OctahedralImage convolveIrradiance(const EquirectImage& src, int threads) {
     std::vector<Vec3> dirs(src.texels.size());
     std::vector<Color> weighted(src.texels.size());
     for (int y = 0; y < src.height; ++y)
@@ -40,54 +36,43 @@ EquirectImage convolveIrradiance(const EquirectImage& src, int threads) {
             dirs[i] = equirectDirection(Vec2((x + 0.5f) / src.width, (y + 0.5f) / src.height));
             weighted[i] = src.texels[i] * (texelSolidAngle(y, src.width, src.height) / kPi);
         }
-    parallelFor(out.height, threads, [&](int y, int) {
-        for (int x = 0; x < out.width; ++x) {
-            const Vec3 n = equirectDirection(Vec2((x + 0.5f) / out.width, (y + 0.5f) / out.height));
-            Color sum(0.f);
-            for (size_t i = 0; i < dirs.size(); ++i) sum += weighted[i] * std::max(0.f, glm::dot(n, dirs[i]));
-            out.texels[size_t(y) * out.width + x] = sum;
-        }
+    // 24² texels: about the 32 × 16 of an equirect, evenly spread.
+    return OctahedralImage::build(24, threads, [&](const Vec3& n) {
+        Color sum(0.f);
+        for (size_t i = 0; i < dirs.size(); ++i) sum += weighted[i] * std::max(0.f, glm::dot(n, dirs[i]));
+        return sum;
     });
-    return out;
 }
 
 /// The radiance prefiltered by GGX at one roughness, with n = v = r (the split-sum
 /// assumption). Deterministic Hammersley samples read mip levels matched to each sample's
 /// share of the lobe (Křivánek and Colbert 2008), so the result is smooth, not noisy.
-EquirectImage prefilterSpecular(const std::vector<EquirectImage>& mips, float roughness, int width, int threads) {
+OctahedralImage prefilterSpecular(const std::vector<EquirectImage>& mips, float roughness, int size, int threads) {
     constexpr uint32_t kSamples = 128;
     const float alpha = std::max(pbr::alphaFromRoughness(roughness), 1e-3f);
     const EquirectImage& top = mips.front();
     const float texel = 4.f * kPi / (float(top.width) * float(top.height));
-    EquirectImage out;
-    out.width = width;
-    out.height = std::max(1, width / 2);
-    out.texels.resize(size_t(out.width) * out.height);
-    parallelFor(out.height, threads, [&](int y, int) {
-        for (int x = 0; x < out.width; ++x) {
-            const Vec3 r = equirectDirection(Vec2((x + 0.5f) / out.width, (y + 0.5f) / out.height));
-            Vec3 t, b;
-            orthonormalBasis(r, t, b);
-            Color sum(0.f);
-            float weight = 0.f;
-            for (uint32_t i = 0; i < kSamples; ++i) {
-                const Vec2 u = pbr::hammersley(i, kSamples);
-                const Vec3 hl = pbr::sampleGgxHalfVector(alpha, u.x, u.y);
-                const Vec3 h = hl.x * t + hl.y * b + hl.z * r;
-                const float rh = glm::dot(r, h);
-                const Vec3 l = 2.f * rh * h - r;
-                const float nl = glm::dot(r, l);
-                if (nl <= 0.f) continue;
-                // pdf(l) = D·(n·h)/(4 v·h) = D/4 here; the sample covers 1/(N·pdf) steradians.
-                const float pdf = pbr::ggxD(hl.z, alpha) * 0.25f;
-                const float lod = 0.5f * std::log2(1.f / (kSamples * pdf * texel)) + 1.f;
-                sum += sampleMips(mips, equirectUv(l), lod) * nl;
-                weight += nl;
-            }
-            out.texels[size_t(y) * out.width + x] = weight > 0.f ? sum / weight : Color(0.f);
+    return OctahedralImage::build(size, threads, [&](const Vec3& r) {
+        Vec3 t, b;
+        orthonormalBasis(r, t, b);
+        Color sum(0.f);
+        float weight = 0.f;
+        for (uint32_t i = 0; i < kSamples; ++i) {
+            const Vec2 u = pbr::hammersley(i, kSamples);
+            const Vec3 hl = pbr::sampleGgxHalfVector(alpha, u.x, u.y);
+            const Vec3 h = hl.x * t + hl.y * b + hl.z * r;
+            const float rh = glm::dot(r, h);
+            const Vec3 l = 2.f * rh * h - r;
+            const float nl = glm::dot(r, l);
+            if (nl <= 0.f) continue;
+            // pdf(l) = D·(n·h)/(4 v·h) = D/4 here; the sample covers 1/(N·pdf) steradians.
+            const float pdf = pbr::ggxD(hl.z, alpha) * 0.25f;
+            const float lod = 0.5f * std::log2(1.f / (kSamples * pdf * texel)) + 1.f;
+            sum += sampleMips(mips, equirectUv(l), lod) * nl;
+            weight += nl;
         }
+        return weight > 0.f ? sum / weight : Color(0.f);
     });
-    return out;
 }
 
 }  // namespace
@@ -105,8 +90,10 @@ EnvironmentLight::EnvironmentLight(EquirectImage radiance, float rotationDeg, fl
     while (small + 1 < mips_.size() && mips_[small].width > 128) ++small;
     irradiance_ = convolveIrradiance(mips_[small], threads);
     for (int k = 1; k < kLevels; ++k) {
+        // As many texels as the equirect of width w this replaced: w²/2 = size².
         const int width = std::clamp(mips_.front().width >> (k + 1), 32, 256);
-        specular_.push_back(prefilterSpecular(mips_, float(k) / (kLevels - 1), width, threads));
+        const int size = int(std::lround(width * 0.70710678));
+        specular_.push_back(prefilterSpecular(mips_, float(k) / (kLevels - 1), size, threads));
     }
 }
 
@@ -117,15 +104,15 @@ Vec3 EnvironmentLight::toMap(const Vec3& d) const {
 
 Color EnvironmentLight::radiance(const Vec3& d) const { return mips_.front().sample(equirectUv(toMap(d))); }
 
-Color EnvironmentLight::diffuse(const Vec3& n) const { return irradiance_.sample(equirectUv(toMap(n))); }
+Color EnvironmentLight::diffuse(const Vec3& n) const { return irradiance_.sample(toMap(n)); }
 
 Color EnvironmentLight::specular(const Vec3& r, float roughness) const {
-    const Vec2 uv = equirectUv(toMap(r));
+    const Vec3 d = toMap(r);
     const float level = std::clamp(std::isfinite(roughness) ? roughness : 1.f, 0.f, 1.f) * (kLevels - 1);
-    const int l0 = std::min(int(level), kLevels - 2);
+    const int l0 = int(level);  // the top level (roughness 1) is one look-up, not a mix
     const float t = level - float(l0);
-    auto at = [&](int l) { return l == 0 ? mips_.front().sample(uv) : specular_[size_t(l - 1)].sample(uv); };
-    return glm::mix(at(l0), at(l0 + 1), t);
+    const Color a = l0 == 0 ? mips_.front().sample(equirectUv(d)) : specular_[size_t(l0 - 1)].sample(d);
+    return t > 0.f ? glm::mix(a, specular_[size_t(l0)].sample(d), t) : a;
 }
 
 std::shared_ptr<const EnvironmentLight> loadEnvironment(const EnvironmentSpec& spec, FileSource& fs) {

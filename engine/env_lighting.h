@@ -35,8 +35,8 @@ private:
     Vec3 toMap(const Vec3& d) const;
 
     std::vector<EquirectImage> mips_;      ///< radiance, then halved copies (filtered lookups)
-    EquirectImage irradiance_;             ///< E/π, 32 × 16
-    std::vector<EquirectImage> specular_;  ///< levels 1 .. kLevels − 1
+    OctahedralImage irradiance_;             ///< E/π
+    std::vector<OctahedralImage> specular_;  ///< levels 1 .. kLevels − 1
     float cosRot_ = 1.f, sinRot_ = 0.f;
 };
 

@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "errors.h"
+#include "render.h"
 
 namespace rf {
 
@@ -52,6 +53,68 @@ Vec3 equirectDirection(Vec2 uv) {
     const float phi = (uv.x - 0.5f) * 2.f * kPi, theta = uv.y * kPi;
     const float s = std::sin(theta);
     return Vec3(s * std::cos(phi), std::cos(theta), s * std::sin(phi));
+}
+
+Vec2 octahedralUv(const Vec3& d) {
+    const float l1 = std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
+    float px = d.x / l1, pz = d.z / l1;
+    if (d.y < 0.f) {  // the lower half folds out over the four corners
+        const float fx = 1.f - std::abs(pz), fz = 1.f - std::abs(px);
+        px = std::copysign(fx, px);
+        pz = std::copysign(fz, pz);
+    }
+    return Vec2(0.5f * px + 0.5f, 0.5f * pz + 0.5f);
+}
+
+Vec3 octahedralDirection(Vec2 uv) {
+    float px = 2.f * uv.x - 1.f, pz = 2.f * uv.y - 1.f;
+    const float y = 1.f - std::abs(px) - std::abs(pz);
+    if (y < 0.f) {
+        const float fx = 1.f - std::abs(pz), fz = 1.f - std::abs(px);
+        px = std::copysign(fx, px);
+        pz = std::copysign(fz, pz);
+    }
+    return glm::normalize(Vec3(px, y, pz));
+}
+
+OctahedralImage OctahedralImage::build(int size, int threads, const std::function<Color(const Vec3&)>& f) {
+    OctahedralImage img;
+    img.size = std::max(1, size);
+    const int n = img.size, stride = n + 2;
+    img.texels.assign(size_t(stride) * stride, Color(0.f));
+    parallelFor(n, threads, [&](int y, int) {
+        for (int x = 0; x < n; ++x)
+            img.texels[size_t(y + 1) * stride + size_t(x + 1)] = f(octahedralDirection(Vec2((x + 0.5f) / n, (y + 0.5f) / n)));
+    });
+    // Past an edge the square continues mirrored: (−1, j) is (0, n − 1 − j), and likewise for
+    // the other edges; a corner takes both steps, landing on the opposite corner's texel.
+    for (int y = -1; y <= n; ++y)
+        for (int x = -1; x <= n; ++x) {
+            if (x >= 0 && x < n && y >= 0 && y < n) continue;
+            int sx = x, sy = y;
+            if (sx < 0 || sx >= n) sx = sx < 0 ? 0 : n - 1, sy = n - 1 - sy;
+            if (sy < 0 || sy >= n) sy = sy < 0 ? 0 : n - 1, sx = n - 1 - sx;
+            img.texels[size_t(y + 1) * stride + size_t(x + 1)] = img.texels[size_t(sy + 1) * stride + size_t(sx + 1)];
+        }
+    return img;
+}
+
+Color OctahedralImage::sample(const Vec3& d) const {
+    if (size <= 0) return Color(0.f);
+    const Vec2 uv = octahedralUv(d);
+    // Texel i's centre sits at (i + 0.5)/size and is stored at i + 1, so the border makes every
+    // bilinear footprint of [0, 1]² whole. NaN fails both tests and lands on the first texel.
+    float x = uv.x * float(size) + 0.5f, y = uv.y * float(size) + 0.5f;
+    if (!(x >= 0.5f)) x = 0.5f;
+    if (!(x <= float(size) + 0.5f)) x = float(size) + 0.5f;
+    if (!(y >= 0.5f)) y = 0.5f;
+    if (!(y <= float(size) + 0.5f)) y = float(size) + 0.5f;
+    const int x0 = int(x), y0 = int(y);  // ≤ size, so x0 + 1 is still inside the border
+    const float tx = x - float(x0), ty = y - float(y0);
+    const size_t stride = size_t(size) + 2;
+    const Color* row0 = &texels[size_t(y0) * stride + size_t(x0)];
+    const Color* row1 = row0 + stride;
+    return (1.f - ty) * ((1.f - tx) * row0[0] + tx * row0[1]) + ty * ((1.f - tx) * row1[0] + tx * row1[1]);
 }
 
 Color EquirectImage::sample(Vec2 uv) const {

@@ -4,6 +4,7 @@
 /// u = 0.5 + atan2(d.z, d.x)/2π, v = acos(d.y)/π, v = 0 the top row. So +X sees the image
 /// centre, +Z the point three quarters across, +Y the top row.
 #include <string>
+#include <functional>
 #include <vector>
 
 #include "vec_math.h"
@@ -25,6 +26,24 @@ struct EquirectImage {
 /// (u, v) of a unit world direction, and back.
 Vec2 equirectUv(const Vec3& d);
 Vec3 equirectDirection(Vec2 uv);
+
+/// The sphere on a square by the octahedral projection (Praun and Hoppe 2003; Engelhardt and
+/// Dachsbacher 2008), +Y at the centre, −Y at the four corners: a direction's texel costs a sum
+/// and a division, not the two arc tangents of an equirect. For the smooth prefiltered copies of
+/// an environment, read several times at every shading point.
+struct OctahedralImage {
+    int size = 0;                ///< texels per side
+    std::vector<Color> texels;   ///< (size + 2)², row-major: a one-texel border copied from across each fold
+
+    /// Each texel centre's direction through f (rows spread over threads); then the border.
+    static OctahedralImage build(int size, int threads, const std::function<Color(const Vec3&)>& f);
+    /// Bilinear at direction d (any length but 0), seamless across the folds.
+    Color sample(const Vec3& d) const;
+};
+
+/// (u, v) in [0, 1]² of direction d (any length but 0) on the octahedral square, and back (unit).
+Vec2 octahedralUv(const Vec3& d);
+Vec3 octahedralDirection(Vec2 uv);
 
 /// Pixels an environment file may have: 8192 × 4096 (an "8K" HDRI) and no more.
 constexpr long long kMaxEnvironmentPixels = 8192LL * 4096LL;
