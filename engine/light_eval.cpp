@@ -57,7 +57,12 @@ bool ShadowRays::unoccluded(const Light& L, const LightIncidence& li, bool behin
     float tMax = 0.f;
     const Ray sr = shadowRay(L, li, behindFacet, skip, tMax);
     ++stats.shadow;
-    return !scene_.occluded(sr, tMax, skip);
+    uint32_t* last = nullptr;
+    if (blockers_) {
+        const size_t i = size_t(&L - scene_.lights.data());  // L is one of the scene's lights, or not cached
+        if (i < blockers_->prim.size()) last = &blockers_->prim[i];
+    }
+    return !scene_.occluded(sr, tMax, skip, last);
 }
 
 Color ShadowRays::transmittance(const Light& L, const LightIncidence& li, bool behindFacet, RayStats& stats, bool seeThrough) {

@@ -2,6 +2,8 @@
 /// Light evaluation at a surface point, apart from any material model: where a punctual light
 /// comes from, how much of it arrives (distance attenuation, range window, spot cone), and
 /// whether a shadow ray reaches it.
+#include <vector>
+
 #include "light.h"
 #include "ray.h"
 #include "shading_frame.h"
@@ -55,12 +57,21 @@ inline bool lightIncidence(const Light& L, const Vec3& p, const Vec3& ns, LightI
 /// side `side` points to.
 Vec3 spawnOrigin(const Vec3& p, const SurfaceInteraction& si, const Vec3& ng, const Vec3& side, uint32_t skip);
 
+/// Per light, the triangle that last blocked its shadow ray (Scene::occluded's lastBlocker), for
+/// the next shading point of the same thread; Scene::kNoPrim before any. Only what the shadow
+/// queries cost depends on it, never what they answer, so results stay those of any thread count.
+struct ShadowBlockers {
+    explicit ShadowBlockers(size_t lights = 0) : prim(lights, ~0u) {}
+    std::vector<uint32_t> prim;
+};
+
 /// The shadow rays of one shading point. The origin of a smooth-shaded triangle is shifted once
 /// (Hanika 2021, "Hacking the shadow terminator"), for the first light that needs a ray.
 class ShadowRays {
 public:
-    ShadowRays(const Scene& scene, const SurfaceInteraction& si, const ShadingFrame& frame)
-        : scene_(scene), si_(si), frame_(frame) {}
+    /// blockers (may be null): the calling thread's, sized to scene.lights.
+    ShadowRays(const Scene& scene, const SurfaceInteraction& si, const ShadingFrame& frame, ShadowBlockers* blockers = nullptr)
+        : scene_(scene), si_(si), frame_(frame), blockers_(blockers) {}
 
     /// True when nothing blocks the way from the point to light L (counted as a shadow ray).
     /// behindFacet: L lies behind the flat facet though in front of the smooth surface; the ray
@@ -79,6 +90,7 @@ private:
     const Scene& scene_;
     const SurfaceInteraction& si_;
     const ShadingFrame& frame_;
+    ShadowBlockers* blockers_;
     bool shifted_ = false;
     Vec3 base_{0.f};
 };

@@ -335,7 +335,14 @@ bool Scene::intersect(const Ray& r, Hit& hit, uint32_t skip) const {
     return found;
 }
 
-bool Scene::occluded(const Ray& r, float tMax, uint32_t skip) const {
+bool Scene::triangleBlocks(uint32_t prim, const WatertightRay& wr, float tMax) const {
+    TriangleHit th;
+    const Vec3* v = &triVerts_[3 * prim];  // the same floats as the prim's slot in slotVerts_
+    if (!intersectTriangleWatertight(wr, v[0], v[1], v[2], tMax, th)) return false;
+    return !(anyMasked_ && meshMasked_[triMesh_[prim]] && !triangleAlphaPasses(prim, th));
+}
+
+bool Scene::occluded(const Ray& r, float tMax, uint32_t skip, uint32_t* lastBlocker) const {
     const uint32_t nTri = static_cast<uint32_t>(triMesh_.size());
     const uint32_t base = static_cast<uint32_t>(triMesh_.size() + spheres.size());
     // Any hit will do: a ray that leaves the sphere it starts in before tMax is blocked by it.
@@ -349,10 +356,15 @@ bool Scene::occluded(const Ray& r, float tMax, uint32_t skip) const {
         if (base + i != skip && planeBlocks(planes[i], r, tMax)) return true;
     const WatertightRay wr = nTri ? WatertightRay(r) : WatertightRay();
     Hit scratch;
-    if (useBvh_)
-        return bvh_.traverseLeaves(r, tMax, true, [&](uint32_t first, uint32_t count, float& tm) {
+    if (useBvh_) {
+        if (lastBlocker && *lastBlocker < nTri && *lastBlocker != skip && triangleBlocks(*lastBlocker, wr, tMax)) return true;
+        const bool blocked = bvh_.traverseLeaves(r, tMax, true, [&](uint32_t first, uint32_t count, float& tm) {
             return intersectLeaf(first, count, r, wr, tm, scratch, skip, true);
         });
+        // A lit point forgets the blocker: its neighbours are likely lit too, and need no guess.
+        if (lastBlocker) *lastBlocker = blocked ? scratch.prim : kNoPrim;
+        return blocked;
+    }
     float tm = tMax;
     for (uint32_t p = 0; p < nTri; ++p)
         if (intersectSlot(p, r, wr, tm, scratch, skip)) return true;

@@ -112,8 +112,11 @@ public:
     /// ray leaves on its outer side, which it cannot meet again and so is not tested; or
     /// kFromInside | sphere id for a ray entering that sphere, which meets it only at its exit.
     bool intersect(const Ray& r, Hit& hit, uint32_t skip = kNoPrim) const;
-    /// Any hit in (0, tMax): the shadow-ray query.
-    bool occluded(const Ray& r, float tMax, uint32_t skip = kNoPrim) const;
+    /// Any hit in (0, tMax): the shadow-ray query. lastBlocker (may be null): a triangle to try
+    /// before the BVH, updated to the one that blocked this ray. Shadow rays of neighbouring
+    /// pixels towards one light are mostly blocked by the same triangle; trying it first with
+    /// the leaves' own test changes what the query costs, never its answer.
+    bool occluded(const Ray& r, float tMax, uint32_t skip = kNoPrim, uint32_t* lastBlocker = nullptr) const;
     /// What a ray spawned at si in direction dir knows about its own primitive: si's sphere is
     /// skipped when dir points out of it and marked kFromInside when dir points in; si's plane is
     /// always skipped; kNoPrim otherwise (triangles).
@@ -133,6 +136,8 @@ public:
 
 private:
     bool intersectSlot(uint32_t slot, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit, uint32_t skip) const;
+    /// Whether triangle prim meets the ray in (0, tMax): intersectSlot's test for a triangle.
+    bool triangleBlocks(uint32_t prim, const WatertightRay& wr, float tMax) const;
     /// The slots of one BVH leaf in order (closest hit, or the first hit with anyHit).
     bool intersectLeaf(uint32_t first, uint32_t count, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit,
                        uint32_t skip, bool anyHit) const;

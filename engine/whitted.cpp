@@ -9,7 +9,7 @@
 namespace rf {
 
 WhittedTracer::WhittedTracer(const Scene& scene, const RenderSettings& settings)
-    : scene_(scene), settings_(settings) {
+    : scene_(scene), settings_(settings), blockers_(scene.lights.size()) {
     specFloor_.reserve(scene.materials.size());
     for (const Material& m : scene.materials)
         specFloor_.push_back(m.shininess > 0.f ? std::exp2(-40.f / m.shininess) : 0.f);
@@ -39,7 +39,7 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
 
     Color c = m.emission + scene_.ambientLight * m.ambient * base;
     if (m.diffuse <= 0.f && m.specular <= 0.f) return c;
-    ShadowRays shadows(scene_, si, frame);
+    ShadowRays shadows(scene_, si, frame, &blockers_);
     float pruned = 0.f;  // worth of the lights left out so far
     for (const Light& L : scene_.lights) {
         LightIncidence li;

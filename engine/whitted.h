@@ -7,6 +7,7 @@
 
 #include "brdf_gltf.h"
 #include "integrator.h"
+#include "light_eval.h"
 #include "scene.h"
 #include "shading_frame.h"
 #include "shadow_catcher.h"
@@ -68,6 +69,9 @@ private:
     std::vector<float> specFloor_;  ///< per material: the Phong term is skipped below this cosine
     bool seeThroughShadows_ = false;  ///< some material transmits: shadow rays filter through it
     std::optional<ShadowCatcher> catcher_;  ///< --ground shadow
+    /// An integrator serves one thread (renderTile makes one per tile), so its shading points
+    /// share this cache of each light's last blocker without a lock.
+    mutable ShadowBlockers blockers_;
 };
 
 }  // namespace rf

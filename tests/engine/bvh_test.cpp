@@ -243,6 +243,41 @@ TEST(Bvh, AnyHitAgreesWithClosestHit) {
     }
 }
 
+TEST(Bvh, LastBlockerChangesNoAnswer) {
+    // Shadow rays from one point in many nearby directions, as a pixel row's rays to one light,
+    // with the blocker cache carried from ray to ray: every answer is the plain query's, a
+    // blocked ray leaves a triangle that blocks it in the cache, and a lit one clears it. Some
+    // rays start from a stale or bogus guess (a triangle that does not block, a sphere id, one
+    // past the end) to show a wrong guess only costs a test.
+    const Scene s = testScene(13);
+    const uint32_t nTri = static_cast<uint32_t>(s.triangleCount());
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-1.f, 1.f);
+    uint32_t cache = Scene::kNoPrim;
+    int blocked = 0, reused = 0;
+    for (int i = 0; i < 20000; ++i) {
+        if (i % 200 == 0) cache = (i / 200) % 3 == 0 ? nTri + 1 : (i / 200) % 3 == 1 ? nTri + 100000u : uint32_t(i) % nTri;
+        const Vec3 o(6.f * std::sin(0.01f * i), 0.5f, 6.f * std::cos(0.013f * i));
+        const Vec3 target(0.3f * u(rng), 4.f, 0.3f * u(rng));
+        const Ray r{o, glm::normalize(target - o)};
+        const float tMax = glm::length(target - o);
+        const uint32_t before = cache;
+        const bool plain = s.occluded(r, tMax);
+        const bool cached = s.occluded(r, tMax, Scene::kNoPrim, &cache);
+        ASSERT_EQ(cached, plain) << i;
+        if (plain) {
+            ++blocked;
+            reused += cache == before;
+            ASSERT_LT(cache, nTri + static_cast<uint32_t>(s.spheres.size())) << i;
+        } else {
+            EXPECT_EQ(cache, Scene::kNoPrim) << i;
+        }
+    }
+    // The walk crosses shadows, and some blocked rays were answered by the guess.
+    EXPECT_GT(blocked, 2000);  // 5645 when written
+    EXPECT_GT(reused, 1000);  // 4043
+}
+
 TEST(Bvh, BuildIsDeterministicAndRefitFollowsMovedGeometry) {
     Scene a = testScene(21), b = testScene(21);
     ASSERT_EQ(a.bvh().nodes().size(), b.bvh().nodes().size());
