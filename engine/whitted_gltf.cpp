@@ -65,7 +65,14 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
     // With sampled indirect light (indirect_light.cpp) all but near-mirrors sample their lobe.
     const bool sampled = seed != kNoSampleSeed && depth < settings_.maxDepth;
     const float nv = std::max(glm::dot(frame.ns, V), 1e-4f);
-    const Vec2 scaleBias = pbr::specularScaleBias(nv, s.roughness);  // the split sum's, used twice below
+    // The split sum's scale and bias, used twice below: looked up once, and only if needed (a
+    // rough surface without an environment needs neither use).
+    Vec2 scaleBias(0.f);
+    bool haveScaleBias = false;
+    auto splitSum = [&]() -> Vec2 {
+        if (!haveScaleBias) scaleBias = pbr::specularScaleBias(nv, s.roughness), haveScaleBias = true;
+        return scaleBias;
+    };
     Vec3 R = reflect(d, frame.ns);
     if (glm::dot(R, frame.ng) <= 0.f) R = reflect(d, frame.ng);  // below the facet: mirror on ng
     Color specular(0.f);
@@ -74,7 +81,7 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
     if (s.transmission <= 0.f && depth < settings_.maxDepth) {
         const float share = sampled ? (s.roughness < kSampledMirrorRoughness ? 1.f : 0.f)
                                     : std::clamp(1.f - s.roughness / kTracedRoughness, 0.f, 1.f);
-        const Color w = weight * share * s.occlusion * pbr::specularAlbedo(s, scaleBias);
+        const Color w = share > 0.f ? weight * share * s.occlusion * pbr::specularAlbedo(s, splitSum()) : Color(0.f);
         if (share > 0.f && maxComponent(w) > settings_.minWeight) {
             const uint32_t skip = scene_.skipFor(si, R);
             Ray rr;
@@ -99,7 +106,7 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
         ind = sampleIndirect(si, frame, s, V, glossy, diffuse, ind, depth, weight, stats, seed);
     }
     specular += glossy * ind.specular;
-    if (specular != Color(0.f) || ind.diffuse != Color(0.f)) c += pbr::environmentLight(s, scaleBias, specular, ind.diffuse);
+    if (specular != Color(0.f) || ind.diffuse != Color(0.f)) c += pbr::environmentLight(s, splitSum(), specular, ind.diffuse);
     return c;
 }
 
