@@ -151,17 +151,26 @@ constexpr float kScaleBiasTable[kLutSize * kLutSize][2] = {
 
 Vec2 lutNode(size_t k) { return Vec2(kScaleBiasTable[k][0], kScaleBiasTable[k][1]); }
 
-/// A row of the table at n·v; roughness row 0 is a mirror and so exact in closed form.
-Vec2 lutRow(int j, float nv) {
+/// The table column left of n·v ∈ [0, 1] and the weight of the one right of it.
+struct LutColumn {
+    int i0;
+    float fx;
+};
+LutColumn lutColumn(float nv) {
+    const float x = nv * (kLutSize - 1);
+    const int i0 = std::min(int(x), kLutSize - 2);
+    return {i0, x - i0};
+}
+
+/// A row of the table at n·v (in column c); roughness row 0 is a mirror and so exact in closed
+/// form.
+Vec2 lutRow(int j, float nv, LutColumn c) {
     if (j == 0) {
         const float fc = schlickFresnel(0.f, nv);
         return Vec2(1.f - fc, fc);
     }
-    const float x = nv * (kLutSize - 1);
-    const int i0 = std::min(int(x), kLutSize - 2);
-    const float fx = x - i0;
-    const size_t k = size_t(j) * kLutSize + size_t(i0);
-    return glm::mix(lutNode(k), lutNode(k + 1), fx);
+    const size_t k = size_t(j) * kLutSize + size_t(c.i0);
+    return glm::mix(lutNode(k), lutNode(k + 1), c.fx);
 }
 
 /// Per roughness row: 2∫(A, B)(μ) μ dμ over the interpolated row, so E_avg matches the E the
@@ -174,7 +183,7 @@ const AverageLut& averageLut() {
             Vec2 sum(0.f);
             for (int i = 0; i < kSteps; ++i) {
                 const float mu = (i + 0.5f) / kSteps;
-                sum += lutRow(j, mu) * mu;
+                sum += lutRow(j, mu, lutColumn(mu)) * mu;
             }
             t[size_t(j)] = sum * (2.f / kSteps);
         }
@@ -202,7 +211,8 @@ Vec2 specularScaleBias(float nv, float roughness) {
     nv = std::clamp(std::isfinite(nv) ? nv : 0.f, 0.f, 1.f);
     float fy;
     const int j0 = rowOf(roughness, fy);
-    return glm::mix(lutRow(j0, nv), lutRow(j0 + 1, nv), fy);
+    const LutColumn c = lutColumn(nv);  // both rows share it
+    return glm::mix(lutRow(j0, nv, c), lutRow(j0 + 1, nv, c), fy);
 }
 
 float dielectricAlbedo(float f0, float roughness, float nv) {
