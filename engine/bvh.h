@@ -71,6 +71,12 @@ public:
     template <typename LeafFn>
     bool traverseLeaves(const Ray& ray, float tMax, bool anyHit, LeafFn&& leaf) const;
 
+    /// Whether traverseLeaves's box test lets the ray through box before tMax: the same float
+    /// operations as one lane of it (the near slab by the sign of 1/d, a NaN product skipped,
+    /// the far distance widened). Rounding is monotone, so when a primitive's own box passes,
+    /// every node box that holds it passes too, and the walk reaches the primitive's leaf.
+    static bool boxPasses(const RayBoxPrecomp& pre, const Aabb& box, float tMax);
+
 private:
     struct BuildItem {
         Aabb box;
@@ -88,6 +94,20 @@ private:
     std::vector<Bvh4Node> nodes4_;
     std::vector<uint32_t> primIndex_;
 };
+
+inline bool Bvh::boxPasses(const RayBoxPrecomp& pre, const Aabb& box, float tMax) {
+    const float widen = 1.f + 2.f * gamma(3);
+    float t0 = 0.f, t1 = tMax;
+    for (int a = 0; a < 3; ++a) {
+        const bool neg = std::signbit(pre.invD[a]);
+        const float near = neg ? box.hi[a] : box.lo[a], far = neg ? box.lo[a] : box.hi[a];
+        const float tNear = (near - pre.o[a]) * pre.invD[a];
+        const float tFar = (far - pre.o[a]) * pre.invD[a] * widen;
+        t0 = tNear > t0 ? tNear : t0;  // maxKeep4's lane: a NaN product keeps t0
+        t1 = tFar < t1 ? tFar : t1;    // minKeep4's lane
+    }
+    return t0 <= t1;
+}
 
 template <typename LeafFn>
 bool Bvh::traverseLeaves(const Ray& ray, float tMax, bool anyHit, LeafFn&& leaf) const {

@@ -15,6 +15,8 @@ namespace rf {
 
 class Scene;
 
+/// One instance serves one thread at a time (renderTile makes one per tile), so an
+/// implementation may keep caches that change what its queries cost, never what they answer.
 class Integrator {
 public:
     virtual ~Integrator() = default;

@@ -1,5 +1,7 @@
 #include "light_eval.h"
 
+#include <cstdint>
+
 #include "material_eval.h"
 #include "optics.h"
 #include "scene.h"
@@ -59,8 +61,11 @@ bool ShadowRays::unoccluded(const Light& L, const LightIncidence& li, bool behin
     ++stats.shadow;
     uint32_t* last = nullptr;
     if (blockers_) {
-        const size_t i = size_t(&L - scene_.lights.data());  // L is one of the scene's lights, or not cached
-        if (i < blockers_->prim.size()) last = &blockers_->prim[i];
+        // L's index if it is one of the scene's lights (compared as addresses: pointer
+        // arithmetic across arrays is undefined); any other light goes uncached.
+        const auto at = reinterpret_cast<uintptr_t>(&L), first = reinterpret_cast<uintptr_t>(scene_.lights.data());
+        const size_t i = at >= first ? (at - first) / sizeof(Light) : ~size_t(0);
+        if (i < blockers_->prim.size() && at == first + i * sizeof(Light)) last = &blockers_->prim[i];
     }
     return !scene_.occluded(sr, tMax, skip, last);
 }

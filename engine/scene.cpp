@@ -357,7 +357,12 @@ bool Scene::occluded(const Ray& r, float tMax, uint32_t skip, uint32_t* lastBloc
     const WatertightRay wr = nTri ? WatertightRay(r) : WatertightRay();
     Hit scratch;
     if (useBvh_) {
-        if (lastBlocker && *lastBlocker < nTri && *lastBlocker != skip && triangleBlocks(*lastBlocker, wr, tMax)) return true;
+        // The guess counts only if the walk would reach it: a hit within an ulp of tMax can lie
+        // past the entry distance the box test computes, and the walk then lets the ray through.
+        if (lastBlocker && *lastBlocker < nTri && *lastBlocker != skip && triangleBlocks(*lastBlocker, wr, tMax)) {
+            const Vec3* v = &triVerts_[3 * *lastBlocker];
+            if (Bvh::boxPasses(RayBoxPrecomp(r), triangleBox(v[0], v[1], v[2]), tMax)) return true;
+        }
         const bool blocked = bvh_.traverseLeaves(r, tMax, true, [&](uint32_t first, uint32_t count, float& tm) {
             return intersectLeaf(first, count, r, wr, tm, scratch, skip, true);
         });

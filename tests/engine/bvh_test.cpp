@@ -278,6 +278,38 @@ TEST(Bvh, LastBlockerChangesNoAnswer) {
     EXPECT_GT(reused, 1000);  // 4043
 }
 
+TEST(Bvh, LastBlockerAgreesWithTheWalkAtTheFarEnd) {
+    // A flat, axis-aligned floor, and shadow rays that end within a few ulps of where they meet
+    // it. There the watertight test can find a hit below tMax whose box the walk's slab test
+    // puts just past tMax (the reviewer's case): the walk lets the ray through, so the guess
+    // must too, or a pixel's answer would depend on its neighbour's.
+    Scene s = test::emptyScene();
+    TriangleMesh floor = test::gridMesh(16, 5.f);
+    for (Vec3& p : floor.positions) p.y = 3.f;
+    s.meshes.push_back(floor);
+    s.build();
+    ASSERT_TRUE(s.usesBvh());
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-1.f, 1.f);
+    int checked = 0, differ = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const Vec3 o(4.f * u(rng), -7.f + u(rng), 4.f * u(rng));
+        const Ray r{o, glm::normalize(Vec3(0.3f * u(rng), 1.f, 0.3f * u(rng)))};
+        Hit h;
+        if (!s.intersect(r, h)) continue;
+        float tMax = std::nextafter(h.t, 0.f);
+        for (int k = 0; k < 6; ++k, tMax = std::nextafter(tMax, kInf)) {
+            uint32_t guess = h.prim;
+            const bool plain = s.occluded(r, tMax);
+            const bool cached = s.occluded(r, tMax, Scene::kNoPrim, &guess);
+            ++checked;
+            differ += plain != cached;
+        }
+    }
+    EXPECT_GT(checked, 50000);
+    EXPECT_EQ(differ, 0) << "of " << checked;
+}
+
 TEST(Bvh, BuildIsDeterministicAndRefitFollowsMovedGeometry) {
     Scene a = testScene(21), b = testScene(21);
     ASSERT_EQ(a.bvh().nodes().size(), b.bvh().nodes().size());
