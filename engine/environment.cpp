@@ -55,25 +55,26 @@ Vec3 equirectDirection(Vec2 uv) {
     return Vec3(s * std::cos(phi), std::cos(theta), s * std::sin(phi));
 }
 
+namespace {
+/// The lower half's fold between the octahedron and the square's corners: its own inverse.
+void octahedralFold(float& px, float& pz) {
+    const float fx = 1.f - std::abs(pz), fz = 1.f - std::abs(px);
+    px = std::copysign(fx, px);
+    pz = std::copysign(fz, pz);
+}
+}  // namespace
+
 Vec2 octahedralUv(const Vec3& d) {
     const float l1 = std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
     float px = d.x / l1, pz = d.z / l1;
-    if (d.y < 0.f) {  // the lower half folds out over the four corners
-        const float fx = 1.f - std::abs(pz), fz = 1.f - std::abs(px);
-        px = std::copysign(fx, px);
-        pz = std::copysign(fz, pz);
-    }
+    if (d.y < 0.f) octahedralFold(px, pz);  // the lower half folds out over the four corners
     return Vec2(0.5f * px + 0.5f, 0.5f * pz + 0.5f);
 }
 
 Vec3 octahedralDirection(Vec2 uv) {
     float px = 2.f * uv.x - 1.f, pz = 2.f * uv.y - 1.f;
     const float y = 1.f - std::abs(px) - std::abs(pz);
-    if (y < 0.f) {
-        const float fx = 1.f - std::abs(pz), fz = 1.f - std::abs(px);
-        px = std::copysign(fx, px);
-        pz = std::copysign(fz, pz);
-    }
+    if (y < 0.f) octahedralFold(px, pz);
     return glm::normalize(Vec3(px, y, pz));
 }
 

@@ -1,6 +1,6 @@
 #include "light_eval.h"
 
-#include <cstdint>
+#include <functional>
 
 #include "material_eval.h"
 #include "optics.h"
@@ -60,13 +60,12 @@ bool ShadowRays::unoccluded(const Light& L, const LightIncidence& li, bool behin
     const Ray sr = shadowRay(L, li, behindFacet, skip, tMax);
     ++stats.shadow;
     uint32_t* last = nullptr;
-    if (blockers_) {
-        // L's index if it is one of the scene's lights (compared as addresses: pointer
-        // arithmetic across arrays is undefined); any other light goes uncached.
-        const auto at = reinterpret_cast<uintptr_t>(&L), first = reinterpret_cast<uintptr_t>(scene_.lights.data());
-        const size_t i = at >= first ? (at - first) / sizeof(Light) : ~size_t(0);
-        if (i < blockers_->prim.size() && at == first + i * sizeof(Light)) last = &blockers_->prim[i];
-    }
+    // L's index if it is one of the scene's lights (std::less orders any two pointers; only
+    // then is the subtraction defined); any other light goes uncached.
+    const Light* lights = scene_.lights.data();
+    const std::less<const Light*> before;
+    if (blockers_ && !before(&L, lights) && before(&L, lights + blockers_->prim.size()))
+        last = &blockers_->prim[size_t(&L - lights)];
     return !scene_.occluded(sr, tMax, skip, last);
 }
 

@@ -335,11 +335,14 @@ bool Scene::intersect(const Ray& r, Hit& hit, uint32_t skip) const {
     return found;
 }
 
-bool Scene::triangleBlocks(uint32_t prim, const WatertightRay& wr, float tMax) const {
+bool Scene::walkWouldBlock(uint32_t prim, const Ray& r, const WatertightRay& wr, float tMax) const {
     TriangleHit th;
     const Vec3* v = &triVerts_[3 * prim];  // the same floats as the prim's slot in slotVerts_
     if (!intersectTriangleWatertight(wr, v[0], v[1], v[2], tMax, th)) return false;
-    return !(anyMasked_ && meshMasked_[triMesh_[prim]] && !triangleAlphaPasses(prim, th));
+    if (anyMasked_ && meshMasked_[triMesh_[prim]] && !triangleAlphaPasses(prim, th)) return false;
+    // A hit within an ulp of tMax can lie past the entry distance the walk's box test computes;
+    // the walk then lets the ray through, and so must the guess.
+    return Bvh::boxPasses(RayBoxPrecomp(r), triangleBox(v[0], v[1], v[2]), tMax);
 }
 
 bool Scene::occluded(const Ray& r, float tMax, uint32_t skip, uint32_t* lastBlocker) const {
@@ -357,12 +360,8 @@ bool Scene::occluded(const Ray& r, float tMax, uint32_t skip, uint32_t* lastBloc
     const WatertightRay wr = nTri ? WatertightRay(r) : WatertightRay();
     Hit scratch;
     if (useBvh_) {
-        // The guess counts only if the walk would reach it: a hit within an ulp of tMax can lie
-        // past the entry distance the box test computes, and the walk then lets the ray through.
-        if (lastBlocker && *lastBlocker < nTri && *lastBlocker != skip && triangleBlocks(*lastBlocker, wr, tMax)) {
-            const Vec3* v = &triVerts_[3 * *lastBlocker];
-            if (Bvh::boxPasses(RayBoxPrecomp(r), triangleBox(v[0], v[1], v[2]), tMax)) return true;
-        }
+        if (lastBlocker && *lastBlocker < nTri && *lastBlocker != skip && walkWouldBlock(*lastBlocker, r, wr, tMax))
+            return true;
         const bool blocked = bvh_.traverseLeaves(r, tMax, true, [&](uint32_t first, uint32_t count, float& tm) {
             return intersectLeaf(first, count, r, wr, tm, scratch, skip, true);
         });

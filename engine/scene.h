@@ -136,8 +136,9 @@ public:
 
 private:
     bool intersectSlot(uint32_t slot, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit, uint32_t skip) const;
-    /// Whether triangle prim meets the ray in (0, tMax): intersectSlot's test for a triangle.
-    bool triangleBlocks(uint32_t prim, const WatertightRay& wr, float tMax) const;
+    /// Whether triangle prim blocks the ray before tMax as the BVH walk would find it: the
+    /// leaves' test (intersectSlot's for a triangle), and its box passing the walk's box test.
+    bool walkWouldBlock(uint32_t prim, const Ray& r, const WatertightRay& wr, float tMax) const;
     /// The slots of one BVH leaf in order (closest hit, or the first hit with anyHit).
     bool intersectLeaf(uint32_t first, uint32_t count, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit,
                        uint32_t skip, bool anyHit) const;

@@ -82,7 +82,7 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
         const float share = sampled ? (s.roughness < kSampledMirrorRoughness ? 1.f : 0.f)
                                     : std::clamp(1.f - s.roughness / kTracedRoughness, 0.f, 1.f);
         const Color w = share > 0.f ? weight * share * s.occlusion * pbr::specularAlbedo(s, splitSum()) : Color(0.f);
-        if (share > 0.f && maxComponent(w) > settings_.minWeight) {
+        if (maxComponent(w) > settings_.minWeight) {
             const uint32_t skip = scene_.skipFor(si, R);
             Ray rr;
             rr.o = spawnOrigin(si.p, si, frame.ng, R, skip);
