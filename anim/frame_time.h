@@ -4,6 +4,13 @@
 
 namespace rf::anim {
 
+/// Frame rates a film can have. MP4's time base is 1/fps as a rational; well below 1e-5 fps the
+/// muxer's durations overflow and the first write fails, so the floor (a frame every 1000 s)
+/// leaves room. The ceiling keeps a frame's time step well above a double's rounding.
+constexpr double kMinFps = 0.001, kMaxFps = 1000.0;
+inline bool fpsInRange(double fps) { return fps >= kMinFps && fps <= kMaxFps; }
+constexpr const char* kFpsRangeText = "expected a rate from 0.001 (a frame every 1000 s) up to 1000";
+
 /// Time in seconds of frame i.
 inline double frameTime(double t0, double fps, long long i) { return t0 + static_cast<double>(i) / fps; }
 

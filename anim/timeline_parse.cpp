@@ -41,6 +41,12 @@ public:
         : JsonReader(std::move(file), std::move(prefix)), scene_(scene) {}
 
     DVec3 vec3(const json& j, const std::string& w) const { return dvec3(j, w); }
+    /// obj["fps"] (def when absent), within the rates a film can have.
+    double frameRate(const json& obj, const std::string& w, double def) const {
+        const double fps = positive(obj, "fps", w, def);
+        if (!fpsInRange(fps)) fail(join(w, "fps"), kFpsRangeText);
+        return fps;
+    }
     /// A key's value (or tangent) with dim components; a colour may be one grey number.
     std::vector<double> values(const json& j, const std::string& w, int dim, bool greyOk) const {
         if (j.is_number() && (dim == 1 || greyOk)) return std::vector<double>(dim, number(j, w));
@@ -243,7 +249,7 @@ public:
         // A bare model's rig is placed for its camera, so there lights follow it by default.
         TurntableSettings s = isGltfPath(scene_.sourcePath) ? defaultModelTurntable() : TurntableSettings{};
         s.seconds = positive(j, "seconds", w, s.seconds);
-        s.fps = fps > 0.0 ? fps : positive(j, "fps", w, s.fps);
+        s.fps = fps > 0.0 ? fps : frameRate(j, w, s.fps);
         s.elevationDeg = number(j, "elevation", w, s.elevationDeg);
         if (s.elevationDeg < -90 || s.elevationDeg > 90) fail(join(w, "elevation"), "expected degrees from −90 to 90");
         if (j.contains("distance") && !(j["distance"].is_string() && j["distance"].get<std::string>() == "auto"))
@@ -329,7 +335,7 @@ ParsedTimeline parseTimeline(const Scene& scene, double fps) {
     const Parser p(file, external ? "" : "timeline.", scene);
     const json& j = root["timeline"];
     p.allowKeys(j, "", {"fps", "duration", "frames", "start", "loop", "camera", "lights", "animation", "comment"});
-    out.fps = fps > 0.0 ? fps : p.positive(j, "fps", "", 30.0);
+    out.fps = fps > 0.0 ? fps : p.frameRate(j, "", 30.0);
     out.t0 = p.number(j, "start", "", 0.0);
     TimelineSpec& s = out.spec;
     if (j.contains("camera")) s.camera = p.camera(j["camera"], "camera");

@@ -1,5 +1,6 @@
 #include "mp4_sink.h"
 
+#include "frame_time.h"
 #include "mp4_remux.h"
 
 #include <atomic>
@@ -42,7 +43,7 @@ void mp4EncodedSize(int width, int height, const Mp4Options& o, int& encW, int& 
 }
 
 std::string checkMp4Options(int width, int height, const Mp4Options& o, const std::string& path) {
-    if (!(o.fps > 0.0 && o.fps <= 1000.0)) throw std::invalid_argument("--fps: expected a rate above 0 and up to 1000");
+    if (!anim::fpsInRange(o.fps)) throw std::invalid_argument(std::string("--fps: ") + anim::kFpsRangeText);
     const VideoFormat f = videoFormatOf(path, o);
     std::string note;
     if (o.channels == 4 && !f.alpha)

@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "frame_time.h"
+
 namespace rf::farm {
 
 const char* kRenderHelp =
@@ -116,7 +118,7 @@ RenderJob jobFromOptions(const cli::ArgParser& p) {
     if (!(j.workerTimeout >= 0.5 && j.workerTimeout <= 86400)) throw UsageError("--timeout: expected seconds from 0.5 to 86400");
     if (p.has("--fps")) {
         j.fpsOption = p.doubleValue("--fps", 30.0);
-        if (!(j.fpsOption > 0.0 && j.fpsOption <= 1000.0)) throw UsageError("--fps: expected a rate above 0 and up to 1000");
+        if (!anim::fpsInRange(j.fpsOption)) throw UsageError(std::string("--fps: ") + anim::kFpsRangeText);
     }
     return j;
 }

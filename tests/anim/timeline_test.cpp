@@ -96,6 +96,9 @@ TEST(Timeline, BadTracksAreRejectedClearly) {
         {R"("timeline": {"animation": {"model": 0}})", "timeline.animation.model: no model 0 (the scene has 0)"},
         {R"("timeline": {}, "turntable": {})", "turntable: give either a timeline or a turntable"},
         {R"("turntable": {"lights": "sideways"})", "turntable.lights: expected \"fixed\" or \"follow-camera\""},
+        // A rate MP4 cannot carry: the first frame's write would fail after the render.
+        {R"("timeline": {"fps": 1e-9})", "timeline.fps: expected a rate from 0.001 (a frame every 1000 s) up to 1000"},
+        {R"("turntable": {"fps": 5000})", "turntable.fps: expected a rate from 0.001 (a frame every 1000 s) up to 1000"},
     };
     for (const Case& c : cases) {
         const std::string msg = timelineError("bad.json", c.extra);

@@ -364,6 +364,11 @@ bad-output)
     grep -q "frames 0" bad.log && fail "rendering was planned before the output check"
     set +e; "$RAYFARM" render "$FLIGHT" -o out.mp4 --mode sideways 2> bad2.log; rc=$?; set -e
     [ "$rc" -eq 2 ] && grep -q "rayfarm: error: --mode" bad2.log || { cat bad2.log; fail "bad --mode not refused"; }
+    # A rate below what MP4's time base holds, refused before rendering rather than at the first write.
+    set +e; mpi 2 render "$FLIGHT" -o slow.mp4 --fps 1e-9 2> bad3.log; rc=$?; set -e
+    [ "$rc" -eq 2 ] && [ "$(grep -c 'rayfarm: error' bad3.log)" = 1 ] && grep -q "rayfarm: error: --fps: expected a rate from 0.001" bad3.log ||
+        { cat bad3.log; fail "--fps 1e-9: exit $rc, expected 2 and one line"; }
+    grep -q "frames 0" bad3.log && fail "--fps 1e-9: rendering was planned"
     echo "bad-output: refused at once with exit 2"
     ;;
 *)
