@@ -13,6 +13,7 @@
 #include "gif_sink.h"
 #include "interrupt.h"
 #include "launch_command.h"
+#include "master.h"
 #include "output_check.h"
 #include "png_sink.h"
 #include "preview_spawn.h"
@@ -182,8 +183,10 @@ int runRank0(MpiTransport& t, const RenderJob& job, SharedScene& shared, const s
     opts.wallStart = wallStart;
     int code = 0;
     opts.onEnd = [&](const FarmOutcome& o) { code = reportOutcome(t.size(), job, o, args); };
+    StopWorkersOnThrow setUp(t);  // opening the video can fail (a full disk), after the workers started
     const anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, job.fpsOption);
     FarmSinks sinks = sinksForJob(job, [timeline](int f) { return timeline.frameTime(f); });
+    setUp.dismiss();  // runFarm guards its own set-up
     FarmOutcome o;
     try {
         o = runFarm(t, job, shared, std::move(sinks), opts);

@@ -271,16 +271,29 @@ std::string Master::findSilentWorker(double seconds, int* rank) {
     }
 }
 
-void Master::stopWorkers() {
-    if (std::exchange(stopped_, true)) return;  // a second word would wait for ranks that left
-    for (int r = 1; r < t_.size(); ++r) {
+void tellWorkersToStop(Transport& t) {
+    for (int r = 1; r < t.size(); ++r) {
         try {
-            t_.send(r, kTagStop, "");
+            t.send(r, kTagStop, "");
         } catch (const TransportError&) {
             // That worker is gone; the others still need the word.
         }
     }
-    t_.flush(2.0);
+    t.flush(2.0);
+}
+
+StopWorkersOnThrow::~StopWorkersOnThrow() {
+    if (!armed_ || std::uncaught_exceptions() <= uncaught_) return;
+    try {
+        tellWorkersToStop(t_);
+    } catch (...) {
+        // Unwinding already: the error that brought us here is the one to tell.
+    }
+}
+
+void Master::stopWorkers() {
+    if (std::exchange(stopped_, true)) return;  // a second word would wait for ranks that left
+    tellWorkersToStop(t_);
 }
 
 }  // namespace rf::farm

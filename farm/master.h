@@ -4,6 +4,7 @@
 /// finished frames on in order, and watches every worker's heartbeat.
 #include <atomic>
 #include <chrono>
+#include <exception>
 #include <functional>
 #include <string>
 #include <vector>
@@ -43,6 +44,30 @@ struct MasterOutcome {
     RayStats rays;
     std::vector<RankStats> perRank;  ///< index = rank
     std::chrono::steady_clock::time_point firstDispatch{};
+};
+
+/// Tells every worker (ranks 1..size-1) to leave, skipping any that is gone, and waits up to
+/// 2 s for the words to go out. Rank 0 calls it itself when it fails before its master's loop
+/// starts, since a worker that hears nothing waits for work that never comes.
+void tellWorkersToStop(Transport& t);
+
+/// Rank 0's set-up before its master's loop (the sinks, the frame plan, its own engine): an
+/// exception that leaves the scope before dismiss() tells the workers to stop, so the error
+/// line comes out and every rank leaves, instead of rank 0 waiting in MPI_Finalize for workers
+/// that wait for work.
+class StopWorkersOnThrow {
+public:
+    explicit StopWorkersOnThrow(Transport& t) : t_(t), uncaught_(std::uncaught_exceptions()) {}
+    ~StopWorkersOnThrow();
+    StopWorkersOnThrow(const StopWorkersOnThrow&) = delete;
+    StopWorkersOnThrow& operator=(const StopWorkersOnThrow&) = delete;
+    /// The master's loop takes over: it stops the workers however it ends.
+    void dismiss() { armed_ = false; }
+
+private:
+    Transport& t_;
+    int uncaught_;
+    bool armed_ = true;
 };
 
 class Master {

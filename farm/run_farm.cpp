@@ -268,6 +268,7 @@ std::string FarmRun::closeSinks(Master& master, const MasterOutcome& o) {
 }
 
 FarmOutcome FarmRun::run(SharedScene& shared) {
+    StopWorkersOnThrow setUp(t_);
     const int ranks = t_.size();
     rank0Renders_ = ranks <= 2;  // with more ranks, rank 0's core serves the master and encoder
     const int renderers = rank0Renders_ ? ranks : ranks - 1;
@@ -285,6 +286,7 @@ FarmOutcome FarmRun::run(SharedScene& shared) {
         master.onFrameComplete([&](int frame, const std::vector<uint8_t>& rgb) { sinks_.frames->write(frame, rgb); });
     // mpirun's SIGKILL follows its SIGTERM within about a second (signal_deadline.h).
     SignalDeadline deadline(0.25, [this] { return lastWords(); });
+    setUp.dismiss();
     MasterOutcome o = runMaster(master, deadline);
     std::string silent;
     try {

@@ -371,6 +371,23 @@ bad-output)
     grep -q "frames 0" bad3.log && fail "--fps 1e-9: rendering was planned"
     echo "bad-output: refused at once with exit 2"
     ;;
+full-disk)
+    # The video's header fails to write (a full disk: -o links to /dev/full) after the scene went
+    # to the workers and before the master's loop starts. Rank 0 must tell them to leave: it
+    # used to wait in MPI_Finalize, with the error line unprinted, for workers waiting for work.
+    [ -w /dev/full ] || { echo "full-disk: skipped (no writable /dev/full)"; exit 0; }
+    ln -sf /dev/full full.mp4
+    for np in 2 3; do
+        start=$(date +%s.%N)
+        set +e; timeout 60 mpirun --oversubscribe -np "$np" "$RAYFARM" render "$FLIGHT" -o full.mp4 --no-frames 2> full_$np.log; rc=$?; set -e
+        secs=$(awk -v a="$start" -v b="$(date +%s.%N)" 'BEGIN { printf "%.1f", b - a }')
+        [ "$rc" -ne 124 ] || { cat full_$np.log; fail "$np ranks: still running after 60 s (rank 0 waits for its workers)"; }
+        [ "$rc" -eq 1 ] || { cat full_$np.log; fail "$np ranks: exit $rc, expected 1"; }
+        [ "$(grep -c 'rayfarm: error' full_$np.log)" = 1 ] && grep -q "rayfarm: error: full.mp4: cannot write the mp4 header: No space left on device" full_$np.log ||
+            { cat full_$np.log; fail "$np ranks: expected one error line naming full.mp4 and the full disk"; }
+        echo "full-disk: $np ranks stop in $secs s with one error line"
+    done
+    ;;
 *)
     fail "unknown case $CASE"
     ;;
