@@ -288,13 +288,18 @@ private:
         } else if (type == "triangle" || type == "mesh") {
             readMesh(j, w, s, type == "triangle");
         } else if (type == "model") {
-            rd_.allowKeys(j, w, {"type", "path", "transform"});
+            rd_.allowKeys(j, w, {"type", "path", "transform", "material"});
             const std::string rel = rd_.string(j, "path", w, "");
             if (rel.empty()) rd_.fail(w + ".path", "expected the model's file name");
             const std::filesystem::path base = std::filesystem::path(path_).parent_path();
             const std::string full = (std::filesystem::path(rel).is_absolute() ? std::filesystem::path(rel) : base / rel).lexically_normal().string();
             const DMat4 m = j.contains("transform") ? readTransform(rd_, j["transform"], w + ".transform") : DMat4(1.0);
+            // "material": the scene's (Phong) material for every primitive in place of the
+            // file's own, a clay render; a file's textures are then never decoded.
+            const int override = j.contains("material") ? material(j, w) : -1;
+            const size_t firstMesh = s.meshes.size();
             loadGltfModel(s, full, m, fs_);
+            for (size_t i = firstMesh; override >= 0 && i < s.meshes.size(); ++i) s.meshes[i].material = override;
         } else {
             rd_.fail(w + ".type", "expected \"sphere\", \"plane\", \"triangle\", \"mesh\" or \"model\"");
         }

@@ -2,6 +2,9 @@
 // ("x.json: lights[2].color: expected 3 numbers"), including catalogue 20's load-time check.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
+
 #include "errors.h"
 #include "scene_loader.h"
 
@@ -153,6 +156,39 @@ TEST(SceneLoader, ShippedScenesLoad) {
         DiskFileSource fs;
         const std::string path = std::string(RAYFARM_SOURCE_DIR) + "/scenes/" + name;
         EXPECT_NO_THROW(loadScene(path, fs)) << path;
+    }
+}
+
+// A model's "material" puts every primitive of it in the scene's own material (a clay render).
+TEST(SceneLoader, ModelMaterialOverridesTheFilesMaterials) {
+    std::ifstream in(std::string(RAYFARM_SOURCE_DIR) + "/scenes/model_on_floor.json");
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string key = "\"type\": \"model\", ";
+    ASSERT_NE(text.find(key), std::string::npos);
+    const std::string dir = ::testing::TempDir();
+    auto loadWith = [&](const std::string& extra, const std::string& name) {
+        std::string t = text;
+        t.replace(t.find(key), key.size(), key + extra);
+        const std::string path = dir + "/" + name;
+        std::ofstream(path) << t;
+        DiskFileSource fs;
+        return loadScene(path, fs);
+    };
+    const Scene own = loadWith("", "own.json");
+    const Scene clay = loadWith("\"material\": \"floor\", ", "clay.json");
+    ASSERT_EQ(own.meshes.size(), clay.meshes.size());
+    ASSERT_FALSE(clay.meshes.empty());
+    for (size_t i = 0; i < own.meshes.size(); ++i) {
+        EXPECT_TRUE(own.materials[size_t(own.meshes[i].material)].gltfPbr) << i;
+        const Material& m = clay.materials[size_t(clay.meshes[i].material)];
+        EXPECT_EQ(m.name, "floor") << i;
+        EXPECT_FALSE(m.gltfPbr) << i;
+    }
+    try {
+        loadWith("\"material\": \"gold\", ", "gold.json");
+        ADD_FAILURE() << "an unknown material loaded";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("objects[1].material: no material named \"gold\""), std::string::npos) << e.what();
     }
 }
 
