@@ -3,8 +3,11 @@
 // scene's timeline), same primary rays (rf::CameraRays), one closest-hit ray per pixel and one
 // shadow ray per hit towards the scene's first point light, shaded with a plain Lambert term.
 // examples/bench_embree.sh times this whole process next to `rayfarm render --no-frames`.
+// --tracer rayfarm runs the same loop on rayfarm's own Scene::intersect and Scene::occluded
+// (no blocker cache) in place of rtcIntersect1/rtcOccluded1: the traversal alone, on the same
+// rays with the same shading, without rayfarm's renderer, film and encoder around it.
 // Prints figures; not a test. Built only when CMake finds Embree 3.
-//   embree_bench SCENE.json [--threads N] [--out frame0.png]
+//   embree_bench SCENE.json [--threads N] [--tracer embree|rayfarm] [--out frame0.png]
 #include <embree3/rtcore.h>
 
 #include <atomic>
@@ -86,21 +89,51 @@ float shadePixel(RTCScene es, const Ray& r, const Vec3& light) {
     return sr.tfar < 0.f ? 0.05f : 0.05f + cosL;
 }
 
+/// The triangles in the order of Scene's primitive ids (mesh by mesh), as buildEmbreeScene
+/// numbers them: the geometric normal of a rayfarm hit, computed as Embree computes Ng.
+std::vector<Vec3> flatTriangles(const Scene& scene) {
+    std::vector<Vec3> v;
+    for (const TriangleMesh& m : scene.meshes)
+        for (uint32_t i : m.indices) v.push_back(m.positions[i]);
+    return v;
+}
+
+/// shadePixel with rayfarm's traversal.
+float shadePixelRayfarm(const Scene& scene, const std::vector<Vec3>& tris, const Ray& r, const Vec3& light) {
+    Hit h;
+    if (!scene.intersect(r, h)) return 0.f;
+    const Vec3 p = r.o + h.t * r.d;
+    const Vec3* v = &tris[3 * size_t(h.prim)];
+    Vec3 n = glm::normalize(glm::cross(v[1] - v[0], v[2] - v[0]));
+    if (glm::dot(n, r.d) > 0.f) n = -n;
+    const Vec3 toL = light - p;
+    const float dist = glm::length(toL);
+    const Vec3 l = toL / dist;
+    const float cosL = glm::dot(n, l);
+    if (cosL <= 0.f) return 0.05f;
+    Ray sr;
+    sr.o = p + 1e-4f * glm::max(1.f, glm::length(p)) * n;
+    sr.d = l;
+    return scene.occluded(sr, dist) ? 0.05f : 0.05f + cosL;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::string path, out;
+    std::string path, out, tracer = "embree";
     int threads = 1;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         if (a == "--threads" && i + 1 < argc) threads = std::max(1, std::atoi(argv[++i]));
         else if (a == "--out" && i + 1 < argc) out = argv[++i];
+        else if (a == "--tracer" && i + 1 < argc) tracer = argv[++i];
         else path = a;
     }
-    if (path.empty()) {
-        std::fprintf(stderr, "usage: embree_bench SCENE.json [--threads N] [--out frame0.png]\n");
+    if (path.empty() || (tracer != "embree" && tracer != "rayfarm")) {
+        std::fprintf(stderr, "usage: embree_bench SCENE.json [--threads N] [--tracer embree|rayfarm] [--out frame0.png]\n");
         return 2;
     }
+    const bool own = tracer == "rayfarm";
     try {
         const auto t0 = std::chrono::steady_clock::now();
         DiskFileSource fs;
@@ -113,8 +146,9 @@ int main(int argc, char** argv) {
             if (l.type == LightType::Point && !haveLight) light = l.position, haveLight = true;
         if (!haveLight) throw std::runtime_error(path + ": needs a point light");
         const std::string config = "threads=" + std::to_string(threads);
-        RTCDevice device = rtcNewDevice(config.c_str());
-        RTCScene es = buildEmbreeScene(device, scene);
+        RTCDevice device = own ? nullptr : rtcNewDevice(config.c_str());
+        RTCScene es = own ? nullptr : buildEmbreeScene(device, scene);
+        const std::vector<Vec3> tris = own ? flatTriangles(scene) : std::vector<Vec3>();
         const auto t1 = std::chrono::steady_clock::now();
         const int w = scene.settings.width, h = scene.settings.height, frames = timeline.frameCount();
         std::vector<float> img(size_t(w) * h);
@@ -134,7 +168,8 @@ int main(int argc, char** argv) {
                     const int x0 = 16 * (t % tilesX), y0 = 16 * (t / tilesX);
                     for (int y = y0; y < std::min(h, y0 + 16); ++y)
                         for (int x = x0; x < std::min(w, x0 + 16); ++x)
-                            img[size_t(y) * w + x] = shadePixel(es, cam.generate(x + 0.5f, y + 0.5f), light);
+                            img[size_t(y) * w + x] = own ? shadePixelRayfarm(scene, tris, cam.generate(x + 0.5f, y + 0.5f), light)
+                                                         : shadePixel(es, cam.generate(x + 0.5f, y + 0.5f), light);
                 }
             };
             std::vector<std::thread> pool;
@@ -152,12 +187,12 @@ int main(int argc, char** argv) {
         const double cpu = rf::bench::processCpuSeconds() - cpu0;
         const double loadS = std::chrono::duration<double>(t1 - t0).count();
         const double renderS = std::chrono::duration<double>(t2 - t1).count();
-        std::printf("embree: %d frames %dx%d, %d thread%s, %zu triangles: load + build %.3f s, render %.3f s (%.2f fps, "
+        std::printf("%s: %d frames %dx%d, %d thread%s, %zu triangles: load + build %.3f s, render %.3f s (%.2f fps, "
                     "%.1f ms CPU per frame), %.1f%% of pixels hit, camera %.4g from its target, checksum %.1f\n",
-                    frames, w, h, threads, threads > 1 ? "s" : "", scene.triangleCount(), loadS, renderS, frames / renderS,
+                    own ? "rayfarm-bvh" : "embree", frames, w, h, threads, threads > 1 ? "s" : "", scene.triangleCount(), loadS, renderS, frames / renderS,
                     1e3 * cpu / frames, 100.0 * hits / (double(w) * h * frames), camDist, checksum);
-        rtcReleaseScene(es);
-        rtcReleaseDevice(device);
+        if (es) rtcReleaseScene(es);
+        if (device) rtcReleaseDevice(device);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "embree_bench: error: %s\n", e.what());
         return 2;
