@@ -250,7 +250,8 @@ void keepGoodTriangles(const std::vector<uint32_t>& tris, const std::vector<uint
 
 }  // namespace
 
-bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int primIndex, const std::string& file, PrimitiveGeometry& out) {
+bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int primIndex, const std::string& file, PrimitiveGeometry& out,
+                    bool tangents) {
     const tinygltf::Primitive& p = model.meshes[size_t(meshIndex)].primitives[size_t(primIndex)];
     PrimitiveReader r{model, p, file, "meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(primIndex) + "]"};
     const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
@@ -275,7 +276,7 @@ bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int primIndex, 
     // Normal maps need tangents; glTF asks for generated ones when TANGENT is missing.
     const bool normalMapped = p.material >= 0 && size_t(p.material) < model.materials.size() &&
                               model.materials[size_t(p.material)].normalTexture.index >= 0;
-    if (normalMapped && m.tangents.empty() && !m.uvs.empty())
+    if (tangents && normalMapped && m.tangents.empty() && !m.uvs.empty())
         m.tangents = generateTangents(m.positions, m.normals, model.materials[size_t(p.material)].normalTexture.texCoord == 1 && !m.uvs1.empty() ? m.uvs1 : m.uvs, m.indices);
     out.materialOutOfRange = p.material >= int(model.materials.size());
     out.gltfMaterial = out.materialOutOfRange ? -1 : p.material;

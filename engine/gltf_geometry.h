@@ -24,8 +24,10 @@ struct PrimitiveGeometry {
 };
 
 /// Builds primitive `prim` of mesh `meshIndex`. Returns false (and builds nothing) for points
-/// and lines. Throws InputError naming the element on inconsistent data.
-bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int prim, const std::string& file, PrimitiveGeometry& out);
+/// and lines. Throws InputError naming the element on inconsistent data. tangents: generate
+/// them for a normal-mapped primitive that has none (false when its material is not drawn).
+bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int prim, const std::string& file, PrimitiveGeometry& out,
+                    bool tangents = true);
 
 /// Positions with the morph targets applied at `weights` (missing weights count as 0).
 std::vector<Vec3> morphedPositions(const TriangleMesh& mesh, const std::vector<double>& weights);

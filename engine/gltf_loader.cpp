@@ -100,7 +100,8 @@ public:
         return any && std::isfinite(lo.x + lo.y + lo.z + hi.x + hi.y + hi.z);
     }
 
-    void addTo(Scene& scene, const DMat4& worldFromModel);
+    /// materialOverride ≥ 0: every primitive in that scene material, the file's left unread.
+    void addTo(Scene& scene, const DMat4& worldFromModel, int materialOverride = -1);
 
     /// Why bounds() found nothing to draw, for the error message.
     std::string emptyReason() const {
@@ -123,7 +124,7 @@ private:
         auto it = prims_.find(key);
         if (it == prims_.end()) {
             PrimitiveGeometry g;
-            const bool triangles = buildPrimitive(model_, mesh, prim, path_, g);
+            const bool triangles = buildPrimitive(model_, mesh, prim, path_, g, materialOverride_ < 0);
             it = prims_.emplace(key, triangles ? std::optional<PrimitiveGeometry>(std::move(g)) : std::nullopt).first;
             if (!triangles) skippedPointsLines_ = true;
             else notePrimitive(*it->second, "meshes[" + std::to_string(mesh) + "].primitives[" + std::to_string(prim) + "]");
@@ -326,6 +327,7 @@ private:
     std::vector<Animation> animations_;
     std::map<std::pair<int, int>, std::optional<PrimitiveGeometry>> prims_;
     bool skippedPointsLines_ = false;
+    int materialOverride_ = -1;
 };
 
 /// The node hierarchy with its rest transforms and animations, for animated nodes to follow.
@@ -383,7 +385,15 @@ void GltfModel::addNodeMeshes(Scene& scene, int node, const DMat4& renderFromNod
             m.morphPositions.clear();
             m.morphNormals.clear();
         }
-        m.material = materials.materialFor(g->gltfMaterial);
+        if (materialOverride_ >= 0) {
+            // One uniform material: the file's vertex colours and tangents have no part in it.
+            m.material = materialOverride_;
+            m.colors.clear();
+            m.tangents.clear();
+            m.objectTangents.clear();
+        } else {
+            m.material = materials.materialFor(g->gltfMaterial);
+        }
         scene.meshes.push_back(std::move(m));
     }
 }
@@ -419,7 +429,8 @@ void GltfModel::noteDrops(const DropCounts& d) {
         if (!isSupportedExtension(e) && e.rfind("KHR_materials_", 0) != 0) notes_.push_back("extension " + e + " ignored");
 }
 
-void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel) {
+void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel, int materialOverride) {
+    materialOverride_ = materialOverride;
     const DMat4 renderFromModel = glm::translate(DMat4(1.0), -scene.renderOrigin) * worldFromModel;
     const int modelIndex = int(scene.models.size());
     scene.models.push_back(sceneGraph(renderFromModel));
@@ -441,9 +452,9 @@ void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel) {
 
 }  // namespace
 
-void loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFromModel, FileSource& fs) {
+void loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFromModel, FileSource& fs, int materialOverride) {
     GltfModel model(path, fs);
-    model.addTo(scene, worldFromModel);
+    model.addTo(scene, worldFromModel, materialOverride);
 }
 
 Scene loadGltfScene(const std::string& path, FileSource& fs, const SceneOptions& options) {

@@ -20,7 +20,10 @@ namespace rf {
 
 /// Appends a model to `scene`, placed by worldFromModel (world space, double precision; the
 /// loader rebases by scene.renderOrigin). Throws InputError naming the file on bad input.
-void loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFromModel, FileSource& fs);
+/// materialOverride ≥ 0 (a scene material): every primitive in it, without vertex colours or
+/// tangents; the file's materials and textures are then not read at all.
+void loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFromModel, FileSource& fs,
+                   int materialOverride = -1);
 
 /// A bare model as a whole scene: the model, a camera framed on its bounding sphere with a
 /// margin, and a default key/fill/rim rig when the model brings no lights; the environment

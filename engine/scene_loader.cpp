@@ -295,11 +295,8 @@ private:
             const std::string full = (std::filesystem::path(rel).is_absolute() ? std::filesystem::path(rel) : base / rel).lexically_normal().string();
             const DMat4 m = j.contains("transform") ? readTransform(rd_, j["transform"], w + ".transform") : DMat4(1.0);
             // "material": the scene's (Phong) material for every primitive in place of the
-            // file's own, a clay render; a file's textures are then never decoded.
-            const int override = j.contains("material") ? material(j, w) : -1;
-            const size_t firstMesh = s.meshes.size();
-            loadGltfModel(s, full, m, fs_);
-            for (size_t i = firstMesh; override >= 0 && i < s.meshes.size(); ++i) s.meshes[i].material = override;
+            // file's own, a clay render (gltf_loader.h).
+            loadGltfModel(s, full, m, fs_, j.contains("material") ? material(j, w) : -1);
         } else {
             rd_.fail(w + ".type", "expected \"sphere\", \"plane\", \"triangle\", \"mesh\" or \"model\"");
         }

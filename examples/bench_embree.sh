@@ -9,10 +9,11 @@
 # per round: on engine_*.json, shaded with the model's own glTF materials (the metallic-roughness
 # BRDF and its split-sum table: more work per hit than Embree's Lambert), and on
 # engine_*_lambert.json, the same rays in one Lambert material shaded as the harness shades
-# them: there only the traversal, rayfarm's per-pixel work and its H.264 encode differ.
+# them (interpolated normals where the harness takes the geometric one): there mainly the
+# traversal, rayfarm's per-pixel work and its H.264 encode differ.
 #   bash examples/bench_embree.sh [BUILD_DIR]       (default: build)
-# Environment: REPEAT (default 2): the two take turns this many times; each one's best run counts,
-# since other work on a shared machine only ever slows a run down.
+# Environment: REPEAT (default 2): Embree and the two rayfarm runs take turns this many times;
+# each one's best run counts, since other work on a shared machine only ever slows a run down.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}

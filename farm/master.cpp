@@ -271,7 +271,7 @@ std::string Master::findSilentWorker(double seconds, int* rank) {
     }
 }
 
-void tellWorkersToStop(Transport& t) {
+void tellWorkersToStop(Transport& t, double flushSeconds) {
     for (int r = 1; r < t.size(); ++r) {
         try {
             t.send(r, kTagStop, "");
@@ -279,7 +279,7 @@ void tellWorkersToStop(Transport& t) {
             // That worker is gone; the others still need the word.
         }
     }
-    t.flush(2.0);
+    t.flush(flushSeconds);
 }
 
 StopWorkersOnThrow::~StopWorkersOnThrow() {

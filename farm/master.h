@@ -47,9 +47,9 @@ struct MasterOutcome {
 };
 
 /// Tells every worker (ranks 1..size-1) to leave, skipping any that is gone, and waits up to
-/// 2 s for the words to go out. Rank 0 calls it itself when it fails before its master's loop
-/// starts, since a worker that hears nothing waits for work that never comes.
-void tellWorkersToStop(Transport& t);
+/// flushSeconds for the words to go out. Rank 0 calls it itself when it fails before its
+/// master's loop starts, since a worker that hears nothing waits for work that never comes.
+void tellWorkersToStop(Transport& t, double flushSeconds = 2.0);
 
 /// Rank 0's set-up before its master's loop (the sinks, the frame plan, its own engine): an
 /// exception that leaves the scope before dismiss() tells the workers to stop, so the error

@@ -269,6 +269,7 @@ std::string FarmRun::closeSinks(Master& master, const MasterOutcome& o) {
 
 FarmOutcome FarmRun::run(SharedScene& shared) {
     StopWorkersOnThrow setUp(t_);
+    if (opts_.keepWorkers) setUp.dismiss();  // a viewer's film: its workers serve the next views
     const int ranks = t_.size();
     rank0Renders_ = ranks <= 2;  // with more ranks, rank 0's core serves the master and encoder
     const int renderers = rank0Renders_ ? ranks : ranks - 1;

@@ -7,6 +7,7 @@
 
 #include "interrupt.h"
 #include "loopback_transport.h"
+#include "master.h"
 #include "messages.h"
 
 namespace rf::view {
@@ -66,8 +67,7 @@ FarmView::~FarmView() {
 
 void FarmView::stopRanks() {
     try {
-        for (int r = 1; r < t_.size(); ++r) t_.send(r, farm::kTagStop, {});
-        t_.flush(1.0);
+        farm::tellWorkersToStop(t_, 1.0);
     } catch (const farm::TransportError&) {
         // A rank is gone already; mpirun ends the rest.
     }

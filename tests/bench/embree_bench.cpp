@@ -57,6 +57,23 @@ RTCScene buildEmbreeScene(RTCDevice device, const Scene& scene) {
     return es;
 }
 
+/// The harness's shading of a hit at distance t with geometric normal ng: ambient 0.05 plus the
+/// unattenuated cosine to the light unless blocked(origin, direction, distance) says a shadow
+/// ray from just off the surface meets something first.
+template <typename Blocked>
+float lambert(const Ray& r, float t, Vec3 ng, const Vec3& light, Blocked&& blocked) {
+    const Vec3 p = r.o + t * r.d;
+    Vec3 n = glm::normalize(ng);
+    if (glm::dot(n, r.d) > 0.f) n = -n;
+    const Vec3 toL = light - p;
+    const float dist = glm::length(toL);
+    const Vec3 l = toL / dist;
+    const float cosL = glm::dot(n, l);
+    if (cosL <= 0.f) return 0.05f;
+    const Vec3 o = p + 1e-4f * glm::max(1.f, glm::length(p)) * n;  // off the surface, scaled to |p|
+    return blocked(o, l, dist) ? 0.05f : 0.05f + cosL;
+}
+
 /// One pixel: closest hit, then a shadow ray to the light; Lambert with the geometric normal.
 float shadePixel(RTCScene es, const Ray& r, const Vec3& light) {
     RTCIntersectContext ctx;
@@ -70,23 +87,16 @@ float shadePixel(RTCScene es, const Ray& r, const Vec3& light) {
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(es, &ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return 0.f;
-    const Vec3 p = r.o + rh.ray.tfar * r.d;
-    Vec3 n = glm::normalize(Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
-    if (glm::dot(n, r.d) > 0.f) n = -n;
-    const Vec3 toL = light - p;
-    const float dist = glm::length(toL);
-    const Vec3 l = toL / dist;
-    const float cosL = glm::dot(n, l);
-    if (cosL <= 0.f) return 0.05f;
-    RTCRay sr{};
-    const Vec3 o = p + 1e-4f * glm::max(1.f, glm::length(p)) * n;  // off the surface, scaled to |p|
-    sr.org_x = o.x, sr.org_y = o.y, sr.org_z = o.z;
-    sr.dir_x = l.x, sr.dir_y = l.y, sr.dir_z = l.z;
-    sr.tnear = 0.f;
-    sr.tfar = dist;
-    sr.mask = ~0u;
-    rtcOccluded1(es, &ctx, &sr);
-    return sr.tfar < 0.f ? 0.05f : 0.05f + cosL;
+    return lambert(r, rh.ray.tfar, Vec3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z), light, [&](const Vec3& o, const Vec3& l, float dist) {
+        RTCRay sr{};
+        sr.org_x = o.x, sr.org_y = o.y, sr.org_z = o.z;
+        sr.dir_x = l.x, sr.dir_y = l.y, sr.dir_z = l.z;
+        sr.tnear = 0.f;
+        sr.tfar = dist;
+        sr.mask = ~0u;
+        rtcOccluded1(es, &ctx, &sr);
+        return sr.tfar < 0.f;
+    });
 }
 
 /// The triangles in the order of Scene's primitive ids (mesh by mesh), as buildEmbreeScene
@@ -98,23 +108,17 @@ std::vector<Vec3> flatTriangles(const Scene& scene) {
     return v;
 }
 
-/// shadePixel with rayfarm's traversal.
+/// shadePixel with rayfarm's traversal (the scene holds triangles only: main checks).
 float shadePixelRayfarm(const Scene& scene, const std::vector<Vec3>& tris, const Ray& r, const Vec3& light) {
     Hit h;
     if (!scene.intersect(r, h)) return 0.f;
-    const Vec3 p = r.o + h.t * r.d;
     const Vec3* v = &tris[3 * size_t(h.prim)];
-    Vec3 n = glm::normalize(glm::cross(v[1] - v[0], v[2] - v[0]));
-    if (glm::dot(n, r.d) > 0.f) n = -n;
-    const Vec3 toL = light - p;
-    const float dist = glm::length(toL);
-    const Vec3 l = toL / dist;
-    const float cosL = glm::dot(n, l);
-    if (cosL <= 0.f) return 0.05f;
-    Ray sr;
-    sr.o = p + 1e-4f * glm::max(1.f, glm::length(p)) * n;
-    sr.d = l;
-    return scene.occluded(sr, dist) ? 0.05f : 0.05f + cosL;
+    return lambert(r, h.t, glm::cross(v[1] - v[0], v[2] - v[0]), light, [&](const Vec3& o, const Vec3& l, float dist) {
+        Ray sr;
+        sr.o = o;
+        sr.d = l;
+        return scene.occluded(sr, dist);
+    });
 }
 
 }  // namespace
@@ -140,6 +144,9 @@ int main(int argc, char** argv) {
         Scene scene = loadScene(path, fs);
         const anim::Timeline timeline = anim::Timeline::fromScene(scene);
         if (timeline.animatesGeometry()) throw std::runtime_error("the orbit must not move geometry");
+        // Embree gets the triangle meshes alone: spheres and planes would be left out of its
+        // picture but not of rayfarm's.
+        if (!scene.spheres.empty() || !scene.planes.empty()) throw std::runtime_error(path + ": triangle meshes only, no spheres or planes");
         Vec3 light(0.f);
         bool haveLight = false;
         for (const Light& l : scene.lights)

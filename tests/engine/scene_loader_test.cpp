@@ -178,6 +178,10 @@ TEST(SceneLoader, ModelMaterialOverridesTheFilesMaterials) {
     const Scene clay = loadWith("\"material\": \"floor\", ", "clay.json");
     ASSERT_EQ(own.meshes.size(), clay.meshes.size());
     ASSERT_FALSE(clay.meshes.empty());
+    // The file's materials and textures are not read: BoxTextured's image stays undecoded.
+    EXPECT_FALSE(own.textures.empty());
+    EXPECT_TRUE(clay.textures.empty());
+    EXPECT_EQ(clay.materials.size(), 2u);  // default + floor
     for (size_t i = 0; i < own.meshes.size(); ++i) {
         EXPECT_TRUE(own.materials[size_t(own.meshes[i].material)].gltfPbr) << i;
         const Material& m = clay.materials[size_t(clay.meshes[i].material)];
