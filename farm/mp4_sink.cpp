@@ -45,6 +45,14 @@ void mp4EncodedSize(int width, int height, const Mp4Options& o, int& encW, int& 
 std::string checkMp4Options(int width, int height, const Mp4Options& o, const std::string& path) {
     if (!anim::fpsInRange(o.fps)) throw std::invalid_argument(std::string("--fps: ") + anim::kFpsRangeText);
     const VideoFormat f = videoFormatOf(path, o);
+    // A GIF's delays are whole hundredths of a second in 16 bits: above 100 fps two frames share
+    // a time and the muxer fails after the render; below 100/65535 fps the delay is clamped.
+    if (f.container == Container::Gif && !(o.fps >= 0.0016 && o.fps <= 100.0)) {
+        char got[32];
+        std::snprintf(got, sizeof got, "%g", o.fps);
+        throw std::invalid_argument("a GIF's frame delays count hundredths of a second, up to 655 s: expected a rate "
+                                    "from 0.0016 to 100, got " + std::string(got) + " (use .mp4, .webm or .mov above 100 fps)");
+    }
     std::string note;
     if (o.channels == 4 && !f.alpha)
         note = path + " cannot carry alpha: its frames are laid over the background colour (PNG frames keep alpha; .webm and .mov carry it)";

@@ -167,6 +167,29 @@ TEST(Mp4Sink, BadOptionsAreRefusedUpFront) {
     EXPECT_THROW(checkMp4Options(64, 48, o), std::invalid_argument);
 }
 
+// A GIF's delays are whole centiseconds in 16 bits: 100 fps and a frame every 625 s fit; 150
+// fps (frames 0.67 cs apart, which the muxer refuses after the render) and 0.001 fps do not.
+TEST(Mp4Sink, GifRatesAreTheOnesItsDelaysHold) {
+    Mp4Options gif, mp4;
+    gif.crf = -1;  // as `render -o x.gif` asks: a GIF has neither
+    gif.preset = "";
+    auto refusal = [&](double fps) {
+        gif.fps = fps;
+        try {
+            checkMp4Options(64, 48, gif, "x.gif");
+        } catch (const std::invalid_argument& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    for (double fps : {100.0, 30.0, 0.0016}) EXPECT_EQ(refusal(fps), "") << fps;
+    for (double fps : {150.0, 1000.0, 0.001}) {
+        EXPECT_EQ(refusal(fps).rfind("a GIF's frame delays count hundredths of a second", 0), 0u) << fps << ": " << refusal(fps);
+        mp4.fps = fps;
+        EXPECT_NO_THROW(checkMp4Options(64, 48, mp4, "x.mp4")) << fps;
+    }
+}
+
 TEST(Mp4Sink, UnwritablePathFailsAtOpen) {
     EXPECT_THROW(Mp4Sink("/nonexistent-dir/x.mp4", 16, 16, Mp4Options{}), std::runtime_error);
 }

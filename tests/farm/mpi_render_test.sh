@@ -369,6 +369,9 @@ bad-output)
     [ "$rc" -eq 2 ] && [ "$(grep -c 'rayfarm: error' bad3.log)" = 1 ] && grep -q "rayfarm: error: --fps: expected a rate from 0.001" bad3.log ||
         { cat bad3.log; fail "--fps 1e-9: exit $rc, expected 2 and one line"; }
     grep -q "frames 0" bad3.log && fail "--fps 1e-9: rendering was planned"
+    set +e; mpi 2 render "$FLIGHT" -o fast.gif --fps 200 2> bad4.log; rc=$?; set -e
+    [ "$rc" -eq 2 ] && [ "$(grep -c 'rayfarm: error' bad4.log)" = 1 ] && grep -q "rayfarm: error: fast.gif: a GIF's frame delays" bad4.log ||
+        { cat bad4.log; fail "GIF at 200 fps: exit $rc, expected 2 and one line"; }
     echo "bad-output: refused at once with exit 2"
     ;;
 full-disk)
