@@ -11,6 +11,7 @@
 #include <stb_image_write.h>
 
 #include "file_write.h"
+#include "simd4.h"
 
 namespace rf {
 
@@ -87,53 +88,92 @@ const SrgbTable& srgbTable() {
     return table;
 }
 
-}  // namespace
-
-uint8_t srgbByte(float v) {
-    if (!(v > 0.f)) return 0;  // NaN, −0, negatives
-    if (!(v < 1.f)) return 255;
-    const SrgbTable& t = srgbTable();  // its own function-local static: one guard, not two
+/// The byte of v ∈ [0, 1] (v = 1 gives 255): its bucket's byte, plus one past the bucket's step.
+inline uint8_t tableByte(const SrgbTable& t, float v) {
     uint32_t bits;
     std::memcpy(&bits, &v, sizeof bits);
     const uint8_t b = t.bucket[bits >> 16];
     return static_cast<uint8_t>(b + (v >= t.step[b]));
 }
 
-Color pbrNeutral(Color c) {
-    // Khronos PBR Neutral (2024): constants from its specification.
+/// Four pixels' channels, one pixel per lane: the display mapping runs on four at once, and a
+/// single pixel runs the same operations in lane 0, so no pixel's bytes depend on its
+/// neighbours (a row's tail, an RGBA pixel, a tile edge all give what a whole row would).
+struct Rgb4 {
+    F4 c[3];
+};
+
+inline F4 pick(I4 mask, F4 a, F4 b) { return mask ? a : b; }
+
+/// Khronos PBR Neutral (2024), constants from its specification, lane by lane: both sides of
+/// its "below the shoulder" test are computed and one kept.
+Rgb4 pbrNeutral4(Rgb4 v) {
     constexpr float kStart = 0.8f - 0.04f, kDesaturation = 0.15f;
-    for (int k = 0; k < 3; ++k) c[k] = (c[k] > 0.f) ? std::min(c[k], 1e30f) : 0.f;  // NaN, −, +Inf
-    const float x = std::min(c.r, std::min(c.g, c.b));
-    const float offset = x < 0.08f ? x - 6.25f * x * x : 0.04f;
-    c -= offset;
-    const float peak = std::max(c.r, std::max(c.g, c.b));
-    if (peak < kStart) return c;
     constexpr float d = 1.f - kStart;
-    const float newPeak = 1.f - d * d / (peak + d - kStart);
-    c *= newPeak / peak;
-    const float g = 1.f - 1.f / (kDesaturation * (peak - newPeak) + 1.f);
-    return glm::mix(c, Color(newPeak), g);
+    const F4 zero = splat4(0.f);
+    for (F4& c : v.c) c = pick(c > zero, pick(splat4(1e30f) < c, splat4(1e30f), c), zero);  // NaN, −, +Inf
+    const F4 gb = pick(v.c[2] < v.c[1], v.c[2], v.c[1]);
+    const F4 x = pick(gb < v.c[0], gb, v.c[0]);
+    const F4 offset = pick(x < splat4(0.08f), x - splat4(6.25f) * x * x, splat4(0.04f));
+    for (F4& c : v.c) c -= offset;
+    const F4 gb2 = pick(v.c[1] < v.c[2], v.c[2], v.c[1]);
+    const F4 peak = pick(v.c[0] < gb2, gb2, v.c[0]);
+    const F4 newPeak = splat4(1.f) - splat4(d * d) / (peak + splat4(d) - splat4(kStart));
+    const F4 ratio = newPeak / peak;  // a dark lane's 0/0 is discarded below
+    const F4 g = splat4(1.f) - splat4(1.f) / (splat4(kDesaturation) * (peak - newPeak) + splat4(1.f));
+    const I4 below = peak < splat4(kStart);
+    for (F4& c : v.c) c = pick(below, c, (c * ratio) * (splat4(1.f) - g) + newPeak * g);
+    return v;
 }
 
-float exposureScale(float ev) { return std::exp2(std::clamp(ev, -64.f, 64.f)); }
-
-namespace {
-
-/// The one display mapping of a linear RGB pixel: exposure scale, tone map (Clamp and Reinhard
-/// channel by channel, PBR Neutral on the colour), sRGB encode, round to bytes.
-void encodePixel(const float* rgb, ToneMap op, float scale, uint8_t* out) {
+/// Scale, tone map and sRGB bytes of four pixels: channel k of lane i to out[stride·i + k], for
+/// the first `lanes` lanes.
+void encode4(const SrgbTable& t, Rgb4 v, ToneMap op, float scale, uint8_t* out, int lanes, int stride) {
+    const F4 s = splat4(scale), zero = splat4(0.f), one = splat4(1.f);
+    for (F4& c : v.c) c = c * s;
     if (op == ToneMap::PbrNeutral) {
-        const Color c = pbrNeutral(scale * Color(rgb[0], rgb[1], rgb[2]));
-        for (int k = 0; k < 3; ++k) out[k] = srgbByte(c[k]);
-        return;
+        v = pbrNeutral4(v);
+    } else if (op == ToneMap::Reinhard) {
+        for (F4& c : v.c) {
+            const I4 inf = c == splat4(kInf);
+            c = pick(c > zero, pick(inf, one, c / (one + c)), zero);  // NaN and negatives: 0
+        }
+    }  // Clamp: the table's own clamp below is the whole of it
+    for (int k = 0; k < 3; ++k) {
+        // NaN and ≤ 0 to 0, ≥ 1 to 1: the byte of 1 is 255.
+        const F4 c = pick(v.c[k] > zero, pick(v.c[k] < one, v.c[k], one), zero);
+        for (int lane = 0; lane < lanes; ++lane) out[stride * lane + k] = tableByte(t, c[lane]);
     }
-    for (int k = 0; k < 3; ++k) out[k] = srgbByte(toneMap(rgb[k] * scale, op));
+}
+
+Rgb4 load4(const float* rgb, int lanes) {
+    Rgb4 v{{splat4(0.f), splat4(0.f), splat4(0.f)}};
+    for (int lane = 0; lane < lanes; ++lane)
+        for (int k = 0; k < 3; ++k) v.c[k][lane] = rgb[3 * lane + k];
+    return v;
 }
 
 }  // namespace
 
+uint8_t srgbByte(float v) {
+    if (!(v > 0.f)) return 0;  // NaN, −0, negatives
+    if (!(v < 1.f)) return 255;
+    return tableByte(srgbTable(), v);
+}
+
+Color pbrNeutral(Color c) {
+    const Rgb4 v = pbrNeutral4(load4(&c[0], 1));
+    return Color(v.c[0][0], v.c[1][0], v.c[2][0]);
+}
+
+float exposureScale(float ev) { return std::exp2(std::clamp(ev, -64.f, 64.f)); }
+
 void encodeRgb8(const float* rgb, size_t n, ToneMap op, uint8_t* out, float scale) {
-    for (size_t i = 0; i + 3 <= n; i += 3) encodePixel(rgb + i, op, scale, out + i);
+    const SrgbTable& t = srgbTable();
+    const size_t pixels = n / 3;
+    size_t i = 0;
+    for (; i + 4 <= pixels; i += 4) encode4(t, load4(rgb + 3 * i, 4), op, scale, out + 3 * i, 4, 3);
+    if (i < pixels) encode4(t, load4(rgb + 3 * i, int(pixels - i)), op, scale, out + 3 * i, int(pixels - i), 3);
 }
 
 std::vector<uint8_t> toRgb8(const Image& img, ToneMap op, float scale) {
@@ -153,7 +193,7 @@ void toRgba8Pixel(const float* rgb, float a, ToneMap op, uint8_t* out, float sca
     // dividing by a tiny coverage would only amplify noise.
     const float inv = alpha == 0 ? 0.f : 1.f / a;
     const float straight[3] = {rgb[0] * inv, rgb[1] * inv, rgb[2] * inv};
-    encodePixel(straight, op, scale, out);
+    encode4(srgbTable(), load4(straight, 1), op, scale, out, 1, 4);
     out[3] = alpha;
 }
 

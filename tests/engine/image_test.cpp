@@ -5,6 +5,7 @@
 #include <cstring>
 #include <filesystem>
 #include <limits>
+#include <vector>
 
 #include "image.h"
 
@@ -98,6 +99,48 @@ TEST(Image, ToneMapReinhardAndClamp) {
     EXPECT_EQ(toneMap(std::nanf(""), ToneMap::Clamp), 0.f);
     EXPECT_EQ(toneMap(0.25f, ToneMap::Clamp), 0.25f);
     EXPECT_EQ(toneMap(7.f, ToneMap::Clamp), 1.f);
+}
+
+// encodeRgb8 maps four pixels at once. Each pixel's bytes must be what it gets alone (a row's
+// tail, a single RGBA pixel, a tile edge), and for Clamp and Reinhard what the per-channel
+// definition gives; PBR Neutral's colour mapping is checked against its closed form in
+// exposure_test.cpp.
+TEST(Image, EncodeRgb8MatchesThePixelByPixelDefinition) {
+    const float inf = std::numeric_limits<float>::infinity();
+    std::vector<float> rgb;
+    uint32_t state = 12345u;
+    auto next = [&] { return state = state * 1664525u + 1013904223u; };
+    const float special[] = {0.f, -0.f, -1.f, std::nanf(""), inf, -inf, 1e-40f, 0.0031308f, 0.08f, 0.76f, 0.7599f, 1.f, 1e30f, 3e38f};
+    for (float a : special)
+        for (float b : {0.f, 0.5f, 0.07f, 2.f, inf}) rgb.insert(rgb.end(), {a, b, 0.3f}), rgb.insert(rgb.end(), {b, 0.3f, a});
+    for (int i = 0; i < 3000; ++i) {
+        const float magnitude = std::ldexp(1.f, int(next() % 24) - 16);  // 2^-16 to 2^7
+        rgb.push_back(magnitude * float(next() >> 8) / float(1u << 24));
+    }
+    while (rgb.size() % 3 != 0 || (rgb.size() / 3) % 4 == 0) rgb.push_back(0.25f);  // a ragged tail
+    const size_t pixels = rgb.size() / 3;
+    for (ToneMap op : {ToneMap::Clamp, ToneMap::Reinhard, ToneMap::PbrNeutral}) {
+        for (float scale : {1.f, 0.37f, 8.f}) {
+            std::vector<uint8_t> all(rgb.size());
+            encodeRgb8(rgb.data(), rgb.size(), op, all.data(), scale);
+            int mismatches = 0;
+            for (size_t p = 0; p < pixels; ++p) {
+                uint8_t alone[3], rgba[4];
+                encodeRgb8(&rgb[3 * p], 3, op, alone, scale);
+                toRgba8Pixel(&rgb[3 * p], 1.f, op, rgba, scale);
+                const Color c = pbrNeutral(scale * Color(rgb[3 * p], rgb[3 * p + 1], rgb[3 * p + 2]));
+                for (int k = 0; k < 3; ++k) {
+                    const float v = rgb[3 * p + k] * scale;
+                    const uint8_t want = op == ToneMap::PbrNeutral ? toByte(srgbEncode(c[k])) : toByte(srgbEncode(toneMap(v, op)));
+                    if ((all[3 * p + k] != want || alone[k] != want || rgba[k] != want) && ++mismatches <= 5)
+                        ADD_FAILURE() << "tone map " << int(op) << ", scale " << scale << ", pixel " << p << " channel " << k << " (" << v
+                                      << "): in a row " << int(all[3 * p + k]) << ", alone " << int(alone[k]) << ", RGBA "
+                                      << int(rgba[k]) << ", defined " << int(want);
+                }
+            }
+            EXPECT_EQ(mismatches, 0);
+        }
+    }
 }
 
 TEST(Image, PngRoundTripAndNonFinitePixels) {
