@@ -28,6 +28,9 @@ public:
     /// transparent background. With a transparent background a primary ray that misses brings
     /// no radiance, and the radiance is premultiplied by the coverage.
     virtual Color Li(const Ray& r, uint64_t seed, RayStats& stats, float* coverage) const = 0;
+    /// False if Li makes no random choice with its seed: the caller may then pass
+    /// kNoSampleSeed and skip hashing one per sample.
+    virtual bool usesSeed() const { return true; }
 };
 
 /// The integrator settings.integrator names, over scene (which must outlive it).

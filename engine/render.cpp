@@ -18,6 +18,7 @@ void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, 
     const int n = std::max(1, static_cast<int>(std::lround(std::sqrt(static_cast<double>(std::max(1, settings.spp))))));
     const float invN = 1.f / n;
     const float invSpp = 1.f / (n * n);
+    const bool seeded = integrator->usesSeed();
     // Counted on this thread's stack and added once: callers keep one RayStats per thread side
     // by side, and bumping those per ray would bounce a shared cache line between cores.
     RayStats local;
@@ -37,7 +38,7 @@ void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, 
                     Ray r = rays.generate(x + (sx + jx) * invN, y + (sy + jy) * invN);
                     r.coneSpread *= invN;  // each of n×n samples covers its stratum of the pixel
                     float covered = 0.f;
-                    const uint64_t seed = sampleSeed(frame, pixel, uint64_t(sy * n + sx));
+                    const uint64_t seed = seeded ? sampleSeed(frame, pixel, uint64_t(sy * n + sx)) : kNoSampleSeed;
                     Color c = integrator->Li(r, seed, local, alpha ? &covered : nullptr);
                     hits += covered;
                     if (!isFinite(c)) {

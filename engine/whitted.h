@@ -20,6 +20,8 @@ public:
 
     /// Radiance along a primary ray (counted as primary); see Integrator::Li.
     Color Li(const Ray& r, uint64_t seed, RayStats& stats, float* coverage) const override;
+    /// Only sampled indirect light draws random numbers.
+    bool usesSeed() const override { return settings_.indirectSamples > 0; }
 
     /// Local illumination at a surface point seen along direction d (the seed's Phong formula).
     /// weight: what the result is worth in the pixel; a light whose term would count for no
