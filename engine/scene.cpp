@@ -298,12 +298,17 @@ bool Scene::intersect(const Ray& r, Hit& hit, uint32_t skip) const {
             found = true;
         }
     }
-    const WatertightRay wr = nTri ? WatertightRay(r) : WatertightRay();
     if (useBvh_) {
+        // The triangle test's set-up waits for the first leaf: most rays that miss the model
+        // never reach one.
+        WatertightRay wr;
+        bool wrReady = false;
         found |= bvh_.traverseLeaves(r, tMax, false, [&](uint32_t first, uint32_t count, float& tm) {
+            if (!wrReady) wr = WatertightRay(r), wrReady = true;
             return intersectLeaf(first, count, r, wr, tm, hit, skip, false);
         });
     } else {
+        const WatertightRay wr = nTri ? WatertightRay(r) : WatertightRay();
         for (uint32_t p = 0; p < nTri; ++p) found |= intersectSlot(p, r, wr, tMax, hit, skip);
         uint32_t m = spheres.empty() ? 0 : sphereCandidates(r, tMax);
         if (skip >= nTri && skip < base) m &= ~(1u << (skip - nTri));
