@@ -41,6 +41,8 @@ void Scene::build() {
             triLocal_.push_back(static_cast<uint32_t>(t));
         }
     }
+    nTri_ = static_cast<uint32_t>(triMesh_.size());
+    nSph_ = static_cast<uint32_t>(spheres.size());
     const size_t nPrims = triMesh_.size() + spheres.size();
     sphereAlone_.assign(spheres.size(), 0);
     for (size_t i = 0; i < spheres.size() && triMesh_.empty(); ++i) {
@@ -188,7 +190,7 @@ bool Scene::triangleAlphaPasses(uint32_t tri, const TriangleHit& h) const {
 
 bool Scene::intersectSlot(uint32_t slot, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit, uint32_t skip) const {
     const uint32_t prim = slotPrim_[slot];
-    if (prim < triMesh_.size()) {
+    if (prim < nTri_) {
         TriangleHit th;
         const Vec3* v = &slotVerts_[3 * slot];
         if (!intersectTriangleWatertight(wr, v[0], v[1], v[2], tMax, th)) return false;
@@ -201,7 +203,7 @@ bool Scene::intersectSlot(uint32_t slot, const Ray& r, const WatertightRay& wr, 
     }
     float t;
     Vec3 rel;
-    const Sphere& s = spheres[prim - triMesh_.size()];
+    const Sphere& s = spheres[prim - nTri_];
     if (!(prim == insidePrim(skip) ? intersectSphereFromInside(s, r, tMax, t, &rel) : intersectSphere(s, r, 0.f, tMax, t, &rel)))
         return false;
     tMax = t;
@@ -232,7 +234,7 @@ uint32_t Scene::sphereCandidates(const Ray& r, float tMax, uint32_t* sure) const
     const F4 aTv = {aT, aT, aT, aT}, grow = {1.f + 1e-4f, 1.f + 1e-4f, 1.f + 1e-4f, 1.f + 1e-4f};
     uint32_t mask = 0, sureMask = 0;
     // Only the groups of four that hold spheres (a typical Whitted scene fills one).
-    const int groups = static_cast<int>((spheres.size() + 3) / 4);
+    const int groups = static_cast<int>((nSph_ + 3) / 4);
     for (int h = 0; h < groups; ++h) {
         F4 cx, cy, cz, rr, ri;
         std::memcpy(&cx, sphX_ + 4 * h, sizeof cx);
@@ -273,8 +275,7 @@ uint32_t Scene::sphereCandidates(const Ray& r, float tMax, uint32_t* sure) const
 bool Scene::intersect(const Ray& r, Hit& hit, uint32_t skip) const {
     float tMax = r.tMax;
     bool found = false;
-    const uint32_t nTri = static_cast<uint32_t>(triMesh_.size());
-    const uint32_t base = static_cast<uint32_t>(triMesh_.size() + spheres.size());
+    const uint32_t nTri = nTri_, base = nTri_ + nSph_;
     const uint32_t inside = insidePrim(skip);
     const bool fromInside = inside >= nTri && inside < base;
     if (fromInside && sphereAlone_[inside - nTri]) {
@@ -351,8 +352,7 @@ bool Scene::walkWouldBlock(uint32_t prim, const Ray& r, const WatertightRay& wr,
 }
 
 bool Scene::occluded(const Ray& r, float tMax, uint32_t skip, uint32_t* lastBlocker) const {
-    const uint32_t nTri = static_cast<uint32_t>(triMesh_.size());
-    const uint32_t base = static_cast<uint32_t>(triMesh_.size() + spheres.size());
+    const uint32_t nTri = nTri_, base = nTri_ + nSph_;
     // Any hit will do: a ray that leaves the sphere it starts in before tMax is blocked by it.
     const uint32_t inside = insidePrim(skip);
     const bool fromInside = inside >= nTri && inside < base;
@@ -396,8 +396,7 @@ bool Scene::occluded(const Ray& r, float tMax, uint32_t skip, uint32_t* lastBloc
 }
 
 uint32_t Scene::skipFor(const SurfaceInteraction& si, const Vec3& dir) const {
-    const uint32_t nTri = static_cast<uint32_t>(triMesh_.size());
-    const uint32_t base = nTri + static_cast<uint32_t>(spheres.size());
+    const uint32_t nTri = nTri_, base = nTri_ + nSph_;
     if (si.prim >= base && si.prim < base + planes.size()) return si.prim;
     // si.ng of a sphere is its outward normal: a ray leaving outwards cannot come back, one
     // heading in meets it once more, at its exit.
@@ -426,8 +425,7 @@ SurfaceInteraction Scene::interaction(const Ray& r, const Hit& hit) const {
     si.prim = hit.prim;
     si.coneWidth = r.coneWidth + r.coneSpread * hit.t;
     si.coneSpread = r.coneSpread;
-    const uint32_t nTri = static_cast<uint32_t>(triMesh_.size());
-    const uint32_t nSph = static_cast<uint32_t>(spheres.size());
+    const uint32_t nTri = nTri_, nSph = nSph_;
     if (hit.prim < nTri) {
         const Vec3& p0 = triVerts_[3 * hit.prim];
         const Vec3& p1 = triVerts_[3 * hit.prim + 1];

@@ -153,6 +153,9 @@ private:
 
     Bvh bvh_;
     bool useBvh_ = false;
+    /// Triangles and spheres as build() counted them: the hot paths' primitive-id ranges
+    /// (triangles first, then spheres, then planes), read once instead of from the vectors.
+    uint32_t nTri_ = 0, nSph_ = 0;
     std::vector<Vec3> triVerts_;     ///< three per triangle, in BVH-independent order
     std::vector<uint32_t> triMesh_;  ///< mesh of each triangle
     std::vector<uint32_t> triLocal_; ///< triangle index within its mesh
