@@ -239,3 +239,47 @@ uint32_t Bvh::buildRecursive(std::vector<BuildItem>& items, uint32_t begin, uint
 }
 
 }  // namespace rf
+
+namespace rf::bvh_detail {
+
+bool buildPacketPlanes(const Ray* rays, int n, PacketPlanes& pl) {
+    const Vec3 o = rays[0].o;
+    Vec3 sum(0.f);
+    for (int i = 0; i < n; ++i) {
+        if (rays[i].o != o) return false;
+        sum += rays[i].d;
+    }
+    const float len = glm::length(sum);
+    if (!(len > 0.f) || !std::isfinite(len)) return false;
+    const Vec3 axis = sum / len;
+    // Any unit vector across the axis, then the third by the cross product.
+    const Vec3 helper = std::abs(axis.x) < 0.9f ? Vec3(1.f, 0.f, 0.f) : Vec3(0.f, 1.f, 0.f);
+    const Vec3 u = glm::normalize(glm::cross(axis, helper)), v = glm::cross(axis, u);
+    float uLo = kInf, uHi = -kInf, vLo = kInf, vHi = -kInf;
+    for (int i = 0; i < n; ++i) {
+        const Vec3& d = rays[i].d;
+        const float da = glm::dot(d, axis);
+        // Within about 87 degrees of the axis, so the slopes below stay bounded (at most 20).
+        if (!(da > 0.f && da * da > 0.0025f * glm::dot(d, d))) return false;
+        pl.axisDot[i] = da;
+        const float r = 1.f / da, su = glm::dot(d, u) * r, sv = glm::dot(d, v) * r;
+        uLo = std::min(uLo, su), uHi = std::max(uHi, su);
+        vLo = std::min(vLo, sv), vHi = std::max(vHi, sv);
+    }
+    for (int i = n; i < 64; ++i) pl.axisDot[i] = 0.f;
+    // Widened far beyond the float error of the slopes and of the plane tests (a few ulps of
+    // the distance): culling may only drop boxes that no ray of the packet comes near.
+    const float margin = 1e-5f;
+    uLo -= margin * (1.f + std::abs(uLo)), uHi += margin * (1.f + std::abs(uHi));
+    vLo -= margin * (1.f + std::abs(vLo)), vHi += margin * (1.f + std::abs(vHi));
+    const Vec3 normals[5] = {u - uHi * axis, uLo * axis - u, v - vHi * axis, vLo * axis - v, axis};
+    for (int k = 0; k < 5; ++k)
+        for (int a = 0; a < 3; ++a) {
+            pl.n[k][a] = splat4(normals[k][a]);
+            // (p − o)·n is least at the box corner with lo where n is positive, hi where not.
+            pl.corner[k][a] = normals[k][a] >= 0.f ? 0 : 3;
+        }
+    return true;
+}
+
+}  // namespace rf::bvh_detail

@@ -104,6 +104,18 @@ Vec3 EnvironmentLight::toMap(const Vec3& d) const {
 
 Color EnvironmentLight::radiance(const Vec3& d) const { return mips_.front().sample(equirectUv(toMap(d))); }
 
+void EnvironmentLight::radiance4(const Vec3 d[4], Color out[4]) const {
+    // toMap lane by lane.
+    const F4 x{d[0].x, d[1].x, d[2].x, d[3].x}, y{d[0].y, d[1].y, d[2].y, d[3].y}, z{d[0].z, d[1].z, d[2].z, d[3].z};
+    const F4 m[3] = {cosRot_ * x - sinRot_ * z, y, sinRot_ * x + cosRot_ * z};
+    F4 u, v;
+    if (!equirectUv4(m, u, v)) {
+        for (int i = 0; i < 4; ++i) out[i] = radiance(d[i]);
+        return;
+    }
+    mips_.front().sample4(u, v, out);
+}
+
 Color EnvironmentLight::diffuse(const Vec3& n) const { return irradiance_.sample(toMap(n)); }
 
 Color EnvironmentLight::specular(const Vec3& r, float roughness) const {

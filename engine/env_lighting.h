@@ -23,6 +23,9 @@ public:
 
     /// Radiance arriving from direction d (unit, world space): the background and mirrors.
     Color radiance(const Vec3& d) const;
+    /// radiance() of four directions at once (the background of a packet's misses), each bit
+    /// for bit what radiance() gives it.
+    void radiance4(const Vec3 d[4], Color out[4]) const;
     /// Irradiance/π around normal n: what a white Lambertian surface facing n reflects.
     Color diffuse(const Vec3& n) const;
     /// Radiance prefiltered by the GGX lobe of this roughness around the mirror direction r.

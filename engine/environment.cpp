@@ -20,24 +20,47 @@ namespace {
 /// reflections, signed zeros as libm's (atan2(±0, +0) = ±0, atan2(±0, −0) = ±π). libm's atan2f
 /// and acosf were 8% of a glTF turntable's CPU time, two of each per shading point (the
 /// environment's diffuse and specular look-ups).
+/// The octant's arc tangent and its reflections, for one float or four lanes (the same
+/// operations in the same order, so a lane's result is the scalar's bit for bit). t = lo/hi in
+/// [0, 1]; steep, left: 1 where |y| > |x| and where x's sign bit is set, else 0.
+template <typename T>
+T atan2Reflected(T t, T steep, T left) {
+    const T t2 = t * t;
+    const T p = ((((((((0.0028662257f * t2 - 0.0161657367f) * t2 + 0.0429096138f) * t2 - 0.0752896400f) * t2 +
+                     0.1065626393f) * t2 - 0.1420889944f) * t2 + 0.1999355085f) * t2 - 0.3333314528f) * t2 + 1.f);
+    // The reflections by arithmetic, not branches: directions come in no order a predictor
+    // learns. a → π/2 − a past the diagonal, then a → π − a for x < 0 (−0 too, as libm:
+    // atan2(+0, −0) = π).
+    T a = p * t;
+    a += steep * (0.5f * kPi - 2.f * a);
+    a += left * (kPi - 2.f * a);
+    return a;
+}
+
 float atan2Approx(float y, float x) {
     const float ax = std::abs(x), ay = std::abs(y);
     const float hi = std::max(ax, ay), lo = std::min(ax, ay);
     if (std::isnan(x) || std::isnan(y)) return x + y;  // NaN in, NaN out, as libm
     const float t = hi > 0.f ? lo / hi : 0.f;  // a select, not a branch; exact for denormals too
-    const float t2 = t * t;
-    const float p = ((((((((0.0028662257f * t2 - 0.0161657367f) * t2 + 0.0429096138f) * t2 - 0.0752896400f) * t2 +
-                         0.1065626393f) * t2 - 0.1420889944f) * t2 + 0.1999355085f) * t2 - 0.3333314528f) * t2 + 1.f);
-    // The reflections by arithmetic, not branches: directions come in no order a predictor
-    // learns. a → π/2 − a past the diagonal, then a → π − a for x < 0 (−0 too, as libm:
-    // atan2(+0, −0) = π).
     uint32_t xBits;
     std::memcpy(&xBits, &x, sizeof xBits);
-    const float steep = float(ay > ax), left = float(xBits >> 31);
-    float a = p * t;
-    a += steep * (0.5f * kPi - 2.f * a);
-    a += left * (kPi - 2.f * a);
-    return std::copysign(a, y);
+    return std::copysign(atan2Reflected(t, float(ay > ax), float(xBits >> 31)), y);
+}
+
+constexpr int kSignBit = int(0x80000000u);
+
+/// atan2Approx in four lanes, for lanes without NaN (the caller takes those one by one).
+F4 atan2Approx4(F4 y, F4 x) {
+    const I4 sign = splatI4(kSignBit);
+    const F4 ax = reinterpret_cast<F4>(reinterpret_cast<I4>(x) & ~sign);
+    const F4 ay = reinterpret_cast<F4>(reinterpret_cast<I4>(y) & ~sign);
+    const I4 steep = ay > ax;
+    const F4 hi = steep ? ay : ax, lo = steep ? ax : ay;  // std::max and std::min without NaN
+    const F4 zero = splat4(0.f), one = splat4(1.f);
+    const F4 t = hi > zero ? lo / hi : zero;
+    const F4 left = (reinterpret_cast<I4>(x) & sign) != 0 ? one : zero;
+    const F4 a = atan2Reflected(t, steep ? one : zero, left);
+    return reinterpret_cast<F4>((reinterpret_cast<I4>(a) & ~sign) | (reinterpret_cast<I4>(y) & sign));
 }
 
 }  // namespace
@@ -63,6 +86,13 @@ void octahedralFold(float& px, float& pz) {
     pz = std::copysign(fz, pz);
 }
 }  // namespace
+
+bool equirectUv4(const F4 d[3], F4& u, F4& v) {
+    if (laneMask((d[0] != d[0]) | (d[1] != d[1]) | (d[2] != d[2])) != 0) return false;
+    u = 0.5f + atan2Approx4(d[2], d[0]) * (0.5f / kPi);
+    v = atan2Approx4(sqrt4(d[0] * d[0] + d[2] * d[2]), d[1]) * (1.f / kPi);
+    return true;
+}
 
 Vec2 octahedralUv(const Vec3& d) {
     const float l1 = std::abs(d.x) + std::abs(d.y) + std::abs(d.z);
@@ -118,6 +148,44 @@ Color OctahedralImage::sample(const Vec3& d) const {
     return (1.f - ty) * ((1.f - tx) * row0[0] + tx * row0[1]) + ty * ((1.f - tx) * row1[0] + tx * row1[1]);
 }
 
+namespace {
+/// Bilinear weights of four texels, per channel or per lane (the same operation order).
+template <typename T>
+T bilinear(T c00, T c10, T c01, T c11, T tx, T ty) {
+    return (1.f - ty) * ((1.f - tx) * c00 + tx * c10) + ty * ((1.f - tx) * c01 + tx * c11);
+}
+}  // namespace
+
+void EquirectImage::sample4(F4 u, F4 v, Color out[4]) const {
+    const I4 finite = (u - u == splat4(0.f)) & (v - v == splat4(0.f));  // inf − inf and NaN are NaN
+    if (width <= 0 || height <= 0 || laneMask(finite) != 0xF) {
+        for (int i = 0; i < 4; ++i) out[i] = sample(Vec2(u[i], v[i]));
+        return;
+    }
+    const F4 x = (u - floor4(u)) * float(width) - 0.5f;
+    const F4 yRaw = v * float(height) - 0.5f;
+    const F4 yHi = splat4(float(height - 1));
+    const F4 y = yRaw < splat4(0.f) ? splat4(0.f) : (yHi < yRaw ? yHi : yRaw);  // std::clamp's order
+    const F4 fx = floor4(x);
+    const I4 ix = __builtin_convertvector(fx, I4), iy = __builtin_convertvector(y, I4);
+    const F4 tx = x - fx, ty = y - __builtin_convertvector(iy, F4);
+    F4 c[4][3];  // the four texels' channels, lane by lane
+    for (int i = 0; i < 4; ++i) {
+        int x0 = ix[i];
+        if (x0 < 0) x0 += width;
+        if (x0 >= width) x0 -= width;
+        const int x1 = x0 + 1 < width ? x0 + 1 : 0;
+        const int y0 = iy[i], y1 = std::min(y0 + 1, height - 1);
+        const Color* t[4] = {&at(x0, y0), &at(x1, y0), &at(x0, y1), &at(x1, y1)};
+        for (int k = 0; k < 4; ++k)
+            for (int ch = 0; ch < 3; ++ch) c[k][ch][i] = (*t[k])[ch];
+    }
+    for (int ch = 0; ch < 3; ++ch) {
+        const F4 r = bilinear(c[0][ch], c[1][ch], c[2][ch], c[3][ch], tx, ty);
+        for (int i = 0; i < 4; ++i) out[i][ch] = r[i];
+    }
+}
+
 Color EquirectImage::sample(Vec2 uv) const {
     if (width <= 0 || height <= 0) return Color(0.f);
     if (!std::isfinite(uv.x) || !std::isfinite(uv.y)) return at(0, 0);
@@ -131,7 +199,7 @@ Color EquirectImage::sample(Vec2 uv) const {
     const int x1 = x0 + 1 < width ? x0 + 1 : 0;
     const int y0 = int(y), y1 = std::min(y0 + 1, height - 1);
     const float tx = x - fx, ty = y - float(y0);
-    return (1.f - ty) * ((1.f - tx) * at(x0, y0) + tx * at(x1, y0)) + ty * ((1.f - tx) * at(x0, y1) + tx * at(x1, y1));
+    return bilinear(at(x0, y0), at(x1, y0), at(x0, y1), at(x1, y1), Color(tx), Color(ty));
 }
 
 EquirectImage EquirectImage::halved() const {

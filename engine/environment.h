@@ -7,6 +7,7 @@
 #include <functional>
 #include <vector>
 
+#include "simd4.h"
 #include "vec_math.h"
 
 namespace rf {
@@ -19,6 +20,8 @@ struct EquirectImage {
     const Color& at(int x, int y) const { return texels[size_t(y) * width + x]; }
     /// Bilinear at (u, v) in [0, 1]²: wraps in u, clamps in v.
     Color sample(Vec2 uv) const;
+    /// sample() at four (u, v) lanes, each bit for bit what sample() gives it.
+    void sample4(F4 u, F4 v, Color out[4]) const;
     /// Each 2×2 block averaged (odd sizes keep their last row/column): the next mip level.
     EquirectImage halved() const;
 };
@@ -26,6 +29,9 @@ struct EquirectImage {
 /// (u, v) of a unit world direction, and back.
 Vec2 equirectUv(const Vec3& d);
 Vec3 equirectDirection(Vec2 uv);
+/// equirectUv of four directions (d[axis] lane by lane), each bit for bit equirectUv's; false
+/// (u, v untouched) if a lane holds a NaN, which the caller then takes one by one.
+bool equirectUv4(const F4 d[3], F4& u, F4& v);
 
 /// The sphere on a square by the octahedral projection (Praun and Hoppe 2003; Engelhardt and
 /// Dachsbacher 2008), +Y at the centre, −Y at the four corners: a direction's texel costs a sum

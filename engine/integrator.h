@@ -28,6 +28,16 @@ public:
     /// transparent background. With a transparent background a primary ray that misses brings
     /// no radiance, and the radiance is premultiplied by the coverage.
     virtual Color Li(const Ray& r, uint64_t seed, RayStats& stats, float* coverage) const = 0;
+    /// Li for the n primary rays of one packet (neighbouring pixels' rays of one sample, at most
+    /// 64): out[i] and coverage[i] (if coverage is not null) are set for each ray whose bit is
+    /// set in `wanted`; the others are in the packet only so that it is the same whichever
+    /// pixels a caller wants (an implementation may trace them, never shade them). By default
+    /// Li one ray at a time; an integrator may trace the packet's primary rays together.
+    virtual void LiPacket(const Ray* rays, int n, uint64_t wanted, const uint64_t* seeds, RayStats& stats, Color* out,
+                          float* coverage) const {
+        for (int i = 0; i < n; ++i)
+            if ((wanted >> i) & 1u) out[i] = Li(rays[i], seeds[i], stats, coverage ? coverage + i : nullptr);
+    }
     /// False if Li makes no random choice with its seed: the caller may then pass
     /// kNoSampleSeed and skip hashing one per sample.
     virtual bool usesSeed() const { return true; }

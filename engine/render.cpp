@@ -11,6 +11,15 @@
 
 namespace rf {
 
+namespace {
+/// Camera rays go to the integrator in packets of the pixels of one kPacketSide² block of the
+/// image (aligned to multiples of kPacketSide, cut only by the image's edge), one sample of
+/// each pixel at a time. A block is the same packet whichever rectangle asks for some of its
+/// pixels, so a pixel's result never depends on the tiling.
+constexpr int kPacketSide = 4;
+static_assert(kPacketSide * kPacketSide <= 64, "a packet's wanted pixels are a 64-bit mask");
+}  // namespace
+
 void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, const RenderSettings& settings,
                 int frame, float* out, RayStats& stats, float* alpha) {
     const CameraRays rays(camera, settings.width, settings.height);
@@ -22,38 +31,65 @@ void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, 
     // Counted on this thread's stack and added once: callers keep one RayStats per thread side
     // by side, and bumping those per ray would bounce a shared cache line between cores.
     RayStats local;
-    for (int y = rect.y0; y < rect.y1; ++y) {
-        for (int x = rect.x0; x < rect.x1; ++x) {
-            const uint64_t pixel = uint64_t(y) * uint64_t(settings.width) + uint64_t(x);
-            Color sum(0.f);
-            float hits = 0.f;  // coverage: whole samples add exactly, as the count of hits did
+    constexpr int kMax = kPacketSide * kPacketSide;
+    Ray packet[kMax];
+    uint64_t seeds[kMax];
+    Color radiance[kMax], sum[kMax];
+    float covered[kMax], hits[kMax];
+    int px[kMax], py[kMax];
+    const int bx0 = rect.x0 - rect.x0 % kPacketSide, by0 = rect.y0 - rect.y0 % kPacketSide;
+    for (int by = by0; by < rect.y1; by += kPacketSide) {
+        for (int bx = bx0; bx < rect.x1; bx += kPacketSide) {
+            // The block's pixels in the image, row by row; the rectangle wants some of them.
+            int count = 0;
+            uint64_t wanted = 0;
+            for (int y = by; y < std::min(by + kPacketSide, settings.height); ++y)
+                for (int x = bx; x < std::min(bx + kPacketSide, settings.width); ++x) {
+                    if (x >= rect.x0 && x < rect.x1 && y >= rect.y0 && y < rect.y1) wanted |= uint64_t(1) << count;
+                    px[count] = x;
+                    py[count] = y;
+                    sum[count] = Color(0.f);
+                    hits[count] = 0.f;  // coverage: whole samples add exactly, as the count of hits did
+                    ++count;
+                }
             for (int sy = 0; sy < n; ++sy) {
                 for (int sx = 0; sx < n; ++sx) {
-                    float jx = 0.5f, jy = 0.5f;
-                    if (n > 1) {  // one sample sits at the pixel centre; more are jittered per stratum
-                        SampleRng rng(frame, pixel, uint64_t(sy * n + sx));
-                        jx = rng.next();
-                        jy = rng.next();
+                    const uint64_t sample = uint64_t(sy * n + sx);
+                    for (int i = 0; i < count; ++i) {
+                        const uint64_t pixel = uint64_t(py[i]) * uint64_t(settings.width) + uint64_t(px[i]);
+                        float jx = 0.5f, jy = 0.5f;
+                        if (n > 1) {  // one sample sits at the pixel centre; more are jittered per stratum
+                            SampleRng rng(frame, pixel, sample);
+                            jx = rng.next();
+                            jy = rng.next();
+                        }
+                        packet[i] = rays.generate(px[i] + (sx + jx) * invN, py[i] + (sy + jy) * invN);
+                        packet[i].coneSpread *= invN;  // each of n×n samples covers its stratum of the pixel
+                        seeds[i] = seeded ? sampleSeed(frame, pixel, sample) : kNoSampleSeed;
+                        covered[i] = 0.f;
                     }
-                    Ray r = rays.generate(x + (sx + jx) * invN, y + (sy + jy) * invN);
-                    r.coneSpread *= invN;  // each of n×n samples covers its stratum of the pixel
-                    float covered = 0.f;
-                    const uint64_t seed = seeded ? sampleSeed(frame, pixel, uint64_t(sy * n + sx)) : kNoSampleSeed;
-                    Color c = integrator->Li(r, seed, local, alpha ? &covered : nullptr);
-                    hits += covered;
-                    if (!isFinite(c)) {
-                        c = Color(0.f);
-                        ++local.nonFinite;
+                    integrator->LiPacket(packet, count, wanted, seeds, local, radiance, alpha ? covered : nullptr);
+                    for (uint64_t m = wanted; m; m &= m - 1) {
+                        const int i = __builtin_ctzll(m);
+                        hits[i] += covered[i];
+                        Color c = radiance[i];
+                        if (!isFinite(c)) {
+                            c = Color(0.f);
+                            ++local.nonFinite;
+                        }
+                        sum[i] += c;
                     }
-                    sum += c;
                 }
             }
-            sum *= invSpp;
-            float* o = out + 3 * (size_t(y - rect.y0) * rect.width() + (x - rect.x0));
-            o[0] = sum.r;
-            o[1] = sum.g;
-            o[2] = sum.b;
-            if (alpha) alpha[size_t(y - rect.y0) * rect.width() + (x - rect.x0)] = hits * invSpp;
+            for (uint64_t m = wanted; m; m &= m - 1) {
+                const int i = __builtin_ctzll(m);
+                const size_t at = size_t(py[i] - rect.y0) * rect.width() + size_t(px[i] - rect.x0);
+                const Color c = sum[i] * invSpp;
+                out[3 * at] = c.r;
+                out[3 * at + 1] = c.g;
+                out[3 * at + 2] = c.b;
+                if (alpha) alpha[at] = hits[i] * invSpp;
+            }
         }
     }
     stats += local;

@@ -1,6 +1,7 @@
 #include "scene.h"
 
 #include <cstring>
+#include <new>
 
 #include "material_eval.h"
 
@@ -339,6 +340,38 @@ bool Scene::intersect(const Ray& r, Hit& hit, uint32_t skip) const {
         }
     }
     return found;
+}
+
+void Scene::intersectPacket(const Ray* rays, int n, Hit* hits, bool* met) const {
+    if (!useBvh_ || n > Bvh::kPacketMax) {
+        for (int i = 0; i < n; ++i) met[i] = intersect(rays[i], hits[i]);
+        return;
+    }
+    const uint32_t base = nTri_ + nSph_;
+    float tMax[Bvh::kPacketMax];
+    alignas(WatertightRay) unsigned char storage[sizeof(WatertightRay) * Bvh::kPacketMax];
+    WatertightRay* wr = reinterpret_cast<WatertightRay*>(storage);  // the packet's n, no more
+    for (int i = 0; i < n; ++i) {
+        const Ray& r = rays[i];
+        tMax[i] = r.tMax;
+        met[i] = false;
+        // Planes first, as intersect() takes them.
+        for (size_t k = 0; k < planes.size(); ++k) {
+            float t;
+            if (intersectPlane(planes[k], r, 0.f, tMax[i], t)) {
+                tMax[i] = t;
+                hits[i].t = t;
+                hits[i].prim = base + static_cast<uint32_t>(k);
+                met[i] = true;
+            }
+        }
+        new (wr + i) WatertightRay(r);
+    }
+    bvh_.traversePacket(rays, n, tMax, [&](int i, uint32_t first, uint32_t count, float& tm) {
+        const bool hit = intersectLeaf(first, count, rays[i], wr[i], tm, hits[i], kNoPrim, false);
+        met[i] |= hit;
+        return hit;
+    });
 }
 
 bool Scene::walkWouldBlock(uint32_t prim, const Ray& r, const WatertightRay& wr, float tMax) const {

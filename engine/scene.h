@@ -112,6 +112,13 @@ public:
     /// ray leaves on its outer side, which it cannot meet again and so is not tested; or
     /// kFromInside | sphere id for a ray entering that sphere, which meets it only at its exit.
     bool intersect(const Ray& r, Hit& hit, uint32_t skip = kNoPrim) const;
+    /// intersect() for n camera rays of neighbouring pixels (at most Bvh::kPacketMax; no skip):
+    /// traced together through the BVH (Bvh::traversePacket) where they share an origin.
+    /// met[i]: whether ray i hit, hits[i] its closest hit. Each ray is tested against the same
+    /// primitives with the same float operations as intersect() gives it; only where two
+    /// surfaces tie within rounding can the visiting order pick the other, so callers trace
+    /// the same packets whatever the tiling (render.cpp: aligned pixel blocks).
+    void intersectPacket(const Ray* rays, int n, Hit* hits, bool* met) const;
     /// Any hit in (0, tMax): the shadow-ray query. lastBlocker (may be null): a triangle to try
     /// before the BVH, updated to the one that blocked this ray. Shadow rays of neighbouring
     /// pixels towards one light are mostly blocked by the same triangle; trying it first with

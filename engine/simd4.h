@@ -28,6 +28,23 @@ inline F4 minKeep4(F4 a, F4 b) {
 #endif
 }
 
+inline I4 splatI4(int v) { return I4{v, v, v, v}; }
+
+/// floor() lane by lane, exact for |x| < 2^31 (truncation, then one down where it rounded up).
+inline F4 floor4(F4 x) {
+    const F4 t = __builtin_convertvector(__builtin_convertvector(x, I4), F4);
+    return t > x ? t - 1.f : t;
+}
+
+/// Square root lane by lane, correctly rounded (sqrtps where SSE is there), as std::sqrt.
+inline F4 sqrt4(F4 x) {
+#if defined(__SSE__)
+    return __builtin_ia32_sqrtps(x);
+#else
+    return F4{__builtin_sqrtf(x[0]), __builtin_sqrtf(x[1]), __builtin_sqrtf(x[2]), __builtin_sqrtf(x[3])};
+#endif
+}
+
 /// Lane signs as four bits (movmskps where SSE is there, a loop elsewhere).
 inline uint32_t laneMask(I4 m) {
 #if defined(__SSE__)

@@ -1,5 +1,8 @@
 #include "whitted.h"
 
+#include <new>
+
+#include "env_lighting.h"
 #include "light_eval.h"
 #include "material_eval.h"
 #include "optics.h"
@@ -66,10 +69,46 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
 }
 
 Color WhittedTracer::Li(const Ray& r, uint64_t seed, RayStats& stats, float* coverage) const {
-    ++stats.primary;
-    if (settings_.indirectSamples <= 0) seed = kNoSampleSeed;
     Hit h;
     const bool met = scene_.intersect(r, h);
+    return primaryLi(r, met, h, seed, stats, coverage);
+}
+
+void WhittedTracer::LiPacket(const Ray* rays, int n, uint64_t wanted, const uint64_t* seeds, RayStats& stats, Color* out,
+                             float* coverage) const {
+    if (n > Bvh::kPacketMax) return Integrator::LiPacket(rays, n, wanted, seeds, stats, out, coverage);
+    // Only the packet's own hits are made: 64 default Hits would cost more than a small packet.
+    alignas(Hit) unsigned char storage[sizeof(Hit) * Bvh::kPacketMax];
+    Hit* hits = reinterpret_cast<Hit*>(storage);
+    for (int i = 0; i < n; ++i) new (hits + i) Hit();
+    bool met[Bvh::kPacketMax];
+    scene_.intersectPacket(rays, n, hits, met);
+    // Misses that show the environment are looked up four at a time, the rest ray by ray.
+    const bool envBackground = scene_.environment && scene_.environmentBackground && !scene_.transparentBackground;
+    int misses[Bvh::kPacketMax], nMiss = 0;
+    for (int i = 0; i < n; ++i) {
+        if (!((wanted >> i) & 1u)) continue;
+        float tGround = 0.f;
+        if (envBackground && !met[i] && !(catcher_ && catcher_->hit(rays[i], kInf, tGround))) {
+            ++stats.primary;
+            if (coverage) coverage[i] = 0.f;
+            misses[nMiss++] = i;
+            continue;
+        }
+        out[i] = primaryLi(rays[i], met[i], hits[i], seeds[i], stats, coverage ? coverage + i : nullptr);
+    }
+    for (int k = 0; k < nMiss; k += 4) {
+        Vec3 d[4];
+        Color c[4];
+        for (int j = 0; j < 4; ++j) d[j] = rays[misses[std::min(k + j, nMiss - 1)]].d;
+        scene_.environment->radiance4(d, c);
+        for (int j = 0; j < 4 && k + j < nMiss; ++j) out[misses[k + j]] = c[j];
+    }
+}
+
+Color WhittedTracer::primaryLi(const Ray& r, bool met, const Hit& h, uint64_t seed, RayStats& stats, float* coverage) const {
+    ++stats.primary;
+    if (settings_.indirectSamples <= 0) seed = kNoSampleSeed;
     float tGround = 0.f;
     if (catcher_ && catcher_->hit(r, met ? h.t : kInf, tGround)) return groundLi(r, tGround, stats, coverage);
     if (coverage) *coverage = met ? 1.f : 0.f;

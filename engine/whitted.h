@@ -20,6 +20,9 @@ public:
 
     /// Radiance along a primary ray (counted as primary); see Integrator::Li.
     Color Li(const Ray& r, uint64_t seed, RayStats& stats, float* coverage) const override;
+    /// The packet's rays through Scene::intersectPacket, then each wanted one as Li goes on.
+    void LiPacket(const Ray* rays, int n, uint64_t wanted, const uint64_t* seeds, RayStats& stats, Color* out,
+                  float* coverage) const override;
     /// Only sampled indirect light draws random numbers.
     bool usesSeed() const override { return settings_.indirectSamples > 0; }
 
@@ -33,6 +36,8 @@ private:
     /// indirect light themselves (the samples' own rays: one bounce, not a path).
     Color trace(const Ray& r, int depth, const Color& weight, RayStats& stats, uint64_t seed,
                 uint32_t skip = Scene::kNoPrim) const;
+    /// Li once the primary ray's closest hit is known (met: whether it has one).
+    Color primaryLi(const Ray& r, bool met, const Hit& h, uint64_t seed, RayStats& stats, float* coverage) const;
     /// trace() once the ray's closest hit is known.
     Color traceHit(const Ray& r, const Hit& hit, int depth, const Color& weight, RayStats& stats, uint64_t seed) const;
     /// The glTF material model (whitted_gltf.cpp): the metallic-roughness BRDF under the lights,

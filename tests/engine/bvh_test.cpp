@@ -135,6 +135,19 @@ Mismatch compare(const Scene& s, size_t count, float maxDist, uint32_t seed) {
     return mm;
 }
 
+/// n rays from o through a w × h grid of image-plane points around `aim`, `step` apart: a
+/// camera packet.
+std::vector<Ray> fan(const Vec3& o, const Vec3& aim, int w, int h, float step) {
+    const Vec3 fwd = glm::normalize(aim - o);
+    const Vec3 right = glm::normalize(glm::cross(fwd, std::abs(fwd.y) < 0.9f ? Vec3(0, 1, 0) : Vec3(1, 0, 0)));
+    const Vec3 up = glm::cross(right, fwd);
+    std::vector<Ray> rays;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            rays.push_back(Ray{o, glm::normalize(fwd + step * ((x - 0.5f * (w - 1)) * right + (y - 0.5f * (h - 1)) * up))});
+    return rays;
+}
+
 }  // namespace
 
 TEST(Bvh, RandomAndGrazingRaysMatchBruteForce) {
@@ -188,6 +201,34 @@ TEST(BvhStress, MillionGrazingRaysMatchBruteForce) {
     const Mismatch mm = compare(s, 1000000, 1e5f, 6);
     EXPECT_EQ(mm.wrongId, 0u);
     EXPECT_GT(mm.hits, mm.rays / 4);
+}
+
+// The same for camera packets: 10,000 packets of 64 grazing rays.
+TEST(BvhStress, GrazingPacketsMatchRaysTracedAlone) {
+    if (!std::getenv("RAYFARM_STRESS_RUN")) GTEST_SKIP() << "runs under the stress label (RAYFARM_STRESS=1 bash tests/run.sh)";
+    const Scene s = testScene(14);
+    std::mt19937 rng(19);
+    std::uniform_real_distribution<float> u(-1.f, 1.f), u01(0.f, 1.f);
+    size_t hits = 0;
+    for (int p = 0; p < 10000; ++p) {
+        const float dist = std::pow(10.f, 5.f * u01(rng));
+        const float az = 2.f * kPi * u01(rng), el = 1e-3f * u(rng);
+        const Vec3 dir(std::cos(az) * std::cos(el), std::sin(el), std::sin(az) * std::cos(el));
+        const Vec3 aim(9.f * u(rng), 0.06f * u(rng), 9.f * u(rng));
+        const std::vector<Ray> packet = fan(aim - dist * dir, aim, 8, 8, 1e-4f * u01(rng));
+        std::vector<Hit> ph(packet.size());
+        bool met[Bvh::kPacketMax];
+        s.intersectPacket(packet.data(), int(packet.size()), ph.data(), met);
+        for (size_t i = 0; i < packet.size(); ++i) {
+            float tRef;
+            uint32_t idRef = 0;
+            const bool b = bruteForce(s, packet[i], tRef, idRef);
+            ASSERT_EQ(met[i], b) << "packet " << p << " ray " << i;
+            if (b) ASSERT_EQ(ph[i].t, tRef) << "packet " << p << " ray " << i;
+            hits += b;
+        }
+    }
+    EXPECT_GT(hits, 10000u * 16u);
 }
 
 // Below kBvhThreshold primitives a scene tests its spheres brute force, behind a vectorised
@@ -308,6 +349,71 @@ TEST(Bvh, LastBlockerAgreesWithTheWalkAtTheFarEnd) {
     }
     EXPECT_GT(checked, 50000);
     EXPECT_EQ(differ, 0) << "of " << checked;
+}
+
+
+// Camera packets (Bvh::traversePacket through Scene::intersectPacket) against each ray alone
+// and against brute force: tight and wide fans of 1 to 64 rays, grazing the bumpy grid, crossing
+// the soup's silhouettes, some missing everything, some from inside the soup.
+TEST(Bvh, PacketsMatchRaysTracedAlone) {
+    const Scene s = testScene(31);
+    std::mt19937 rng(8);
+    std::uniform_real_distribution<float> u(-1.f, 1.f), u01(0.f, 1.f);
+    size_t rays = 0, hits = 0, ties = 0;
+    for (int p = 0; p < 3000; ++p) {
+        const int w = 1 + int(u01(rng) * 8.f), h = 1 + int(u01(rng) * 8.f);
+        Vec3 o(20.f * u(rng), 6.f * u01(rng) + (p % 4 == 0 ? 0.02f : 0.f), 20.f * u(rng));
+        if (p % 7 == 0) o = Vec3(8.f * u(rng), 1.f + 2.f * u(rng), 8.f * u(rng));  // among the triangles
+        const Vec3 aim(9.f * u(rng), p % 4 == 0 ? 0.f : 1.f + 2.f * u(rng), 9.f * u(rng));
+        const float step = std::pow(10.f, -4.f + 3.5f * u01(rng));  // up to a 0.3-radian spacing
+        const std::vector<Ray> packet = fan(o, aim, w, h, step);
+        std::vector<Hit> ph(packet.size());
+        bool met[Bvh::kPacketMax];
+        s.intersectPacket(packet.data(), int(packet.size()), ph.data(), met);
+        for (size_t i = 0; i < packet.size(); ++i) {
+            Hit alone;
+            const bool a = s.intersect(packet[i], alone);
+            float tRef;
+            uint32_t idRef = 0;
+            const bool b = bruteForce(s, packet[i], tRef, idRef);
+            ++rays;
+            ASSERT_EQ(met[i], a) << "packet " << p << " ray " << i;
+            ASSERT_EQ(met[i], b) << "packet " << p << " ray " << i;
+            if (!b) continue;
+            ++hits;
+            ASSERT_EQ(ph[i].t, tRef) << "packet " << p << " ray " << i;
+            ASSERT_EQ(ph[i].t, alone.t) << "packet " << p << " ray " << i;
+            if (ph[i].prim != idRef) ++ties;  // the same t on a shared edge: either is right
+        }
+    }
+    EXPECT_GT(hits, rays / 4);
+    EXPECT_LT(ties, rays / 1000 + 1);
+}
+
+// Packets whose rays do not share an origin, or spread over more than a hemisphere, are traced
+// ray by ray, with the same answers.
+TEST(Bvh, PacketsThatCannotBeBoundedGoRayByRay) {
+    const Scene s = testScene(32);
+    std::vector<Ray> spread = fan(Vec3(0, 2, -15), Vec3(0, 1, 0), 4, 4, 0.1f);
+    spread[5].o += Vec3(1e-3f, 0.f, 0.f);  // one origin differs
+    std::vector<Ray> wide;
+    for (int i = 0; i < 16; ++i) {
+        const float a = 2.f * kPi * float(i) / 16.f;
+        wide.push_back(Ray{Vec3(0, 1, 0), glm::normalize(Vec3(std::cos(a), 0.05f, std::sin(a)))});  // all around
+    }
+    for (const std::vector<Ray>* packet : {&spread, &wide}) {
+        std::vector<Hit> ph(packet->size());
+        bool met[Bvh::kPacketMax];
+        s.intersectPacket(packet->data(), int(packet->size()), ph.data(), met);
+        int found = 0;
+        for (size_t i = 0; i < packet->size(); ++i) {
+            Hit alone;
+            ASSERT_EQ(met[i], s.intersect((*packet)[i], alone)) << i;
+            if (met[i]) EXPECT_EQ(ph[i].t, alone.t) << i;
+            found += met[i];
+        }
+        EXPECT_GT(found, 0);
+    }
 }
 
 TEST(Bvh, BuildIsDeterministicAndRefitFollowsMovedGeometry) {

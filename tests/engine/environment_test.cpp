@@ -2,6 +2,7 @@
 // files refused with a message naming them, and the prefiltered lighting of a uniform sky.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -99,6 +100,50 @@ TEST(Environment, DirectionsMapAsLibmDoesToAThousandthOfATexel) {
     // that sample() falls back to its first texel.
     EXPECT_NEAR(equirectUv(Vec3(2e-40f, 0.f, 1e-40f)).x, 0.5f + std::atan2(1.0, 2.0) / (2 * M_PI), 1e-6);
     EXPECT_TRUE(std::isnan(equirectUv(Vec3(1.f, 0.f, std::nanf(""))).x));
+}
+
+// The background of a packet's misses is looked up four directions at a time; each lane must
+// be what the one-at-a-time look-up gives, bit for bit: the same directions as above plus the
+// seam, the poles, signed zeros, denormals, and a lane with a NaN beside three good ones.
+TEST(Environment, FourLaneLookUpsAreTheScalarOnesBitForBit) {
+    const EnvironmentLight env(builtinStudioEnvironment(64), 37.f, 1.5f, 1);
+    std::vector<Vec3> dirs;
+    for (int i = 0; i <= 100; ++i)
+        for (int j = 0; j < 200; ++j) {
+            const float theta = kPi * float(i) / 100.f, phi = 2.f * kPi * float(j) / 200.f;
+            dirs.emplace_back(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+        }
+    for (const Vec3& d : {Vec3(-1, 0, -0.f), Vec3(-1, 0, 0.f), Vec3(0, 1, 0), Vec3(0, -1, 0), Vec3(-0.f, -1, -0.f),
+                          Vec3(2e-40f, 0.f, 1e-40f), Vec3(-2e-40f, 1.f, -1e-40f), Vec3(0.f), Vec3(1.f, 0.f, std::nanf("")),
+                          Vec3(0.6f, 0.f, 0.8f), Vec3(-0.6f, 0.f, 0.8f)})
+        dirs.push_back(d);
+    while (dirs.size() % 4) dirs.emplace_back(0.f, 0.f, 1.f);
+    size_t differ = 0;
+    for (size_t k = 0; k < dirs.size(); k += 4) {
+        Color four[4];
+        env.radiance4(&dirs[k], four);
+        for (int i = 0; i < 4; ++i) {
+            const Color one = env.radiance(dirs[k + i]);
+            differ += std::memcmp(&one, &four[i], sizeof one) != 0;
+        }
+    }
+    EXPECT_EQ(differ, 0u) << "of " << dirs.size();
+    // And equirectUv4 itself, where no lane holds a NaN.
+    for (size_t k = 0; k + 4 <= dirs.size(); k += 4) {
+        const F4 d[3] = {{dirs[k].x, dirs[k + 1].x, dirs[k + 2].x, dirs[k + 3].x},
+                         {dirs[k].y, dirs[k + 1].y, dirs[k + 2].y, dirs[k + 3].y},
+                         {dirs[k].z, dirs[k + 1].z, dirs[k + 2].z, dirs[k + 3].z}};
+        F4 u, v;
+        bool nan = false;
+        for (int i = 0; i < 4; ++i) nan |= std::isnan(dirs[k + i].x) || std::isnan(dirs[k + i].y) || std::isnan(dirs[k + i].z);
+        ASSERT_EQ(equirectUv4(d, u, v), !nan);
+        if (nan) continue;
+        for (int i = 0; i < 4; ++i) {
+            const Vec2 one = equirectUv(dirs[k + i]);
+            EXPECT_EQ(std::memcmp(&one.x, &u[i], 4), 0) << k + i;
+            EXPECT_EQ(std::memcmp(&one.y, &v[i], 4), 0) << k + i;
+        }
+    }
 }
 
 TEST(Environment, StripeAtTheCentreIsSeenLookingAlongPlusX) {

@@ -44,6 +44,42 @@ TEST(Render, BitIdenticalForAnyThreadCountAndTileSize) {
     EXPECT_FALSE(sameBits(one, renderFrame(s, s.camera, rs, 8, 2, st)));
 }
 
+// Camera rays go through the BVH in packets of aligned pixel blocks: tiles of any size, odd
+// rectangles and thread counts must still give every pixel the same bits, with the rays
+// counted once. A triangle scene (sphere and grid meshes, so the BVH is used) at 4 spp.
+TEST(Render, PacketsGiveTheSamePixelsForAnyTiling) {
+    Scene s = test::emptyScene();
+    s.materials[0] = test::matte(Color(0.8f, 0.5f, 0.3f));
+    s.meshes.push_back(test::uvSphere(24, 48, 1.f, Vec3(0, 1, 0), true));
+    s.meshes.push_back(test::gridMesh(16, 4.f));
+    s.lights.push_back(Light{});
+    s.lights.back().position = Vec3(3, 5, -4);
+    s.camera.eye = Vec3(0.3f, 2.f, -5.f);
+    s.camera.target = Vec3(0, 0.8f, 0);
+    s.build();
+    ASSERT_TRUE(s.usesBvh());
+    RenderSettings rs = test::smallSettings(83, 45, 4, 3);
+    rs.tileSize = 32;
+    RayStats ref;
+    const Image one = renderFrame(s, s.camera, rs, 3, 1, ref);
+    EXPECT_EQ(ref.primary, uint64_t(83 * 45 * 4));
+    for (int tile : {1, 3, 7, 16, 64}) {
+        rs.tileSize = tile;
+        RayStats st;
+        EXPECT_TRUE(sameBits(one, renderFrame(s, s.camera, rs, 3, 2, st))) << "tile " << tile;
+        EXPECT_EQ(st.total(), ref.total()) << "tile " << tile;
+    }
+    const TileRect rect{5, 3, 62, 38};
+    std::vector<float> buf(size_t(rect.pixels()) * 3);
+    RayStats ts;
+    renderTile(s, s.camera, rect, rs, 3, buf.data(), ts);
+    EXPECT_EQ(ts.primary, uint64_t(rect.pixels()) * 4);
+    for (int y = rect.y0; y < rect.y1; ++y)
+        for (int x = rect.x0; x < rect.x1; ++x)
+            for (int c = 0; c < 3; ++c)
+                ASSERT_EQ(buf[3 * ((y - rect.y0) * rect.width() + (x - rect.x0)) + c], one.pixel(x, y)[c]) << x << "," << y;
+}
+
 TEST(Render, RenderTileMatchesTheFrameRegion) {
     const Scene s = whitted();
     const RenderSettings rs = test::smallSettings(64, 40, 1, 5);
