@@ -41,7 +41,7 @@ PngEncoder::PngEncoder(int width, int height, int channels) : impl_(std::make_un
     m.ctx->time_base = {1, 25};
     m.ctx->compression_level = 1;
     m.ctx->thread_count = 1;
-    av_opt_set(m.ctx->priv_data, "pred", "sub", 0);
+    av_opt_set(m.ctx->priv_data, "pred", "none", 0);
     if (avcodec_open2(m.ctx, codec, nullptr) < 0) throw std::runtime_error("cannot open the PNG encoder");
     m.frame->format = pix;
     m.frame->width = width;

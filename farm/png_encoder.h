@@ -1,7 +1,10 @@
 #pragma once
-/// PNG bytes through FFmpeg's PNG encoder at a fast setting (zlib level 1, "sub" prediction):
+/// PNG bytes through FFmpeg's PNG encoder at a fast setting (zlib level 1, no prediction):
 /// about 3 ms for a 640x360 frame against about 15 ms for stb_image_write, which matters when
-/// every frame of a 30 fps run is kept. Lossless either way.
+/// every frame of a 30 fps run is kept. Lossless either way. Rendered frames' flat and smooth
+/// areas deflate well without a filter: the Whitted orbit's frame 10 is 119 KB in 3.8 ms
+/// unfiltered, 130 KB in 4.5 ms with "sub" (2CylinderEngine: 60 KB in 2.6 ms against 66 KB
+/// in 2.7 ms).
 #include <cstdint>
 #include <memory>
 #include <string>
