@@ -216,7 +216,16 @@ MasterOutcome Master::run() {
         if (!cfg_.quiet) progress.update(asm_->popped(), renderingFrames());
         if (!progressed) {
             if (local_) {
-                if (auto r = local_->takeResult(0.0005)) accept(0, *r);
+                // Alone, with no ranks to hear from and no viewer waiting between frames, the
+                // loop sleeps until a frame is done (a result wakes it at once); 2000 wake-ups a
+                // second took a core's time from the render threads. With workers rendering
+                // whole frames it looks every 2 ms; for tiles (each a millisecond or so, two
+                // per worker at a time) and for a viewer every 0.5 ms.
+                const double wait = cfg_.between                  ? 0.0005
+                                    : t_.size() == 1              ? 0.02
+                                    : sched_->itemsPerFrame() == 1 ? 0.002
+                                                                  : 0.0005;
+                if (auto r = local_->takeResult(wait)) accept(0, *r);
             } else {
                 std::this_thread::sleep_for(std::chrono::microseconds(300));
             }

@@ -40,6 +40,8 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
     bool heardMaster = false;
     Clock::time_point signalledAt{};
     bool signalled = false;
+    bool viewing = false;    ///< a viewer's epochs have come: answer within a millisecond
+    int lastItemPixels = 0;  ///< the size of the work coming in (a whole frame, or a tile)
     for (;;) {
         const auto now = Clock::now();
         if (pause.resumed(now)) lastFromMaster = now;  // this worker was stopped, not rank 0
@@ -70,8 +72,14 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
                 heardMaster = true;
             }
             if (m.tag == kTagStop) return 0;
-            if (m.tag == kTagWork && !signalled) engine.submit(decodeWorkItem(m.bytes));
-            else if (m.tag == kTagView) engine.setView(decodeViewSpec(m.bytes));
+            if (m.tag == kTagWork && !signalled) {
+                const WorkItem item = decodeWorkItem(m.bytes);
+                lastItemPixels = item.rect.pixels();
+                engine.submit(item);
+            } else if (m.tag == kTagView) {
+                engine.setView(decodeViewSpec(m.bytes));
+                viewing = true;
+            }
             else if (m.tag != kTagWork && m.tag != kTagAlive && other) other(m);
         }
         if (const std::string err = engine.error(); !err.empty()) {
@@ -83,8 +91,12 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
             lastBeat = now;
         }
         // Wait briefly for a result: short enough to answer messages promptly, long enough not
-        // to spin a core the render threads need.
-        if (auto r = engine.takeResult(0.001)) {
+        // to spin a core the render threads need. Whole frames (frame mode) take tens of
+        // milliseconds each, with the next one already queued here, so 4 ms between looks costs
+        // nothing and wakes the core a quarter as often; a tile (pixel mode) may take one
+        // millisecond, and a viewer's camera change must stop the work in hand within one.
+        const bool longItems = !viewing && lastItemPixels >= 100000;
+        if (auto r = engine.takeResult(longItems ? 0.004 : 0.001)) {
             if (!signalled) t.send(0, kTagResult, encodeTileResult(*r));
             while ((r = engine.takeResult()))
                 if (!signalled) t.send(0, kTagResult, encodeTileResult(*r));
