@@ -132,7 +132,7 @@ std::shared_ptr<const EnvironmentLight> loadEnvironment(const EnvironmentSpec& s
     if (!(spec.intensity >= 0.f) || !std::isfinite(spec.intensity))
         throw InputError(spec.file.empty() ? "environment" : spec.file, "environment intensity must be a finite number >= 0");
     EquirectImage img = spec.file.empty() ? builtinStudioEnvironment()
-                                          : decodeEnvironment(fs.read(spec.file, 1ull << 30), spec.file);
+                                          : decodeEnvironment(fs.read(spec.file, kMaxEnvironmentBytes), spec.file);
     return std::make_shared<const EnvironmentLight>(std::move(img), spec.rotationDeg, spec.intensity);
 }
 

@@ -15,6 +15,9 @@
 
 namespace rf {
 
+/// The largest environment image file read (.hdr or .exr).
+inline constexpr uint64_t kMaxEnvironmentBytes = 1ull << 30;
+
 class EnvironmentLight {
 public:
     /// rotationDeg turns the environment about +Y (positive: +X towards −Z, right-handed);

@@ -464,6 +464,12 @@ Scene loadGltfScene(const std::string& path, FileSource& fs, const SceneOptions&
     GltfModel model(path, fs);
     glm::dvec3 lo, hi;
     if (!model.bounds(DMat4(1.0), lo, hi)) throw InputError(path, model.emptyReason());
+    if (options.inputsRead) {
+        // The environment image is the one input still unread; read it now (it stays cached in
+        // fs) so every file is in hand before the meshes, BVH and environment maps are built.
+        if (options.environment && !options.environment->file.empty()) fs.read(options.environment->file, kMaxEnvironmentBytes);
+        options.inputsRead();
+    }
     const glm::dvec3 center = 0.5 * (lo + hi);
     s.renderOrigin = chooseRenderOrigin(center);
     model.addTo(s, DMat4(1.0));

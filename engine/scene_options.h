@@ -1,5 +1,6 @@
 #pragma once
 /// What the command line adds to a scene as it loads, the same on every rank.
+#include <functional>
 #include <optional>
 #include <string>
 
@@ -28,6 +29,10 @@ struct SceneOptions {
     /// built from the scene (a turntable's auto distance) fits the picture's aspect ratio.
     int width = 0, height = 0;
     std::optional<Ground> ground;  ///< replaces the scene file's "ground"
+    /// Called once by a loader that has read every input file (the model, its buffers and
+    /// images, the environment image) and is about to build from them: rank 0 sends the files
+    /// to the other ranks then, so they build their scenes while it builds its own.
+    std::function<void()> inputsRead;
 };
 
 /// The options' render size over the scene's settings.

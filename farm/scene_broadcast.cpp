@@ -2,6 +2,8 @@
 
 #include <chrono>
 #include <cstring>
+#include <exception>
+#include <set>
 
 #include "cli.h"
 #include "errors.h"
@@ -25,48 +27,100 @@ std::string packOk(const std::string& job, const std::string& bundle) {
 
 }  // namespace
 
+namespace {
+
+[[noreturn]] void failBroadcast(Transport& t, const char* code) {
+    std::string fail = code;
+    t.broadcast(fail, 0);
+    throw;  // NOLINT: only called from a catch block
+}
+
+/// The files in `all` that `sent` does not hold.
+FileBundle filesSince(const FileBundle& all, const std::set<std::string>& sent) {
+    FileBundle out;
+    for (const auto& [path, bytes] : all.files)
+        if (!sent.count(path)) out.files.emplace(path, bytes);
+    return out;
+}
+
+}  // namespace
+
 SharedScene shareScene(Transport& t, const std::string& path, const std::function<void()>& preLoad,
                        const std::function<std::string(Scene&, const FileBundle&)>& makeJob, const SceneOptions& options) {
     const auto t0 = std::chrono::steady_clock::now();
     SharedScene out;
     std::string payload;
     if (t.rank() == 0) {
+        // Two broadcasts: the files as soon as the loader has read them (before the BVH and the
+        // environment maps are built), so the workers build their scenes while rank 0 builds its
+        // own; then the job, with any file read after the first. One failure code takes the
+        // place of whichever broadcast is next.
+        DiskFileSource fs;
+        std::set<std::string> sent;
+        bool filesShared = false;
+        auto shareFiles = [&] {
+            if (filesShared) return;
+            filesShared = true;
+            for (const auto& [p, bytes] : fs.bundle().files) sent.insert(p);
+            if (t.size() > 1) {
+                std::string files = "0" + fs.bundle().serialize();
+                t.broadcast(files, 0);
+            }
+            if (options.inputsRead) options.inputsRead();
+        };
         try {
             if (preLoad) preLoad();
-            DiskFileSource fs;
-            out.scene = loadScene(path, fs, options);
+            SceneOptions opts = options;
+            opts.inputsRead = shareFiles;
+            out.scene = loadScene(path, fs, opts);
+            shareFiles();  // a loader that has no such point shares them here
             out.job = makeJob ? makeJob(out.scene, fs.bundle()) : std::string();
-            const std::string bundle = fs.bundle().serialize();
-            out.bundleBytes = bundle.size();
-            payload = packOk(out.job, bundle);
+            const std::string late = filesSince(fs.bundle(), sent).serialize();
+            out.bundleBytes = fs.bundle().serialize().size();
+            payload = packOk(out.job, late);
         } catch (const InputError&) {
-            std::string fail = "2";
-            t.broadcast(fail, 0);
-            throw;
+            failBroadcast(t, "2");
         } catch (const cli::UsageError&) {
-            std::string fail = "2";
-            t.broadcast(fail, 0);
-            throw;
+            failBroadcast(t, "2");
         } catch (...) {
-            std::string fail = "1";
-            t.broadcast(fail, 0);
-            throw;
+            failBroadcast(t, "1");
         }
         if (t.size() > 1) t.broadcast(payload, 0);
     } else {
-        t.broadcast(payload, 0);
-        if (payload.empty() || payload[0] != '0') throw PeerFailed(payload == "2" ? 2 : 1);
+        auto receive = [&] {
+            t.broadcast(payload, 0);
+            if (payload.empty() || payload[0] != '0') throw PeerFailed(payload == "2" ? 2 : 1);
+        };
+        receive();
+        FileBundle files = FileBundle::deserialize(payload.substr(1));
+        out.bundleBytes = payload.size() - 1;
+        // Built from the files while rank 0 decides the job; a failure here is told only if
+        // rank 0 succeeded (else rank 0 reports its own).
+        std::exception_ptr failed;
+        try {
+            BundleFileSource fs(files);
+            out.scene = loadScene(path, fs, options);
+        } catch (...) {
+            failed = std::current_exception();
+        }
+        receive();
         uint64_t n = 0;
         if (payload.size() < 1 + sizeof n) throw std::runtime_error("malformed scene broadcast");
         std::memcpy(&n, payload.data() + 1, sizeof n);
+        if (n > payload.size() - 1 - sizeof n) throw std::runtime_error("malformed scene broadcast");
         out.job = payload.substr(1 + sizeof n, n);
-        const size_t bundleAt = 1 + sizeof n + n;
-        out.bundleBytes = payload.size() - bundleAt;
-        FileBundle bundle = FileBundle::deserialize(payload.substr(bundleAt));
+        const FileBundle late = FileBundle::deserialize(payload.substr(1 + sizeof n + n));
         payload.clear();
         payload.shrink_to_fit();
-        BundleFileSource fs(std::move(bundle));
-        out.scene = loadScene(path, fs, options);
+        if (!late.files.empty()) {
+            // Rank 0's loader read more after it shared the files: load again with all of them.
+            for (const auto& [p, bytes] : late.files) files.files.emplace(p, bytes);
+            out.bundleBytes = files.serialize().size();
+            BundleFileSource fs(std::move(files));
+            out.scene = loadScene(path, fs, options);
+        } else if (failed) {
+            std::rethrow_exception(failed);
+        }
     }
     out.loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;

@@ -1,7 +1,9 @@
 #pragma once
 /// The scene travels once: rank 0 reads the scene file and every file it references, the bytes
 /// are broadcast (in chunks, so scenes beyond 2 GiB work) and every rank loads the same scene
-/// from memory and builds its own BVH. Workers never open the scene files.
+/// from memory and builds its own BVH. Workers never open the scene files. The files go out as
+/// soon as rank 0's loader has read them (SceneOptions::inputsRead), so the workers build while
+/// rank 0 builds and decides the job; the job follows in a second broadcast.
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -32,7 +34,8 @@ struct SharedScene {
 
 /// Collective over all ranks. On rank 0: runs preLoad (output checks), loads path from disk,
 /// then makeJob(scene, the files it read). If any of those throws, the other ranks are told (they throw PeerFailed
-/// with exit code 2 for input errors, 1 otherwise) and rank 0 rethrows.
+/// with exit code 2 for input errors, 1 otherwise) and rank 0 rethrows. options.inputsRead, if
+/// set, is called on every rank once its loader has read the files (on rank 0 after sending them).
 /// options (the command line's environment) apply on every rank; files they name travel in the
 /// bundle with the scene's.
 SharedScene shareScene(Transport& t, const std::string& path, const std::function<void()>& preLoad,

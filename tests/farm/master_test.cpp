@@ -3,12 +3,15 @@
 // ends the run with a message naming it.
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <thread>
 
 #include "farm_test_scene.h"
+#include "cli.h"
 #include "errors.h"
 #include "frame_assembler.h"
 #include "loopback_transport.h"
@@ -235,4 +238,81 @@ TEST(SceneBroadcast, GltfModelLoadsFromTheBundleAsFromDisk) {
     int fa = -1, fb = -1;
     EXPECT_TRUE(RenderEngine::render(a, ta, s, 1, {5, {0, 0, 32, 24}}, fa).rgb ==
                 RenderEngine::render(b, tb, s, 1, {5, {0, 0, 32, 24}}, fb).rgb);
+}
+
+TEST(SceneBroadcast, WorkersBuildFromTheFilesWhileRankZeroBuildsItsOwn) {
+    // A glTF under an .exr environment: rank 0 sends the files as soon as its loader has read
+    // them, before it builds meshes, BVH and environment maps. Each rank's loader calls its
+    // options' inputsRead at that point; rank 0's waits there for the worker's, which can only
+    // come if the files went out before rank 0's build. makeJob deletes the files, so the worker
+    // can only have used the bytes it was sent.
+    const std::string dir = std::string(RAYFARM_TEST_OUT) + "/farm_broadcast_early";
+    std::filesystem::create_directories(dir);
+    const std::string glb = dir + "/engine.glb", exr = dir + "/studio.exr";
+    std::filesystem::copy_file("/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb", glb,
+                               std::filesystem::copy_options::overwrite_existing);
+    std::filesystem::copy_file(std::string(RAYFARM_SOURCE_DIR) + "/scenes/environments/studio.exr", exr,
+                               std::filesystem::copy_options::overwrite_existing);
+    std::atomic<bool> workerRead{false};
+    bool rankZeroSawWorkerRead = false;
+    LoopbackHub hub(2);
+    std::vector<std::vector<uint8_t>> frames(2);
+    std::vector<std::thread> ranks;
+    for (int r = 0; r < 2; ++r)
+        ranks.emplace_back([&, r] {
+            SceneOptions options;
+            options.environment = EnvironmentSpec{exr, 30.f, 1.f};
+            if (r == 0)
+                options.inputsRead = [&] {
+                    for (int i = 0; i < 2000 && !workerRead; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+                    rankZeroSawWorkerRead = workerRead;
+                };
+            else
+                options.inputsRead = [&] { workerRead = true; };
+            LoopbackTransport t(hub, r);
+            SharedScene s = shareScene(
+                t, glb, nullptr,
+                [&](Scene&, const FileBundle& files) {
+                    EXPECT_EQ(files.files.size(), 2u);
+                    std::filesystem::remove(glb);
+                    std::filesystem::remove(exr);
+                    return std::string("job");
+                },
+                options);
+            EXPECT_EQ(s.job, "job");
+            RenderSettings st = s.scene.settings;
+            st.width = 48;
+            st.height = 27;
+            int applied = -1;
+            frames[size_t(r)] = RenderEngine::render(s.scene, anim::Timeline::fromScene(s.scene), st, 1, {7, {0, 0, 48, 27}}, applied).rgb;
+        });
+    for (auto& th : ranks) th.join();
+    EXPECT_TRUE(rankZeroSawWorkerRead) << "the files did not reach the worker before rank 0 built its scene";
+    EXPECT_FALSE(frames[0].empty());
+    EXPECT_TRUE(frames[1] == frames[0]);
+}
+
+TEST(SceneBroadcast, AFailureAfterTheFilesWentOutStopsTheWorkers) {
+    // The files have gone out; the job then fails (a usage error): the worker, done loading,
+    // learns it from the second broadcast and stops with rank 0's exit code.
+    const std::string dir = std::string(RAYFARM_TEST_OUT) + "/farm_broadcast_late_failure";
+    std::filesystem::create_directories(dir);
+    const std::string glb = dir + "/engine.glb";
+    std::filesystem::copy_file("/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb", glb,
+                               std::filesystem::copy_options::overwrite_existing);
+    LoopbackHub hub(2);
+    int workerCode = 0;
+    std::thread worker([&] {
+        LoopbackTransport t(hub, 1);
+        try {
+            shareScene(t, glb, nullptr, nullptr);
+        } catch (const PeerFailed& e) {
+            workerCode = e.code();
+        }
+    });
+    LoopbackTransport t(hub, 0);
+    EXPECT_THROW(shareScene(t, glb, nullptr, [](Scene&, const FileBundle&) -> std::string { throw cli::UsageError("--frames 9:3: empty"); }),
+                 cli::UsageError);
+    worker.join();
+    EXPECT_EQ(workerCode, 2);
 }
