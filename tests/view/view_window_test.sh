@@ -303,9 +303,11 @@ film-killed-rank)
     echo "ok: $(grep 'render stopped' view.log | head -1); the MP4 plays $n frames; closed with status $STATUS"
     ;;
 author)
-    "$RAYFARM" still "$scene" --size $SIZE --spp 4 -o still.png 2>/dev/null || fail "still"
+    # 64 spp: the film rendered below (31 frames at 160x90) must last longer than the key that
+    # cancels it takes to arrive; at 4 spp two ranks finished it in about 0.2 s, before the key.
+    "$RAYFARM" still "$scene" --size $SIZE --spp 64 -o still.png 2>/dev/null || fail "still"
     rm -f saved.json stats.json
-    start_view "$scene" --size $SIZE --spp 4 -o "$PWD/saved.json" --stats "$PWD/stats.json"
+    start_view "$scene" --size $SIZE --spp 64 -o "$PWD/saved.json" --stats "$PWD/stats.json"
     wait_equal still.png 60 start
     drag_changes still.png || fail "a left drag did not change the picture"
     # Key the new camera at t = 0 and save.
