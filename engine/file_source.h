@@ -43,6 +43,9 @@ private:
 class BundleFileSource : public FileSource {
 public:
     explicit BundleFileSource(FileBundle bundle) : bundle_(std::move(bundle)) {}
+    /// Files that came later; a path already held keeps its bytes.
+    void add(FileBundle more) { bundle_.files.merge(more.files); }
+    size_t bundleBytes() const { return bundle_.totalBytes(); }
     std::string read(const std::string& path, uint64_t maxBytes = kDefaultMaxBytes) override;
     bool exists(const std::string& path) override;
 

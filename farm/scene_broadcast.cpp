@@ -14,8 +14,9 @@ namespace rf::farm {
 
 namespace {
 
-// Broadcast layout: status byte ('0' ok, '1'/'2' failed with that exit code), then for ok:
-// 8-byte job length, job, bundle.
+// Two broadcasts, each led by a status byte ('0' ok, '1'/'2' failed with that exit code). The
+// first, if ok: the serialized file bundle. The second (packOk): 8-byte job length, job, the
+// bundle of files read after the first.
 std::string packOk(const std::string& job, const std::string& bundle) {
     std::string out = "0";
     const uint64_t n = job.size();
@@ -24,10 +25,6 @@ std::string packOk(const std::string& job, const std::string& bundle) {
     out += bundle;
     return out;
 }
-
-}  // namespace
-
-namespace {
 
 [[noreturn]] void failBroadcast(Transport& t, const char* code) {
     std::string fail = code;
@@ -75,9 +72,8 @@ SharedScene shareScene(Transport& t, const std::string& path, const std::functio
             out.scene = loadScene(path, fs, opts);
             shareFiles();  // a loader that has no such point shares them here
             out.job = makeJob ? makeJob(out.scene, fs.bundle()) : std::string();
-            const std::string late = filesSince(fs.bundle(), sent).serialize();
-            out.bundleBytes = fs.bundle().serialize().size();
-            payload = packOk(out.job, late);
+            out.bundleBytes = fs.bundle().totalBytes();
+            payload = packOk(out.job, filesSince(fs.bundle(), sent).serialize());
         } catch (const InputError&) {
             failBroadcast(t, "2");
         } catch (const cli::UsageError&) {
@@ -92,13 +88,13 @@ SharedScene shareScene(Transport& t, const std::string& path, const std::functio
             if (payload.empty() || payload[0] != '0') throw PeerFailed(payload == "2" ? 2 : 1);
         };
         receive();
-        FileBundle files = FileBundle::deserialize(payload.substr(1));
-        out.bundleBytes = payload.size() - 1;
+        BundleFileSource fs(FileBundle::deserialize(payload.substr(1)));
+        payload.clear();
+        payload.shrink_to_fit();
         // Built from the files while rank 0 decides the job; a failure here is told only if
         // rank 0 succeeded (else rank 0 reports its own).
         std::exception_ptr failed;
         try {
-            BundleFileSource fs(files);
             out.scene = loadScene(path, fs, options);
         } catch (...) {
             failed = std::current_exception();
@@ -109,18 +105,17 @@ SharedScene shareScene(Transport& t, const std::string& path, const std::functio
         std::memcpy(&n, payload.data() + 1, sizeof n);
         if (n > payload.size() - 1 - sizeof n) throw std::runtime_error("malformed scene broadcast");
         out.job = payload.substr(1 + sizeof n, n);
-        const FileBundle late = FileBundle::deserialize(payload.substr(1 + sizeof n + n));
+        FileBundle late = FileBundle::deserialize(payload.substr(1 + sizeof n + n));
         payload.clear();
         payload.shrink_to_fit();
         if (!late.files.empty()) {
             // Rank 0's loader read more after it shared the files: load again with all of them.
-            for (const auto& [p, bytes] : late.files) files.files.emplace(p, bytes);
-            out.bundleBytes = files.serialize().size();
-            BundleFileSource fs(std::move(files));
+            fs.add(std::move(late));
             out.scene = loadScene(path, fs, options);
         } else if (failed) {
             std::rethrow_exception(failed);
         }
+        out.bundleBytes = fs.bundleBytes();
     }
     out.loadSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     return out;

@@ -28,7 +28,7 @@ private:
 struct SharedScene {
     Scene scene;
     std::string job;          ///< rank 0's job description, opaque here
-    size_t bundleBytes = 0;   ///< size of the broadcast file bundle
+    size_t bundleBytes = 0;   ///< the scene's files that travel: their paths' and contents' bytes
     double loadSeconds = 0.0; ///< reading, broadcast and loading on this rank
 };
 
