@@ -16,7 +16,7 @@
 #include "gltf_lights_cameras.h"
 #include "gltf_materials.h"
 #include "gltf_safety.h"
-#include "scene_loader.h"
+#include "render_origin.h"
 
 namespace rf {
 

@@ -1,6 +1,6 @@
 #include "material_eval.h"
 
-#include "scene.h"
+#include "interaction.h"
 
 namespace rf {
 
@@ -19,20 +19,20 @@ long long floorToCell(double v) {
 }
 }  // namespace
 
-Color baseColor(const Scene& scene, const SurfaceInteraction& si, float* alphaOut) {
-    const Material& m = scene.materials[si.material];
+Color baseColor(const Material& m, const std::vector<Texture>& textures, const DVec3& renderOrigin,
+                const SurfaceInteraction& si, float* alphaOut) {
     Color c = m.color;
     float alpha = m.alpha;
     if (m.checkerScale > 0.f) {
         // World coordinates in double: the render-space point plus the rebasing origin. The
         // small scale-relative bias keeps points lying exactly on a cell face (a floor at y = 0)
         // on one side, as POV-Ray's checker does.
-        const DVec3 w = (DVec3(si.p) + scene.renderOrigin) * (1.0 / double(m.checkerScale)) + DVec3(1e-4);
+        const DVec3 w = (DVec3(si.p) + renderOrigin) * (1.0 / double(m.checkerScale)) + DVec3(1e-4);
         const long long cell = floorToCell(w.x) + floorToCell(w.y) + floorToCell(w.z);
         c = (cell & 1) ? m.color2 : m.color;
     }
     if (m.baseColorTexture >= 0) {
-        const Vec4 t = baseColorTexel(scene.textures, m, si.uv, si.uv1, si.uvArea);
+        const Vec4 t = baseColorTexel(textures, m, si.uv, si.uv1, si.uvArea);
         c *= Color(t);
         alpha *= t.a;
     }

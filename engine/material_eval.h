@@ -7,7 +7,6 @@
 
 namespace rf {
 
-class Scene;
 struct SurfaceInteraction;
 
 /// The coordinates texture slot t reads at a point with TEXCOORD_0 = uv0 and TEXCOORD_1 = uv1:
@@ -32,9 +31,12 @@ inline float materialAlpha(const std::vector<Texture>& textures, const Material&
     return m.baseColorTexture >= 0 ? m.alpha * baseColorTexel(textures, m, uv0, uv1).a : m.alpha;
 }
 
-/// Base colour of the material at a surface point (checker, texture, factor) × the vertex
-/// colour (COLOR_0); *alpha gets the alpha factor × texture alpha × vertex alpha when asked for.
-Color baseColor(const Scene& scene, const SurfaceInteraction& si, float* alpha = nullptr);
+/// Base colour of material m at a surface point (checker, texture, factor) × the vertex colour
+/// (COLOR_0); *alpha gets the alpha factor × texture alpha × vertex alpha when asked for. The
+/// checker is laid out in world space: render space plus renderOrigin. (scene.h has the
+/// overload that takes the scene.)
+Color baseColor(const Material& m, const std::vector<Texture>& textures, const DVec3& renderOrigin,
+                const SurfaceInteraction& si, float* alpha = nullptr);
 
 /// The tangent-space normal of m's normal texture at (uv0, uv1), scaled by normalScale in x and
 /// y as glTF defines it (not normalised). Only for materials with a normal texture.

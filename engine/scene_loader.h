@@ -9,14 +9,8 @@
 
 namespace rf {
 
-/// Loads path through fs, dispatching on the extension. The scene is ready to render (built).
+/// Loads path through fs, choosing the loader by the extension (json_scene_loader.h,
+/// gltf_loader.h): the one place that knows both. The scene is ready to render (built).
 Scene loadScene(const std::string& path, FileSource& fs, const SceneOptions& options = {});
-
-/// Loads a JSON scene file.
-Scene loadJsonScene(const std::string& path, FileSource& fs, const SceneOptions& options = {});
-
-/// The render-space origin for a scene whose camera looks at `target`: the target rounded to a
-/// multiple of 64, so geometry near the camera's focus keeps float precision.
-DVec3 chooseRenderOrigin(const DVec3& target);
 
 }  // namespace rf

@@ -4,7 +4,7 @@
 #include <sstream>
 
 #include "image.h"
-#include "scene_loader.h"
+#include "json_scene_loader.h"
 #include "stability_cases.h"
 #include "stability_scenes.h"
 

@@ -6,6 +6,7 @@
 #include <iterator>
 
 #include "errors.h"
+#include "render_origin.h"
 #include "scene_loader.h"
 
 using namespace rf;
