@@ -7,7 +7,12 @@
 #include <malloc.h>
 
 #include "cli.h"
+#include "cmd_report.h"
 #include "errors.h"
+#include "usage_error.h"
+#ifdef RAYFARM_HAVE_VIEW
+#include "cmd_view.h"
+#endif
 
 namespace {
 
@@ -55,7 +60,7 @@ int main(int argc, char** argv) {
     } catch (const rf::InputError& e) {
         rf::cli::printLine("error", e.what());
         return 2;
-    } catch (const rf::cli::UsageError& e) {
+    } catch (const rf::UsageError& e) {
         rf::cli::printLine("error", e.what());
         return 2;
     } catch (const std::exception& e) {

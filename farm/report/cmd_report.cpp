@@ -7,6 +7,7 @@
 
 #include "background_option.h"
 #include "cli.h"
+#include "cmd_report.h"
 #include "errors.h"
 #include "exposure_meter.h"
 #include "gltf_loader.h"

@@ -14,7 +14,7 @@
 #include "image_metrics.h"
 #include "mp4_sink.h"
 #include "report_plot.h"
-#include "report_video_decode.h"
+#include "video_decode.h"
 
 namespace rf::report {
 
@@ -52,7 +52,7 @@ VideoRow encodeAndMeasure(const std::vector<std::vector<uint8_t>>& frames, int w
     row.bytes = std::filesystem::file_size(path);
     row.kbps = double(row.bytes) * 8.0 / 1000.0 / (row.frames / o.fps);
 
-    const auto decoded = decodeVideoRgb8(path, w, h);
+    const auto decoded = farm::decodeVideoRgb8(path, w, h);
     if (decoded.size() != frames.size())
         throw std::runtime_error(path + ": decoded " + std::to_string(decoded.size()) + " frames, encoded " +
                                  std::to_string(frames.size()));

@@ -13,6 +13,7 @@
 
 #include "background_option.h"
 #include "cli.h"
+#include "cmd_view.h"
 #include "exposure_meter.h"
 #include "errors.h"
 #include "file_source.h"

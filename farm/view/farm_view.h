@@ -1,6 +1,6 @@
 #pragma once
 /// What the window renders with: the farm's one entry point, runFarm, on a thread of its own
-/// that owns the transport. Interactive frames are a view session (farm/view_session.h): each
+/// that owns the transport. Interactive frames are a view session (farm/cluster/view_session.h): each
 /// request becomes a ViewOrder (one small 1 spp pass while moving; 1, 4, 16 … spp up to the
 /// target at rest) whose every pass is an epoch that cancels older work on every rank. A film
 /// (Ctrl+R) pauses the session, runs runFarm on the film's job with the same ranks, and the

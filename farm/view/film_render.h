@@ -42,7 +42,7 @@ struct FilmCallbacks {
 
 /// The job runFarm renders, as `rayfarm render r.scenePath -o r.output --frames-dir
 /// r.framesDir` with the window's picture settings would decide it. Prepares the frames
-/// directory (fresh, or checked for a resume); throws cli::UsageError on a mismatch.
+/// directory (fresh, or checked for a resume); throws UsageError on a mismatch.
 farm::RenderJob filmJob(const FilmRequest& r, int ranks, std::string& note);
 
 /// Renders r's film through runFarm on t, whose ranks 1…N−1 serve it from their view loop

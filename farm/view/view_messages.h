@@ -1,11 +1,11 @@
 #pragma once
 /// What rank 0 of `rayfarm view` broadcasts with the scene. Everything after goes through the
-/// farm's own messages (farm/messages.h): kTagView epochs for the window's views, work items
+/// farm's own messages (farm/cluster/messages.h): kTagView epochs for the window's views, work items
 /// for films, and kTagViewTimeline when the window's camera keys change the timeline.
 #include <cstdint>
 #include <string>
 
-#include "background_option.h"
+#include "background.h"
 #include "settings.h"
 
 namespace rf::view {
@@ -13,7 +13,7 @@ namespace rf::view {
 /// Broadcast with the scene: what every rank renders with.
 struct ViewJob {
     RenderSettings settings;  ///< the target picture
-    cli::BackgroundChoice background;
+    BackgroundChoice background;
     int32_t threads = 0;      ///< --threads, 0: the rank's share of its node
 };
 

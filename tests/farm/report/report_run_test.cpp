@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "cli.h"
+#include "cmd_report.h"
 #include "errors.h"
 #include "image.h"
 #include "report_csv.h"
@@ -188,7 +189,7 @@ std::string writeScene(const std::string& dir) {
 TEST(ReportCli, RefusesBadOptionsBeforeRendering) {
     const std::string dir = testing::freshDir("report_cli");
     const std::string scene = writeScene(dir);
-    using cli::UsageError;
+    using rf::UsageError;
     EXPECT_THROW(cli::runReport({scene}), UsageError);  // no --out
     EXPECT_THROW(cli::runReport({scene, "--out", dir, "--sweep-spp", "1,3"}), UsageError);
     EXPECT_THROW(cli::runReport({scene, "--out", dir, "--sweep-depth", "0"}), UsageError);
@@ -256,7 +257,7 @@ TEST(ReportCli, FramePosesTheSceneByItsTimeline) {
     DiskFileSource fs;
     const int frames = anim::Timeline::fromScene(loadScene(scene, fs)).frameCount();
     EXPECT_GE(frames, 10);
-    EXPECT_THROW(cli::runReport({scene, "--out", dir, "--frame", std::to_string(frames)}), cli::UsageError);
+    EXPECT_THROW(cli::runReport({scene, "--out", dir, "--frame", std::to_string(frames)}), UsageError);
 }
 
 TEST(ReportCli, TheRenderTakesTheReferenceSizeAndRefusesAnother) {
@@ -281,16 +282,16 @@ TEST(ReportCli, TheRenderTakesTheReferenceSizeAndRefusesAnother) {
     EXPECT_THROW(cli::runReport({scene, "--out", out2, "--reference", ref, "--size", "24x16"}), InputError);
     EXPECT_THROW(cli::runReport({scene, "--out", out2, "--reference", dir + "/none.png"}), InputError);
     EXPECT_THROW(cli::runReport({scene, "--out", out2, "--reference", scene}), InputError);  // not an image
-    EXPECT_THROW(cli::runReport({scene, "--out", out2, "--reference", ref, "--ref-spp", "4"}), cli::UsageError);
+    EXPECT_THROW(cli::runReport({scene, "--out", out2, "--reference", ref, "--ref-spp", "4"}), UsageError);
     EXPECT_THROW(cli::runReport({scene, "--out", out2, "--reference", ref, "--background", "transparent"}),
-                 cli::UsageError);
+                 UsageError);
     EXPECT_FALSE(std::filesystem::exists(out2 + "/report.csv"));
 }
 
 TEST(ReportCli, RefusesAnUnknownVideoPresetBeforeRendering) {
     const std::string dir = testing::freshDir("report_cli_preset");
-    EXPECT_THROW(cli::runReport({writeScene(dir), "--out", dir, "--video-preset", "warp"}), cli::UsageError);
-    EXPECT_THROW(cli::runReport({writeScene(dir), "--out", dir, "--video-crf", "52"}), cli::UsageError);
+    EXPECT_THROW(cli::runReport({writeScene(dir), "--out", dir, "--video-preset", "warp"}), UsageError);
+    EXPECT_THROW(cli::runReport({writeScene(dir), "--out", dir, "--video-crf", "52"}), UsageError);
     EXPECT_FALSE(std::filesystem::exists(dir + "/report.csv"));
 }
 

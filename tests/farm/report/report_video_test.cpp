@@ -7,7 +7,7 @@
 #include "render.h"
 #include "report_test_scene.h"
 #include "report_video.h"
-#include "report_video_decode.h"
+#include "video_decode.h"
 
 namespace rf::report {
 namespace {
@@ -68,7 +68,7 @@ TEST(ReportVideo, OddSizesAreCroppedBackAfterDecoding) {
 
 TEST(ReportVideo, DecodingAMissingFileNamesIt) {
     try {
-        decodeVideoRgb8("/nonexistent/x.mp4", 8, 8);
+        farm::decodeVideoRgb8("/nonexistent/x.mp4", 8, 8);
         FAIL() << "no exception";
     } catch (const std::runtime_error& e) {
         EXPECT_NE(std::string(e.what()).find("/nonexistent/x.mp4"), std::string::npos);

@@ -1,14 +1,14 @@
-#include "render_job.h"
+#include "render_options.h"
 
-#include <cstring>
 #include <filesystem>
-#include <type_traits>
+#include <stdexcept>
+#include <string>
 
-#include <nlohmann/json.hpp>
-
+#include "background_option.h"
 #include "frame_time.h"
+#include "video_format.h"
 
-namespace rf::farm {
+namespace rf::cli {
 
 const char* kRenderHelp =
     "usage: rayfarm render SCENE|MODEL -o out.mp4|.webm|.mov|.gif [options]\n"
@@ -63,24 +63,23 @@ const char* kRenderHelp =
     "Threads: Open MPI binds each rank to one core when it starts two or fewer ranks; each rank\n"
     "renders with the cores it is bound to (mpirun --bind-to none: the node's cores shared).\n";
 
-void declareRenderOptions(cli::ArgParser& p) {
+void declareRenderOptions(ArgParser& p) {
     for (const char* o : {"-o", "--mode", "--frames", "--fps", "--size", "--spp", "--depth", "--min-weight", "--indirect", "--tonemap",
                           "--exposure", "--frames-dir", "--crf", "--preset", "--stats", "--threads", "--timeout", "--codec",
                           "--background", "--frames-format", "--contact-sheet", "--poster", "--poster-frame"})
         p.option(o);
     for (const char* f : {"--resume", "--lossless", "--no-frames", "--preview", "--help", "-h"}) p.flag(f);
-    cli::declareSceneOptions(p);
+    declareSceneOptions(p);
 }
 
-RenderJob jobFromOptions(const cli::ArgParser& p) {
-    using cli::UsageError;
-    RenderJob j;
+farm::RenderJob jobFromOptions(const ArgParser& p) {
+    farm::RenderJob j;
     if (p.positional().size() != 1) throw UsageError("render: expected one SCENE or MODEL (see rayfarm render --help)");
     j.scenePath = p.positional()[0];
     if (!p.value("-o")) throw UsageError("render: -o out.mp4 is required");
     j.output = *p.value("-o");
     try {
-        containerFor(j.output);
+        farm::containerFor(j.output);
     } catch (const std::invalid_argument& e) {
         throw UsageError(j.output + ": " + e.what());
     }
@@ -90,7 +89,7 @@ RenderJob jobFromOptions(const cli::ArgParser& p) {
     if (!p.has("--no-frames"))
         j.framesDir = p.value("--frames-dir").value_or(std::filesystem::path(j.output).replace_extension(".frames").string());
     j.statsPath = p.value("--stats").value_or("");
-    cli::sceneOptions(p);  // checked here, where every rank parses, before the scene is shared
+    sceneOptions(p);  // checked here, where every rank parses, before the scene is shared
     j.modeOption = p.value("--mode").value_or("auto");
     if (j.modeOption != "auto" && j.modeOption != "pixel" && j.modeOption != "frame")
         throw UsageError("--mode: expected pixel, frame or auto, got \"" + j.modeOption + "\"");
@@ -101,7 +100,7 @@ RenderJob jobFromOptions(const cli::ArgParser& p) {
     j.mp4.codec = p.value("--codec").value_or("");
     j.mp4.lossless = p.has("--lossless");
     if (j.mp4.lossless && p.has("--crf")) throw UsageError("--lossless and --crf contradict each other");
-    if (auto b = p.value("--background")) j.background = cli::parseBackground(*b);
+    if (auto b = p.value("--background")) j.background = parseBackground(*b);
     const std::string framesFormat = p.value("--frames-format").value_or("png");
     if (framesFormat != "png" && framesFormat != "exr") throw UsageError("--frames-format: expected png or exr, got \"" + framesFormat + "\"");
     j.exrFrames = framesFormat == "exr";
@@ -125,7 +124,7 @@ RenderJob jobFromOptions(const cli::ArgParser& p) {
 
 void parseFrameRange(const std::string& text, int n, int& first, int& last) {
     auto bad = [&] {
-        return cli::UsageError("--frames: expected A:B with 0 ≤ A ≤ B ≤ " + std::to_string(n - 1) +
+        return UsageError("--frames: expected A:B with 0 ≤ A ≤ B ≤ " + std::to_string(n - 1) +
                                " (the timeline has " + std::to_string(n) + " frames), got \"" + text + "\"");
     };
     auto num = [&](const std::string& s, int def) {
@@ -150,52 +149,4 @@ void parseFrameRange(const std::string& text, int n, int& first, int& last) {
     if (first < 0 || last < first || last >= n) throw bad();
 }
 
-std::vector<int> RenderJob::frames() const {
-    std::vector<int> f;
-    for (int i = first; i <= last; ++i) f.push_back(i);
-    return f;
-}
-
-std::string RenderJob::identity() const {
-    nlohmann::ordered_json j;
-    std::error_code ec;
-    const auto abs = std::filesystem::weakly_canonical(scenePath, ec);
-    j["scene"] = ec ? scenePath : abs.string();
-    j["width"] = settings.width;
-    j["height"] = settings.height;
-    j["spp"] = settings.spp;
-    j["depth"] = settings.maxDepth;
-    j["min_weight"] = settings.minWeight;
-    j["tonemap"] = settings.toneMap == ToneMap::Clamp ? "clamp" : settings.toneMap == ToneMap::Reinhard ? "reinhard" : "pbr-neutral";
-    j["exposure"] = settings.exposure;
-    j["timeline_frames"] = timelineFrames;
-    j["timeline_fps"] = timelineFps;
-    // Only when asked for, so frames directories written before these options still resume.
-    if (background.kind == cli::BackgroundChoice::Transparent) j["background"] = "transparent";
-    if (background.kind == cli::BackgroundChoice::Colour) j["background"] = {background.r, background.g, background.b};
-    if (exrFrames) j["frames_format"] = "exr";
-    if (settings.indirectSamples > 0) j["indirect"] = settings.indirectSamples;
-    return j.dump();
-}
-
-std::string encodeWorkerJob(const RenderJob& j) {
-    // Settings as a byte copy: every rank runs the same executable, and a field added to
-    // RenderSettings later travels without anyone remembering to add it here.
-    static_assert(std::is_trivially_copyable_v<RenderSettings>);
-    static_assert(std::is_trivially_copyable_v<WorkerOutputs>);
-    const WorkerOutputs outputs{j.background, j.exrFrames ? 1 : 0};
-    return std::string(reinterpret_cast<const char*>(&j.settings), sizeof(RenderSettings)) +
-           std::string(reinterpret_cast<const char*>(&outputs), sizeof outputs);
-}
-
-RenderSettings decodeWorkerJob(const std::string& bytes, WorkerOutputs* outputs) {
-    if (bytes.size() != sizeof(RenderSettings) + sizeof(WorkerOutputs)) throw std::runtime_error("malformed job broadcast");
-    RenderSettings s;
-    std::memcpy(&s, bytes.data(), sizeof s);
-    WorkerOutputs o;
-    std::memcpy(&o, bytes.data() + sizeof s, sizeof o);
-    if (outputs) *outputs = o;
-    return s;
-}
-
-}  // namespace rf::farm
+}  // namespace rf::cli

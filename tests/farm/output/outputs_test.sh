@@ -81,7 +81,7 @@ format)
     if [ "$ext" = gif ]; then  # GIF delays are centiseconds: 3 or 4 at 30 fps
         dur=$(ffprobe -v error -show_entries format=duration -of csv=p=0 "$out")
         python3 -c "import sys; sys.exit(abs(float(sys.argv[1]) - 0.2) > 0.021)" "$dur" || fail "$out lasts $dur s, expected 0.2"
-        read -r _ colours _ distinct _ fixed _ loop < <(python3 "$SRC/tests/farm/gif_check.py" "$out")
+        read -r _ colours _ distinct _ fixed _ loop < <(python3 "$SRC/tests/farm/output/gif_check.py" "$out")
         [ "$fixed" = no ] || fail "$out uses a fixed palette"
         [ "$distinct" -ge 32 ] || fail "$out palette has only $distinct colours"
         [ "$loop" = 0 ] || fail "$out does not loop for ever (loop $loop)"
@@ -107,7 +107,7 @@ format)
     # MP4 has no alpha: compared with the frames laid over the glTF default background colour
     # (black: a bare model's world is the studio environment, and behind it nothing).
     [ "$ext" = mp4 ] && decoder+=(--over 0,0,0)
-    read -r _ n _ psnr a0 a1 < <(python3 "$SRC/tests/farm/video_check.py" "$out" "$fdir" 0 96x72 "${decoder[@]}" --at 0,0 --at 48,36)
+    read -r _ n _ psnr a0 a1 < <(python3 "$SRC/tests/farm/output/video_check.py" "$out" "$fdir" 0 96x72 "${decoder[@]}" --at 0,0 --at 48,36)
     [ "$n" = 6 ] || fail "$out decodes to $n frames"
     if [ "$ext" = mp4 ]; then  # no alpha: laid over the glTF default background colour (black)
         [ "$a0 $a1" = "alpha@0,0=255 alpha@48,36=255" ] || fail "$out: $a0 $a1"

@@ -5,11 +5,11 @@
 
 namespace rf {
 
-/// Throws cli::UsageError ("PATH: cannot write: reason") unless path can be created or
+/// Throws UsageError ("PATH: cannot write: reason") unless path can be created or
 /// overwritten. Leaves no file behind that was not there before.
 void checkWritableFile(const std::string& path);
 
-/// Creates the directory (and parents) if needed; throws cli::UsageError if it cannot.
+/// Creates the directory (and parents) if needed; throws UsageError if it cannot.
 void ensureWritableDir(const std::string& dir);
 
 }  // namespace rf

@@ -7,15 +7,10 @@
 #include <vector>
 
 #include "scene_options.h"
+#include "usage_error.h"
 #include "settings.h"
 
 namespace rf::cli {
-
-/// Bad usage: the CLI prints "rayfarm: error: <what()>" and exits with status 2.
-class UsageError : public std::runtime_error {
-public:
-    using std::runtime_error::runtime_error;
-};
 
 /// Declares options first, then parses; unknown options are usage errors.
 class ArgParser {
@@ -58,8 +53,5 @@ SceneOptions sceneOptions(const ArgParser& p);
 
 int runStill(const std::vector<std::string>& args);
 int runRender(const std::vector<std::string>& args);
-int runReport(const std::vector<std::string>& args);
-/// The live window (farm/view/); only in builds that found Qt 6.
-int runView(const std::vector<std::string>& args);
 
 }  // namespace rf::cli

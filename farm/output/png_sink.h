@@ -40,12 +40,12 @@ std::map<std::string, std::string> inputDigests(const FileBundle& bundle);
 /// digest of every input file). Writes DIR/rayfarm-frames.json and starts an empty
 /// DIR/rayfarm-frames.sha256, to which PngSink adds each frame's digest.
 void writeFramesManifest(const std::string& dir, const std::string& identity, const std::map<std::string, std::string>& inputs);
-/// Throws cli::UsageError naming the directory if its manifest is missing or differs, in one
+/// Throws UsageError naming the directory if its manifest is missing or differs, in one
 /// line that names the setting or the input file that changed.
 void checkFramesManifest(const std::string& dir, const std::string& identity, const std::map<std::string, std::string>& inputs);
 
 /// A fresh run starts from an empty frames directory: frames left by an earlier job must not be
-/// mistaken for this one's by a later --resume. Creates dir if needed; throws cli::UsageError
+/// mistaken for this one's by a later --resume. Creates dir if needed; throws UsageError
 /// when it holds frame PNGs without rayfarm's manifest (someone else's files).
 void prepareFramesDir(const std::string& dir);
 

@@ -6,11 +6,13 @@
 #include <set>
 #include <stdexcept>
 
+#include "farm_options.h"
 #include "frame_assembler.h"
 #include "interrupt.h"
 #include "master.h"
 #include "render_engine.h"
-#include "run_farm.h"
+#include "render_job.h"
+#include "scene_broadcast.h"
 #include "scheduler.h"
 #include "timeline.h"
 

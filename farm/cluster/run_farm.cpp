@@ -6,7 +6,7 @@
 #include <thread>
 #include <utility>
 
-#include "background_option.h"
+#include "background.h"
 #include "contact_sheet.h"
 #include "exr_frames.h"
 #include "frame_assembler.h"
@@ -435,7 +435,7 @@ int runFarmWorker(Transport& t, SharedScene& shared, double fpsOption, int threa
         WorkerOutputs outputs;
         const RenderSettings settings = decodeWorkerJob(shared.job, &outputs);
         // The background as rank 0 decided it: the broadcast carries the scene's files, not rank 0's scene.
-        cli::applyBackground(outputs.background, shared.scene);
+        applyBackground(outputs.background, shared.scene);
         // Every rank parsed the same options, so the worker's timeline matches rank 0's.
         anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, fpsOption);
         RenderEngine engine(std::move(shared.scene), timeline, settings, threads, outputs.linear != 0);

@@ -4,8 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "background_option.h"
-#include "cli.h"
+#include "background.h"
 #include "messages.h"
 #include "mp4_sink.h"
 #include "scheduler.h"
@@ -28,7 +27,7 @@ struct RenderJob {
     std::string modeWhy;
     bool resume = false;
     Mp4Options mp4;              ///< the video's options, read per format by videoFormatOf
-    cli::BackgroundChoice background;  ///< --background
+    BackgroundChoice background;  ///< --background
     bool transparent = false;    ///< decided: the background is transparent (RGBA frames)
     bool exrFrames = false;      ///< --frames-format exr: linear half-float EXR frames too
     std::string contactSheet;    ///< --contact-sheet FILE.png, "" if not asked for
@@ -45,19 +44,10 @@ struct RenderJob {
     std::string identity() const;
 };
 
-/// Declares render's options on p.
-void declareRenderOptions(cli::ArgParser& p);
-extern const char* kRenderHelp;
-
-/// The options that do not need the scene (paths, mode, encoder); throws cli::UsageError.
-RenderJob jobFromOptions(const cli::ArgParser& p);
-/// Parses "A:B", "A:", ":B" or "A" against a timeline of n frames (inclusive, 0-based).
-void parseFrameRange(const std::string& text, int n, int& first, int& last);
-
 /// What shapes the workers' results beyond the render settings: the background and whether
 /// the linear plane (EXR frames) is wanted. Trivially copyable: it travels as bytes.
 struct WorkerOutputs {
-    cli::BackgroundChoice background;
+    BackgroundChoice background;
     int32_t linear = 0;
 };
 /// What the workers need beyond the scene bundle and the options every rank parsed (the render

@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "farm_test_scene.h"
-#include "cli.h"
+#include "usage_error.h"
 #include "errors.h"
 #include "frame_assembler.h"
 #include "loopback_transport.h"
@@ -311,8 +311,8 @@ TEST(SceneBroadcast, AFailureAfterTheFilesWentOutStopsTheWorkers) {
         }
     });
     LoopbackTransport t(hub, 0);
-    EXPECT_THROW(shareScene(t, glb, nullptr, [](Scene&, const FileBundle&) -> std::string { throw cli::UsageError("--frames 9:3: empty"); }),
-                 cli::UsageError);
+    EXPECT_THROW(shareScene(t, glb, nullptr, [](Scene&, const FileBundle&) -> std::string { throw UsageError("--frames 9:3: empty"); }),
+                 UsageError);
     worker.join();
     EXPECT_EQ(workerCode, 2);
 }

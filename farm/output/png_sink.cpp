@@ -13,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli.h"
+#include "usage_error.h"
 #include "digest.h"
 #include "file_write.h"
 #include "output_check.h"
@@ -110,19 +110,19 @@ std::string changedInputs(const nlohmann::json& had, const std::map<std::string,
 void checkFramesManifest(const std::string& dir, const std::string& identity, const std::map<std::string, std::string>& inputs) {
     const std::string path = (std::filesystem::path(dir) / kManifest).string();
     std::ifstream f(path);
-    if (!f) throw cli::UsageError(dir + ": nothing to resume (no " + kManifest + " here; run without --resume)");
+    if (!f) throw UsageError(dir + ": nothing to resume (no " + kManifest + " here; run without --resume)");
     std::stringstream ss;
     ss << f.rdbuf();
     const nlohmann::json j = nlohmann::json::parse(ss.str(), nullptr, false);
     if (!j.is_object() || !j.contains("identity") || !j["identity"].is_string() || !j.contains("inputs") || !j["inputs"].is_object())
-        throw cli::UsageError(path + ": not a manifest this rayfarm can resume from (it has no input digests); run without --resume");
+        throw UsageError(path + ": not a manifest this rayfarm can resume from (it has no input digests); run without --resume");
     const std::string have = j["identity"].get<std::string>();
     if (have != identity)
-        throw cli::UsageError(dir + ": its frames were rendered from a different scene or settings (" + have +
+        throw UsageError(dir + ": its frames were rendered from a different scene or settings (" + have +
                               "; now " + identity + "); use another --frames-dir or run without --resume");
     const std::string changed = changedInputs(j["inputs"], inputs);
     if (!changed.empty())
-        throw cli::UsageError(dir + ": the scene changed since its frames were rendered (" + changed +
+        throw UsageError(dir + ": the scene changed since its frames were rendered (" + changed +
                               "); use another --frames-dir or run without --resume");
 }
 
@@ -169,7 +169,7 @@ void prepareFramesDir(const std::string& dir) {
     for (const auto& e : std::filesystem::directory_iterator(dir))
         if (std::regex_match(e.path().filename().string(), framePattern)) old.push_back(e.path());
     if (!old.empty() && !ours)
-        throw cli::UsageError(dir + ": holds frame PNGs that rayfarm did not write; choose another --frames-dir");
+        throw UsageError(dir + ": holds frame PNGs that rayfarm did not write; choose another --frames-dir");
     for (const auto& p : old) std::filesystem::remove(p);
 }
 

@@ -20,7 +20,7 @@
 #include "progress.h"
 #include "image.h"
 #include "render.h"
-#include "render_job.h"
+#include "render_options.h"
 #include "run_farm.h"
 #include "scene_broadcast.h"
 #include "timeline.h"

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "camera.h"
+#include "pixel_layout.h"
 #include "render.h"
 #include "stats.h"
 
@@ -53,20 +54,6 @@ struct ViewSpec {
     int32_t followTimeline = 0;  ///< 1: the timeline's camera at frame, not `camera`
     int32_t spp = 1, width = 1, height = 1;
     Camera camera;
-};
-
-/// How the pixel bytes of a tile or frame are laid out: a plane of tone-mapped, sRGB-encoded
-/// 8-bit pixels (RGB, or straight RGBA when the background is transparent), then, when linear
-/// frames (EXR) are asked for, a plane of linear premultiplied RGBA floats. Every rank knows
-/// the layout from the job; rank 0 checks it on every result.
-struct PixelLayout {
-    int32_t channels = 3;  ///< 3 or 4 in the 8-bit plane
-    bool linear = false;
-
-    size_t bytes(size_t pixels) const { return pixels * (size_t(channels) + (linear ? 4 * sizeof(float) : 0)); }
-    /// Where the linear plane starts in a buffer of `pixels` pixels.
-    size_t linearOffset(size_t pixels) const { return pixels * size_t(channels); }
-    bool operator==(const PixelLayout& o) const { return channels == o.channels && linear == o.linear; }
 };
 
 /// A rendered work item: rect.pixels() pixels in `layout`.

@@ -5,7 +5,7 @@
 #include <exception>
 #include <set>
 
-#include "cli.h"
+#include "usage_error.h"
 #include "errors.h"
 #include "file_source.h"
 #include "scene_loader.h"
@@ -76,7 +76,7 @@ SharedScene shareScene(Transport& t, const std::string& path, const std::functio
             payload = packOk(out.job, filesSince(fs.bundle(), sent).serialize());
         } catch (const InputError&) {
             failBroadcast(t, "2");
-        } catch (const cli::UsageError&) {
+        } catch (const UsageError&) {
             failBroadcast(t, "2");
         } catch (...) {
             failBroadcast(t, "1");

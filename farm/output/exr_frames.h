@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "frame_sink.h"
-#include "messages.h"
+#include "pixel_layout.h"
 
 namespace rf::farm {
 

@@ -1,11 +1,11 @@
 #pragma once
-/// --background COLOR|transparent, for still and render: what primary rays that miss show.
+/// What primary rays that miss show, when a command overrides the scene's own background
+/// (rayfarm's --background COLOR|transparent, for still, render, view and report).
 #include <cstdint>
-#include <string>
 
 #include "scene.h"
 
-namespace rf::cli {
+namespace rf {
 
 /// Trivially copyable: it travels to the workers inside the job broadcast.
 struct BackgroundChoice {
@@ -14,11 +14,7 @@ struct BackgroundChoice {
     float r = 0.f, g = 0.f, b = 0.f;  ///< linear, as the scene file's "background"
 };
 
-/// "transparent", "#RRGGBB" (sRGB, as on a web page) or "R,G,B" (linear, as in a scene file).
-/// Throws UsageError naming --background.
-BackgroundChoice parseBackground(const std::string& text);
-
 /// Overrides the scene's background (nothing for FromScene).
 void applyBackground(const BackgroundChoice& c, Scene& scene);
 
-}  // namespace rf::cli
+}  // namespace rf

@@ -1,4 +1,4 @@
-#include "report_video_decode.h"
+#include "video_decode.h"
 
 #include <algorithm>
 #include <stdexcept>
@@ -10,7 +10,7 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
-namespace rf::report {
+namespace rf::farm {
 
 namespace {
 
@@ -126,4 +126,4 @@ std::vector<std::vector<uint8_t>> decodeVideoRgb8(const std::string& path, int w
     return std::move(d.frames);
 }
 
-}  // namespace rf::report
+}  // namespace rf::farm

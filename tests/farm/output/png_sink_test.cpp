@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "cli.h"
+#include "usage_error.h"
 #include "frame_sink.h"
 #include "image.h"
 #include "png_sink.h"
@@ -61,15 +61,15 @@ TEST(PngSink, TruncatedCorruptOrUnrecordedFramesAreNotKept) {
 TEST(PngSink, ManifestMustMatchToResume) {
     const std::string dir = freshDir("farm_manifest");
     const std::map<std::string, std::string> inputs = {{"s.json", "aa"}, {"m.glb", "bb"}};
-    EXPECT_THROW(checkFramesManifest(dir, "{\"a\":1}", inputs), cli::UsageError);
+    EXPECT_THROW(checkFramesManifest(dir, "{\"a\":1}", inputs), UsageError);
     writeFramesManifest(dir, "{\"a\":1}", inputs);
     EXPECT_NO_THROW(checkFramesManifest(dir, "{\"a\":1}", inputs));
-    EXPECT_THROW(checkFramesManifest(dir, "{\"a\":2}", inputs), cli::UsageError);
+    EXPECT_THROW(checkFramesManifest(dir, "{\"a\":2}", inputs), UsageError);
     // Issue 14 #5: the same settings over a changed input file are refused, naming the file.
     auto messageFor = [&](const std::map<std::string, std::string>& now) -> std::string {
         try {
             checkFramesManifest(dir, "{\"a\":1}", now);
-        } catch (const cli::UsageError& e) {
+        } catch (const UsageError& e) {
             return e.what();
         }
         return "";

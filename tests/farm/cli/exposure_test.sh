@@ -31,7 +31,7 @@ for bad in "--exposure bright" "--exposure 99" "--tonemap filmic"; do
 done
 # --environment: Blender's DWAB studio loads; a truncated, over-size or missing file is one
 # line, exit 2.
-studio=$(cd "$(dirname "$0")/../../scenes/environments" && pwd)/studio.exr
+studio=$(cd "$(dirname "$0")/../../../scenes/environments" && pwd)/studio.exr
 "$rayfarm" still "$model" --size 64x36 -o "$out/env.png" --environment "$studio" --environment-rotation 90 \
   --environment-intensity 0.5 2>/dev/null || fail "--environment studio.exr"
 head -c 40000 "$studio" > "$out/truncated.exr"

@@ -1,0 +1,60 @@
+#include "render_job.h"
+
+#include <cstring>
+#include <filesystem>
+#include <type_traits>
+
+#include <nlohmann/json.hpp>
+
+
+namespace rf::farm {
+
+std::vector<int> RenderJob::frames() const {
+    std::vector<int> f;
+    for (int i = first; i <= last; ++i) f.push_back(i);
+    return f;
+}
+
+std::string RenderJob::identity() const {
+    nlohmann::ordered_json j;
+    std::error_code ec;
+    const auto abs = std::filesystem::weakly_canonical(scenePath, ec);
+    j["scene"] = ec ? scenePath : abs.string();
+    j["width"] = settings.width;
+    j["height"] = settings.height;
+    j["spp"] = settings.spp;
+    j["depth"] = settings.maxDepth;
+    j["min_weight"] = settings.minWeight;
+    j["tonemap"] = settings.toneMap == ToneMap::Clamp ? "clamp" : settings.toneMap == ToneMap::Reinhard ? "reinhard" : "pbr-neutral";
+    j["exposure"] = settings.exposure;
+    j["timeline_frames"] = timelineFrames;
+    j["timeline_fps"] = timelineFps;
+    // Only when asked for, so frames directories written before these options still resume.
+    if (background.kind == BackgroundChoice::Transparent) j["background"] = "transparent";
+    if (background.kind == BackgroundChoice::Colour) j["background"] = {background.r, background.g, background.b};
+    if (exrFrames) j["frames_format"] = "exr";
+    if (settings.indirectSamples > 0) j["indirect"] = settings.indirectSamples;
+    return j.dump();
+}
+
+std::string encodeWorkerJob(const RenderJob& j) {
+    // Settings as a byte copy: every rank runs the same executable, and a field added to
+    // RenderSettings later travels without anyone remembering to add it here.
+    static_assert(std::is_trivially_copyable_v<RenderSettings>);
+    static_assert(std::is_trivially_copyable_v<WorkerOutputs>);
+    const WorkerOutputs outputs{j.background, j.exrFrames ? 1 : 0};
+    return std::string(reinterpret_cast<const char*>(&j.settings), sizeof(RenderSettings)) +
+           std::string(reinterpret_cast<const char*>(&outputs), sizeof outputs);
+}
+
+RenderSettings decodeWorkerJob(const std::string& bytes, WorkerOutputs* outputs) {
+    if (bytes.size() != sizeof(RenderSettings) + sizeof(WorkerOutputs)) throw std::runtime_error("malformed job broadcast");
+    RenderSettings s;
+    std::memcpy(&s, bytes.data(), sizeof s);
+    WorkerOutputs o;
+    std::memcpy(&o, bytes.data() + sizeof s, sizeof o);
+    if (outputs) *outputs = o;
+    return s;
+}
+
+}  // namespace rf::farm
