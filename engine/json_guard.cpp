@@ -47,8 +47,14 @@ std::string pathOf(const std::vector<Level>& stack) {
     std::string p;
     for (size_t i = 0; i + 1 < stack.size(); ++i) {
         const Level& l = stack[i];
-        if (l.object) p += (p.empty() ? "" : ".") + l.key;
-        else p += "[" + std::to_string(l.index - 1) + "]";
+        if (l.object) {
+            if (!p.empty()) p += '.';
+            p += l.key;
+        } else {
+            p += '[';
+            p += std::to_string(l.index - 1);
+            p += ']';
+        }
     }
     return p;
 }
@@ -80,7 +86,8 @@ std::string duplicateJsonKey(const std::string& text) {
             l.key = parsed.get<std::string>();
             if (!l.keys.insert(l.key).second && found.empty()) {
                 found = pathOf(stack);
-                found += (found.empty() ? "" : ".") + l.key;
+                if (!found.empty()) found += '.';
+                found += l.key;
             }
             break;
         }
@@ -90,7 +97,9 @@ std::string duplicateJsonKey(const std::string& text) {
         }
         return true;
     };
-    (void)json::parse(text, cb, false);  // only the callback's findings matter
+    // Only the callback's findings matter (it keeps nothing, so the result is empty).
+    const json ignored = json::parse(text, cb, false);
+    (void)ignored;
     return found;
 }
 

@@ -49,7 +49,8 @@ std::string resumeCommand(const std::vector<std::string>& args, int ranks) {
     std::string cmd = (launcher.empty() ? std::string() : launcher + " ") + shellQuote(invokedAs()) + " render";
     bool hasResume = false;
     for (const std::string& a : args) {
-        cmd += " " + shellQuote(a);
+        cmd += ' ';
+        cmd += shellQuote(a);
         hasResume = hasResume || a == "--resume";
     }
     return hasResume ? cmd : cmd + " --resume";

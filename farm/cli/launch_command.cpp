@@ -32,7 +32,8 @@ std::string fromParent() {
     std::string out;
     for (size_t i = 0; i < parent.size(); ++i) {
         if (i > 0 && !self.empty() && baseName(parent[i]) == self) return out;
-        out += (out.empty() ? "" : " ") + shellQuote(parent[i]);
+        if (!out.empty()) out += ' ';
+        out += shellQuote(parent[i]);
     }
     return "";  // the executable was not found among mpirun's arguments: do not guess
 }

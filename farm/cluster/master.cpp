@@ -39,7 +39,10 @@ std::string Master::describeBusy(const WorkerState& w) const {
     std::string s = "while rendering frame " + std::to_string(frames[0]);
     if (frames.size() > 1) {
         s += " (queued: frame";
-        for (size_t i = 1; i < frames.size(); ++i) s += (i > 1 ? ", " : " ") + std::to_string(frames[i]);
+        for (size_t i = 1; i < frames.size(); ++i) {
+            s += i > 1 ? ", " : " ";
+            s += std::to_string(frames[i]);
+        }
         s += ")";
     }
     return s;

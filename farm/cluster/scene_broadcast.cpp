@@ -60,7 +60,8 @@ SharedScene shareScene(Transport& t, const std::string& path, const std::functio
             filesShared = true;
             for (const auto& [p, bytes] : fs.bundle().files) sent.insert(p);
             if (t.size() > 1) {
-                std::string files = "0" + fs.bundle().serialize();
+                std::string files(1, '0');
+                files += fs.bundle().serialize();
                 t.broadcast(files, 0);
             }
             if (options.inputsRead) options.inputsRead();

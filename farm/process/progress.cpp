@@ -22,7 +22,10 @@ std::string Progress::line(int done, int total, double seconds, int doneAtStart,
     std::snprintf(buf, sizeof buf, "rayfarm: %d/%d frames  %.1f fps  ETA %s  ranks:", done, total, fps, eta.c_str());
     std::string s = buf;
     const size_t shown = std::min<size_t>(rankFrames.size(), 16);
-    for (size_t r = 0; r < shown; ++r) s += rankFrames[r] < 0 ? " -" : " " + std::to_string(rankFrames[r]);
+    for (size_t r = 0; r < shown; ++r) {
+        s += ' ';
+        s += rankFrames[r] < 0 ? std::string("-") : std::to_string(rankFrames[r]);
+    }
     if (shown < rankFrames.size()) s += " …";
     return s;
 }

@@ -76,9 +76,12 @@ std::string reportHelp() {
     for (const report::QualityKnob& k : report::qualityKnobs()) {
         std::string line = "  " + report::sweepOption(k) + " LIST";
         line.resize(std::max<size_t>(line.size() + 1, 26), ' ');
-        line += std::string(k.meaning) + " to sweep" + (k.values == report::KnobValues::Square ? ", squares" : "") +
-                " (default ";
-        for (size_t i = 0; i < k.sweep.size(); ++i) line += (i ? "," : "") + report::formatNumber(k.sweep[i]);
+        line += k.meaning;
+        line += k.values == report::KnobValues::Square ? " to sweep, squares (default " : " to sweep (default ";
+        for (size_t i = 0; i < k.sweep.size(); ++i) {
+            if (i) line += ',';
+            line += report::formatNumber(k.sweep[i]);
+        }
         s += line + ")\n";
     }
     return s + kReportHelpTail;

@@ -224,7 +224,9 @@ TEST(BvhStress, GrazingPacketsMatchRaysTracedAlone) {
             uint32_t idRef = 0;
             const bool b = bruteForce(s, packet[i], tRef, idRef);
             ASSERT_EQ(met[i], b) << "packet " << p << " ray " << i;
-            if (b) ASSERT_EQ(ph[i].t, tRef) << "packet " << p << " ray " << i;
+            if (b) {
+                ASSERT_EQ(ph[i].t, tRef) << "packet " << p << " ray " << i;
+            }
             hits += b;
         }
     }
@@ -409,7 +411,9 @@ TEST(Bvh, PacketsThatCannotBeBoundedGoRayByRay) {
         for (size_t i = 0; i < packet->size(); ++i) {
             Hit alone;
             ASSERT_EQ(met[i], s.intersect((*packet)[i], alone)) << i;
-            if (met[i]) EXPECT_EQ(ph[i].t, alone.t) << i;
+            if (met[i]) {
+                EXPECT_EQ(ph[i].t, alone.t) << i;
+            }
             found += met[i];
         }
         EXPECT_GT(found, 0);

@@ -134,7 +134,10 @@ TEST(GltfRobustness, CorruptedBinaryModelsAreRefusedOrRendered) {
             const int flips = 1 + int(next() % 4);
             for (int f = 0; f < flips; ++f) bytes[next() % bytes.size()] = char(next());
         }
-        const std::string path = (dir / ("m" + std::to_string(k) + ".glb")).string();
+        std::string name = "m";
+        name += std::to_string(k);
+        name += ".glb";
+        const std::string path = (dir / name).string();
         std::ofstream(path, std::ios::binary).write(bytes.data(), std::streamsize(bytes.size()));
         std::string msg;
         (loadAndRender(path, msg) == Outcome::Rendered ? rendered : refused)++;

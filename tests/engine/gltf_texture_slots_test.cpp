@@ -34,7 +34,9 @@ json floorJson(const TexturedFloor& f, const TempDir& dir) {
     json images = json::array(), textures = json::array();
     for (size_t i = 0; i < f.left.size(); ++i) {
         const std::vector<uint8_t> px{f.left[i][0], f.left[i][1], f.left[i][2], f.right[i][0], f.right[i][1], f.right[i][2]};
-        const std::string name = "t" + std::to_string(i) + ".png";
+        std::string name = "t";
+        name += std::to_string(i);
+        name += ".png";
         writePng(dir / name, 2, 1, px);
         images.push_back({{"uri", name}});
         textures.push_back({{"source", i}, {"sampler", 0}});

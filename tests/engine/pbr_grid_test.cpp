@@ -67,9 +67,16 @@ TEST(PbrGrid, LightsOnlyMatchesCycles) {
     renderAndCompare("lights", SceneOptions{}, "cycles_lights.png", 0.80, 19.0);
 }
 
-TEST(PbrGrid, LightsAndStudioMatchCycles) {
+/// The pbr_grid scene's options with scenes/environments/studio.exr, as Cycles rendered it.
+SceneOptions studio() {
     SceneOptions o;
-    o.environment = EnvironmentSpec{std::string(RAYFARM_SOURCE_DIR) + "/scenes/environments/studio.exr", 0.f, 1.f};
+    EnvironmentSpec& e = o.environment.emplace();
+    e.file = RAYFARM_SOURCE_DIR "/scenes/environments/studio.exr";
+    return o;
+}
+
+TEST(PbrGrid, LightsAndStudioMatchCycles) {
+    const SceneOptions o = studio();
     // Measured 0.8924 / 22.56 dB (the starting point: 0.71 / 8-11 dB).
     renderAndCompare("lights_studio", o, "cycles_lights_studio.png", 0.87, 21.5);
 }
@@ -82,19 +89,13 @@ TEST(PbrGrid, DefaultSamplesLightsOnly) {
 }
 
 TEST(PbrGrid, DefaultSamplesWithStudio) {
-    SceneOptions o;
-    o.environment = EnvironmentSpec{std::string(RAYFARM_SOURCE_DIR) + "/scenes/environments/studio.exr", 0.f, 1.f};
+    const SceneOptions o = studio();
     // Measured 0.9138 / 22.98 dB (ref11, at --spp 4).
     renderAndCompare("lights_studio_default_spp", o, "cycles_lights_studio.png", 0.90, 22.5, 0, 0);
 }
 
 // The quality setting (--indirect N): traced environment occlusion and one diffuse bounce. The
 // floor's bounce lights the spheres' undersides, as in Cycles; the default leaves them black.
-SceneOptions studio() {
-    SceneOptions o;
-    o.environment = EnvironmentSpec{std::string(RAYFARM_SOURCE_DIR) + "/scenes/environments/studio.exr", 0.f, 1.f};
-    return o;
-}
 
 TEST(PbrGrid, SixteenIndirectSamplesLightsOnly) {
     // Measured 0.8618 / 24.87 dB (the default: 0.8250 / 19.88 dB).

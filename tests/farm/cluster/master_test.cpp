@@ -251,7 +251,7 @@ TEST(SceneBroadcast, WorkersBuildFromTheFilesWhileRankZeroBuildsItsOwn) {
     const std::string glb = dir + "/engine.glb", exr = dir + "/studio.exr";
     std::filesystem::copy_file("/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb", glb,
                                std::filesystem::copy_options::overwrite_existing);
-    std::filesystem::copy_file(std::string(RAYFARM_SOURCE_DIR) + "/scenes/environments/studio.exr", exr,
+    std::filesystem::copy_file(RAYFARM_SOURCE_DIR "/scenes/environments/studio.exr", exr,
                                std::filesystem::copy_options::overwrite_existing);
     std::atomic<bool> workerRead{false};
     bool rankZeroSawWorkerRead = false;

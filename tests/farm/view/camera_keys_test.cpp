@@ -94,8 +94,11 @@ TEST(CameraKeys, ModelPathsOfAJsonSceneBecomeAbsolute) {
     CameraKeys keys;
     keys.add(keyFromCamera(scene.camera, scene.renderOrigin, 0.0));
     const nlohmann::json doc = sceneDocument(scene, scene.settings, keyedTimeline(keys, scene, filmOf(anim::Timeline::fromScene(scene))));
-    for (const auto& o : doc["objects"])
-        if (o["type"] == "model") EXPECT_TRUE(std::filesystem::path(o["path"].get<std::string>()).is_absolute());
+    for (const auto& o : doc["objects"]) {
+        if (o["type"] == "model") {
+            EXPECT_TRUE(std::filesystem::path(o["path"].get<std::string>()).is_absolute());
+        }
+    }
     EXPECT_FALSE(doc.contains("turntable"));
     EXPECT_EQ(doc["timeline"]["camera"]["position"]["keys"].size(), 1u);
 }
