@@ -11,9 +11,9 @@ ranks=${2:-2}
 source examples/common.sh
 mkdir -p out
 if [ "$ranks" -gt 0 ]; then
-  mpirun --oversubscribe -np "$ranks" "$bin" render "$model" -o out/engine_turntable.mp4 --size 640x360 --stats out/engine_turntable.json
+  mpirun --oversubscribe -np "$ranks" "$bin" render "$model" -o out/engine_turntable.mp4 --size 640x360 --stats out/engine_turntable.json --overwrite
 else
-  "$bin" render "$model" -o out/engine_turntable.mp4 --size 640x360 --stats out/engine_turntable.json
+  "$bin" render "$model" -o out/engine_turntable.mp4 --size 640x360 --stats out/engine_turntable.json --overwrite
 fi
 ffprobe -v error -select_streams v:0 -show_entries stream=codec_name,width,height,r_frame_rate,nb_frames,pix_fmt \
   -of default=nw=1 out/engine_turntable.mp4 || true

@@ -14,7 +14,7 @@ source examples/common.sh
 media="$out/turntable_page"
 mkdir -p "$media"
 args=(render "$model" -o "$media/turntable.webm" --size "$size" --spp "$spp" --background transparent
-      --poster "$media/poster.png" --contact-sheet "$media/sheet.png" --frames-dir "$media/frames")
+      --poster "$media/poster.png" --contact-sheet "$media/sheet.png" --frames-dir "$media/frames" --overwrite)
 [ -n "${FRAMES:-}" ] && args+=(--frames "$FRAMES")
 if [ "$ranks" -gt 0 ]; then
   mpirun --oversubscribe -np "$ranks" "$bin" "${args[@]}"

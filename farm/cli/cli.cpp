@@ -7,21 +7,14 @@
 
 #include <unistd.h>
 
+#include "interrupt.h"
 #include "sample_count.h"
 
 namespace rf::cli {
 
 void printLine(const std::string& kind, const std::string& text) { writeStderr("rayfarm: " + kind + ": " + text + "\n"); }
 
-void writeStderr(const std::string& line) {
-    size_t done = 0;
-    while (done < line.size()) {  // a pipe may take a long line in parts; EINTR retries
-        const ssize_t n = ::write(STDERR_FILENO, line.data() + done, line.size() - done);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) return;
-        done += size_t(n);
-    }
-}
+void writeStderr(const std::string& line) { farm::writeStderrText(line); }
 
 void ArgParser::parse(const std::vector<std::string>& args) {
     for (size_t i = 0; i < args.size(); ++i) {

@@ -15,12 +15,15 @@
 #include "launch_command.h"
 #include "master.h"
 #include "output_check.h"
+#include "output_lock.h"
+#include "output_paths.h"
 #include "png_sink.h"
 #include "preview_spawn.h"
 #include "progress.h"
 #include "image.h"
 #include "render.h"
 #include "render_options.h"
+#include "run_stats.h"
 #include "run_farm.h"
 #include "scene_broadcast.h"
 #include "timeline.h"
@@ -49,6 +52,7 @@ std::string resumeCommand(const std::vector<std::string>& args, int ranks) {
     std::string cmd = (launcher.empty() ? std::string() : launcher + " ") + shellQuote(invokedAs()) + " render";
     bool hasResume = false;
     for (const std::string& a : args) {
+        if (a == "--overwrite") continue;  // it would throw away the frames the resume keeps
         cmd += ' ';
         cmd += shellQuote(a);
         hasResume = hasResume || a == "--resume";
@@ -101,6 +105,32 @@ void decideOutputs(RenderJob& job, Scene& scene) {
     if (!note.empty()) printLine("note", note);
 }
 
+/// Every file the render writes, by the option that names it (for checkOutputPaths).
+std::vector<NamedOutput> renderOutputs(const RenderJob& job) {
+    return {{"-o", job.output}, {"--frames-dir", job.framesDir}, {"--stats", job.statsPath},
+            {"--contact-sheet", job.contactSheet}, {"--poster", job.poster}};
+}
+
+/// Rank 0 before the scene is read: the outputs can be written, name no input and no other
+/// output, and no other run writes them (the locks, held until the run ends); an earlier run's
+/// frames are not thrown away unasked.
+void claimOutputs(const RenderJob& job, const ArgParser& p, std::vector<OutputLock>& locks) {
+    std::vector<std::string> inputs = {job.scenePath};
+    if (auto env = p.value("--environment")) inputs.push_back(*env);
+    checkOutputPaths(renderOutputs(job), inputs);
+    checkWritableFile(job.output);
+    if (containerFor(job.output) == Container::Gif) requireGifFilters(job.output);
+    for (const std::string* f : {&job.statsPath, &job.contactSheet, &job.poster})
+        if (!f->empty()) checkWritableFile(*f);
+    for (const std::string* f : {&job.output, &job.framesDir}) {
+        if (f->empty()) continue;
+        std::string note;
+        locks.emplace_back(*f, &note);
+        if (!note.empty()) printLine("note", note);
+    }
+    if (!job.framesDir.empty() && !job.resume && !p.has("--overwrite")) refuseEarlierFrames(job.framesDir);
+}
+
 /// Rank 0's part of makeJob: everything decided from the options and the loaded scene, checked
 /// before any rendering.
 void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundle& inputs, int ranks, const std::string& threadsNote) {
@@ -137,39 +167,67 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
             writeFramesManifest(job.framesDir, job.identity(), inputDigests(inputs));
         }
     }
-    std::fprintf(stderr, "rayfarm: %s: frames %s of %d, %dx%d, %d spp; mode %s (%s); %d rank%s, %s\n",
-                 job.scenePath.c_str(), frameSpan(job.first, job.last).c_str(), job.timelineFrames,
-                 job.settings.width, job.settings.height, job.settings.spp, job.mode == Mode::Pixel ? "pixel" : "frame",
-                 job.modeWhy.c_str(), ranks, ranks == 1 ? "" : "s", threadsNote.c_str());
+    char plan[1024];
+    std::snprintf(plan, sizeof plan, "rayfarm: %s: frames %s of %d, %dx%d, %d spp; mode %s (%s); %d rank%s, %s\n",
+                  job.scenePath.c_str(), frameSpan(job.first, job.last).c_str(), job.timelineFrames, job.settings.width,
+                  job.settings.height, job.settings.spp, job.mode == Mode::Pixel ? "pixel" : "frame", job.modeWhy.c_str(), ranks,
+                  ranks == 1 ? "" : "s", threadsNote.c_str());
+    writeStderrText(plan);
+    if (!job.framesDir.empty()) appendFramesLog(job.framesDir, plan);
     if (p.has("--preview")) startPreview(job.framesDir, job.last - job.first + 1);
+}
+
+/// An interrupted run's ending, beside the outputs: the lines in the frames directory's log, and
+/// the stats file (if asked for) with what was done, the signal and the resume command.
+void recordInterruption(const RenderJob& job, const FarmOutcome& o, int sig, const std::string& resume, const std::string& lines) {
+    if (!job.framesDir.empty()) appendFramesLog(job.framesDir, lines);
+    if (job.statsPath.empty()) return;
+    RunStats s = o.stats;
+    s.width = job.settings.width;
+    s.height = job.settings.height;
+    if (s.mode.empty()) s.mode = job.mode == Mode::Pixel ? "pixel" : "frame";
+    s.extraText["interrupted"] = signalName(sig);
+    s.extraText["video"] = o.videoHolds;
+    if (!resume.empty()) s.extraText["resume"] = resume;
+    try {
+        writeStatsJson(job.statsPath, s);
+    } catch (const std::exception& e) {
+        writeStderrText(std::string("rayfarm: error: ") + e.what() + "\n");
+    }
 }
 
 /// Prints how the run ended (the lines the shell tests and users read); returns the exit status.
 int reportOutcome(int ranks, const RenderJob& job, const FarmOutcome& o, const std::vector<std::string>& args) {
     if (o.end == FarmEnd::WorkerLost) {
-        std::fprintf(stderr, "rayfarm: error: %s; %s (playable)\n", o.error.c_str(), o.videoHolds.c_str());
+        std::string lines = "rayfarm: error: " + o.error + "; " + o.videoHolds + " (playable)\n";
         if (!job.framesDir.empty())
-            std::fprintf(stderr, "rayfarm: finished frames are in %s; to resume: %s\n", job.framesDir.c_str(),
-                         resumeCommand(args, ranks).c_str());
-        std::fflush(stderr);
+            lines += "rayfarm: finished frames are in " + job.framesDir + "; to resume: " + resumeCommand(args, ranks) + "\n";
+        writeStderrText(lines);
+        if (!job.framesDir.empty()) appendFramesLog(job.framesDir, lines);
         return 1;
     }
     if (o.end != FarmEnd::Done) {
         // Both lines in one write, before runFarm tells the workers (mpirun's SIGKILL is near).
-        const bool sigint = o.signal == SIGINT;
-        std::string lines = "rayfarm: interrupted (" + std::string(sigint ? "SIGINT" : "SIGTERM") + "): " + o.videoHolds + " (playable)\n";
+        const int sig = o.signal ? o.signal : SIGTERM;
+        std::string lines = "rayfarm: interrupted (" + signalName(sig) + "): " + o.videoHolds + " (playable)\n";
         if (!job.framesDir.empty()) lines += "rayfarm: to resume: " + resumeCommand(args, ranks) + "\n";
-        writeStderr(lines);
-        return sigint ? 130 : 143;
+        writeStderrText(lines);
+        // Also where it can be read when stderr is gone (a hang-up, a closed pipe).
+        recordInterruption(job, o, sig, job.framesDir.empty() ? "" : resumeCommand(args, ranks), lines);
+        return signalExitStatus(sig);
     }
     const RunStats& s = o.stats;
-    std::fprintf(stderr,
-                 "rayfarm: wrote %s: %d frames %dx%d at %.4g fps; %.1f fps sustained over %.2f s (wall %.2f s); "
-                 "encoder busy %.2f s (%.0f%%)\n",
-                 job.output.c_str(), s.frames, s.width, s.height, job.mp4.fps, s.sustainedFps, s.renderSeconds,
-                 s.wallSeconds, s.encodeSeconds, s.renderSeconds > 0 ? 100.0 * s.encodeSeconds / s.renderSeconds : 0.0);
+    char line[1024];
+    std::snprintf(line, sizeof line,
+                  "rayfarm: wrote %s: %d frames %dx%d at %.4g fps; %.1f fps sustained over %.2f s (wall %.2f s); "
+                  "encoder busy %.2f s (%.0f%%)\n",
+                  job.output.c_str(), s.frames, s.width, s.height, job.mp4.fps, s.sustainedFps, s.renderSeconds, s.wallSeconds,
+                  s.encodeSeconds, s.renderSeconds > 0 ? 100.0 * s.encodeSeconds / s.renderSeconds : 0.0);
+    std::string lines = line;
     if (s.rays.nonFinite)
-        std::fprintf(stderr, "rayfarm: note: %llu non-finite samples replaced by black\n", (unsigned long long)s.rays.nonFinite);
+        lines += "rayfarm: note: " + std::to_string((unsigned long long)s.rays.nonFinite) + " non-finite samples replaced by black\n";
+    writeStderrText(lines);
+    if (!job.framesDir.empty()) appendFramesLog(job.framesDir, lines);
     return 0;
 }
 
@@ -224,16 +282,14 @@ int runRender(const std::vector<std::string>& args) {
     }
     const std::string threadsNote = describeThreads(job, t);
     SharedScene shared;
+    std::vector<OutputLock> locks;  // rank 0's, until the run ends
     try {
         shared = shareScene(
-            t, job.scenePath,
-            [&] {
-                checkWritableFile(job.output);
-                if (containerFor(job.output) == Container::Gif) requireGifFilters(job.output);
-                for (const std::string* f : {&job.statsPath, &job.contactSheet, &job.poster})
-                    if (!f->empty()) checkWritableFile(*f);
-            },
+            t, job.scenePath, [&] { claimOutputs(job, p, locks); },
             [&](Scene& scene, const FileBundle& inputs) {
+                std::vector<std::string> read;
+                for (const auto& [path, bytes] : inputs.files) read.push_back(path);
+                checkOutputPaths(renderOutputs(job), read);  // the model's buffers and textures too
                 decideJob(job, p, scene, inputs, t.size(), threadsNote);
                 return encodeWorkerJob(job);
             },

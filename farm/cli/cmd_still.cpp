@@ -10,7 +10,9 @@
 #include "exposure_meter.h"
 #include "gltf_loader.h"
 #include "image.h"
+#include "interrupt.h"
 #include "output_check.h"
+#include "output_paths.h"
 #include "render.h"
 #include "run_stats.h"
 #include "scene_loader.h"
@@ -109,12 +111,25 @@ int runStill(const std::vector<std::string>& args) {
     const int threads = p.intValue("--threads", 0, 0, 4096);
     BackgroundChoice background;
     if (auto b = p.value("--background")) background = parseBackground(*b);
+    // still writes PNG only: a name that says otherwise (x.mp4, x.jpg) would hold PNG bytes.
+    if (const std::string ext = std::filesystem::path(out).extension().string(); !ext.empty() && ext != ".png" && ext != ".PNG")
+        throw UsageError(out + ": still writes a PNG: expected a .png file name (a video: rayfarm render)");
+    const std::vector<NamedOutput> outputs = {{"-o", out}, {"--stats", p.value("--stats").value_or("")}};
+    std::vector<std::string> inputs = {scenePath};
+    if (auto env = p.value("--environment")) inputs.push_back(*env);
+    checkOutputPaths(outputs, inputs);
     checkWritableFile(out);
     if (auto st = p.value("--stats")) checkWritableFile(*st);
+    farm::ignoreWriteSignals();  // past `ulimit -f`: EFBIG, reported, instead of SIGXFSZ's silent death
 
     const auto t0 = std::chrono::steady_clock::now();
     DiskFileSource fs;
     Scene scene = loadScene(scenePath, fs, sceneOptions(p));
+    {
+        std::vector<std::string> read;  // the model's buffers and textures, the environment
+        for (const auto& [path, bytes] : fs.bundle().files) read.push_back(path);
+        checkOutputPaths(outputs, read);
+    }
     for (const std::string& note : scene.notes) printLine("note", note);
     applyBackground(background, scene);
     // Built before posing: auto exposure meters the film's own frames.
@@ -135,8 +150,10 @@ int runStill(const std::vector<std::string>& args) {
     const auto t1 = std::chrono::steady_clock::now();
     const Image img = renderFrame(scene, scene.camera, settings, frame, threads, rays);
     const auto t2 = std::chrono::steady_clock::now();
-    if (img.hasAlpha()) writePng(out, img.width(), img.height(), toRgba8(img, settings.toneMap, exposureScale(settings.exposure)), 4);
-    else writePng(out, img.width(), img.height(), toRgb8(img, settings));
+    writeReplacing(out, [&](const std::string& to) {
+        if (img.hasAlpha()) writePng(to, img.width(), img.height(), toRgba8(img, settings.toneMap, exposureScale(settings.exposure)), 4);
+        else writePng(to, img.width(), img.height(), toRgb8(img, settings));
+    });
     const auto t3 = std::chrono::steady_clock::now();
 
     const double renderS = std::chrono::duration<double>(t2 - t1).count();

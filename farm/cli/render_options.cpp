@@ -38,6 +38,8 @@ const char* kRenderHelp =
     "                    closing it does not stop the render\n"
     "  --resume          render only the frames missing from the frames directory, then encode\n"
     "                    the whole video again (the same settings are required)\n"
+    "  --overwrite       render every frame again over an earlier run's frames directory\n"
+    "                    (without it or --resume, a directory holding frames is refused)\n"
     "  --codec C         h264 (.mp4), vp9 (.webm), prores (.mov), gif (.gif): only the file's own\n"
     "  --crf N           quality, lower is better: H.264 0-51 (default 18), VP9 0-63 (32);\n"
     "                    ProRes and GIF have none\n"
@@ -68,7 +70,7 @@ void declareRenderOptions(ArgParser& p) {
                           "--exposure", "--frames-dir", "--crf", "--preset", "--stats", "--threads", "--timeout", "--codec",
                           "--background", "--frames-format", "--contact-sheet", "--poster", "--poster-frame"})
         p.option(o);
-    for (const char* f : {"--resume", "--lossless", "--no-frames", "--preview", "--help", "-h"}) p.flag(f);
+    for (const char* f : {"--resume", "--overwrite", "--lossless", "--no-frames", "--preview", "--help", "-h"}) p.flag(f);
     declareSceneOptions(p);
 }
 
@@ -84,6 +86,7 @@ farm::RenderJob jobFromOptions(const ArgParser& p) {
         throw UsageError(j.output + ": " + e.what());
     }
     if (p.has("--no-frames") && p.has("--frames-dir")) throw UsageError("--no-frames and --frames-dir contradict each other");
+    if (p.has("--resume") && p.has("--overwrite")) throw UsageError("--resume and --overwrite contradict each other");
     if (p.has("--no-frames") && p.has("--resume")) throw UsageError("--resume needs the frames directory (drop --no-frames)");
     if (p.has("--no-frames") && p.has("--preview")) throw UsageError("--preview shows the PNG frames as they complete (drop --no-frames)");
     if (!p.has("--no-frames"))

@@ -210,7 +210,7 @@ int FarmRun::lastWords() {
     } catch (...) {
         // The video is as complete as it gets, and the user has heard how the run ended.
     }
-    return out.signal == SIGINT ? 130 : 143;
+    return signalExitStatus(out.signal ? out.signal : SIGTERM);
 }
 
 void FarmRun::startClose() {
@@ -425,7 +425,7 @@ std::set<int> keptFramesForJob(const RenderJob& job, std::vector<int>* corrupt) 
 FarmOutcome runFarm(Transport& t, const RenderJob& job, SharedScene& shared, FarmSinks sinks, const FarmOptions& opts) {
     if (opts.views) return runViewSession(t, job, shared, opts);
     FarmOptions o = opts;
-    if (!o.log) o.log = [](const std::string& line) { std::fprintf(stderr, "rayfarm: %s\n", line.c_str()); };
+    if (!o.log) o.log = [](const std::string& line) { writeStderrText("rayfarm: " + line + "\n"); };
     FarmRun run(t, job, o, std::move(sinks));
     return run.run(shared);
 }

@@ -36,9 +36,11 @@ struct Remux {
         throw std::runtime_error(path + ": " + what + (rc < 0 ? ": " + avErrorText(rc) : std::string()));
     }
 
+    long copied = 0;  ///< packets read back from the fragmented file (and written to temp)
+
     void open(const std::string& muxer, AVRational rate);
     void copyPackets();
-    void finish();
+    void finish(long expected);
 };
 
 void Remux::open(const std::string& muxer, AVRational rate) {
@@ -75,28 +77,56 @@ void Remux::copyPackets() {
         pkt->pos = -1;
         rc = av_interleaved_write_frame(out, pkt);  // takes the packet's data
         if (rc < 0) fail("writing " + temp + " failed", rc);
+        ++copied;
     }
 }
 
-void Remux::finish() {
+/// Packets in the video file at `file` (demuxed, not decoded); -1 if it cannot be read.
+long countPackets(const std::string& file) {
+    AVFormatContext* ctx = nullptr;
+    if (avformat_open_input(&ctx, file.c_str(), nullptr, nullptr) < 0) return -1;
+    AVPacket* p = av_packet_alloc();
+    long n = 0;
+    int rc = 0;
+    while (p && (rc = av_read_frame(ctx, p)) >= 0) {
+        ++n;
+        av_packet_unref(p);
+    }
+    av_packet_free(&p);
+    avformat_close_input(&ctx);
+    return rc == AVERROR_EOF ? n : -1;
+}
+
+void Remux::finish(long expected) {
+    // Another process writing the same file (or a file system losing writes) shows as packets
+    // missing or extra: the fragmented file stays as it is, and the run fails saying so.
+    if (expected >= 0 && copied != expected)
+        fail("read back " + std::to_string(copied) + " video packets, but " + std::to_string(expected) +
+                 " were written: the file was changed while the film was written (another process writing it?)",
+             0);
     int rc = av_write_trailer(out);  // faststart: moves the moov before the media data
     if (rc < 0) fail("cannot finish " + temp, rc);
     rc = avio_closep(&out->pb);
     if (rc < 0) fail("cannot close " + temp, rc);
     avformat_close_input(&in);
+    if (expected >= 0) {
+        const long there = countPackets(temp);
+        if (there != expected)
+            fail(temp + " holds " + std::to_string(there) + " video packets after the remux, expected " + std::to_string(expected), 0);
+    }
     if (std::rename(temp.c_str(), path.c_str()) != 0) fail("cannot rename " + temp + " over it", AVERROR(errno));
 }
 
 }  // namespace
 
-void remuxFaststart(const std::string& path, const std::string& muxer, int fpsNum, int fpsDen) {
+void remuxFaststart(const std::string& path, const std::string& muxer, int fpsNum, int fpsDen, long expectedPackets) {
     Remux r;
     r.path = path;
     r.temp = remuxTempPath(path);
     try {
         r.open(muxer, AVRational{fpsNum, fpsDen});
         r.copyPackets();
-        r.finish();
+        r.finish(expectedPackets);
     } catch (...) {
         std::remove(r.temp.c_str());  // the fragmented file stays: it plays
         throw;

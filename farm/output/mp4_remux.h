@@ -12,8 +12,10 @@ namespace rf::farm {
 /// Rewrites the fragmented file at `path` as a faststart file of muxer `muxer` ("mp4", "mov"):
 /// packets are copied bit for bit, the stream keeps its codec parameters and the rate fps_num /
 /// fps_den. Writes beside it (remuxTempPath) and renames, so `path` is a playable file at every
-/// moment. Throws std::runtime_error "PATH: what failed: FFmpeg's reason".
-void remuxFaststart(const std::string& path, const std::string& muxer, int fpsNum, int fpsDen);
+/// moment. expectedPackets (>= 0): the packets the encoder wrote; a file that reads back another
+/// count, or a remuxed copy that does, is not renamed over it (another writer, lost writes).
+/// Throws std::runtime_error "PATH: what failed: FFmpeg's reason".
+void remuxFaststart(const std::string& path, const std::string& muxer, int fpsNum, int fpsDen, long expectedPackets = -1);
 
 /// The temporary file of the second pass ("out.mp4.remux"); a crash between the two leaves it,
 /// and the next run over the same output removes it.

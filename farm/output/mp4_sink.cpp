@@ -323,7 +323,7 @@ void Mp4Sink::close() {
     if (rc < 0) m.fail("cannot finish the " + std::string(m.fmt->oformat->name), rc);
     rc = avio_closep(&m.fmt->pb);
     if (rc < 0) m.fail("cannot close", rc);
-    if (m.fragmented) remuxFaststart(m.path, m.fmt->oformat->name, m.rate.num, m.rate.den);
+    if (m.fragmented) remuxFaststart(m.path, m.fmt->oformat->name, m.rate.num, m.rate.den, m.flushed.load());
 }
 
 int Mp4Sink::framesInOutput() const { return impl_->flushed.load(std::memory_order_relaxed); }

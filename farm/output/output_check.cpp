@@ -4,6 +4,8 @@
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
+#include <stdexcept>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "usage_error.h"
@@ -24,6 +26,38 @@ void ensureWritableDir(const std::string& dir) {
     std::filesystem::create_directories(dir, ec);
     if (ec || !std::filesystem::is_directory(dir)) throw UsageError(dir + ": cannot create directory: " + ec.message());
     if (::access(dir.c_str(), W_OK) != 0) throw UsageError(dir + ": cannot write: " + std::strerror(errno));
+}
+
+void writeReplacing(const std::string& path, const std::function<void(const std::string&)>& write) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+        write(path);
+        return;
+    }
+    // Beside the file the link points to, so the rename stays in one file system and the link stays.
+    std::error_code ec;
+    std::string target = path;
+    if (std::filesystem::is_symlink(path, ec)) {
+        const auto resolved = std::filesystem::canonical(path, ec);
+        if (!ec) target = resolved.string();
+    }
+    const std::string tmp = target + ".part-" + std::to_string(::getpid());
+    try {
+        write(tmp);
+    } catch (const std::exception& e) {
+        ::unlink(tmp.c_str());
+        std::string what = e.what();
+        if (what.rfind(tmp, 0) == 0) what = path + what.substr(tmp.size());  // the user's name, not ours
+        throw std::runtime_error(what);
+    } catch (...) {
+        ::unlink(tmp.c_str());
+        throw;
+    }
+    if (::rename(tmp.c_str(), target.c_str()) != 0) {
+        const int err = errno;
+        ::unlink(tmp.c_str());
+        throw std::runtime_error(path + ": cannot write: " + std::strerror(err));
+    }
 }
 
 }  // namespace rf

@@ -173,5 +173,27 @@ void prepareFramesDir(const std::string& dir) {
     for (const auto& p : old) std::filesystem::remove(p);
 }
 
+void appendFramesLog(const std::string& dir, const std::string& lines) {
+    const std::string path = (std::filesystem::path(dir) / "rayfarm.log").string();
+    const int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0666);
+    if (fd < 0) return;
+    if (::write(fd, lines.data(), lines.size()) != ssize_t(lines.size())) {
+        // Best effort (see the header): the frames and the video are what matter.
+    }
+    ::close(fd);
+}
+
+void refuseEarlierFrames(const std::string& dir) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec)) return;
+    static const std::regex finished(R"(frame_\d{6}\.(png|exr))");
+    size_t n = 0;
+    for (const auto& e : std::filesystem::directory_iterator(dir, ec))
+        if (std::regex_match(e.path().filename().string(), finished)) ++n;
+    if (n == 0) return;
+    throw UsageError(dir + ": holds " + std::to_string(n) + " frame file" + (n == 1 ? "" : "s") +
+                     " of an earlier run; add --resume to render only the frames missing, or --overwrite to render all again");
+}
+
 
 }  // namespace rf::farm

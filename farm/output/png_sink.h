@@ -49,6 +49,15 @@ void checkFramesManifest(const std::string& dir, const std::string& identity, co
 /// when it holds frame PNGs without rayfarm's manifest (someone else's files).
 void prepareFramesDir(const std::string& dir);
 
+/// Appends whole lines to DIR/rayfarm.log, the frames directory's log: each run's plan and how
+/// it ended (the resume command included), readable there when stderr is gone (a dropped ssh
+/// session, `| head`). Best effort: a failure to log is not the run's failure.
+void appendFramesLog(const std::string& dir, const std::string& lines);
+
+/// A run without --resume (or --overwrite) must not throw away an earlier run's frames without
+/// a word: throws UsageError naming dir and both ways on when it holds finished frames.
+void refuseEarlierFrames(const std::string& dir);
+
 /// Frames of `frames` already in dir as complete PNGs of width × height whose SHA-256 matches
 /// the one recorded when they were written. Frames present but failing that check are listed
 /// in `corrupt` (they are rendered again). channels: 3 (RGB PNGs) or 4 (RGBA).

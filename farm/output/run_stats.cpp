@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "file_write.h"
+#include "output_check.h"
 
 namespace rf {
 
@@ -31,7 +32,8 @@ void writeStatsJson(const std::string& path, const RunStats& s) {
     j["per_rank"] = ranks;
     for (const auto& [k, v] : s.extra) j[k] = v;
     for (const auto& [k, v] : s.extraText) j[k] = v;
-    writeFileChecked(path, j.dump(2) + "\n");
+    const std::string text = j.dump(2) + "\n";
+    writeReplacing(path, [&](const std::string& to) { writeFileChecked(to, text); });  // never half a stats file
 }
 
 }  // namespace rf

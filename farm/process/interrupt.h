@@ -3,14 +3,36 @@
 /// signal; the master and worker loops look at it and wind down. Under mpirun, Ctrl-C reaches
 /// mpirun, which sends SIGTERM to every rank and SIGKILL about a second later, so the wind-down
 /// finishes the video first.
+///
+/// SIGHUP (a dropped ssh session, a closed terminal) is handled the same way. A broken stderr
+/// (`render ... 2>&1 | head -1`) too: SIGPIPE is ignored, so that a socket of the MPI
+/// transport is never mistaken for it, and a write to stderr that fails with EPIPE raises the
+/// interrupt as SIGPIPE (stderrGone). SIGXFSZ (a file past `ulimit -f`) is ignored: the write
+/// fails with EFBIG instead and is reported as any failed write is.
+#include <string>
 
 namespace rf::farm {
 
 /// Installs the handlers (idempotent).
 void installInterruptHandlers();
-/// The signal received (SIGINT or SIGTERM), 0 if none.
+/// Only SIGXFSZ and SIGPIPE ignored (for commands that have no wind-down of their own).
+void ignoreWriteSignals();
+/// The signal received (SIGINT, SIGTERM, SIGHUP, or SIGPIPE for a broken stderr), 0 if none.
 int interruptSignal();
 /// For tests: pretend a signal arrived (0 clears).
 void raiseInterrupt(int sig);
+/// "SIGINT", "SIGTERM", "SIGHUP", "SIGPIPE" (or "signal N").
+std::string signalName(int sig);
+/// The exit status of a run ended by sig, as the shell reports a process killed by it (128 + sig).
+inline int signalExitStatus(int sig) { return 128 + sig; }
+
+/// Writes text to stderr in one write() where it can (retried after EINTR or a short write).
+/// Returns false when stderr is gone (EPIPE, EIO of a hung-up terminal, closed); EPIPE also
+/// raises the interrupt as SIGPIPE, the way the default SIGPIPE would have ended the process.
+bool writeStderrText(const std::string& text);
+/// Whether a write to stderr has failed (it is gone: a closed pipe or terminal).
+bool stderrGone();
+/// After a stdio write to stderr (fprintf): notes a failure as writeStderrText does.
+void checkStdioStderr();
 
 }  // namespace rf::farm

@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include "interrupt.h"
+
 namespace rf::farm {
 
 bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) == 1; }
@@ -40,14 +42,21 @@ void Progress::update(int done, const std::vector<int>& rankFrames) {
     if (sinceLast < (live_ ? 0.25 : 5.0)) return;
     last_ = now;
     const std::string s = line(done, total_, std::chrono::duration<double>(now - start_).count(), doneAtStart_, rankFrames);
-    if (live_) std::fprintf(out_, "\r\033[K%s", s.c_str());
-    else std::fprintf(out_, "%s\n", s.c_str());
-    std::fflush(out_);
+    const std::string text = live_ ? "\r\033[K" + s : s + "\n";
+    if (out_ == stderr) {
+        writeStderrText(text);  // a broken stderr (| head -1) ends the run as SIGPIPE would
+    } else {
+        std::fputs(text.c_str(), out_);
+        std::fflush(out_);
+    }
     printed_ = true;
 }
 
 void Progress::finish() {
-    if (live_ && printed_) std::fputs("\r\033[K", out_);
+    if (live_ && printed_) {
+        if (out_ == stderr) writeStderrText("\r\033[K");
+        else std::fputs("\r\033[K", out_);
+    }
     std::fflush(out_);
 }
 

@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 
+#include "mp4_remux.h"
 #include "mp4_sink.h"
 
 using namespace rf::farm;
@@ -273,3 +274,30 @@ Mp4Options formatDefaults() {
 TEST(Mp4Sink, ProResMovPlaysMidFilm) { checkPlayableMidFilm("midfilm.mov", formatDefaults()); }
 
 TEST(Mp4Sink, WebmPlaysMidFilm) { checkPlayableMidFilm("midfilm.webm", formatDefaults()); }
+
+/// Issue 30 #1: the remux counts the packets it reads back against those the encoder wrote; a
+/// file another process wrote into (two renders on one -o) is not renamed into a faststart one
+/// that players would take for whole.
+TEST(Mp4Sink, RemuxRefusesAFileWhosePacketCountIsNotWhatWasWritten) {
+    const std::string path = outDir() + "/count.mp4";
+    std::filesystem::remove(path);
+    const int w = 64, h = 48;
+    Mp4Options o = formatDefaults();
+    o.channels = 3;
+    {
+        Mp4Sink sink(path, w, h, o);
+        for (int f = 0; f < 12; ++f) sink.write(f, synthetic(w, h, f));
+        sink.close();
+    }
+    const std::string before = runCapture("sha256sum < '" + path + "'");
+    try {
+        remuxFaststart(path, "mp4", 30, 1, 13);
+        FAIL() << "a file of 12 packets passed as 13";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find(path + ": read back 12 video packets, but 13 were written"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(runCapture("sha256sum < '" + path + "'"), before) << "the file was replaced after the mismatch";
+    EXPECT_FALSE(std::filesystem::exists(remuxTempPath(path)));
+    remuxFaststart(path, "mp4", 30, 1, 12);  // the right count passes, and the file still plays
+    EXPECT_NE(probe(path, "nb_read_frames").find("nb_read_frames=12\n"), std::string::npos) << probe(path, "nb_read_frames");
+}
