@@ -14,6 +14,7 @@
 #include "background_option.h"
 #include "cli.h"
 #include "cmd_view.h"
+#include "display_loss.h"
 #include "exposure_meter.h"
 #include "errors.h"
 #include "file_source.h"
@@ -82,6 +83,7 @@ void qtMessages(QtMsgType type, const QMessageLogContext&, const QString& msg) {
     // The fatal message is generic ("no Qt platform plugin could be initialized"); the warning
     // before it says why (e.g. "could not connect to display :0"), so it goes in the line too.
     static QString lastWarning;
+    if (type == QtWarningMsg && view::endIfDisplayLost(msg.toLocal8Bit().constData())) return;  // (it does not return)
     if (type == QtWarningMsg) lastWarning = msg.section('\n', 0, 0);
     if (type == QtFatalMsg) {
         const QString why = lastWarning.isEmpty() ? msg.section('\n', 0, 0) : lastWarning + ": " + msg.section('\n', 0, 0);
@@ -140,6 +142,7 @@ int runWindow(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job, Scen
     QApplication app(argc, argv);
     view::ViewWindow window(std::move(scene), timeline, settings, o);
     window.show();
+    const auto destroyed = view::endWhenWindowDestroyed(app, window);
     const int status = app.exec();
     return window.failed() ? 1 : status;
 }
@@ -156,6 +159,7 @@ int runPlainWindow(Args&&... args) {
     QApplication app(argc, argv);
     W window(std::forward<Args>(args)...);
     window.show();
+    const auto destroyed = view::endWhenWindowDestroyed(app, window);
     return app.exec();
 }
 
@@ -196,6 +200,7 @@ int runFarmView(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job) {
     }
     o.transport = &t;
     o.threads = job.threads;
+    view::setSessionEnd([&t](int code) { t.abort(code); });  // the display gone: every rank goes
     farm::installInterruptHandlers();  // mpirun's SIGTERM: the farm names the dead rank first
     const int status = runWindow(p, o, job, std::move(shared.scene));
     // A lost rank cannot be stopped politely and MPI_Finalize would wait for it: end them all.

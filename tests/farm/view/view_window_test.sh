@@ -37,6 +37,11 @@
 #                mpirun's SIGTERM) in one error line, and the session is gone within 5 s; a
 #                report window (a process of its own) shows it, in its title and a red banner,
 #                until Ctrl+Q closes it
+#   window-destroyed SCENE  the window destroyed from outside (xdotool windowclose: XDestroyWindow,
+#                as a crashed compositor or a killed X forwarder does): the session ends within
+#                5 s with one error line saying so and status 1 (under mpirun: mpirun's status is
+#                not 0), and no process of it is left
+#   display-lost SCENE  the X server killed under the window: the same, naming the lost display
 # Exit 77 (ctest SKIP) only when this rayfarm was built without Qt 6 (no viewer to test).
 set -uo pipefail
 RAYFARM=$1 WORK=$2 CASE=$3
@@ -520,6 +525,34 @@ killed-rank-default)
     for _ in $(seq 40); do alive "$report" || break; sleep 0.05; done
     alive "$report" && fail "the report window's process $report still runs 2 s after Ctrl+Q"
     echo "ok: $(grep '^rayfarm: error: view:' view.log); mpirun exited $STATUS; a report window showed it until closed"
+    ;;
+window-destroyed | display-lost)
+    start_view "$scene" --size $SIZE --spp 4
+    sleep 1  # rendering, and under mpirun the ranks at work
+    ours=$(descendants $VIEW)
+    if [ "$CASE" = window-destroyed ]; then
+        xdotool windowclose "$WID"
+        want="^rayfarm: error: view: the window was destroyed from outside (on display $DISPLAY); the session ends$"
+    else
+        kill -9 $XVFB
+        wait $XVFB 2>/dev/null
+        XVFB=
+        want="^rayfarm: error: view: lost the connection to the display $DISPLAY (The X11 connection broke"
+    fi
+    for _ in $(seq 100); do kill -0 $VIEW 2>/dev/null || break; sleep 0.05; done
+    kill -0 $VIEW 2>/dev/null && fail "the session still runs 5 s after its display went: $(cat view.log)"
+    wait $VIEW
+    STATUS=$?
+    VIEW=
+    [ $STATUS -ne 0 ] || fail "exit status 0 after the display went"
+    [ -n "${VIEW_NP:-}" ] || [ $STATUS -eq 1 ] || fail "exit status $STATUS, expected 1: $(cat view.log)"
+    grep -q "$want" view.log || fail "no line saying what happened: $(cat view.log)"
+    [ "$(grep -c '^rayfarm: error:' view.log)" = 1 ] || fail "expected one error line: $(cat view.log)"
+    sleep 1
+    for pid in $ours; do
+        alive "$pid" && fail "process $pid of the session left behind: $(ps -o pid=,stat=,args= -p "$pid")"
+    done
+    echo "ok: $CASE: $(grep '^rayfarm: error:' view.log); status $STATUS; no process left"
     ;;
 *) fail "unknown case $CASE" ;;
 esac
