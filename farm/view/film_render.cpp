@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "output_lock.h"
 #include "png_sink.h"
 #include "run_farm.h"
 #include "scene_loader.h"
@@ -45,6 +46,9 @@ farm::RenderJob filmJob(const FilmRequest& r, int ranks, std::string& note) {
 }
 
 FilmEnd renderFilm(farm::Transport& t, FilmRequest& r, const FilmCallbacks& cb, const std::atomic<bool>& cancel) {
+    // One writer per output, as for `render`: a render of the same film elsewhere refuses, and
+    // this one refuses while such a render runs (the window shows why).
+    const OutputLock videoLock(r.output), framesLock(r.framesDir);
     std::string note;
     const farm::RenderJob job = filmJob(r, t.size(), note);
     if (!note.empty() && cb.log) cb.log("note: " + note);

@@ -23,7 +23,8 @@
 #                mid-render leaves the render to finish (status 0, every frame); a window on the
 #                finished frames directory (view --watch) shows the last frame exactly
 #   film-close SCENE  Ctrl+Q while Ctrl+R renders: status 0 within 2 s, the frames done kept
-#                (said on stderr) and playable in the MP4, no process left
+#                (said on stderr) and playable in the MP4, no process left; before it, Ctrl+R
+#                refuses while another render holds the film's lock
 #   film-killed-rank SCENE  (VIEW_NP=3) a rank killed while Ctrl+R renders: the window stays,
 #                names it in its title and a red banner; the MP4 plays the frames done
 #   killed-rank SCENE  (VIEW_NP=3) rank 2 is killed while it renders: the window stays and names
@@ -257,8 +258,16 @@ still)
 film-close)
     # Ctrl+Q while Ctrl+R renders: the window closes within 2 s with status 0, says how many
     # frames it kept, the MP4 plays those frames, and nothing of the session is left.
-    rm -rf film.frames film.mp4
+    rm -rf film.frames film.mp4 film.mp4.lock
     start_view "$scene" --size $SIZE --spp 16 -o "$PWD/film.json"
+    # Issue 30 #1: a render holding the film's lock (this shell, alive) makes Ctrl+R refuse.
+    printf 'rayfarm-lock %s %s - %s 1796400000\n' "$(hostname)" $$ "$(cat /proc/sys/kernel/random/boot_id)" > film.mp4.lock
+    xdotool windowfocus --sync "$WID" key ctrl+r
+    for _ in $(seq 100); do grep -q "render failed: .*film.mp4: another render is writing it (pid $$ on" view.log && break; sleep 0.05; done
+    grep -q "render failed: .*film.mp4: another render is writing it (pid $$ on" view.log ||
+        fail "Ctrl+R did not refuse a film another render holds: $(tail -3 view.log)"
+    [ -e film.frames ] && fail "the refused film made its frames directory"
+    rm film.mp4.lock
     xdotool windowfocus --sync "$WID" key ctrl+r
     for _ in $(seq 400); do [ -n "$(ls film.frames/frame_*.png 2>/dev/null)" ] && break; sleep 0.05; done
     [ -n "$(ls film.frames/frame_*.png 2>/dev/null)" ] || fail "the film wrote no frame: $(tail -3 view.log)"
@@ -321,6 +330,7 @@ author)
     xdotool key ctrl+s
     for _ in $(seq 40); do [ -s saved.json ] && break; sleep 0.25; done
     [ -s saved.json ] || fail "Ctrl+S wrote no scene: $(cat view.log)"
+    rm -rf saved.frames saved.mp4 last.frames last.mp4  # an earlier run's: render refuses to drop kept frames
     "$RAYFARM" render saved.json -o saved.mp4 --frames 0:0 --frames-dir saved.frames 2>render.log ||
         fail "render does not accept the saved scene: $(tail -1 render.log)"
     [ "$(differing saved.frames/frame_000000.png still.png)" != 0 ] || fail "the saved camera is the start camera"
