@@ -205,7 +205,7 @@ OutputLock::OutputLock(const std::string& path, std::string* note) {
         }
         if (heldByFcntl(lockPath) || (h.parsed && !isStale(h, host, boot, why)))
             throw UsageError(path + ": another render is writing it (pid " + std::to_string(h.pid) + " on " + h.host + " since " +
-                             utcTime(h.since) + "; lock file " + lockPath + ")");
+                             utcTime(h.since) + "); if no such render runs, remove " + lockPath);
         // Stale: moved aside under a name of our own, so of two runs breaking it at once only one
         // does, and checked to be the lock judged stale (not a fresh one taken meanwhile).
         const std::string aside = unique + ".stale";

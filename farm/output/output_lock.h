@@ -22,7 +22,8 @@ class OutputLock {
 public:
     OutputLock() = default;
     /// Takes the lock on `path` (a file or a directory; it need not exist). Throws UsageError
-    /// "PATH: another render is writing it (pid N on HOST since TIME; lock file PATH.lock)" when
+    /// "PATH: another render is writing it (pid N on HOST since TIME); if no such render runs,
+    /// remove PATH.lock" when
     /// a live run holds it, or "PATH.lock: cannot create the lock: REASON". A stale lock taken
     /// over is said in *note (if given).
     explicit OutputLock(const std::string& path, std::string* note = nullptr);
