@@ -3,7 +3,6 @@
 #include <atomic>
 #include <cerrno>
 #include <csignal>
-#include <cstdio>
 
 #include <unistd.h>
 
@@ -11,13 +10,11 @@ namespace rf::farm {
 
 namespace {
 std::atomic<int> gSignal{0};
-std::atomic<bool> gStderrGone{false};
 static_assert(std::atomic<int>::is_always_lock_free, "signal handlers need a lock-free flag");
 
 extern "C" void onSignal(int sig) { gSignal.store(sig); }
 
 void noteStderrFailure(int err) {
-    gStderrGone = true;
     // The first signal wins: a broken pipe after SIGHUP is part of the same hang-up.
     int none = 0;
     if (err == EPIPE) gSignal.compare_exchange_strong(none, SIGPIPE);
@@ -71,12 +68,5 @@ bool writeStderrText(const std::string& text) {
     return true;
 }
 
-bool stderrGone() { return gStderrGone.load(); }
-
-void checkStdioStderr() {
-    if (!std::ferror(stderr)) return;
-    noteStderrFailure(errno);
-    std::clearerr(stderr);
-}
 
 }  // namespace rf::farm

@@ -30,9 +30,5 @@ inline int signalExitStatus(int sig) { return 128 + sig; }
 /// Returns false when stderr is gone (EPIPE, EIO of a hung-up terminal, closed); EPIPE also
 /// raises the interrupt as SIGPIPE, the way the default SIGPIPE would have ended the process.
 bool writeStderrText(const std::string& text);
-/// Whether a write to stderr has failed (it is gone: a closed pipe or terminal).
-bool stderrGone();
-/// After a stdio write to stderr (fprintf): notes a failure as writeStderrText does.
-void checkStdioStderr();
 
 }  // namespace rf::farm

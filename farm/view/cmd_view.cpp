@@ -21,6 +21,7 @@
 #include "gltf_loader.h"
 #include "interrupt.h"
 #include "output_check.h"
+#include "output_paths.h"
 #include "scene_loader.h"
 #include "render.h"
 #include "scene_broadcast.h"
@@ -106,6 +107,10 @@ bool haveDisplay() {
 
 void checkDisplayAndOutputs(view::ViewOptions& o, const ArgParser& p) {
     if (!haveDisplay()) throw UsageError(kNoDisplay);
+    // Ctrl+S must not write the path over the scene it was keyed on (or the stats over either).
+    std::vector<std::string> inputs = {o.scenePath};
+    if (auto env = p.value("--environment")) inputs.push_back(*env);
+    checkOutputPaths({{"-o", o.savePath}, {"--stats", p.value("--stats").value_or("")}}, inputs);
     checkWritableFile(o.savePath);
     if (auto st = p.value("--stats")) {
         checkWritableFile(*st);

@@ -107,7 +107,7 @@ modes)
     ;;
 resume)
     args=(render "$FLIGHT" --size 64x48 --frames 0:11)
-    rm -rf full.* part.*
+    rm -rf full.* part.* edited.*
     mpi 2 "${args[@]}" -o full.mp4 2> full.log || { cat full.log; fail "full run failed"; }
     mpi 2 "${args[@]}" -o part.mp4 2> part.log || { cat part.log; fail "second run failed"; }
     rm part.mp4 part.frames/frame_000003.png part.frames/frame_000007.png part.frames/frame_000008.png

@@ -188,9 +188,14 @@ paths)
     b=("$RAYFARM" render box/BoxTextured.gltf --size 32x24 --frames 0:1)
     expect_refusal "box/CesiumLogoFlat.png: --poster names a file this run reads" "${b[@]}" -o b.mp4 --poster box/CesiumLogoFlat.png
     expect_refusal "box/BoxTextured0.bin: --stats names a file this run reads" "${b[@]}" -o b.mp4 --stats box/BoxTextured0.bin
+    # view: Ctrl+S would write the keyed path over the scene (offscreen: no display needed).
+    if QT_QPA_PLATFORM=offscreen "$RAYFARM" view --help > /dev/null 2>&1; then
+        expect_refusal "scene.json: -o names a file this run reads" env QT_QPA_PLATFORM=offscreen "$RAYFARM" view scene.json -o scene.json
+        expect_refusal "v.json: --stats names the same file as -o" env QT_QPA_PLATFORM=offscreen "$RAYFARM" view scene.json -o v.json --stats v.json
+    fi
     [ "$(sum)" = "$before" ] || fail "an input was changed"
     for f in a.mp4 a.frames b.mp4 b.frames s.png b.png x.mp4 p.png; do [ -e "$f" ] && fail "a refused run left $f"; done
-    echo "paths: 15 outputs naming an input, another output or the frames directory refused before rendering; inputs intact"
+    echo "paths: outputs (still, render, view) naming an input, another output or the frames directory refused before rendering; inputs intact"
     ;;
 rerun)
     r=("$RAYFARM" render "$SCENE" --size 32x18 --frames 0:3)
