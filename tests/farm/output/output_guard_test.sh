@@ -6,6 +6,7 @@
 #           the first's video has every frame and its manifest lists each frame once
 #   stale   kill -9 leaves a lock: the next run takes it over; another host's lock is refused
 #   hup     kill -HUP: frames kept, the GIF written, the resume line; --resume = uninterrupted
+#   hup-mpi SIGHUP to mpirun's whole process group (np 3): the same under the farm
 #   pipe    render 2>&1 | head -1: exit 141, the resume line in the frames log and the stats file
 #   xfsz    ulimit -f: still leaves no partial PNG, render says what the full-disk path says
 #   paths   outputs that are inputs, each other or the frames directory; still's extensions
@@ -117,6 +118,26 @@ hup)
     "$RAYFARM" "${slow[@]}" -o ref.gif --no-frames 2> ref.log || { cat ref.log; fail "reference run failed"; }
     cmp -s h.gif ref.gif || fail "hung-up+resumed GIF differs from one uninterrupted run"
     echo "hup: exit 129, GIF of $((held + 1)) frames written, resumed GIF byte-identical to an uninterrupted run"
+    ;;
+hup-mpi)
+    # A dropped ssh session: SIGHUP to the whole process group, mpirun and its 3 ranks at once.
+    setsid mpirun --oversubscribe -np 3 "$RAYFARM" "${slow[@]}" -o hm.mp4 2> hm.log &
+    a=$!
+    wait_for_pngs hm.frames 3 60
+    kill -HUP -- -"$a"
+    set +e; wait "$a"; set -e
+    grep -Eq "^rayfarm: interrupted \(SIG(HUP|TERM)\): the video hm\.mp4 holds frames 0–[0-9]+ of 0–59 \(playable\)$" hm.log ||
+        { cat hm.log; fail "no interrupted line"; }
+    grep -q "^rayfarm: to resume: mpirun .*--resume$" hm.frames/rayfarm.log || { cat hm.frames/rayfarm.log; fail "no resume line in the frames log"; }
+    held=$(sed -nE 's/.*holds frames 0–([0-9]+) of.*/\1/p' hm.log | tail -1)
+    [ "$(frames_of hm.mp4)" = $((held + 1)) ] || fail "hm.mp4 plays $(frames_of hm.mp4) frames, the message says $((held + 1))"
+    sleep 1
+    pgrep -f "rayfarm render .* -o hm.mp4" > /dev/null && fail "a rank outlived the hang-up"
+    mpirun --oversubscribe -np 3 "$RAYFARM" "${slow[@]}" -o hm.mp4 --resume 2> r.log || { cat r.log; fail "resume failed"; }
+    [ "$(frames_of hm.mp4)" = 60 ] || fail "resumed hm.mp4 has $(frames_of hm.mp4) frames"
+    "$RAYFARM" "${slow[@]}" -o ref.mp4 --no-frames 2> ref.log || { cat ref.log; fail "reference run failed"; }
+    cmp -s <(decoded hm.mp4) <(decoded ref.mp4) || fail "hung-up+resumed video differs from an uninterrupted run"
+    echo "hup-mpi: the process group hung up: $((held + 1)) frames kept and playable, resume line in the frames log; resumed video identical"
     ;;
 pipe)
     set +e
