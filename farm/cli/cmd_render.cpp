@@ -1,5 +1,6 @@
 // rayfarm render: the timeline to an MP4, as one process or as an MPI farm. This file wires the
 // parts together; scheduling, messages, sinks and the loops live in their own files.
+#include <algorithm>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -37,6 +38,16 @@ using namespace rf::farm;
 using Clock = std::chrono::steady_clock;
 
 namespace {
+
+/// printf into a std::string of whatever length it takes (scene paths have no limit).
+template <class... A>
+std::string formatted(const char* fmt, A... a) {
+    const int n = std::snprintf(nullptr, 0, fmt, a...);
+    std::string s(size_t(std::max(n, 0)) + 1, '\0');
+    std::snprintf(s.data(), s.size(), fmt, a...);
+    s.resize(size_t(std::max(n, 0)));
+    return s;
+}
 
 /// How this executable was invoked (argv[0]), for the resume hint.
 std::string invokedAs() {
@@ -167,11 +178,11 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
             writeFramesManifest(job.framesDir, job.identity(), inputDigests(inputs));
         }
     }
-    char plan[1024];
-    std::snprintf(plan, sizeof plan, "rayfarm: %s: frames %s of %d, %dx%d, %d spp; mode %s (%s); %d rank%s, %s\n",
-                  job.scenePath.c_str(), frameSpan(job.first, job.last).c_str(), job.timelineFrames, job.settings.width,
-                  job.settings.height, job.settings.spp, job.mode == Mode::Pixel ? "pixel" : "frame", job.modeWhy.c_str(), ranks,
-                  ranks == 1 ? "" : "s", threadsNote.c_str());
+    const std::string plan =
+        formatted("rayfarm: %s: frames %s of %d, %dx%d, %d spp; mode %s (%s); %d rank%s, %s\n", job.scenePath.c_str(),
+                  frameSpan(job.first, job.last).c_str(), job.timelineFrames, job.settings.width, job.settings.height,
+                  job.settings.spp, job.mode == Mode::Pixel ? "pixel" : "frame", job.modeWhy.c_str(), ranks, ranks == 1 ? "" : "s",
+                  threadsNote.c_str());
     writeStderrText(plan);
     if (!job.framesDir.empty()) appendFramesLog(job.framesDir, plan);
     if (p.has("--preview")) startPreview(job.framesDir, job.last - job.first + 1);
@@ -217,13 +228,10 @@ int reportOutcome(int ranks, const RenderJob& job, const FarmOutcome& o, const s
         return signalExitStatus(sig);
     }
     const RunStats& s = o.stats;
-    char line[1024];
-    std::snprintf(line, sizeof line,
-                  "rayfarm: wrote %s: %d frames %dx%d at %.4g fps; %.1f fps sustained over %.2f s (wall %.2f s); "
-                  "encoder busy %.2f s (%.0f%%)\n",
-                  job.output.c_str(), s.frames, s.width, s.height, job.mp4.fps, s.sustainedFps, s.renderSeconds, s.wallSeconds,
-                  s.encodeSeconds, s.renderSeconds > 0 ? 100.0 * s.encodeSeconds / s.renderSeconds : 0.0);
-    std::string lines = line;
+    std::string lines = formatted("rayfarm: wrote %s: %d frames %dx%d at %.4g fps; %.1f fps sustained over %.2f s (wall %.2f s); "
+                                  "encoder busy %.2f s (%.0f%%)\n",
+                                  job.output.c_str(), s.frames, s.width, s.height, job.mp4.fps, s.sustainedFps, s.renderSeconds,
+                                  s.wallSeconds, s.encodeSeconds, s.renderSeconds > 0 ? 100.0 * s.encodeSeconds / s.renderSeconds : 0.0);
     if (s.rays.nonFinite)
         lines += "rayfarm: note: " + std::to_string((unsigned long long)s.rays.nonFinite) + " non-finite samples replaced by black\n";
     writeStderrText(lines);
