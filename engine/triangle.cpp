@@ -1,5 +1,7 @@
 #include "triangle.h"
 
+#include <algorithm>
+
 namespace rf {
 
 bool intersectTriangleClassic(const Ray& r, const Vec3& p0, const Vec3& p1, const Vec3& p2, float tMax,
@@ -79,11 +81,29 @@ bool intersectTriangleWatertight(const WatertightRay& wr, const Vec3& p0, const 
     const float T = u * az + v * bz + w * cz;
     if (det < 0.f ? (T >= 0.f || T < tMax * det) : (T <= 0.f || T > tMax * det)) return false;
     const float inv = 1.f / det;
-    hit.t = T * inv;
+    const float t = T * inv;
+    if (!(t < tMax)) return false;
+    // t is a weighted mean of the vertices' sheared z (the edge functions, all of one sign, are
+    // the weights), so a triangle whose vertices all lie certainly ahead of the origin is hit
+    // ahead, however the edge functions rounded. Otherwise (a ray leaving a surface, near its own
+    // triangle and its neighbours) t carries the rounding of the shear and the edge functions: a
+    // t that cannot be told from 0 by its error bound is the surface the ray starts on, never a
+    // hit. The bound follows the operations above (the analysis in pbrt-v4's triangle test).
+    const float maxZ = std::max({std::abs(az), std::abs(bz), std::abs(cz)});
+    if (!(std::min({az, bz, cz}) > gamma(3) * maxZ)) {
+        const float maxX = std::max({std::abs(ax), std::abs(bx), std::abs(cx)});
+        const float maxY = std::max({std::abs(ay), std::abs(by), std::abs(cy)});
+        const float deltaX = gamma(5) * (maxX + maxZ), deltaY = gamma(5) * (maxY + maxZ), deltaZ = gamma(3) * maxZ;
+        const float deltaE = 2.f * (gamma(2) * maxX * maxY + deltaY * maxX + deltaX * maxY);
+        const float maxE = std::max({std::abs(u), std::abs(v), std::abs(w)});
+        const float deltaT = 3.f * (gamma(3) * maxE * maxZ + deltaE * maxZ + deltaZ * maxE) * std::abs(inv);
+        if (!(t > deltaT)) return false;
+    }
+    hit.t = t;
     hit.b0 = u * inv;
     hit.b1 = v * inv;
     hit.b2 = w * inv;
-    return hit.t > 0.f && hit.t < tMax;
+    return t > 0.f;
 }
 
 }  // namespace rf

@@ -21,6 +21,16 @@ void triangleSeam(std::vector<StabilityCase>& out);
 void watertight(std::vector<StabilityCase>& out);
 /// #11: a lit plane seen from 1e6 away has no self-shadowed pixel.
 void selfShadowAtRange(std::vector<StabilityCase>& out, int threads);
+/// The bound flatQuads holds a quad's speckle to: the standard deviation of its pixels' 8-bit
+/// red value (the picture is uniform grey; one self-shadowed sample of four moves a pixel by
+/// dozens of levels).
+constexpr double kQuadSpeckleBound = 0.5;
+/// #11 on triangles: standard deviation of the 8-bit levels of a uniformly lit flat quad (two
+/// triangles, two directional lights, one grazing) centred at (0, 0, z) and turned by tiltDeg
+/// about x, filling a 48×48 frame at 4 spp.
+double flatQuadSpeckle(float z, float tiltDeg, int threads);
+/// #11 on triangles: flatQuadSpeckle at z = 1e-3, 1e3, 1e5, tilted 0°, 30° and 60°.
+void flatQuads(std::vector<StabilityCase>& out, int threads);
 /// #12: spheres of radius 1 and 1 + 4e-5: a ray spawned inward from the outer one stops at the
 /// inner one, within 1e-6 of the gap.
 void thinGap(std::vector<StabilityCase>& out);

@@ -172,6 +172,7 @@ std::vector<StabilityCase> engineCases(int threads) {
     triangleSeam(out);
     watertight(out);
     selfShadowAtRange(out, threads);
+    flatQuads(out, threads);
     thinGap(out);
     lightJustAbovePlane(out, threads);
     scaleSweep(out, threads);
