@@ -68,7 +68,11 @@ void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, 
                         seeds[i] = seeded ? sampleSeed(frame, pixel, sample) : kNoSampleSeed;
                         covered[i] = 0.f;
                     }
-                    integrator->LiPacket(packet, count, wanted, seeds, local, radiance, alpha ? covered : nullptr);
+                    if (settings.packets)
+                        integrator->LiPacket(packet, count, wanted, seeds, local, radiance, alpha ? covered : nullptr);
+                    else  // ray by ray, as the Integrator interface defines a packet
+                        integrator->Integrator::LiPacket(packet, count, wanted, seeds, local, radiance,
+                                                         alpha ? covered : nullptr);
                     for (uint64_t m = wanted; m; m &= m - 1) {
                         const int i = __builtin_ctzll(m);
                         hits[i] += covered[i];

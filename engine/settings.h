@@ -30,6 +30,11 @@ struct RenderSettings {
     /// where they hit (one bounce), converging towards a path tracer as N grows.
     int indirectSamples = 0;
     IntegratorKind integrator = IntegratorKind::Whitted;
+    /// Speed-ups that must never change a pixel, switchable so tests can show they do not:
+    /// camera rays traced in packets of neighbouring pixels (render.cpp, Scene::intersectPacket),
+    /// and each thread's cache of the triangle that last blocked a light (ShadowBlockers).
+    bool packets = true;
+    bool blockerCache = true;
 };
 /// The most --indirect (and the scene file's render.indirect) accepts.
 constexpr int kMaxIndirectSamples = 1024;

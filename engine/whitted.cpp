@@ -42,7 +42,7 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
 
     Color c = m.emission + scene_.ambientLight * m.ambient * base;
     if (m.diffuse <= 0.f && m.specular <= 0.f) return c;
-    ShadowRays shadows(scene_, si, frame, &blockers_);
+    ShadowRays shadows(scene_, si, frame, settings_.blockerCache ? &blockers_ : nullptr);
     float pruned = 0.f;  // worth of the lights left out so far
     for (const Light& L : scene_.lights) {
         LightIncidence li;

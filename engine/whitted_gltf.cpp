@@ -38,7 +38,7 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
     Color c = g.emission;
 
     // Punctual lights through the BRDF, shadowed and pruned as the Phong model's are.
-    ShadowRays shadows(scene_, si, frame, &blockers_);
+    ShadowRays shadows(scene_, si, frame, settings_.blockerCache ? &blockers_ : nullptr);
     float pruned = 0.f;
     const pbr::ViewTerms view = scene_.lights.empty() ? pbr::ViewTerms{} : pbr::viewTerms(s, frame.ns, V);
     for (const Light& L : scene_.lights) {

@@ -42,6 +42,11 @@ void scaleSweep(std::vector<StabilityCase>& out, int threads);
 /// contrast in float world coordinates (informative).
 void translatedModel(std::vector<StabilityCase>& out, int threads);
 
+/// A pixel depends on (scene, frame, pixel, sample) only: two scenes rendered at tile sizes 1, 7,
+/// 16, 32, 128, each with packets and the blocker cache, without packets, without the cache;
+/// the pixels whose floats differ from one reference (none may).
+void tilingIndependence(std::vector<StabilityCase>& out, int threads);
+
 /// The scene file translatedModel loads, its positions moved by dx along x (for tests of the
 /// loader's rebasing itself).
 Scene translatedScene(double dx);

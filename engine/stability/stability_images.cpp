@@ -177,6 +177,7 @@ std::vector<StabilityCase> engineCases(int threads) {
     lightJustAbovePlane(out, threads);
     scaleSweep(out, threads);
     translatedModel(out, threads);
+    tilingIndependence(out, threads);
     return out;
 }
 

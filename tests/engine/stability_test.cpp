@@ -93,3 +93,24 @@ TEST(Stability, SceneFarFromTheOriginRendersTheSame) {
     ASSERT_TRUE(cases[1].informative);
     EXPECT_GT(cases[1].error, 0.1) << cases[1].measured;
 }
+
+// Catalogue 11 on triangles, as the report tabulates it: the uniformly lit quad at z = 1e-3,
+// 1e3, 1e5 and tilts 0°, 30°, 60° has a standard deviation of at most 0.5 levels.
+TEST(Stability, FlatQuadRowsPass) {
+    std::vector<StabilityCase> cases;
+    stability::flatQuads(cases, 1);
+    ASSERT_EQ(cases.size(), 9u);
+    for (const StabilityCase& c : cases) EXPECT_LE(c.error, 0.5) << c.name << ": " << c.measured;
+}
+
+// The report's tile-size comparison: not one pixel of either scene differs across tilings,
+// packets and the blocker cache.
+TEST(Stability, TilingRowsFindNoDifference) {
+    std::vector<StabilityCase> cases;
+    stability::tilingIndependence(cases, 2);
+    ASSERT_EQ(cases.size(), 2u);
+    for (const StabilityCase& c : cases) {
+        EXPECT_EQ(c.error, 0.0) << c.name << ": " << c.measured;
+        EXPECT_NE(c.measured.find("15 variants"), std::string::npos) << c.measured;
+    }
+}
