@@ -24,6 +24,7 @@ Light punctualLight(const tinygltf::Light& gl, const DMat4& renderFromNode, cons
     if (gl.color.size() == 3) L.color = Color(float(gl.color[0]), float(gl.color[1]), float(gl.color[2]));
     // Photometric to radiometric at 683 lm/W: cd → W/sr (point, spot), lx → W/m² (directional).
     L.intensity = float(std::max(0.0, std::isfinite(gl.intensity) ? gl.intensity : 1.0) / double(kLumensPerWatt));
+    L.photometric = true;
     L.range = gl.range > 0.0 && std::isfinite(gl.range) ? float(gl.range) : 0.f;
     if (gl.type == "directional") {
         L.type = LightType::Directional;

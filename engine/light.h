@@ -20,6 +20,9 @@ struct Light {
     float outerCone = 0.7853982f;
     float range = 0.f;                ///< > 0: glTF-style smooth cut-off distance
     bool castShadows = true;
+    /// glTF lights: intensity was given in cd (point, spot) or lx (directional) and divided by
+    /// 683 lm/W; false for scene-file lights (unitless) and the built-in rig.
+    bool photometric = false;
 };
 
 /// 1/(a + b·d + c·d²); finite for any d ≥ 0 when the coefficients are valid.

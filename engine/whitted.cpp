@@ -3,6 +3,7 @@
 #include <new>
 
 #include "env_lighting.h"
+#include "image.h"
 #include "light_eval.h"
 #include "material_eval.h"
 #include "optics.h"
@@ -16,6 +17,7 @@ WhittedTracer::WhittedTracer(const Scene& scene, const RenderSettings& settings)
     specFloor_.reserve(scene.materials.size());
     for (const Material& m : scene.materials)
         specFloor_.push_back(m.shininess > 0.f ? std::exp2(-40.f / m.shininess) : 0.f);
+    displayScale_ = exposureScale(settings.exposure);
     for (const Material& m : scene.materials) seeThroughShadows_ |= m.gltfPbr && m.transmission > 0.f;
     if (scene.shadowCatcherHeight) catcher_.emplace(scene);
 }
@@ -57,7 +59,7 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
         // The seed's pruning rule applied to the shadow ray: a light whose whole unshadowed term
         // would reach the pixel below the weight threshold is left out with its ray, as long as
         // all lights left out at this point stay below it together (many dim lights add up).
-        const float worth = maxComponent(weight * term);
+        const float worth = maxComponent(weight * term) * displayScale_;
         if (pruned + worth <= settings_.minWeight) {
             pruned += worth;
             continue;

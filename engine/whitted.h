@@ -74,6 +74,10 @@ private:
     const Scene& scene_;
     RenderSettings settings_;
     std::vector<float> specFloor_;  ///< per material: the Phong term is skipped below this cosine
+    /// What a unit of radiance shows as after exposure (2^EV): the pruning rule compares a
+    /// light's worth in the displayed picture with settings.minWeight, so a scene's units cannot
+    /// prune all of its light away.
+    float displayScale_ = 1.f;
     bool seeThroughShadows_ = false;  ///< some material transmits: shadow rays filter through it
     std::optional<ShadowCatcher> catcher_;  ///< --ground shadow
     /// An integrator serves one thread (renderTile makes one per tile), so its shading points

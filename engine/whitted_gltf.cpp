@@ -47,7 +47,7 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
         const bool behindFacet = glm::dot(frame.ng, li.dir) <= 0.f;
         if (behindFacet && (si.mesh < 0 || !L.castShadows)) continue;
         const Color term = pbr::directLight(s, frame.ns, V, li.dir, li.att * L.intensity * L.color, view);
-        const float worth = maxComponent(weight * term);
+        const float worth = maxComponent(weight * term) * displayScale_;
         if (pruned + worth <= settings_.minWeight) {
             pruned += worth;
             continue;

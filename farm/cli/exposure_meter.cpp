@@ -9,6 +9,26 @@
 
 namespace rf::cli {
 
+std::string noLightWarning(const Scene& scene) {
+    std::string s = "auto exposure: the metered frames hold no light at all; ";
+    if (scene.lights.empty()) return s + "the scene has no lights and no environment";
+    s += "lights: ";
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+        const Light& l = scene.lights[i];
+        const bool directional = l.type == LightType::Directional;
+        const char* type = directional ? "directional" : l.type == LightType::Spot ? "spot" : "point";
+        char buf[160];
+        if (l.photometric)  // back to the file's own units (the loader divided by 683 lm/W)
+            std::snprintf(buf, sizeof buf, "%s%s (%s, %g %s)", i ? ", " : "", l.name.empty() ? "unnamed" : l.name.c_str(), type,
+                          double(l.intensity) * double(kLumensPerWatt), directional ? "lx" : "cd");
+        else
+            std::snprintf(buf, sizeof buf, "%s%s (%s, intensity %g, unitless)", i ? ", " : "",
+                          l.name.empty() ? "unnamed" : l.name.c_str(), type, double(l.intensity));
+        s += buf;
+    }
+    return s;
+}
+
 void resolveAutoExposure(const Scene& scene, const anim::Timeline& timeline, RenderSettings& settings, int threads,
                          const std::function<void(Scene&)>& afterPose) {
     if (!settings.autoExposure) return;
@@ -21,6 +41,9 @@ void resolveAutoExposure(const Scene& scene, const anim::Timeline& timeline, Ren
     small.width = std::min(settings.width, 80);
     small.height = std::max(1, int(std::lround(double(settings.height) * small.width / settings.width)));
     small.spp = 1;
+    // Unpruned: the pruning rule compares a light's worth after exposure, which is what the
+    // meter is about to choose; at EV 0 a scene in small units (a 10 cd lamp) would meter black.
+    small.minWeight = 0.f;
     // Posed on a copy: posing leaves traces in a scene (its BVH is refitted, not rebuilt), and a
     // farm worker that never metered must render the same frames as rank 0.
     Scene probe = scene;
@@ -33,6 +56,7 @@ void resolveAutoExposure(const Scene& scene, const anim::Timeline& timeline, Ren
     }
     settings.exposure = meter.ev();
     settings.autoExposure = false;
+    if (meter.pixels() == 0) printLine("warning", noLightWarning(scene));
     char text[96];
     std::snprintf(text, sizeof text, "EV %+.2f, metered once over %zu frame%s of the film", double(settings.exposure),
                   frames.size(), frames.size() == 1 ? "" : "s");

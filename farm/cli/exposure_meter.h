@@ -1,11 +1,16 @@
 #pragma once
 /// --exposure auto: one EV for a whole film, metered before the first frame is rendered.
 #include <functional>
+#include <string>
 
 #include "scene.h"
 #include "timeline.h"
 
 namespace rf::cli {
+
+/// The one warning line for a film whose metered frames are black: every light by name, type
+/// and intensity in its file's units (cd, lx; scene-file lights are unitless).
+std::string noLightWarning(const Scene& scene);
 
 /// If settings.autoExposure, renders a few small frames spread evenly over the film (the same
 /// frames whichever part of it this run renders, so a still and the film's frame agree), meters

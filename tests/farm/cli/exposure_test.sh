@@ -29,6 +29,21 @@ for bad in "--exposure bright" "--exposure 99" "--tonemap filmic"; do
   [ "$(printf '%s\n' "$err" | wc -l)" -eq 1 ] || fail "$bad: expected one error line, got: $err"
   case "$err" in "rayfarm: error: "*) ;; *) fail "$bad: unexpected message: $err" ;; esac
 done
+# A file with its own dim light (scenes/dim_light: one 10 cd point lamp): auto exposure meters
+# it lit and the default --min-weight keeps its light (mean luma above 25 of 255; it was 0.3
+# when pruning compared radiance before exposure). The same file with the lamp at 0 cd says so
+# in one warning line naming the lamp and its unit.
+dim=$(cd "$(dirname "$0")/../../../scenes/dim_light" && pwd)/dim_light.gltf
+luma() { ffmpeg -v error -i "$1" -vf signalstats,metadata=mode=print:file=- -f null - 2>&1 | sed -n 's/.*YAVG=//p' | head -1; }
+log=$("$rayfarm" still "$dim" --camera 0 --size 160x90 -o "$out/dim.png" 2>&1) || fail "dim light: $log"
+printf '%s\n' "$log" | grep -q warning && fail "dim light: unexpected warning: $log"
+y=$(luma "$out/dim.png")
+awk -v y="$y" 'BEGIN { exit !(y > 25) }' || fail "dim light rendered dark: mean luma $y"
+sed 's/"intensity": 10.0/"intensity": 0.0/' "$dim" > "$out/dark.gltf"
+log=$("$rayfarm" still "$out/dark.gltf" --camera 0 --size 160x90 -o "$out/dark.png" 2>&1) || fail "dark: $log"
+[ "$(printf '%s\n' "$log" | grep -c '^rayfarm: warning: ')" -eq 1 ] || fail "dark file: expected one warning line: $log"
+printf '%s\n' "$log" | grep -q '^rayfarm: warning: auto exposure: the metered frames hold no light at all; lights: lamp (point, 0 cd)$' ||
+  fail "dark file: warning does not name the lamp and its unit: $log"
 # --environment: Blender's DWAB studio loads; a truncated, over-size or missing file is one
 # line, exit 2.
 studio=$(cd "$(dirname "$0")/../../../scenes/environments" && pwd)/studio.exr
