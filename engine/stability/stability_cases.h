@@ -47,6 +47,10 @@ void translatedModel(std::vector<StabilityCase>& out, int threads);
 /// the pixels whose floats differ from one reference (none may).
 void tilingIndependence(std::vector<StabilityCase>& out, int threads);
 
+/// Light units: a floor and ball under one 10 cd lamp, metered unpruned, then rendered at the
+/// default --min-weight: the same picture as unpruned, and lit (mean level above 20).
+void dimLightScene(std::vector<StabilityCase>& out, int threads);
+
 /// The scene file translatedModel loads, its positions moved by dx along x (for tests of the
 /// loader's rebasing itself).
 Scene translatedScene(double dx);

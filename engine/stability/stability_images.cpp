@@ -178,6 +178,7 @@ std::vector<StabilityCase> engineCases(int threads) {
     scaleSweep(out, threads);
     translatedModel(out, threads);
     tilingIndependence(out, threads);
+    dimLightScene(out, threads);
     return out;
 }
 

@@ -2,6 +2,7 @@
 // camera-ray packets and each thread's blocker cache may make it faster, never different.
 #include <cstring>
 
+#include "exposure.h"
 #include "image.h"
 #include "render.h"
 #include "stability_cases.h"
@@ -73,6 +74,54 @@ void tilingIndependence(std::vector<StabilityCase>& out, int threads) {
                      std::to_string(variants) + " variants";
         out.push_back(c);
     }
+}
+
+}  // namespace rf::stability
+
+namespace rf::stability {
+
+void dimLightScene(std::vector<StabilityCase>& out, int threads) {
+    // A floor and a ball under one 10 cd point lamp (photometric, as glTF gives it: 10/683 W/sr),
+    // glTF material, metered as auto exposure does (unpruned), then rendered at the default
+    // --min-weight: it must match the unpruned picture at that EV and not be black.
+    Scene sc;
+    Material m;
+    m.gltfPbr = true;
+    m.color = Color(0.8f);
+    m.roughness = 0.6f;
+    m.metallic = 0.f;
+    sc.materials = {m};
+    sc.planes.push_back({Vec3(0, 1, 0), 0.f, 0});
+    sc.spheres.push_back({Vec3(0.f, 0.6f, 0.f), 0.6f, 0});
+    Light l;
+    l.position = Vec3(1.2f, 2.2f, 0.8f);
+    l.intensity = 10.f / kLumensPerWatt;
+    l.attenuation = Vec3(0.f, 0.f, 1.f);
+    l.photometric = true;
+    sc.lights = {l};
+    sc.background = Color(0.f);
+    sc.camera.eye = Vec3(0.f, 2.2f, 4.2f);
+    sc.camera.target = Vec3(0.f, 0.5f, 0.f);
+    sc.build();
+    RenderSettings s;
+    s.width = kW;
+    s.height = kH;
+    s.toneMap = ToneMap::PbrNeutral;
+    s.minWeight = 0.f;
+    RayStats rays;
+    ExposureMeter meter;
+    meter.add(renderFrame(sc, sc.camera, s, 0, threads, rays));
+    s.exposure = meter.ev();
+    const std::vector<uint8_t> full = toRgb8(renderFrame(sc, sc.camera, s, 0, threads, rays), s);
+    s.minWeight = RenderSettings{}.minWeight;
+    const std::vector<uint8_t> pruned = toRgb8(renderFrame(sc, sc.camera, s, 0, threads, rays), s);
+    double mean = 0.0;
+    for (uint8_t v : pruned) mean += v;
+    mean /= double(pruned.size());
+    StabilityCase c = imageCase("units", "one 10 cd lamp, default --min-weight against unpruned, at the metered EV", pruned, full);
+    c.measured += ", EV " + formatValue("%+.2f", s.exposure) + ", mean level " + formatValue("%.1f", mean);
+    c.pass = c.pass && mean > 20.0;
+    out.push_back(c);
 }
 
 }  // namespace rf::stability

@@ -103,6 +103,15 @@ TEST(Stability, FlatQuadRowsPass) {
     for (const StabilityCase& c : cases) EXPECT_LE(c.error, 0.5) << c.name << ": " << c.measured;
 }
 
+// The report's light-units row: a 10 cd lamp keeps its light at the default --min-weight.
+TEST(Stability, DimLightRowPasses) {
+    std::vector<StabilityCase> cases;
+    stability::dimLightScene(cases, 2);
+    ASSERT_EQ(cases.size(), 1u);
+    EXPECT_TRUE(cases[0].pass) << cases[0].measured;
+    EXPECT_LE(cases[0].error, 0.1) << cases[0].measured;
+}
+
 // The report's tile-size comparison: not one pixel of either scene differs across tilings,
 // packets and the blocker cache.
 TEST(Stability, TilingRowsFindNoDifference) {
