@@ -84,8 +84,11 @@ Color ShadowRays::transmittance(const Light& L, const LightIncidence& li, bool b
         const SurfaceInteraction hs = scene_.interaction(sr, hit);
         const Material& m = scene_.materials[hs.material];
         if (!(m.gltfPbr && m.transmission > 0.f)) return Color(0.f);
-        const float cosI = std::abs(glm::dot(sr.d, hs.ng));
+        // Fresnel at the smooth surface the shading normal describes (as refraction uses it),
+        // the facet's where the two disagree about which side the ray comes from.
         const bool entering = glm::dot(sr.d, hs.ng) < 0.f;
+        const float cosNs = glm::dot(sr.d, hs.ns);
+        const float cosI = (cosNs < 0.f) == entering && cosNs != 0.f ? std::abs(cosNs) : std::abs(glm::dot(sr.d, hs.ng));
         const float F = fresnelDielectric(cosI, entering ? m.ior : 1.f / m.ior);
         t *= m.transmission * (1.f - F) * baseColor(scene_, hs);
         if (maxComponent(t) < 1e-4f) return Color(0.f);

@@ -64,8 +64,12 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
             pruned += worth;
             continue;
         }
-        if (L.castShadows && !shadows.unoccluded(L, li, behindFacet, stats)) continue;
-        c += term;
+        if (!L.castShadows) {
+            c += term;
+            continue;
+        }
+        const Color t = shadows.transmittance(L, li, behindFacet, stats, seeThroughShadows_);
+        if (t != Color(0.f)) c += term * t;
     }
     return c;
 }
@@ -150,18 +154,28 @@ Color WhittedTracer::traceHit(const Ray& r, const Hit& hit, int depth, const Col
     Vec3 ng = si.ng;
     const bool entering = glm::dot(r.d, ng) < 0.f;
     if (!entering) ng = -ng;  // ng now faces the incoming ray
+    // The shading normal, on the side of the facet that faces the ray. Reflection, refraction
+    // and Fresnel follow it, so glass through a smooth mesh bends as the smooth surface would;
+    // where it disagrees with the facet (seen from behind, or a direction that would not leave
+    // or cross the facet), the geometric normal decides instead.
+    Vec3 ns = si.ns;
+    if (glm::dot(ns, ng) < 0.f) ns = -ns;
+    if (!(glm::dot(r.d, ns) < 0.f)) ns = ng;
     Vec3 refrDir(0.f);
     if (m.transmission > 0.f) {
         const float etaI = entering ? 1.f : m.ior, etaT = entering ? m.ior : 1.f;
-        const float F = fresnelDielectric(-glm::dot(r.d, ng), etaT / etaI);
+        float F = fresnelDielectric(-glm::dot(r.d, ns), etaT / etaI);
+        bool through = F < 1.f && refract(r.d, ns, etaI / etaT, refrDir);
+        if (through && glm::dot(refrDir, ng) >= 0.f) {  // would not cross the facet: refract on ng
+            F = fresnelDielectric(-glm::dot(r.d, ng), etaT / etaI);
+            through = F < 1.f && refract(r.d, ng, etaI / etaT, refrDir);
+        }
         kr += m.transmission * F;
-        if (F < 1.f && refract(r.d, ng, etaI / etaT, refrDir)) kt = m.transmission * (1.f - F);
+        if (through) kt = m.transmission * (1.f - F);
     }
     if (kr > 0.f) {
         const Color w = weight * kr;
         if (maxComponent(w) > settings_.minWeight) {
-            Vec3 ns = si.ns;
-            if (glm::dot(ns, ng) < 0.f) ns = -ns;
             Vec3 dir = reflect(r.d, ns);
             if (glm::dot(dir, ng) <= 0.f) dir = reflect(r.d, ng);  // below the surface: use ng
             const uint32_t skip = scene_.skipFor(si, dir);
