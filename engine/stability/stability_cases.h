@@ -51,6 +51,10 @@ void tilingIndependence(std::vector<StabilityCase>& out, int threads);
 /// default --min-weight: the same picture as unpruned, and lit (mean level above 20).
 void dimLightScene(std::vector<StabilityCase>& out, int threads);
 
+/// Smooth glass: a 64 × 32 smooth UV sphere mesh of glass over a checker floor against the
+/// analytic sphere (RMS difference in 8-bit levels, at most 4).
+void smoothGlassMesh(std::vector<StabilityCase>& out, int threads);
+
 /// The scene file translatedModel loads, its positions moved by dx along x (for tests of the
 /// loader's rebasing itself).
 Scene translatedScene(double dx);

@@ -179,6 +179,7 @@ std::vector<StabilityCase> engineCases(int threads) {
     translatedModel(out, threads);
     tilingIndependence(out, threads);
     dimLightScene(out, threads);
+    smoothGlassMesh(out, threads);
     return out;
 }
 

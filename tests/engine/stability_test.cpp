@@ -112,6 +112,14 @@ TEST(Stability, DimLightRowPasses) {
     EXPECT_LE(cases[0].error, 0.1) << cases[0].measured;
 }
 
+// The report's smooth-glass row: the UV sphere mesh of glass within 4 levels RMS of the sphere.
+TEST(Stability, SmoothGlassRowPasses) {
+    std::vector<StabilityCase> cases;
+    stability::smoothGlassMesh(cases, 2);
+    ASSERT_EQ(cases.size(), 1u);
+    EXPECT_LE(cases[0].error, 4.0) << cases[0].measured;
+}
+
 // The report's tile-size comparison: not one pixel of either scene differs across tilings,
 // packets and the blocker cache.
 TEST(Stability, TilingRowsFindNoDifference) {
