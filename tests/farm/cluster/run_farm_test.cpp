@@ -10,6 +10,8 @@
 #include <map>
 #include <thread>
 
+#include <unistd.h>
+
 #include "farm_test_scene.h"
 #include "loopback_transport.h"
 #include "render_engine.h"
@@ -35,8 +37,12 @@ private:
 std::string writeSceneFile() {
     const std::string dir = std::string(RAYFARM_TEST_OUT) + "/run_farm";
     std::filesystem::create_directories(dir);
-    const std::string path = dir + "/farm_test.json";
-    std::ofstream(path) << rf::testing::kFarmSceneJson;
+    // CTest runs each case as its own process, in parallel: a path shared between them is
+    // rewritten under a reader. Each process writes its own copy, whole, then renames it.
+    const std::string path = dir + "/farm_test." + std::to_string(::getpid()) + ".json";
+    const std::string part = path + ".part";
+    std::ofstream(part) << rf::testing::kFarmSceneJson;
+    std::filesystem::rename(part, path);
     return path;
 }
 
