@@ -7,6 +7,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "errors.h"
+#include "skinning.h"
 
 namespace rf::anim {
 
@@ -150,6 +151,13 @@ std::vector<MeshExtent> meshExtents(const Scene& scene, int model) {
             for (const Vec3& v : target) d.grow(v);
             e.morph.push_back(d);
         }
+        if (m.skin >= 0 && m.influences > 0) {
+            const SceneGraph& g = scene.models[size_t(model)];
+            e.joints.resize(size_t(m.skin) < g.skins.size() ? g.skins[size_t(m.skin)].joints.size() : 0);
+            for (size_t i = 0; i < m.objectPositions.size(); ++i)
+                for (size_t k = i * size_t(m.influences); k < (i + 1) * size_t(m.influences); ++k)
+                    if (m.skinWeights[k] > 0.f && m.skinJoints[k] < e.joints.size()) e.joints[m.skinJoints[k]].grow(m.objectPositions[i]);
+        }
         out.push_back(std::move(e));
     }
     return out;
@@ -160,13 +168,17 @@ void GltfAnimationPlayer::growPosedBounds(const Scene& scene, double t, const st
     std::vector<DMat4> renderFromNode;
     std::vector<std::vector<double>> weights;
     pose(scene.models[model_], t, renderFromNode, weights);
+    const SceneGraph& graph = scene.models[size_t(model_)];
+    std::vector<std::vector<DMat4>> joints(graph.skins.size());
     for (const MeshExtent& e : extents) {
         const TriangleMesh& mesh = scene.meshes[e.mesh];
         if (mesh.model != model_ || mesh.node < 0 || mesh.node >= static_cast<int>(renderFromNode.size()) || e.base.empty()) continue;
+        const bool skinned = mesh.skin >= 0 && size_t(mesh.skin) < joints.size();
+        if (skinned && joints[size_t(mesh.skin)].empty()) joints[size_t(mesh.skin)] = jointMatrices(graph.skins[size_t(mesh.skin)], renderFromNode);
         const DMat4& m = renderFromNode[mesh.node];
         const std::vector<double>& w = weights[mesh.node];
-        auto grow = [&](const DVec3& p) {
-            const Vec3 q(DVec3(m * glm::dvec4(p, 1.0)));
+        auto grow = [&](const DMat4& by, const DVec3& p) {
+            const Vec3 q(DVec3(by * glm::dvec4(p, 1.0)));
             if (isFinite(q)) b.grow(q);
         };
         if (mesh.objectPositions.size() <= kExactBoundsVertices) {
@@ -174,20 +186,28 @@ void GltfAnimationPlayer::growPosedBounds(const Scene& scene, double t, const st
                 DVec3 p(mesh.objectPositions[i]);
                 for (size_t k = 0; k < w.size() && k < mesh.morphPositions.size(); ++k)
                     if (!mesh.morphPositions[k].empty()) p += w[k] * DVec3(mesh.morphPositions[k][i]);
-                grow(p);
+                grow(skinned ? skinMatrix(mesh, i, joints[size_t(mesh.skin)]) : m, p);
             }
             continue;
         }
         // Box of base + Σ w·delta: each target adds w·[lo, hi] (ends swapped for negative w).
-        DVec3 lo(e.base.lo), hi(e.base.hi);
+        DVec3 lo(0.0), hi(0.0);
         for (size_t k = 0; k < w.size() && k < e.morph.size(); ++k) {
             if (e.morph[k].empty()) continue;
             const DVec3 a = w[k] * DVec3(e.morph[k].lo), c = w[k] * DVec3(e.morph[k].hi);
             lo += glm::min(a, c);
             hi += glm::max(a, c);
         }
-        for (int corner = 0; corner < 8; ++corner)
-            grow(DVec3(corner & 1 ? hi.x : lo.x, corner & 2 ? hi.y : lo.y, corner & 4 ? hi.z : lo.z));
+        auto corners = [&](const DMat4& by, const Aabb& box) {
+            const DVec3 l = DVec3(box.lo) + lo, h = DVec3(box.hi) + hi;
+            for (int corner = 0; corner < 8; ++corner) grow(by, DVec3(corner & 1 ? h.x : l.x, corner & 2 ? h.y : l.y, corner & 4 ? h.z : l.z));
+        };
+        if (!skinned) {
+            corners(m, e.base);
+            continue;
+        }
+        for (size_t j = 0; j < e.joints.size(); ++j)
+            if (!e.joints[j].empty()) corners(joints[size_t(mesh.skin)][j], e.joints[j]);
     }
 }
 

@@ -21,11 +21,13 @@ DMat4 nodeLocalMatrix(const SceneNode& node);
 /// Model-from-node matrices of every node, parents first, from local matrices.
 std::vector<DMat4> modelFromNode(const SceneGraph& graph, const std::vector<DMat4>& local);
 
-/// Object-space box of an animated mesh and of each morph target's deltas.
+/// Object-space box of an animated mesh and of each morph target's deltas; for a skinned
+/// mesh also, per joint, the bind-space box of the vertices that joint moves.
 struct MeshExtent {
     size_t mesh = 0;
     Aabb base;
     std::vector<Aabb> morph;
+    std::vector<Aabb> joints;
 };
 
 /// Extents of every animated mesh (node ≥ 0) of scene.models[model].
@@ -52,7 +54,8 @@ public:
     /// Grows b (render space) by the model's animated meshes as posed at t, leaving the scene
     /// untouched: for framing a film on where the model goes, not only where it rests. Meshes
     /// above kExactBoundsVertices are bounded by their transformed object-space box (looser,
-    /// but O(1) per pose instead of O(vertices)).
+    /// but O(1) per pose instead of O(vertices)); a skinned one above it by its joints' boxes,
+    /// each through its joint matrix (a blended vertex lies in their hull).
     void growPosedBounds(const Scene& scene, double t, const std::vector<MeshExtent>& extents, Aabb& b) const;
     static constexpr size_t kExactBoundsVertices = 4096;
 

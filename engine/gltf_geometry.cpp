@@ -215,6 +215,69 @@ struct PrimitiveReader {
         return o;
     }
 
+    /// JOINTS_n and WEIGHTS_n for every n the primitive has (they come in pairs): joints
+    /// unsigned byte or short, weights float or normalized unsigned byte or short. Weights
+    /// are normalized per vertex when their sum is off by more than the type's rounding.
+    void skinAttributes(PrimitiveGeometry& out) const {
+        TriangleMesh& m = out.mesh;
+        int sets = 0;
+        while (attribute(p, ("JOINTS_" + std::to_string(sets)).c_str()) >= 0 ||
+               attribute(p, ("WEIGHTS_" + std::to_string(sets)).c_str()) >= 0)
+            ++sets;
+        if (sets == 0) return;
+        m.influences = 4 * sets;
+        m.skinJoints.assign(nv * size_t(m.influences), 0);
+        m.skinWeights.assign(nv * size_t(m.influences), 0.f);
+        double tolerance = 2e-3;  // float weights: "as close as reasonably possible to 1"
+        for (int s = 0; s < sets; ++s) {
+            const std::string jn = "JOINTS_" + std::to_string(s), wn = "WEIGHTS_" + std::to_string(s);
+            const int ja = attribute(p, jn.c_str()), wa = attribute(p, wn.c_str());
+            if (ja < 0 || wa < 0)
+                throw InputError(file, w + ": " + (ja < 0 ? wn + " has no " + jn : jn + " has no " + wn) + " (they come in pairs)");
+            const tinygltf::Accessor& jacc = model.accessors[size_t(ja)];
+            if ((jacc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && jacc.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) ||
+                jacc.normalized)
+                throw InputError(file, w + ".attributes." + jn + " (accessors[" + std::to_string(ja) + "]): joints must be unsigned byte or unsigned short, not normalized");
+            const tinygltf::Accessor& wacc = model.accessors[size_t(wa)];
+            const bool wInt = wacc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                              wacc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+            if (!(wacc.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT || (wInt && wacc.normalized)))
+                throw InputError(file, w + ".attributes." + wn + " (accessors[" + std::to_string(wa) + "]): weights must be float or normalized unsigned byte or short");
+            if (wInt)  // the stored integers SHOULD sum to 255 or 65535: allow one step per influence
+                tolerance = std::max(tolerance, 4.0 * sets / (wacc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ? 255.0 : 65535.0));
+            const AccessorData J = read(ja, TINYGLTF_TYPE_VEC4, jn.c_str());
+            const AccessorData W = read(wa, TINYGLTF_TYPE_VEC4, wn.c_str());
+            PrimitiveGeometry::JointSet js;
+            js.accessor = ja;
+            js.set = s;
+            for (size_t i = 0; i < nv; ++i)
+                for (int c = 0; c < 4; ++c) {
+                    const size_t k = i * size_t(m.influences) + size_t(4 * s + c);
+                    const float j = J.at(i, c);
+                    m.skinJoints[k] = uint16_t(j);  // exact: an integer below 65536
+                    if (uint32_t(j) > js.maxJoint) js.maxJoint = uint32_t(j), js.vertex = i;
+                    const float x = W.at(i, c);
+                    if (!(x >= 0.f) || !std::isfinite(x))
+                        throw InputError(file, w + ".attributes." + wn + " (accessors[" + std::to_string(wa) + "]): vertex " +
+                                                   std::to_string(i) + " has a negative or non-finite weight");
+                    m.skinWeights[k] = x;
+                }
+            out.jointSets.push_back(js);
+        }
+        for (size_t i = 0; i < nv; ++i) {
+            float* wv = &m.skinWeights[i * size_t(m.influences)];
+            double sum = 0.0;
+            for (int k = 0; k < m.influences; ++k) sum += wv[k];
+            if (sum == 0.0) {
+                wv[0] = 1.f;  // unweighted: follows its first joint rather than collapsing
+                ++out.weightsZero;
+            } else if (std::abs(sum - 1.0) > tolerance) {
+                for (int k = 0; k < m.influences; ++k) wv[k] = float(double(wv[k]) / sum);
+                ++out.weightsNormalized;
+            }
+        }
+    }
+
     void morphTargets(TriangleMesh& m) const {
         for (const auto& target : p.targets) {
             std::vector<Vec3> dp, dn;
@@ -266,6 +329,7 @@ bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int primIndex, 
     const std::vector<uint32_t> order = r.order();
     if (mode == TINYGLTF_MODE_TRIANGLES) out.leftoverIndices = order.size() % 3;
     r.morphTargets(m);
+    r.skinAttributes(out);
     keepGoodTriangles(unroll(order, mode), finite, out);
     if (m.normals.empty()) {
         // Indexed: smooth, area-weighted per vertex. Non-indexed: every triangle owns its

@@ -21,6 +21,18 @@ struct PrimitiveGeometry {
     size_t leftoverIndices = 0;   ///< TRIANGLES indices past the last multiple of 3
     int gltfMaterial = -1;        ///< -1 also when the file's index is out of range
     bool materialOutOfRange = false;
+    /// JOINTS_n/WEIGHTS_n (mesh.influences, skinJoints, skinWeights): per set its JOINTS
+    /// accessor and the largest joint index in it (with a vertex that has it), for the node
+    /// that binds a skin to check against its joint count.
+    struct JointSet {
+        int accessor = -1;
+        int set = 0;
+        uint32_t maxJoint = 0;
+        size_t vertex = 0;
+    };
+    std::vector<JointSet> jointSets;
+    size_t weightsNormalized = 0;  ///< vertices whose weights did not sum to 1 (now normalized)
+    size_t weightsZero = 0;        ///< vertices with no weight at all (bound to their first joint)
 };
 
 /// Builds primitive `prim` of mesh `meshIndex`. Returns false (and builds nothing) for points

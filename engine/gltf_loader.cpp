@@ -17,6 +17,7 @@
 #include "gltf_materials.h"
 #include "gltf_safety.h"
 #include "render_origin.h"
+#include "skinning.h"
 
 namespace rf {
 
@@ -74,6 +75,7 @@ public:
         resolveHierarchy();
         checkInstancedSize();
         readAnimations();
+        readSkins();
     }
 
     /// World-space bounds of the drawn triangles; false if there are none.
@@ -88,9 +90,11 @@ public:
             for (size_t p = 0; p < model_.meshes[size_t(n.mesh)].primitives.size(); ++p) {
                 const PrimitiveGeometry* g = primitive(n.mesh, int(p));
                 if (!g) continue;
-                const std::vector<Vec3> pos = morphedPositions(g->mesh, defaultWeights(node));
+                std::vector<Vec3> pos = morphedPositions(g->mesh, defaultWeights(node));
+                const bool skinned = skinnedPrimitive(node, *g, int(p));
+                if (skinned) pos = restSkinned(node, *g, worldFromModel).positions;
                 for (uint32_t i : g->mesh.indices) {
-                    const glm::dvec3 q(m * glm::dvec4(glm::dvec3(pos[i]), 1.0));
+                    const glm::dvec3 q = skinned ? glm::dvec3(pos[i]) : glm::dvec3(m * glm::dvec4(glm::dvec3(pos[i]), 1.0));
                     lo = glm::min(lo, q);
                     hi = glm::max(hi, q);
                     any = true;
@@ -172,6 +176,91 @@ private:
         }
         if (!finiteMat(m)) throw InputError(path_, w + ": non-finite transform");
         return m;
+    }
+
+    /// Whether primitive prim of node's mesh is drawn through the node's skin: the node has one
+    /// and the primitive has JOINTS_n/WEIGHTS_n. Refuses joint indices the skin lacks.
+    bool skinnedPrimitive(int node, const PrimitiveGeometry& g, int prim) const {
+        const tinygltf::Node& n = model_.nodes[size_t(node)];
+        if (n.skin < 0 || g.mesh.influences == 0) return false;
+        const size_t joints = skins_[size_t(n.skin)].joints.size();
+        for (const PrimitiveGeometry::JointSet& js : g.jointSets)
+            if (js.maxJoint >= joints)
+                throw InputError(path_, "meshes[" + std::to_string(n.mesh) + "].primitives[" + std::to_string(prim) + "].attributes.JOINTS_" +
+                                            std::to_string(js.set) + " (accessors[" + std::to_string(js.accessor) + "]): vertex " +
+                                            std::to_string(js.vertex) + " names joint " + std::to_string(js.maxJoint) + ", but skins[" +
+                                            std::to_string(n.skin) + "] (used by nodes[" + std::to_string(node) + "]) has " +
+                                            std::to_string(joints) + " joints");
+        return true;
+    }
+
+    /// A skinned primitive posed by its skin's rest joints (and the node's default morph
+    /// weights), with its object-space copies kept.
+    TriangleMesh restSkinned(int node, const PrimitiveGeometry& g, const DMat4& renderFromModel) const {
+        TriangleMesh m = g.mesh;
+        m.skin = model_.nodes[size_t(node)].skin;
+        m.objectPositions = m.positions;
+        m.objectNormals = m.normals;
+        m.objectTangents = m.tangents;
+        std::vector<DMat4> renderFromNode(restModelFromNode_.size());
+        for (size_t i = 0; i < renderFromNode.size(); ++i) renderFromNode[i] = renderFromModel * restModelFromNode_[i];
+        const std::vector<DMat4> joints = jointMatrices(skins_[size_t(m.skin)], renderFromNode);
+        const std::vector<double> w = defaultWeights(node);
+        poseMesh(m, DMat4(1.0), &joints, &w);
+        return m;
+    }
+
+    /// skins[]: joints that are nodes, inverse bind matrices (MAT4 floats, one per joint, or
+    /// the identity when absent), and the nodes that name them; the rest pose of every node
+    /// (joints need not be in the drawn scene).
+    void readSkins() {
+        for (size_t s = 0; s < model_.skins.size(); ++s) {
+            const tinygltf::Skin& gs = model_.skins[s];
+            const std::string w = "skins[" + std::to_string(s) + "]";
+            Skin skin;
+            skin.name = gs.name;
+            if (gs.joints.empty()) throw InputError(path_, w + ".joints: a skin needs at least one joint");
+            for (size_t j = 0; j < gs.joints.size(); ++j) {
+                const int node = gs.joints[j];
+                if (node < 0 || size_t(node) >= model_.nodes.size())
+                    throw InputError(path_, w + ".joints[" + std::to_string(j) + "]: no node " + std::to_string(node));
+                skin.joints.push_back(node);
+            }
+            skin.inverseBind.assign(gs.joints.size(), DMat4(1.0));
+            if (gs.inverseBindMatrices >= 0) {
+                const AccessorData ibm = readAccessor(model_, gs.inverseBindMatrices, path_, {TINYGLTF_TYPE_MAT4});
+                if (ibm.count < gs.joints.size())
+                    throw InputError(path_, w + ".inverseBindMatrices (accessors[" + std::to_string(gs.inverseBindMatrices) + "]): " +
+                                                std::to_string(ibm.count) + " matrices for " + std::to_string(gs.joints.size()) + " joints");
+                for (size_t j = 0; j < gs.joints.size(); ++j) {
+                    DMat4 m;
+                    for (int c = 0; c < 16; ++c) m[c / 4][c % 4] = ibm.at(j, c);  // column-major, as glTF stores it
+                    if (!finiteMat(m))
+                        throw InputError(path_, w + ".inverseBindMatrices (accessors[" + std::to_string(gs.inverseBindMatrices) + "]): matrix " +
+                                                    std::to_string(j) + " is not finite");
+                    skin.inverseBind[j] = m;
+                }
+            }
+            skins_.push_back(std::move(skin));
+        }
+        for (size_t i = 0; i < model_.nodes.size(); ++i)
+            if (model_.nodes[i].skin >= 0 && size_t(model_.nodes[i].skin) >= skins_.size())
+                throw InputError(path_, "nodes[" + std::to_string(i) + "].skin: no skin " + std::to_string(model_.nodes[i].skin));
+        if (skins_.empty()) return;
+        // Parents are acyclic (resolveHierarchy): a memoized walk up each chain.
+        const size_t n = model_.nodes.size();
+        restModelFromNode_.assign(n, DMat4(1.0));
+        std::vector<uint8_t> done(n, 0);
+        for (size_t i = 0; i < n; ++i) {
+            std::vector<size_t> chain;
+            for (int k = int(i); k >= 0 && !done[size_t(k)]; k = parent_[size_t(k)]) chain.push_back(size_t(k));
+            for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+                const int p = parent_[*it];
+                restModelFromNode_[*it] = p >= 0 ? restModelFromNode_[size_t(p)] * localTransform(int(*it)) : localTransform(int(*it));
+                if (!finiteMat(restModelFromNode_[*it])) throw InputError(path_, "nodes[" + std::to_string(*it) + "]: transform overflows");
+                done[*it] = 1;
+            }
+        }
     }
 
     void resolveHierarchy() {
@@ -325,6 +414,9 @@ private:
     std::vector<int> order_;  ///< drawn nodes, parents before children
     std::vector<uint8_t> animatedNode_;
     std::vector<Animation> animations_;
+    std::vector<Skin> skins_;
+    std::vector<DMat4> restModelFromNode_;  ///< every node's rest transform (filled when there are skins)
+    size_t weightsNormalized_ = 0, weightsZero_ = 0;
     std::map<std::pair<int, int>, std::optional<PrimitiveGeometry>> prims_;
     bool skippedPointsLines_ = false;
     int materialOverride_ = -1;
@@ -351,6 +443,7 @@ SceneGraph GltfModel::sceneGraph(const DMat4& renderFromModel) const {
         graph.nodes.push_back(std::move(sn));
     }
     graph.animations = animations_;
+    graph.skins = skins_;
     return graph;
 }
 
@@ -368,8 +461,31 @@ void GltfModel::addNodeMeshes(Scene& scene, int node, const DMat4& renderFromNod
         dropped.nonFinite += g->droppedNonFinite;
         dropped.generated += g->generatedNormals;
         if (g->mesh.indices.empty()) continue;
+        if (skinnedPrimitive(node, *g, int(p))) {
+            // The skin places it (the node's own transform is not used); it always keeps its
+            // object-space data, so any animation of its joints can move it.
+            TriangleMesh m = restSkinned(node, *g, scene.models[size_t(modelIndex)].renderFromModel);
+            m.name = gm.name;
+            m.model = modelIndex;
+            m.node = node;
+            bool finite = true;
+            for (const Vec3& q : m.positions) finite &= isFinite(q);
+            if (!finite) {
+                ++dropped.unplaced;
+                continue;
+            }
+            weightsNormalized_ += g->weightsNormalized;
+            weightsZero_ += g->weightsZero;
+            m.material = materialOverride_ >= 0 ? materialOverride_ : materials.materialFor(g->gltfMaterial);
+            if (materialOverride_ >= 0) m.colors.clear(), m.tangents.clear(), m.objectTangents.clear();
+            scene.meshes.push_back(std::move(m));
+            continue;
+        }
         TriangleMesh m = g->mesh;
         m.name = gm.name;
+        m.influences = 0;  // not bound to a skin here: drawn rigidly by its node
+        m.skinJoints.clear();
+        m.skinWeights.clear();
         if (dynamic) {
             m.model = modelIndex;
             m.node = node;
@@ -423,7 +539,9 @@ void GltfModel::noteDrops(const DropCounts& d) {
     if (d.generated) notes_.push_back("normals generated for " + std::to_string(d.generated) + " primitives");
     if (d.unplaced) notes_.push_back(std::to_string(d.unplaced) + " primitives dropped: their node scales them to nothing or to infinity");
     if (skippedPointsLines_) notes_.push_back("points and lines are not rendered; skipped");
-    if (!model_.skins.empty()) notes_.push_back("skins are not supported: skinned meshes drawn in their bind pose");
+    if (weightsNormalized_)
+        notes_.push_back(std::to_string(weightsNormalized_) + " skinned vertices have joint weights that do not sum to 1; normalized");
+    if (weightsZero_) notes_.push_back(std::to_string(weightsZero_) + " skinned vertices have no joint weight; they follow their first joint");
     // Material extensions are noted per material, where they are met.
     for (const std::string& e : model_.extensionsUsed)
         if (!isSupportedExtension(e) && e.rfind("KHR_materials_", 0) != 0) notes_.push_back("extension " + e + " ignored");

@@ -29,6 +29,13 @@ struct TriangleMesh {
     /// Morph targets (position deltas per target) and default weights.
     std::vector<std::vector<Vec3>> morphPositions;
     std::vector<std::vector<Vec3>> morphNormals;
+    /// Skinned meshes (skin ≥ 0, in Scene::models[model].skins): `influences` joint/weight
+    /// pairs per vertex (4 per JOINTS_n/WEIGHTS_n set), joints indexing the skin's joint list
+    /// and weights summing to 1. The node's own transform is then not used (glTF 2.0 §3.7.3.3).
+    int skin = -1;
+    int influences = 0;
+    std::vector<uint16_t> skinJoints;
+    std::vector<float> skinWeights;
 
     size_t triangleCount() const { return indices.size() / 3; }
 };

@@ -4,6 +4,7 @@
 #include <new>
 
 #include "material_eval.h"
+#include "skinning.h"
 
 namespace rf {
 
@@ -138,38 +139,20 @@ void Scene::refit() {
 void Scene::applyNodeTransforms(int model, const std::vector<DMat4>& renderFromNode,
                                 const std::vector<std::vector<double>>& morphWeights) {
     bool changed = false;
+    // Joint matrices once per skin, from the same node matrices as the rigid meshes.
+    std::vector<std::vector<DMat4>> joints;
+    const std::vector<Skin>* skins = model >= 0 && size_t(model) < models.size() ? &models[size_t(model)].skins : nullptr;
     for (TriangleMesh& mesh : meshes) {
         if (mesh.model != model || mesh.node < 0 || mesh.node >= static_cast<int>(renderFromNode.size())) continue;
-        const DMat4& m = renderFromNode[mesh.node];
-        const glm::dmat3 nm = glm::transpose(glm::inverse(glm::dmat3(m)));
-        // Tangents follow the surface (the linear part itself, not its inverse transpose); a
-        // mirroring transform flips the bitangent's sign, as glTF's loader-side rule does.
-        const glm::dmat3 lin(m);
-        const double tangentSign = glm::determinant(lin) < 0.0 ? -1.0 : 1.0;
-        for (size_t i = 0; i < mesh.objectTangents.size() && i < mesh.tangents.size(); ++i) {
-            const Vec4& t = mesh.objectTangents[i];
-            const glm::dvec3 v = lin * glm::dvec3(Vec3(t));
-            const double len = glm::length(v);
-            mesh.tangents[i] = Vec4(len > 0.0 && std::isfinite(len) ? Vec3(v / len) : Vec3(0.f), float(tangentSign * t.w));
+        const std::vector<DMat4>* jm = nullptr;
+        if (mesh.skin >= 0 && skins && size_t(mesh.skin) < skins->size()) {
+            if (joints.empty()) joints.resize(skins->size());
+            std::vector<DMat4>& j = joints[size_t(mesh.skin)];
+            if (j.empty()) j = jointMatrices((*skins)[size_t(mesh.skin)], renderFromNode);
+            jm = &j;
         }
         const std::vector<double>* w = (mesh.node < static_cast<int>(morphWeights.size())) ? &morphWeights[mesh.node] : nullptr;
-        for (size_t i = 0; i < mesh.objectPositions.size(); ++i) {
-            glm::dvec3 p(mesh.objectPositions[i]);
-            glm::dvec3 n = mesh.objectNormals.empty() ? glm::dvec3(0.0) : glm::dvec3(mesh.objectNormals[i]);
-            if (w) {
-                for (size_t k = 0; k < w->size() && k < mesh.morphPositions.size(); ++k) {
-                    p += (*w)[k] * glm::dvec3(mesh.morphPositions[k][i]);
-                    if (!mesh.objectNormals.empty() && k < mesh.morphNormals.size() && !mesh.morphNormals[k].empty())
-                        n += (*w)[k] * glm::dvec3(mesh.morphNormals[k][i]);
-                }
-            }
-            mesh.positions[i] = Vec3(glm::dvec3(m * glm::dvec4(p, 1.0)));
-            if (!mesh.objectNormals.empty()) {
-                const glm::dvec3 tn = nm * n;
-                const double len = glm::length(tn);
-                mesh.normals[i] = len > 0.0 ? Vec3(tn / len) : Vec3(0.f);
-            }
-        }
+        poseMesh(mesh, renderFromNode[size_t(mesh.node)], jm, w);
         changed = true;
     }
     if (changed) refit();

@@ -47,12 +47,21 @@ struct Animation {
     }
 };
 
+/// A glTF skin: the joint nodes and, per joint, the matrix from the mesh's bind space into the
+/// joint's space (identity when the file gives none).
+struct Skin {
+    std::string name;
+    std::vector<int> joints;          ///< node indices
+    std::vector<DMat4> inverseBind;   ///< one per joint
+};
+
 /// One loaded model: its nodes, animations and where it sits in render space.
 struct SceneGraph {
     std::string source;        ///< file it came from, for messages
     DMat4 renderFromModel{1.0};  ///< placement in the scene, rebased to Scene::renderOrigin
     std::vector<SceneNode> nodes;
     std::vector<Animation> animations;
+    std::vector<Skin> skins;
 };
 
 }  // namespace rf
