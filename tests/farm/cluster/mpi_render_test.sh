@@ -137,6 +137,26 @@ resume)
         { cat changed.log; fail "changed scene not refused in one line naming the file"; }
     echo "resume: a changed scene file is refused: $(grep 'rayfarm: error' changed.log | cut -c1-120)"
     ;;
+resume-scene)
+    # Any scene (e.g. a skinned model, posed per frame): a resumed run at another rank count
+    # renders only the missing frames, and they equal those of a whole run byte for byte.
+    scene=$1; shift
+    args=(render "$scene" "$@")
+    rm -rf full.* part.*
+    mpi 2 "${args[@]}" -o full.mp4 --mode frame 2> full.log || { cat full.log; fail "full run failed"; }
+    n=$(ls full.frames | grep -c '^frame_.*\.png$')
+    [ "$n" -ge 4 ] || fail "only $n frames"
+    mpi 1 "${args[@]}" -o part.mp4 2> part.log || { cat part.log; fail "second run failed"; }
+    rm part.mp4
+    gone=$(ls part.frames | grep '^frame_.*\.png$' | sed -n '2p;4p')
+    for f in $gone; do rm "part.frames/$f"; done
+    mpi 3 "${args[@]}" -o part.mp4 --resume --mode pixel 2> resume.log || { cat resume.log; fail "resume failed"; }
+    grep -q "$((n - 2)) of $n frames kept in part.frames, 2 to render" resume.log || { cat resume.log; fail "resume did not render exactly the 2 missing frames"; }
+    cmp -s <(pngs_md5 full.frames) <(pngs_md5 part.frames) || fail "resumed PNGs differ"
+    cmp -s <(video_md5 full.mp4) <(video_md5 part.mp4) || fail "resumed video decodes differently"
+    [ "$(pngs_md5 full.frames | awk '{print $1}' | sort -u | wc -l)" = "$n" ] || fail "some frames are identical: nothing moves"
+    echo "resume-scene: $n frames, 2 re-rendered at np 3 pixel mode, identical to np 2 frame mode"
+    ;;
 interrupt)
     args=(render "$FLIGHT" --size 320x180 --spp 9)
     rm -rf int.* ref.*
