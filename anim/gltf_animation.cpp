@@ -1,6 +1,7 @@
 #include "gltf_animation.h"
 
 #include <cmath>
+#include <filesystem>
 #include <functional>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -164,6 +165,11 @@ std::vector<MeshExtent> meshExtents(const Scene& scene, int model) {
 }
 
 void GltfAnimationPlayer::growPosedBounds(const Scene& scene, double t, const std::vector<MeshExtent>& extents, Aabb& b) const {
+    visitPosed(scene, t, extents, [&](const Vec3& q) { b.grow(q); });
+}
+
+void GltfAnimationPlayer::visitPosed(const Scene& scene, double t, const std::vector<MeshExtent>& extents,
+                                     const std::function<void(const Vec3&)>& visit) const {
     if (model_ < 0 || model_ >= static_cast<int>(scene.models.size())) return;
     std::vector<DMat4> renderFromNode;
     std::vector<std::vector<double>> weights;
@@ -179,7 +185,7 @@ void GltfAnimationPlayer::growPosedBounds(const Scene& scene, double t, const st
         const std::vector<double>& w = weights[mesh.node];
         auto grow = [&](const DMat4& by, const DVec3& p) {
             const Vec3 q(DVec3(by * glm::dvec4(p, 1.0)));
-            if (isFinite(q)) b.grow(q);
+            if (isFinite(q)) visit(q);
         };
         if (mesh.objectPositions.size() <= kExactBoundsVertices) {
             for (size_t i = 0; i < mesh.objectPositions.size(); ++i) {
@@ -209,6 +215,32 @@ void GltfAnimationPlayer::growPosedBounds(const Scene& scene, double t, const st
         for (size_t j = 0; j < e.joints.size(); ++j)
             if (!e.joints[j].empty()) corners(joints[size_t(mesh.skin)][j], e.joints[j]);
     }
+}
+
+namespace {
+bool isIndex(const std::string& s) { return !s.empty() && s.size() < 10 && s.find_first_not_of("0123456789") == std::string::npos; }
+}  // namespace
+
+int chooseAnimation(const SceneGraph& g, const std::string& choice) {
+    const int byName = findAnimation(g, choice);
+    if (byName >= 0) return byName;
+    if (isIndex(choice) && std::stoi(choice) < static_cast<int>(g.animations.size())) return std::stoi(choice);
+    return -1;
+}
+
+std::string missingAnimation(const SceneGraph& g, const std::string& choice) {
+    const std::string file = std::filesystem::path(g.source).filename().string();
+    std::string list;
+    for (size_t i = 0; i < g.animations.size(); ++i) list += (i ? ", " : "") + std::to_string(i) + " \"" + g.animations[i].name + "\"";
+    const std::string has = g.animations.empty() ? file + " has no animations"
+                                                 : file + " has " + std::to_string(g.animations.size()) + ": " + list;
+    return "no animation " + (isIndex(choice) ? choice : "named \"" + choice + "\"") + " (" + has + ")";
+}
+
+double filmSecondsForClip(double clip, double orbit) {
+    if (!(clip > 0.0) || !(clip <= 3600.0)) return orbit;  // no clip, or one longer than any film
+    const double plays = std::max(1.0, std::ceil(orbit / clip - 1e-9));
+    return plays * clip;
 }
 
 int findAnimation(const SceneGraph& g, const std::string& name) {

@@ -2,6 +2,7 @@
 /// Plays a model's own glTF animation: samplers evaluated with the glTF rules (LINEAR with slerp
 /// for rotations, STEP, CUBICSPLINE with tangents scaled by the key interval), node TRS and
 /// morph weights, node world matrices, and the meshes moved through Scene::applyNodeTransforms.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,8 @@ public:
 
     int model() const { return model_; }
     double duration() const { return duration_; }
+    /// Seconds of timeline time one play of the clip takes (duration / |speed|; 0: no motion).
+    double period() const { return speed_ != 0.0 ? duration_ / std::abs(speed_) : 0.0; }
     /// Animation-local time for timeline time t: (t·speed + offset), wrapped into [0, duration)
     /// when looping, else clamped by the samplers.
     double localTime(double t) const;
@@ -57,6 +60,10 @@ public:
     /// but O(1) per pose instead of O(vertices)); a skinned one above it by its joints' boxes,
     /// each through its joint matrix (a blended vertex lies in their hull).
     void growPosedBounds(const Scene& scene, double t, const std::vector<MeshExtent>& extents, Aabb& b) const;
+    /// The points growPosedBounds grows b by (the posed vertices, or the corners of the boxes
+    /// that stand for them), each passed to visit.
+    void visitPosed(const Scene& scene, double t, const std::vector<MeshExtent>& extents,
+                    const std::function<void(const Vec3&)>& visit) const;
     static constexpr size_t kExactBoundsVertices = 4096;
 
 private:
@@ -74,5 +81,16 @@ private:
 
 /// Index of the animation called `name` in graph, or -1.
 int findAnimation(const SceneGraph& graph, const std::string& name);
+
+/// The animation `choice` names in graph: a name, else a decimal index; -1 if none.
+int chooseAnimation(const SceneGraph& graph, const std::string& choice);
+/// Why chooseAnimation found nothing, listing what the file has: `no animation named "Run"
+/// (model.gltf has 2: 0 "Idle", 1 "Walk")`.
+std::string missingAnimation(const SceneGraph& graph, const std::string& choice);
+
+/// A bare model's film length when it plays a clip of `clipSeconds`: the smallest whole number
+/// of plays that lasts at least `orbitSeconds` (the default orbit), so that both the clip and the
+/// one orbit over the film loop seamlessly. Without a clip (≤ 0, or over an hour): orbitSeconds.
+double filmSecondsForClip(double clipSeconds, double orbitSeconds);
 
 }  // namespace rf::anim

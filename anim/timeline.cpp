@@ -68,8 +68,9 @@ Timeline Timeline::fromScene(const Scene& scene, double fps) {
         TurntableSettings s = defaultModelTurntable();
         if (fps > 0.0) s.fps = fps;
         p.spec.players = defaultPlayers(scene);
-        p.spec.turntable = Turntable::framed(s, scene, filmBounds(scene, p.spec.players, anim::frameCount(s.seconds, s.fps), s.fps),
-                                             !p.spec.players.empty());
+        // One orbit over a whole number of plays of the clip: the film loops seamlessly.
+        s.seconds = filmSecondsForClip(longestPeriod(p.spec.players), s.seconds);
+        p.spec.turntable = framedOnFilm(s, scene, p.spec.players);
         p.frames = p.spec.turntable->frameCount();
         p.fps = s.fps;
     } else {

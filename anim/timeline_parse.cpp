@@ -194,19 +194,36 @@ public:
 
     /// "animation": absent → every animated model plays its first animation, looped.
     std::vector<GltfAnimationPlayer> animations(const json& o, const std::string& w) const {
-        if (!o.contains("animation")) return defaultPlayers(scene_);
+        // The command line's --animation wins over the file's choice.
+        if (!o.contains("animation") || scene_.animation) return defaultPlayers(scene_);
         const json& a = o["animation"];
         const std::string aw = join(w, "animation");
         std::vector<GltfAnimationPlayer> players;
         if (a.is_boolean()) return a.get<bool>() ? defaultPlayers(scene_) : players;
         if (a.is_string() && a.get<std::string>() == "none") return players;
+        if (a.is_string()) return chosen(a.get<std::string>(), aw);
+        if (a.is_number_integer()) return chosen(std::to_string(a.get<long long>()), aw);
         if (a.is_object()) {
             players.push_back(player(a, aw));
         } else if (a.is_array()) {
             for (size_t i = 0; i < a.size(); ++i) players.push_back(player(a[i], index(aw, i)));
         } else {
-            fail(aw, "expected true, false, \"none\", an object or an array of objects");
+            fail(aw, "expected true, false, \"none\", a name, an index, an object or an array of objects");
         }
+        return players;
+    }
+
+    /// "animation": NAME or INDEX: every animated model plays that one.
+    std::vector<GltfAnimationPlayer> chosen(const std::string& choice, const std::string& w) const {
+        std::vector<GltfAnimationPlayer> players;
+        for (size_t m = 0; m < scene_.models.size(); ++m) {
+            const SceneGraph& g = scene_.models[m];
+            if (g.animations.empty()) continue;
+            const int a = chooseAnimation(g, choice);
+            if (a < 0) fail(w, missingAnimation(g, choice));
+            players.emplace_back(g, static_cast<int>(m), a, true);
+        }
+        if (players.empty()) fail(w, "the scene has no model animations to choose from");
         return players;
     }
 
@@ -290,10 +307,34 @@ TurntableSettings defaultModelTurntable() {
 }
 
 std::vector<GltfAnimationPlayer> defaultPlayers(const Scene& scene) {
+    if (scene.animation) return chosenPlayers(scene, *scene.animation, "", "--animation");
     std::vector<GltfAnimationPlayer> players;
     for (size_t m = 0; m < scene.models.size(); ++m)
         if (!scene.models[m].animations.empty()) players.emplace_back(scene.models[m], static_cast<int>(m), 0, true);
     return players;
+}
+
+std::vector<GltfAnimationPlayer> chosenPlayers(const Scene& scene, const std::string& choice, const std::string& file,
+                                               const std::string& where) {
+    std::vector<GltfAnimationPlayer> players;
+    for (size_t m = 0; m < scene.models.size(); ++m) {
+        const SceneGraph& g = scene.models[m];
+        if (g.animations.empty()) continue;
+        const int a = chooseAnimation(g, choice);
+        if (a < 0) throw InputError(file.empty() ? g.source : file, where + ": " + missingAnimation(g, choice));
+        players.emplace_back(g, static_cast<int>(m), a, true);
+    }
+    if (players.empty()) {
+        if (scene.models.size() == 1) throw InputError(file.empty() ? scene.models[0].source : file, where + ": " + missingAnimation(scene.models[0], choice));
+        throw InputError(file.empty() ? scene.sourcePath : file, where + ": the scene has no model animations to choose from");
+    }
+    return players;
+}
+
+double longestPeriod(const std::vector<GltfAnimationPlayer>& players) {
+    double p = 0.0;
+    for (const GltfAnimationPlayer& pl : players) p = std::max(p, pl.period());
+    return p;
 }
 
 Aabb filmBounds(const Scene& scene, const std::vector<GltfAnimationPlayer>& players, int frames, double fps) {
@@ -309,6 +350,20 @@ Aabb filmBounds(const Scene& scene, const std::vector<GltfAnimationPlayer>& play
     return b;
 }
 
+Turntable framedOnFilm(const TurntableSettings& s, const Scene& scene, const std::vector<GltfAnimationPlayer>& players) {
+    const int n = anim::frameCount(s.seconds, s.fps);
+    const Aabb bounds = filmBounds(scene, players, n, s.fps);
+    if (players.empty() || n > kMaxFramedFrames) return Turntable::framed(s, scene, bounds, !players.empty());
+    std::vector<std::vector<MeshExtent>> extents;
+    for (const GltfAnimationPlayer& p : players) extents.push_back(meshExtents(scene, p.model()));
+    const double fps = s.fps;
+    const Turntable::PosedPoints posed = [&](int f, const std::function<void(const DVec3&)>& emit) {
+        for (size_t k = 0; k < players.size(); ++k)
+            players[k].visitPosed(scene, anim::frameTime(0.0, fps, f), extents[k], [&](const Vec3& p) { emit(DVec3(p)); });
+    };
+    return Turntable::framed(s, scene, bounds, true, &posed);
+}
+
 ParsedTimeline parseTimeline(const Scene& scene, double fps) {
     ParsedTimeline out;
     out.spec.restLights = scene.lights;
@@ -320,10 +375,10 @@ ParsedTimeline parseTimeline(const Scene& scene, double fps) {
 
     if (root.contains("turntable")) {
         const Parser p(scene.sourcePath, "", scene);
-        const TurntableSettings s = p.turntable(root["turntable"], "turntable", fps);
+        TurntableSettings s = p.turntable(root["turntable"], "turntable", fps);
         out.spec.players = p.animations(root["turntable"], "turntable");
-        out.spec.turntable = Turntable::framed(s, scene, filmBounds(scene, out.spec.players, anim::frameCount(s.seconds, s.fps), s.fps),
-                                               !out.spec.players.empty());
+        if (!root["turntable"].contains("seconds")) s.seconds = filmSecondsForClip(longestPeriod(out.spec.players), s.seconds);
+        out.spec.turntable = framedOnFilm(s, scene, out.spec.players);
         out.frames = out.spec.turntable->frameCount();
         out.fps = s.fps;
         return out;

@@ -60,7 +60,21 @@ ParsedTimeline parseTimeline(const Scene& scene, double fps = 0.0);
 /// `frames` frames at `fps` (sampled at up to 256 of its frames).
 Aabb filmBounds(const Scene& scene, const std::vector<GltfAnimationPlayer>& players, int frames, double fps);
 
-/// Every model with animations plays its first one, looped.
+/// A turntable of `s` framed on the film: the scene's bounds grown by the players' motion
+/// (filmBounds), and, for films up to kMaxFramedFrames frames, each frame's camera fitted to
+/// that frame's pose of the moving meshes (GltfAnimationPlayer::visitPosed).
+Turntable framedOnFilm(const TurntableSettings& s, const Scene& scene, const std::vector<GltfAnimationPlayer>& players);
+constexpr int kMaxFramedFrames = 4096;
+
+/// Every model with animations plays its first one, looped (or the one scene.animation names).
 std::vector<GltfAnimationPlayer> defaultPlayers(const Scene& scene);
+
+/// Every model with animations plays the one `choice` names (chooseAnimation), looped. Throws
+/// InputError(file, where: …) when a model lacks it (listing what it has) or none has any.
+std::vector<GltfAnimationPlayer> chosenPlayers(const Scene& scene, const std::string& choice, const std::string& file,
+                                               const std::string& where);
+
+/// The longest clip period (GltfAnimationPlayer::period) among players; 0 without any.
+double longestPeriod(const std::vector<GltfAnimationPlayer>& players);
 
 }  // namespace rf::anim

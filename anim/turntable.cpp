@@ -42,7 +42,8 @@ std::vector<double> frameYaws(int frames, double startYaw) {
 
 }  // namespace
 
-Turntable Turntable::framed(const TurntableSettings& s, const Scene& scene, const Aabb& b, bool geometryMoves) {
+Turntable Turntable::framed(const TurntableSettings& s, const Scene& scene, const Aabb& b, bool geometryMoves,
+                            const PosedPoints* posed) {
     Turntable t;
     t.fps_ = s.fps;
     t.frames_ = anim::frameCount(s.seconds, s.fps);
@@ -59,7 +60,7 @@ Turntable Turntable::framed(const TurntableSettings& s, const Scene& scene, cons
     viewTangents(scene, double(t.fov_.value_or(scene.camera.fovDeg)), tanX, tanY);
     if (s.distance > 0.0) {
         t.distance_ = s.distance;
-    } else if (radius > 0.0 && s.fitSilhouette && t.fitToSilhouette(s, scene, b, geometryMoves, tanX, tanY)) {
+    } else if (radius > 0.0 && s.fitSilhouette && t.fitToSilhouette(s, scene, b, geometryMoves, tanX, tanY, posed)) {
         // distance and look-at height set from the model's projection
     } else if (radius > 0.0) {
         // Fit the bounding sphere into the narrower of the two view angles, with a 10 % margin.
@@ -72,10 +73,19 @@ Turntable Turntable::framed(const TurntableSettings& s, const Scene& scene, cons
 }
 
 bool Turntable::fitToSilhouette(const TurntableSettings& s, const Scene& scene, const Aabb& b, bool geometryMoves,
-                              double tanX, double tanY) {
-    const std::vector<DVec3> pts = geometryMoves ? boxCorners(b, center_) : silhouettePoints(scene, center_);
+                              double tanX, double tanY, const PosedPoints* posed) {
+    const bool perFrame = geometryMoves && posed && *posed;
+    // Moving meshes: each frame's pose for that frame's camera when known, else the box they sweep.
+    const std::vector<DVec3> pts = perFrame ? silhouettePoints(scene, center_, true)
+                                   : geometryMoves ? boxCorners(b, center_) : silhouettePoints(scene, center_);
     OrbitView view;
     view.yaws = frameYaws(frames_, startYaw_);
+    if (perFrame) {
+        const DVec3 c = center_;
+        view.framePoints = [posed, c](size_t f, const std::function<void(const DVec3&)>& emit) {
+            (*posed)(int(f), [&](const DVec3& p) { emit(p - c); });
+        };
+    }
     view.elevation = elevation_;
     view.tanX = tanX;
     view.tanY = tanY;

@@ -2,6 +2,7 @@
 /// The turntable preset: the camera orbits the scene's bounds once per loop, yaw built as
 /// 2π·f/N from the frame so the loop closes without a duplicated frame (never a slerp between
 /// 0° and 360° keys, which are the same rotation).
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -37,7 +38,12 @@ public:
     /// The same, framed on the given bounds (render space), e.g. those an animation sweeps.
     /// geometryMoves: an animation moves meshes, so a silhouette fit uses the bounds' corners
     /// (the rest pose's vertices say nothing of the other frames).
-    static Turntable framed(const TurntableSettings& s, const Scene& scene, const Aabb& bounds, bool geometryMoves = false);
+    /// Points of frame f's pose of the moving meshes (render space), emitted one by one.
+    using PosedPoints = std::function<void(int frame, const std::function<void(const DVec3&)>& emit)>;
+    /// posed (with geometryMoves): where each frame poses the moving meshes, so each frame's
+    /// camera fits that frame's pose rather than the box the whole film sweeps.
+    static Turntable framed(const TurntableSettings& s, const Scene& scene, const Aabb& bounds, bool geometryMoves = false,
+                            const PosedPoints* posed = nullptr);
 
     int frameCount() const { return frames_; }
     double fps() const { return fps_; }
@@ -57,7 +63,7 @@ private:
     /// Sets distance_ and lifts center_ from the silhouette fit; false when there is nothing to
     /// fit (the caller falls back to the bounding sphere).
     bool fitToSilhouette(const TurntableSettings& s, const Scene& scene, const Aabb& b, bool geometryMoves, double tanX,
-                         double tanY);
+                         double tanY, const PosedPoints* posed);
 
     int frames_ = 1;
     double fps_ = 30.0;

@@ -28,10 +28,11 @@ struct Bin {
 };
 
 /// Every vertex and sphere-box corner, relative to center.
-std::vector<DVec3> scenePoints(const Scene& scene, const DVec3& center) {
+std::vector<DVec3> scenePoints(const Scene& scene, const DVec3& center, bool staticOnly) {
     std::vector<DVec3> pts;
     for (const TriangleMesh& m : scene.meshes)
-        for (const Vec3& p : m.positions) pts.push_back(DVec3(p) - center);
+        if (!staticOnly || m.node < 0)
+            for (const Vec3& p : m.positions) pts.push_back(DVec3(p) - center);
     for (const Sphere& s : scene.spheres) {
         Aabb b;
         b.grow(s.center - Vec3(s.radius));
@@ -61,8 +62,9 @@ std::vector<DVec3> boxCorners(const Aabb& b, const DVec3& center) {
     return out;
 }
 
-std::vector<DVec3> silhouettePoints(const Scene& scene, const DVec3& center) {
-    const std::vector<DVec3> pts = scenePoints(scene, center);
+std::vector<DVec3> silhouettePoints(const Scene& scene, const DVec3& center, bool staticOnly) {
+    const std::vector<DVec3> pts = scenePoints(scene, center, staticOnly);
+    if (pts.empty()) return pts;
     if (pts.size() <= 4 * kSectors) return pts;  // already few: exact
     double ylo = pts[0].y, yhi = pts[0].y;
     for (const DVec3& p : pts) {
@@ -112,7 +114,7 @@ std::vector<DVec3> silhouettePoints(const Scene& scene, const DVec3& center) {
 
 OrbitFit fitOrbit(const std::vector<DVec3>& points, const OrbitView& view, double fill, double maxLift) {
     OrbitFit fit;
-    if (points.empty() || view.yaws.empty() || !(fill > 0.0)) return fit;
+    if ((points.empty() && !view.framePoints) || view.yaws.empty() || !(fill > 0.0)) return fit;
     const double kx = fill * view.tanX, ky = fill * view.tanY;
     // With the look-at point c raised by lift Δ and s the depth of the orbit centre, a point at
     // camera coordinates (x, y, z) relative to the centre must keep |x| ≤ kx·(z + s) and
@@ -130,13 +132,16 @@ OrbitFit fitOrbit(const std::vector<DVec3>& points, const OrbitView& view, doubl
             b = fwd.y;
         }
         const DVec3 rightK = right / kx, upK = up / ky;  // so the loop has no division
-        for (const DVec3& p : points) {
+        auto fitPoint = [&](const DVec3& p) {
             const double x = glm::dot(p, rightK), y = glm::dot(p, upK), z = glm::dot(p, fwd);
             X = std::max(X, std::abs(x) - z);
             T = std::max(T, y - z);
             B = std::max(B, -y - z);
-        }
+        };
+        for (const DVec3& p : points) fitPoint(p);
+        if (view.framePoints) view.framePoints(f, fitPoint);
     }
+    if (X < -1e299) return fit;  // no point at all
     // Centre the highest and lowest extents (T − Δ·a/ky = B + Δ·a/ky), then take the depth the
     // worst of the three needs.
     double lift = std::abs(a) > 1e-9 ? (T - B) * ky / (2.0 * a) : 0.0;

@@ -2,6 +2,7 @@
 /// Framing a turntable on what the camera sees of the model over the whole orbit, not on its
 /// bounding sphere: the distance (and the height of the look-at point) at which the model's
 /// projected silhouette fills the frame in the frame where it is largest and leaves it in none.
+#include <functional>
 #include <vector>
 
 #include "scene.h"
@@ -25,7 +26,8 @@ OrbitPose orbitPose(double yaw, double elevation);
 /// and the points are those prisms' corners (a corner shared by two sectors takes the larger of
 /// their radii and both height ranges). So the hull only grows: a sector edge sits 0.12 %
 /// further out than the farthest vertex, and a bin's height range reaches across its sectors.
-std::vector<DVec3> silhouettePoints(const Scene& scene, const DVec3& center);
+/// staticOnly: leave out the meshes that move (node ≥ 0), whose points come per frame instead.
+std::vector<DVec3> silhouettePoints(const Scene& scene, const DVec3& center, bool staticOnly = false);
 
 /// The eight corners of b, relative to center: for geometry that moves during the film, where
 /// the box it sweeps is all that is known.
@@ -37,6 +39,9 @@ struct OrbitView {
     std::vector<double> yaws;
     double elevation = 0.0;
     double tanX = 1.0, tanY = 1.0;
+    /// Optional: points (relative to the orbit centre) that only frame f's camera must fit,
+    /// e.g. where that frame poses the moving meshes; framePoints(f, emit) calls emit for each.
+    std::function<void(size_t frame, const std::function<void(const DVec3&)>& emit)> framePoints;
 };
 
 struct OrbitFit {

@@ -113,6 +113,15 @@ void Bvh::refit(const std::vector<Aabb>& primBounds) {
     collapse();
 }
 
+double Bvh::sahCost() const {
+    if (nodes_.empty()) return 0.0;
+    const double root = nodes_[0].box.area();
+    if (!(root > 0.0) || !std::isfinite(root)) return 0.0;
+    double cost = 0.0;
+    for (const BvhNode& n : nodes_) cost += double(n.box.area()) / root * (n.count > 0 ? double(n.count) : 1.0);
+    return cost;
+}
+
 namespace {
 
 /// The cheapest binned SAH split of items[begin, end): the bin boundary (split after bin `bin`

@@ -37,6 +37,11 @@ public:
     /// Recomputes node boxes from moved primitives; the tree's topology stays.
     void refit(const std::vector<Aabb>& primBounds);
 
+    /// The tree's surface area heuristic cost relative to its root box: Σ over interior nodes of
+    /// area / root area, plus Σ over leaves of area / root area × primitives. A refitted tree
+    /// whose primitives moved apart grows it; a fresh build of the same boxes does not.
+    double sahCost() const;
+
     bool empty() const { return nodes_.empty(); }
     const std::vector<BvhNode>& nodes() const { return nodes_; }
     const std::vector<uint32_t>& primIndex() const { return primIndex_; }

@@ -65,6 +65,9 @@ void Scene::build() {
         for (const Sphere& s : spheres) boxes.push_back(sphereBox(s));
         bvh_.build(boxes);
         slotPrim_ = bvh_.primIndex();
+        builtBvh_ = bvh_;
+        builtCost_ = bvh_.sahCost();
+        lastRebuilt_ = false;
     } else {
         bvh_ = Bvh{};
         slotPrim_.resize(nPrims);
@@ -127,13 +130,20 @@ void Scene::refit() {
     size_t t = 0;
     for (const TriangleMesh& mesh : meshes)
         for (size_t i = 0; i < mesh.indices.size(); ++i) triVerts_[t++] = mesh.positions[mesh.indices[i]];
-    fillSlotData();
-    if (!useBvh_) return;
+    if (!useBvh_) {
+        fillSlotData();
+        return;
+    }
     std::vector<Aabb> boxes;
     boxes.reserve(triMesh_.size() + spheres.size());
     for (size_t k = 0; k < triMesh_.size(); ++k) boxes.push_back(triangleBox(triVerts_[3 * k], triVerts_[3 * k + 1], triVerts_[3 * k + 2]));
     for (const Sphere& s : spheres) boxes.push_back(sphereBox(s));
+    if (lastRebuilt_) bvh_ = builtBvh_;  // start from build()'s tree, not from an earlier pose's
     bvh_.refit(boxes);
+    lastRebuilt_ = builtCost_ > 0.0 && bvh_.sahCost() > kRebuildGrowth * builtCost_;
+    if (lastRebuilt_) bvh_.build(boxes);
+    slotPrim_ = bvh_.primIndex();
+    fillSlotData();
 }
 
 void Scene::applyNodeTransforms(int model, const std::vector<DMat4>& renderFromNode,

@@ -72,11 +72,20 @@ public:
     /// anim::Timeline interprets it; nothing parses or rewrites it as text again.
     std::shared_ptr<const nlohmann::json> timeline;
     std::vector<std::string> notes;  ///< warnings met while loading
+    /// --animation NAME|INDEX (SceneOptions::animation): the animation every animated model
+    /// plays, over the scene file's "animation"; anim::Timeline resolves it.
+    std::optional<std::string> animation;
 
     /// Builds the acceleration structure; call after loading or after geometry changed.
     void build();
-    /// Updates BVH boxes after mesh positions moved (topology unchanged).
+    /// Updates the BVH after mesh positions moved (topology unchanged): the tree build() made,
+    /// refitted to the new boxes, or built afresh over them when the refit's SAH cost has grown
+    /// past kRebuildGrowth × the built tree's. Either way a function of the positions alone
+    /// (never of earlier poses), so every rank and frame order gets the same tree.
     void refit();
+    static constexpr double kRebuildGrowth = 1.5;
+    /// Whether the last refit() rebuilt the tree (for benchmarks and tests).
+    bool lastRefitRebuilt() const { return lastRebuilt_; }
     /// Rewrites the positions of meshes on nodes from world matrices (render space), then refits.
     void applyNodeTransforms(int model, const std::vector<DMat4>& renderFromNode,
                              const std::vector<std::vector<double>>& morphWeights = {});
@@ -133,6 +142,10 @@ private:
 
     Bvh bvh_;
     bool useBvh_ = false;
+    /// The tree build() made and its SAH cost: refit() starts from it whenever it rebuilt.
+    Bvh builtBvh_;
+    double builtCost_ = 0.0;
+    bool lastRebuilt_ = false;
     /// Triangles and spheres as build() counted them: the hot paths' primitive-id ranges
     /// (triangles first, then spheres, then planes), read once instead of from the vectors.
     uint32_t nTri_ = 0, nSph_ = 0;

@@ -14,6 +14,7 @@ Scene loadScene(const std::string& path, FileSource& fs, const SceneOptions& opt
     else if (isGltfPath(path)) s = loadGltfScene(path, fs, options);
     else throw InputError(path, "unknown scene type (expected .json, .gltf or .glb)");
     if (options.ground) placeGround(s, *options.ground);
+    s.animation = options.animation;
     return s;
 }
 

@@ -29,6 +29,8 @@ struct SceneOptions {
     /// built from the scene (a turntable's auto distance) fits the picture's aspect ratio.
     int width = 0, height = 0;
     std::optional<Ground> ground;  ///< replaces the scene file's "ground"
+    /// --animation NAME|INDEX: the model animation to play, over the scene file's choice.
+    std::optional<std::string> animation;
     /// Called once by a loader that has read every input file (the model, its buffers and
     /// images, the environment image) and is about to build from them: rank 0 sends the files
     /// to the other ranks then, so they build their scenes while it builds its own.

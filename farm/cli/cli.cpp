@@ -113,7 +113,7 @@ void applyQualityOptions(const ArgParser& p, RenderSettings& s) {
 }
 
 void declareSceneOptions(ArgParser& p) {
-    for (const char* o : {"--environment", "--environment-rotation", "--environment-intensity", "--ground"}) p.option(o);
+    for (const char* o : {"--environment", "--environment-rotation", "--environment-intensity", "--ground", "--animation"}) p.option(o);
 }
 
 SceneOptions sceneOptions(const ArgParser& p) {
@@ -133,6 +133,10 @@ SceneOptions sceneOptions(const ArgParser& p) {
         if (*g == "shadow") o.ground = Ground::Shadow;
         else if (*g == "none") o.ground = Ground::None;
         else throw UsageError("--ground: expected shadow or none, got \"" + *g + "\"");
+    }
+    if (auto a = p.value("--animation")) {
+        if (a->empty()) throw UsageError("--animation: expected an animation's name or index");
+        o.animation = *a;
     }
     return o;
 }

@@ -50,7 +50,9 @@ const char* kStillHelp =
     "  --environment-rotation DEG   turn it about +Y;  --environment-intensity K   scale it\n"
     "  --ground G        shadow: an invisible ground under the model that shows only the shadows\n"
     "                    and contact darkening on it (with a transparent background, as alpha);\n"
-    "                    none: no ground (default: the scene file's \"ground\")\n";
+    "                    none: no ground (default: the scene file's \"ground\")\n"
+    "  --animation A     play the model's animation named A (or numbered A, from 0) instead of\n"
+    "                    its first (the scene file's \"animation\"); unknown: refused, listing them\n";
 
 /// Sets the scene to the still's moment and returns its frame index (the noise seed). The still
 /// is one frame of the scene's film: frame 0 unless --frame or --time says otherwise.

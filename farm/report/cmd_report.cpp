@@ -48,7 +48,8 @@ const char* kReportHelpHead =
     "  --threads N             worker threads (default: all cores)\n"
     "  --spp N, --depth N, --min-weight W, --indirect N, --tonemap T, --exposure EV|auto\n"
     "                          the default setting the sweep is centred on (default: the scene's)\n"
-    "  --environment F, --environment-rotation DEG, --environment-intensity K, --ground G, --background B\n"
+    "  --environment F, --environment-rotation DEG, --environment-intensity K, --ground G, --background B,\n"
+    "  --animation A\n"
     "                          the picture, as rayfarm still takes them (--background: a colour)\n"
     "  --grid ofat|full        one factor at a time around the default (ofat, default) or every\n"
     "                          combination (full: the product of the lists' lengths)\n";

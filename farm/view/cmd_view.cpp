@@ -54,6 +54,7 @@ const char* kViewHelp =
     "  --environment F   light the scene with an equirectangular .hdr or .exr environment\n"
     "  --environment-rotation DEG   turn it about +Y;  --environment-intensity K   scale it\n"
     "  --ground G        shadow: an invisible shadow catcher under the model; none (as still)\n"
+    "  --animation A     the model's animation to play, by name or index (as still)\n"
     "  --threads N       render threads (default: all cores)\n"
     "  --frame N         start at frame N of the scene's timeline (default 0)\n"
     "  --camera N        start from the model's glTF camera N\n"

@@ -427,3 +427,109 @@ TEST(RealGltf, SimpleSkinSilhouetteFollowsThePose) {
 
 }  // namespace
 }  // namespace rf::anim
+
+namespace rf::anim {
+namespace {
+
+Scene loadWith(const std::string& path, const std::string& animation) {
+    DiskFileSource fs;
+    SceneOptions o;
+    o.animation = animation;
+    return loadScene(path, fs, o);
+}
+
+/// Vertex positions of every mesh of s posed at t by its timeline.
+std::vector<std::vector<Vec3>> posedAt(Scene s, double t) {
+    Timeline::fromScene(s).apply(s, t);
+    std::vector<std::vector<Vec3>> out;
+    for (const TriangleMesh& m : s.meshes) out.push_back(m.positions);
+    return out;
+}
+
+// scenes/animated_node.gltf has "move" (2 s) and "lift" (1 s, node 0's translation only).
+TEST(AnimationChoice, ByNameOrIndexPlaysThatClip) {
+    const std::string model = sourceFile("scenes/animated_node.gltf");
+    const Scene first = load(model), lift = loadWith(model, "lift"), one = loadWith(model, "1"), zero = loadWith(model, "0");
+    EXPECT_EQ(posedAt(lift, 0.5), posedAt(one, 0.5));
+    EXPECT_EQ(posedAt(first, 0.5), posedAt(zero, 0.5));  // the default stays the first
+    EXPECT_NE(posedAt(first, 0.5), posedAt(lift, 0.5));
+}
+
+TEST(AnimationChoice, AnUnknownNameIsRefusedListingTheFilesAnimations) {
+    const std::string model = sourceFile("scenes/animated_node.gltf");
+    for (const std::string& bad : {std::string("run"), std::string("2")}) {
+        try {
+            Timeline::fromScene(loadWith(model, bad));
+            FAIL() << bad << " accepted";
+        } catch (const InputError& e) {
+            const std::string m = e.what();
+            const std::string what = bad == "2" ? "no animation 2" : "no animation named \"run\"";
+            EXPECT_NE(m.find("--animation: " + what + " (animated_node.gltf has 2: 0 \"move\", 1 \"lift\")"), std::string::npos) << m;
+        }
+    }
+    // A model without animations says so.
+    try {
+        Timeline::fromScene(loadWith(kAssimp + "BoxTextured-glTF/BoxTextured.gltf", "walk"));
+        FAIL() << "an animation chosen on a model without any";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("BoxTextured.gltf has no animations"), std::string::npos) << e.what();
+    }
+}
+
+TEST(AnimationChoice, TheSceneFileKeyNamesAClipAndTheCommandLineWins) {
+    const std::string model = sourceFile("scenes/animated_node.gltf");
+    const std::string path = outDir() + "/choose_lift.json";
+    std::ofstream(path) << R"({"objects": [{"type": "model", "path": ")" << model << R"("}],
+      "turntable": {"animation": "lift"}})";
+    // The key plays lift, exactly as --animation lift does, and not the first clip.
+    const Scene byKey = load(path);
+    const std::string cliPath = outDir() + "/choose_default.json";
+    std::ofstream(cliPath) << R"({"objects": [{"type": "model", "path": ")" << model << R"("}], "turntable": {}})";
+    EXPECT_EQ(posedAt(byKey, 0.5), posedAt(loadWith(cliPath, "lift"), 0.5));
+    EXPECT_NE(posedAt(byKey, 0.5), posedAt(load(cliPath), 0.5));
+    const std::string bad = outDir() + "/choose_bad.json";
+    std::ofstream(bad) << R"({"objects": [{"type": "model", "path": ")" << model << R"("}],
+      "turntable": {"animation": "nope"}})";
+    try {
+        Timeline::fromScene(load(bad));
+        FAIL() << "an unknown name in the scene file accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("choose_bad.json: turntable.animation: no animation named \"nope\""), std::string::npos) << e.what();
+    }
+    // --animation overrides the key: the bad file renders with the command line's choice.
+    DiskFileSource fs;
+    SceneOptions o;
+    o.animation = "move";
+    const Scene overridden = loadScene(bad, fs, o);
+    EXPECT_NO_THROW(Timeline::fromScene(overridden));
+}
+
+// The film-length rule (docs/cli.md#animations): one orbit over the fewest whole plays of the
+// clip lasting at least 4 s.
+TEST(AnimationChoice, ABareModelsFilmLastsWholePlaysOfItsClip) {
+    EXPECT_DOUBLE_EQ(filmSecondsForClip(1.0, 4.0), 4.0);
+    EXPECT_DOUBLE_EQ(filmSecondsForClip(2.5, 4.0), 5.0);
+    EXPECT_DOUBLE_EQ(filmSecondsForClip(5.5, 4.0), 5.5);
+    EXPECT_DOUBLE_EQ(filmSecondsForClip(0.0, 4.0), 4.0);
+    EXPECT_DOUBLE_EQ(filmSecondsForClip(7200.0, 4.0), 4.0);
+    LOAD_OR_SKIP(skin, kAssimp + "simple_skin/simple_skin.gltf");  // a 5.5 s clip
+    EXPECT_EQ(Timeline::fromScene(skin).frameCount(), 165);
+    LOAD_OR_SKIP(box, kAssimp + "BoxTextured-glTF/BoxTextured.gltf");  // no animation
+    EXPECT_EQ(Timeline::fromScene(box).frameCount(), 120);
+    // A turntable section without seconds plays "move" (2 s) at speed 0.6: 3⅓ s a play, two plays.
+    const std::string path = outDir() + "/slow_move.json";
+    std::ofstream(path) << R"({"objects": [{"type": "model", "path": ")" << sourceFile("scenes/animated_node.gltf")
+                        << R"("}], "turntable": {"animation": {"name": "move", "speed": 0.6}}})";
+    const Timeline slow = Timeline::fromScene(load(path));
+    EXPECT_EQ(slow.frameCount(), 200);
+    // The clip and the orbit both close: the last frame's successor is frame 0's pose.
+    Scene a = load(path), b = load(path);
+    slow.apply(a, 0.0);
+    slow.apply(b, slow.frameCount() / slow.fps());
+    for (size_t m = 0; m < a.meshes.size(); ++m)
+        for (size_t i = 0; i < a.meshes[m].positions.size(); ++i)
+            EXPECT_NEAR(glm::length(a.meshes[m].positions[i] - b.meshes[m].positions[i]), 0.f, 1e-4f);
+}
+
+}  // namespace
+}  // namespace rf::anim

@@ -27,4 +27,23 @@ case "$err" in
   *) fail "--frame 31: unexpected message: $err" ;;
 esac
 [ -e "$out/bad.png" ] && fail "--frame 31 wrote an image"
+
+# --animation on a skinned model (assimp's simple_skin, one clip): the pose at --time 1 differs
+# from --time 0; by index 0 it is the same clip; an unknown name is one line listing the clips.
+skin=/usr/share/assimp/models/glTF2/simple_skin/simple_skin.gltf
+if [ -f "$skin" ]; then
+    "$rayfarm" still "$skin" --size 64x48 --threads 1 --time 1 -o "$out/skin_t1.png" 2>/dev/null || fail "simple_skin --time 1"
+    "$rayfarm" still "$skin" --size 64x48 --threads 1 --time 1 --animation 0 -o "$out/skin_a0.png" 2>/dev/null || fail "--animation 0"
+    cmp -s "$out/skin_t1.png" "$out/skin_a0.png" || fail "--animation 0 is not the default clip"
+    all=$("$rayfarm" still "$skin" --size 64x48 -o "$out/skin_bad.png" --animation walk 2>&1 >/dev/null)
+    status=$?
+    [ "$status" -eq 2 ] || fail "--animation walk: exit status $status, expected 2"
+    err=$(printf '%s\n' "$all" | grep -v '^rayfarm: note: ')  # the loader's notes come first
+    [ "$(printf '%s\n' "$err" | wc -l)" -eq 1 ] || fail "--animation walk: expected one error line, got: $all"
+    case "$err" in
+      "rayfarm: error: $skin: --animation: no animation named \"walk\" (simple_skin.gltf has 1: 0 \"\")") ;;
+      *) fail "--animation walk: unexpected message: $err" ;;
+    esac
+    [ -e "$out/skin_bad.png" ] && fail "--animation walk wrote an image"
+fi
 echo "ok"

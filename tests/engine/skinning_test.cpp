@@ -298,3 +298,84 @@ TEST(Skinning, JointMatricesComposeTheJointTransformWithItsInverseBind) {
 }
 
 }  // namespace
+
+namespace {
+
+/// 256 small triangles along x, one mesh, BVH built.
+Scene rowOfTriangles() {
+    Scene s;
+    TriangleMesh m;
+    for (int i = 0; i < 256; ++i) {
+        const float x = 0.1f * float(i);
+        const uint32_t b = uint32_t(m.positions.size());
+        m.positions.insert(m.positions.end(), {{x, 0.f, 0.f}, {x + 0.05f, 0.f, 0.f}, {x, 0.05f, 0.f}});
+        m.indices.insert(m.indices.end(), {b, b + 1, b + 2});
+    }
+    s.meshes.push_back(m);
+    s.materials.emplace_back();
+    s.build();
+    return s;
+}
+
+/// Pose: the row folded `fold` of the way over (0: the built pose, moved by `nudge` in z; 1:
+/// every odd triangle mirrored to the far end, so neighbours in the built tree lie apart).
+float foldedX(int tri, float fold) {
+    const float x = 0.1f * float(tri);
+    return tri % 2 ? x + fold * (25.5f - 2.f * x) : x;
+}
+void pose(Scene& s, float fold, float nudge = 0.f) {
+    TriangleMesh& m = s.meshes[0];
+    for (size_t v = 0; v < m.positions.size(); ++v) {
+        const int tri = int(v / 3), k = int(v % 3);
+        const float y = (k == 2 ? 0.05f : 0.f) + (tri % 2 ? 1.f : 0.f) * fold;
+        m.positions[v] = Vec3(foldedX(tri, fold) + (k == 1 ? 0.05f : 0.f), y, nudge);
+    }
+    s.refit();
+}
+
+TEST(MovingMeshBvh, RefitsWhileGoodRebuildsWhenTheSahCostGrows) {
+    Scene s = rowOfTriangles();
+    ASSERT_TRUE(s.usesBvh());
+    pose(s, 0.f, 0.01f);  // a small move: the refitted tree is as good as a new one
+    EXPECT_FALSE(s.lastRefitRebuilt());
+    pose(s, 1.f);  // folded: every refitted node spans the whole row
+    EXPECT_TRUE(s.lastRefitRebuilt());
+    // Still correct: a ray down onto each triangle hits that one.
+    for (int tri : {0, 1, 100, 255}) {
+        const float y = (tri % 2 ? 1.f : 0.f) + 0.01f;
+        Ray r;
+        r.o = Vec3(foldedX(tri, 1.f) + 0.01f, y, 1.f);
+        r.d = Vec3(0.f, 0.f, -1.f);
+        r.tMax = 10.f;
+        Hit h;
+        ASSERT_TRUE(s.intersect(r, h)) << tri;
+        EXPECT_NEAR(h.t, 1.0, 1e-5) << tri;
+    }
+}
+
+TEST(MovingMeshBvh, TheTreeIsAFunctionOfThePoseAlone) {
+    // Pose B reached directly, or after another spread pose, or after a small one: one tree.
+    Scene direct = rowOfTriangles(), viaSpread = rowOfTriangles(), viaSmall = rowOfTriangles();
+    pose(direct, 0.9f);
+    ASSERT_TRUE(direct.lastRefitRebuilt());
+    pose(viaSpread, 1.f);
+    pose(viaSpread, 0.9f);
+    pose(viaSmall, 0.f, 0.3f);
+    pose(viaSmall, 0.9f);
+    for (const Scene* s : {&viaSpread, &viaSmall}) {
+        EXPECT_EQ(s->bvh().primIndex(), direct.bvh().primIndex());
+        ASSERT_EQ(s->bvh().nodes().size(), direct.bvh().nodes().size());
+        for (size_t i = 0; i < direct.bvh().nodes().size(); ++i) {
+            EXPECT_EQ(s->bvh().nodes()[i].box.lo, direct.bvh().nodes()[i].box.lo);
+            EXPECT_EQ(s->bvh().nodes()[i].box.hi, direct.bvh().nodes()[i].box.hi);
+        }
+    }
+    // And back at a small pose the built tree's topology is used again.
+    Scene fresh = rowOfTriangles();
+    pose(fresh, 0.f, 0.2f);
+    pose(direct, 0.f, 0.2f);
+    EXPECT_FALSE(direct.lastRefitRebuilt());
+    EXPECT_EQ(direct.bvh().primIndex(), fresh.bvh().primIndex());
+}
+
+}  // namespace
