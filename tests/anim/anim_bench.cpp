@@ -1,6 +1,7 @@
 // Timeline costs per frame: what a static scene, a camera orbit and an animated mesh pay in
 // Timeline::apply, and what Timeline::fromScene costs to set up. Prints figures; not a test.
 //   anim_bench [--grid N]   (an N×N vertex grid hangs on the animated node; default 512)
+//   anim_bench --model FILE...   (each model's own timeline: pose, skin and refit per frame)
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -60,7 +61,7 @@ void measure(const char* what, Scene s, size_t vertices) {
     const double t0 = now();
     const anim::Timeline tl = anim::Timeline::fromScene(s);
     const double setup = now() - t0;
-    const int frames = std::min(tl.frameCount(), 60);
+    const int frames = std::min(tl.frameCount(), 120);
     const double t1 = now();
     for (int f = 0; f < frames; ++f) tl.applyFrame(s, f);
     const double per = (now() - t1) / frames;
@@ -75,6 +76,20 @@ int main(int argc, char** argv) {
     for (int i = 1; i + 1 < argc; ++i)
         if (!std::strcmp(argv[i], "--grid")) n = std::max(2, std::atoi(argv[i + 1]));
     DiskFileSource fs;
+    // --model FILE...: each file's own timeline, posed frame by frame (pose + skin + refit).
+    bool models = false;
+    for (int i = 1; i < argc; ++i) {
+        if (!std::strcmp(argv[i], "--model")) {
+            models = true;
+            continue;
+        }
+        if (!models) continue;
+        Scene s = loadScene(argv[i], fs);
+        size_t v = 0;
+        for (const TriangleMesh& m : s.meshes) v += m.positions.size();
+        measure(argv[i], std::move(s), v);
+    }
+    if (models) return 0;
     measure("whitted.json (camera orbit)", loadScene(std::string(RAYFARM_SOURCE_DIR) + "/scenes/whitted.json", fs), 0);
     measure("flight.json (camera + light keys)", loadScene(std::string(RAYFARM_SOURCE_DIR) + "/scenes/flight.json", fs), 0);
     const size_t v = size_t(n) * size_t(n);
