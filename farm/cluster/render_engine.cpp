@@ -1,6 +1,7 @@
 #include "render_engine.h"
 
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 
 #include "image.h"
@@ -18,6 +19,26 @@ void appendLinearPlane(const std::vector<float>& rgb, const std::vector<float>& 
         const float px[4] = {rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2], transparent ? alpha[i] : 1.f};
         std::memcpy(dst + i * sizeof px, px, sizeof px);
     }
+}
+
+/// Benchmark hook (examples/bench_coordinator.sh), off unless RAYFARM_BENCH_FREE_WORK is set in
+/// the environment: items are "rendered" as a cheap pattern that moves with the frame, not
+/// traced, so what remains per frame is the farm's own work (dispatch, gather, assembly, PNG,
+/// encode). The pattern is not the scene's picture; it only gives PNG and x264 content to chew.
+bool benchFreeWork() {
+    static const bool on = std::getenv("RAYFARM_BENCH_FREE_WORK") != nullptr;
+    return on;
+}
+
+void fillFreeWork(const TileRect& r, int frame, int channels, uint8_t* dst) {
+    for (int y = r.y0; y < r.y1; ++y)
+        for (int x = r.x0; x < r.x1; ++x, dst += channels) {
+            const int gx = x, gy = y;
+            dst[0] = uint8_t(gx + 2 * frame);
+            dst[1] = uint8_t(gy + frame);
+            dst[2] = uint8_t((gx ^ gy) + 3 * frame);
+            if (channels == 4) dst[3] = 255;
+        }
 }
 
 }  // namespace
@@ -163,6 +184,11 @@ TileResult RenderEngine::render(Scene& scene, const anim::Timeline& tl, const Re
     (out.layout.channels == 4 ? buffers.rgba8 : buffers.rgb8) = out.rgb.data();
     std::vector<float> rgbLinear(linear ? 3 * pixels : 0), alpha(linear ? pixels : 0);
     if (linear) buffers.linear = rgbLinear.data(), buffers.alpha = alpha.data();
+    if (benchFreeWork() && !linear && !view) {
+        fillFreeWork(rect, item.frame, out.layout.channels, out.rgb.data());
+        out.busySeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        return out;
+    }
     const Camera& camera = view && !view->followTimeline ? view->camera : scene.camera;
     renderRect(scene, camera, s, item.frame, rect, threads, sub, buffers, out.rays, cancel);
     if (linear) appendLinearPlane(rgbLinear, alpha, scene.transparentBackground, out.rgb.data() + out.layout.linearOffset(pixels));
