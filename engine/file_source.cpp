@@ -1,6 +1,7 @@
 #include "file_source.h"
 
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <stdexcept>
 #include <sys/stat.h>
@@ -51,6 +52,13 @@ FileBundle FileBundle::deserialize(const std::string& in) {
         b.files[path] = getBytes(in, pos, getU64(in, pos));
     }
     return b;
+}
+
+std::optional<std::string> FileSource::realPath(const std::string& path) {
+    std::error_code ec;
+    const std::filesystem::path p = std::filesystem::weakly_canonical(std::filesystem::absolute(path, ec), ec);
+    if (ec) return std::nullopt;
+    return p.string();
 }
 
 size_t FileBundle::totalBytes() const {

@@ -4,6 +4,7 @@
 /// never touching the scene files themselves.
 #include <cstdint>
 #include <map>
+#include <optional>
 #include <string>
 
 namespace rf {
@@ -25,6 +26,9 @@ public:
     /// Whole file; throws InputError(path, …) if it cannot be read or exceeds maxBytes.
     virtual std::string read(const std::string& path, uint64_t maxBytes = kDefaultMaxBytes) = 0;
     virtual bool exists(const std::string& path) = 0;
+    /// The path with symbolic links resolved, for confinement checks (gltf_safety.h); nullopt
+    /// where no disk answers. Default: the local file system.
+    virtual std::optional<std::string> realPath(const std::string& path);
     static constexpr uint64_t kDefaultMaxBytes = 4ull << 30;
 };
 
@@ -48,6 +52,8 @@ public:
     size_t bundleBytes() const { return bundle_.totalBytes(); }
     std::string read(const std::string& path, uint64_t maxBytes = kDefaultMaxBytes) override;
     bool exists(const std::string& path) override;
+    /// None: the bundle holds only what rank 0 read, after its own checks.
+    std::optional<std::string> realPath(const std::string&) override { return std::nullopt; }
 
 private:
     FileBundle bundle_;

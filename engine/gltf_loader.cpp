@@ -43,11 +43,11 @@ bool finiteMat(const DMat4& m) {
 /// by addTo().
 class GltfModel {
 public:
-    GltfModel(const std::string& path, FileSource& fs) : path_(path) {
+    GltfModel(const std::string& path, FileSource& fs, const AssetOptions& assets) : path_(path), assets_(assets) {
         const std::string bytes = fs.read(path, Limits::kMaxFileBytes);
         const PreflightResult pf = preflight(path, bytes);
         std::string folder = std::filesystem::path(path).parent_path().string();
-        ConfinedFs cfs(fs, folder.empty() ? "." : folder);
+        ConfinedFs cfs(fs, folder.empty() ? "." : folder, assetRootFor(path, assets.root));
         tinygltf::TinyGLTF loader;
         loader.SetFsCallbacks(cfs.callbacks());
         loader.SetImageLoader(&keepEncodedImage, nullptr);
@@ -62,7 +62,7 @@ public:
             throw InputError(path, std::string("glTF parse error: ") + e.what());
         }
         if (!cfs.violation().empty())
-            throw InputError(path, "URI \"" + cfs.violation() + "\" would leave the model's folder; refused");
+            throw InputError(path, "URI \"" + cfs.violation() + "\": " + cfs.violationReason() + "; refused");
         if (!ok) {
             // tinygltf says "File not found : NAME"; say which kind of file is missing, and where.
             std::string msg = firstLine(err);
@@ -407,6 +407,7 @@ private:
     void noteDrops(const DropCounts& d);
 
     std::string path_;
+    AssetOptions assets_;
     tinygltf::Model model_;
     std::vector<std::string> notes_;
     std::vector<int> parent_;
@@ -557,7 +558,7 @@ void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel, int materialOve
     std::vector<uint8_t> dynamic(model_.nodes.size(), 0);
     for (int i : order_) dynamic[size_t(i)] = animatedNode_[size_t(i)] || (parent_[size_t(i)] >= 0 && dynamic[size_t(parent_[size_t(i)])]);
 
-    MaterialBuilder materials(scene, model_, path_);
+    MaterialBuilder materials(scene, model_, path_, assets_);
     DropCounts dropped;
     for (int node : order_) {
         const DMat4 renderFromNode = renderFromModel * modelFromNode_[size_t(node)];
@@ -570,8 +571,9 @@ void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel, int materialOve
 
 }  // namespace
 
-void loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFromModel, FileSource& fs, int materialOverride) {
-    GltfModel model(path, fs);
+void loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFromModel, FileSource& fs, int materialOverride,
+                   const AssetOptions& assets) {
+    GltfModel model(path, fs, assets);
     model.addTo(scene, worldFromModel, materialOverride);
 }
 
@@ -579,7 +581,7 @@ Scene loadGltfScene(const std::string& path, FileSource& fs, const SceneOptions&
     Scene s;
     s.sourcePath = path;
     applyRenderSize(options, s.settings);
-    GltfModel model(path, fs);
+    GltfModel model(path, fs, options.assets);
     glm::dvec3 lo, hi;
     if (!model.bounds(DMat4(1.0), lo, hi)) throw InputError(path, model.emptyReason());
     if (options.inputsRead) {

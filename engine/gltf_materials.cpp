@@ -1,8 +1,8 @@
 #include "gltf_materials.h"
 
-#include <stb_image.h>
-
+#include "errors.h"
 #include "gltf_accessors.h"
+#include "gltf_images.h"
 #include "gltf_safety.h"
 #include "image.h"
 
@@ -42,8 +42,8 @@ float shininessFromRoughness(float roughness) {
     return std::clamp(2.f / (a * a) - 2.f, 1.f, 4096.f);
 }
 
-MaterialBuilder::MaterialBuilder(Scene& scene, const tinygltf::Model& model, std::string file)
-    : scene_(scene), model_(model), file_(std::move(file)) {}
+MaterialBuilder::MaterialBuilder(Scene& scene, const tinygltf::Model& model, std::string file, const AssetOptions& assets)
+    : scene_(scene), model_(model), file_(std::move(file)), assets_(assets) {}
 
 void MaterialBuilder::note(const std::string& text) {
     if (noted_.insert(text).second) scene_.notes.push_back(file_ + ": " + text);
@@ -175,17 +175,14 @@ int MaterialBuilder::textureFor(int index, bool srgb, const std::string& where) 
         return -1;
     }
     const tinygltf::Texture& gt = model_.textures[size_t(index)];
-    const int image = gt.source;
+    const int image = imageOf(gt, index, where);
     const int sampler = (gt.sampler >= 0 && size_t(gt.sampler) < model_.samplers.size()) ? gt.sampler : -1;
-    if (image < 0 || size_t(image) >= model_.images.size()) {
-        note(where + ": texture without a usable image, ignored");
-        return -1;
-    }
+    if (image < 0) return -1;
     const auto key = std::make_tuple(image, sampler, srgb);
     if (auto it = textures_.find(key); it != textures_.end()) return it->second;
     textures_[key] = -1;
 
-    std::optional<Texture> t = decodeImage(image, srgb);
+    std::optional<Texture> t = decodeImage(image, srgb, where);
     if (!t) return -1;
     ++decodedImages_;
     if (sampler >= 0) {
@@ -213,38 +210,88 @@ std::optional<ByteSpan> MaterialBuilder::encodedImage(int image, const std::stri
     return ByteSpan{};
 }
 
-std::optional<Texture> MaterialBuilder::decodeImage(int image, bool srgb) {
+int MaterialBuilder::imageOf(const tinygltf::Texture& gt, int index, const std::string& where) {
+    const std::string wt = "textures[" + std::to_string(index) + "]";
+    auto extensionSource = [&](const char* name) {
+        auto it = gt.extensions.find(name);
+        if (it == gt.extensions.end() || !it->second.Has("source") || !it->second.Get("source").IsInt()) return -1;
+        return it->second.Get("source").Get<int>();
+    };
+    auto usable = [&](int i) { return i >= 0 && size_t(i) < model_.images.size(); };
+    const int webp = extensionSource("EXT_texture_webp");
+    if (usable(webp)) return webp;
+    if (webp >= 0) note(wt + ".extensions.EXT_texture_webp.source: no image " + std::to_string(webp) + "; its fallback used");
+    const bool basisu = gt.extensions.count("KHR_texture_basisu") != 0;
+    if (basisu && !usable(gt.source))
+        throw InputError(file_, wt + " has only a KTX2 (KHR_texture_basisu) image, which rayfarm cannot decode (Debian has no "
+                                     "Basis Universal decoder); the file needs a PNG, JPEG or WebP fallback in the texture's "
+                                     "\"source\" (e.g. gltf-transform or gltfpack without -tc)");
+    if (!usable(gt.source)) {
+        note(where + ": texture without a usable image, ignored");
+        return -1;
+    }
+    return gt.source;
+}
+
+std::optional<Texture> MaterialBuilder::decodeImage(int image, bool srgb, const std::string& where) {
     const tinygltf::Image& gi = model_.images[size_t(image)];
-    const std::string wi = "images[" + std::to_string(image) + "]";
+    const std::string mime = dataUriMime(gi.uri);
+    const std::string wi = "images[" + std::to_string(image) + "]" +
+                           (gi.uri.empty() ? std::string() : mime.empty() ? " \"" + gi.uri + "\"" : " (data URI of type " + mime + ")");
     const auto enc = encodedImage(image, wi);
     if (!enc) return std::nullopt;
     const unsigned char* bytes = enc->data;
     const size_t size = enc->size;
-    int w = 0, h = 0, comp = 0;
-    if (!bytes || size == 0 || size > Limits::kMaxImageBytes ||
-        !stbi_info_from_memory(bytes, int(size), &w, &h, &comp)) {
-        note(wi + (gi.uri.empty() ? std::string() : " \"" + gi.uri + "\"") + ": image missing or not decodable; texture ignored");
+    ImageHeader header;
+    std::string why;
+    if (!bytes || size == 0) {
+        note(wi + ": image missing; texture ignored");
         return std::nullopt;
     }
+    if (size > Limits::kMaxImageBytes || !readImageHeader(bytes, size, header, why)) {
+        if (header.format == ImageFormat::Ktx2)
+            throw InputError(file_, where + ": " + wi + " is " + why + "; the file needs a PNG, JPEG or WebP image here");
+        note(wi + ": image not decodable (" + (why.empty() ? "over the size limit" : why) + "); texture ignored");
+        return std::nullopt;
+    }
+    const int w = header.width, h = header.height;
     if (w <= 0 || h <= 0 || w > Limits::kMaxImageSide || h > Limits::kMaxImageSide) {
         note(wi + ": image of " + std::to_string(w) + "x" + std::to_string(h) + " is over the size limit; texture ignored");
         return std::nullopt;
     }
-    unsigned char* px = stbi_load_from_memory(bytes, int(size), &w, &h, &comp, 4);
+    // The budget, from the header: float RGBA texels and a third more for the mip-maps.
+    const int k = downsampleFactor(w, h, assets_.maxTextureSize);
+    const uint64_t dw = uint64_t((w + k - 1) / k), dh = uint64_t((h + k - 1) / k);
+    const uint64_t cost = dw * dh * sizeof(Vec4) * 4 / 3;
+    uint64_t used = 0;
+    for (const Texture& t : scene_.textures) {
+        used += t.texels.size() * sizeof(Vec4);
+        for (const TextureLevel& l : t.mips) used += l.texels.size() * sizeof(Vec4);
+    }
+    if (used + cost > assets_.textureBudgetBytes)
+        throw InputError(file_, wi + ": its " + std::to_string(dw) + "x" + std::to_string(dh) + " texels (" +
+                                    std::to_string(cost >> 20) + " MB with mip-maps) would take the textures to " +
+                                    std::to_string((used + cost) >> 20) + " MB, over the budget of " +
+                                    std::to_string(assets_.textureBudgetBytes >> 20) +
+                                    " MB; lower --max-texture-size (now " + std::to_string(assets_.maxTextureSize) + ")");
+    std::optional<Rgba8Image> px = gltf::decodeImage(bytes, size, assets_.maxTextureSize, why);
     if (!px) {
-        note(wi + ": cannot decode image (" + std::string(stbi_failure_reason()) + "); texture ignored");
+        note(wi + ": cannot decode " + formatName(header.format) + " image (" + why + "); texture ignored");
         return std::nullopt;
     }
+    if (px->width != w || px->height != h)
+        note(wi + ": " + std::to_string(w) + "x" + std::to_string(h) + " downsampled to " + std::to_string(px->width) + "x" +
+             std::to_string(px->height) + " on load (--max-texture-size " + std::to_string(assets_.maxTextureSize) + ")");
     Texture t;
-    t.width = w;
-    t.height = h;
-    t.texels.resize(size_t(w) * h);
+    t.width = px->width;
+    t.height = px->height;
+    t.texels.resize(size_t(t.width) * t.height);
     // Base colour is sRGB-encoded; normal maps are linear data. Alpha is always linear.
     float lut[256];
     for (int i = 0; i < 256; ++i) lut[i] = srgb ? srgbDecode(i / 255.f) : i / 255.f;
+    const uint8_t* p = px->pixels.data();
     for (size_t i = 0; i < t.texels.size(); ++i)
-        t.texels[i] = Vec4(lut[px[4 * i]], lut[px[4 * i + 1]], lut[px[4 * i + 2]], px[4 * i + 3] / 255.f);
-    stbi_image_free(px);
+        t.texels[i] = Vec4(lut[p[4 * i]], lut[p[4 * i + 1]], lut[p[4 * i + 2]], p[4 * i + 3] / 255.f);
     return t;
 }
 

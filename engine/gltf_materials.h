@@ -11,13 +11,14 @@
 
 #include "gltf_accessors.h"
 #include "scene.h"
+#include "scene_options.h"
 
 namespace rf::gltf {
 
 /// Converts glTF materials on first use and appends them (and their textures) to a scene.
 class MaterialBuilder {
 public:
-    MaterialBuilder(Scene& scene, const tinygltf::Model& model, std::string file);
+    MaterialBuilder(Scene& scene, const tinygltf::Model& model, std::string file, const AssetOptions& assets = {});
 
     /// Scene material index for glTF material `index` (−1: the glTF default material).
     int materialFor(int index);
@@ -33,13 +34,19 @@ private:
     /// it has none, nullopt (with a note) when its bufferView is unusable.
     std::optional<ByteSpan> encodedImage(int image, const std::string& wi);
     /// The image decoded to linear RGBA texels; nullopt, with a note, when it cannot be used.
-    std::optional<Texture> decodeImage(int image, bool srgb);
+    /// Throws InputError when it would take the scene's textures past the budget.
+    std::optional<Texture> decodeImage(int image, bool srgb, const std::string& where);
+    /// The image a texture draws: EXT_texture_webp's source, else its own source (the fallback
+    /// of KHR_texture_basisu); −1 with a note when there is none. Throws InputError for a
+    /// KTX2-only texture, which rayfarm cannot decode.
+    int imageOf(const tinygltf::Texture& t, int index, const std::string& where);
     void readTransform(const tinygltf::ExtensionMap& ext, int texCoord, TextureTransform& t);
     void note(const std::string& text);
 
     Scene& scene_;
     const tinygltf::Model& model_;
     std::string file_;
+    AssetOptions assets_;
     std::map<int, int> materials_;
     std::map<std::tuple<int, int, bool>, int> textures_;  ///< (image, sampler, sRGB) → scene texture
     std::set<std::string> noted_;

@@ -1,5 +1,6 @@
 #include "gltf_safety.h"
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <set>
@@ -7,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "errors.h"
+#include "gltf_images.h"
 #include "json_guard.h"
 
 namespace rf::gltf {
@@ -75,18 +77,40 @@ std::string uriProblem(const std::string& uri) {
         if (c == '`' || c == '$' || c == '\\' || c == '*' || c == '?' || c == '{' || c == '}')
             return std::string("character '") + char(c) + "' is not allowed in a file URI (no shell syntax)";
     }
-    if (uri[0] == '/') return "absolute paths are not allowed; URIs must stay inside the model's folder";
-    if (uri[0] == '~') return "'~' is not expanded; URIs must be relative to the model's folder";
+    if (uri[0] == '/')
+        return "absolute paths are not allowed; use a path relative to the model inside the asset root (--asset-root)";
+    if (uri[0] == '~') return "'~' is not expanded; use a path relative to the model inside the asset root (--asset-root)";
     // A scheme ("file:", "http:", "C:") means something other than a file in the folder.
     const size_t colon = uri.find(':');
     if (colon != std::string::npos && uri.find('/') > colon) return "URI schemes other than data: are not supported";
-    size_t start = 0;
-    while (start <= uri.size()) {
-        const size_t end = std::min(uri.find('/', start), uri.size());
-        if (uri.compare(start, end - start, "..") == 0) return "\"..\" would leave the model's folder";
-        start = end + 1;
-    }
     return "";
+}
+
+namespace {
+
+namespace fsys = std::filesystem;
+
+/// weakly_canonical of an absolute path; the lexical form when the file system cannot say.
+fsys::path resolved(const fsys::path& p) {
+    std::error_code ec;
+    fsys::path r = fsys::weakly_canonical(fsys::absolute(p, ec), ec);
+    return ec ? fsys::absolute(p).lexically_normal() : r;
+}
+
+bool within(const fsys::path& p, const fsys::path& folder) {
+    auto [a, b] = std::mismatch(folder.begin(), folder.end(), p.begin(), p.end());
+    (void)b;
+    return a == folder.end() || (std::next(a) == folder.end() && a->empty());  // "dir/" ends in ""
+}
+
+}  // namespace
+
+std::string assetRootFor(const std::string& modelPath, const std::string& root) {
+    if (!root.empty()) return resolved(root).string();
+    fsys::path folder = fsys::path(modelPath).parent_path();
+    if (folder.empty()) folder = ".";
+    const fsys::path f = resolved(folder), cwd = resolved(fsys::current_path());
+    return (within(f, cwd) ? cwd : f).string();
 }
 
 namespace {
@@ -157,7 +181,8 @@ void checkDocument(const std::string& path, const json& doc) {
 bool isSupportedExtension(const std::string& name) {
     static const std::set<std::string> s = {"KHR_texture_transform", "KHR_materials_emissive_strength",
                                             "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_specular",
-                                            "KHR_lights_punctual", "KHR_mesh_quantization"};
+                                            "KHR_lights_punctual", "KHR_mesh_quantization", "EXT_texture_webp",
+                                            "KHR_texture_basisu"};
     return s.count(name) != 0;
 }
 
@@ -182,7 +207,8 @@ PreflightResult preflight(const std::string& path, const std::string& bytes) {
     return r;
 }
 
-ConfinedFs::ConfinedFs(FileSource& fs, std::string folder) : fs_(fs), folder_(std::move(folder)) {
+ConfinedFs::ConfinedFs(FileSource& fs, std::string folder, std::string root)
+    : fs_(fs), folder_(std::move(folder)), root_(std::move(root)) {
     if (folder_.empty()) folder_ = ".";
 }
 
@@ -198,29 +224,50 @@ tinygltf::FsCallbacks ConfinedFs::callbacks() {
 
 bool ConfinedFs::fileExists(const std::string& path, void* self) {
     auto* me = static_cast<ConfinedFs*>(self);
+    if (isDataUri(path)) return true;  // decoded by readWholeFile
     return !path.empty() && me->fs_.exists(path);
 }
 
 // tinygltf joins its base dir (which we set to the model's folder) with the decoded URI, and
 // also tries "./" + URI against the process's working directory. Only the first is allowed; the
-// URI part is re-checked here so nothing the preflight missed can leave the folder. Unlike
-// tinygltf's default this never calls wordexp(), so no shell expansion takes place.
+// URI part is re-checked here so nothing the preflight missed can leave the asset root, and the
+// file's real path (links resolved, where the FileSource knows the disk) must stay inside it.
+// Unlike tinygltf's default this never calls wordexp(), so no shell expansion takes place.
 std::string ConfinedFs::expandFilePath(const std::string& path, void* self) {
     auto* me = static_cast<ConfinedFs*>(self);
     const std::string prefix = me->folder_ + "/";
     if (path.compare(0, prefix.size(), prefix) != 0) return "";
     const std::string rel = path.substr(prefix.size());
-    if (!uriProblem(rel).empty()) {
-        if (me->violation_.empty()) me->violation_ = rel;
-        return "";
-    }
-    return (std::filesystem::path(me->folder_) / rel).lexically_normal().string();
+    // A data URI tinygltf does not know (image/webp, image/ktx2, ...): decoded on read.
+    if (isDataUri(rel)) return rel;
+    auto refuse = [&](const std::string& why) {
+        if (me->violation_.empty()) me->violation_ = rel, me->violationReason_ = why;
+        return std::string();
+    };
+    if (const std::string p = uriProblem(rel); !p.empty()) return refuse(p);
+    const std::string joined = (fsys::path(me->folder_) / rel).lexically_normal().string();
+    const std::optional<std::string> real = me->fs_.realPath(joined);
+    const std::optional<std::string> root = me->fs_.realPath(me->root_);
+    if (real && root && !within(fsys::path(*real), fsys::path(*root)))
+        return refuse("resolves to " + *real + ", outside the asset root " + *root +
+                      " (--asset-root, or the scene file's \"asset_root\", widens it)");
+    return joined;
 }
 
 bool ConfinedFs::readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* self) {
     auto* me = static_cast<ConfinedFs*>(self);
     if (path.empty()) return false;
     try {
+        if (isDataUri(path)) {
+            // tinygltf URL-decoded it first, turning base64's '+' into ' ' (never base64 itself).
+            std::string uri = path;
+            if (uri.find(";base64,") != std::string::npos) std::replace(uri.begin(), uri.end(), ' ', '+');
+            std::string why;
+            const std::optional<std::string> data = decodeDataUri(uri, nullptr, &why);
+            if (!data) throw std::runtime_error(why);
+            out->assign(data->begin(), data->end());
+            return true;
+        }
         const std::string data = me->fs_.read(path, Limits::kMaxBufferBytes);
         out->assign(data.begin(), data.end());
         return true;

@@ -31,9 +31,15 @@ struct Limits {
 /// Percent-decodes a URI the way tinygltf does before it opens a file.
 std::string decodeUri(const std::string& uri);
 
-/// Why a (decoded) external URI may not be opened, or "" if it is a plain relative path that
-/// stays inside the model's folder: no absolute path, no scheme, no "..", no shell syntax.
+/// Why a (decoded) external URI may not be opened, or "" if it is a relative path: no absolute
+/// path, no scheme, no shell syntax. ".." is allowed here; ConfinedFs keeps the resolved path
+/// inside the asset root.
 std::string uriProblem(const std::string& decodedUri);
+
+/// The folder a model's relative URIs must stay inside: `root` when given, else the current
+/// directory when the model lies under it, else the model's own folder. Symbolic links
+/// resolved (weakly_canonical); the model's own folder when nothing can be resolved.
+std::string assetRootFor(const std::string& modelPath, const std::string& root);
 
 /// What the preflight learnt about the file.
 struct PreflightResult {
@@ -50,14 +56,18 @@ bool isSupportedExtension(const std::string& name);
 
 PreflightResult preflight(const std::string& path, const std::string& bytes);
 
-/// tinygltf file-system callbacks that only open files inside `folder` and read them through a
-/// FileSource (so worker ranks can load from an in-memory bundle). No shell expansion.
+/// tinygltf file-system callbacks that resolve URIs against the model's `folder`, open only
+/// files whose real path (symbolic links resolved) lies inside `root`, and read them through a
+/// FileSource (so worker ranks can load from an in-memory bundle). No shell expansion. Data URIs
+/// of any MIME type that tinygltf does not decode itself are decoded here (gltf_images.h).
 class ConfinedFs {
 public:
-    ConfinedFs(FileSource& fs, std::string folder);
+    ConfinedFs(FileSource& fs, std::string folder, std::string root);
     tinygltf::FsCallbacks callbacks();
-    /// First URI refused by the callbacks (empty if none): the load must then fail.
+    /// First URI refused by the callbacks (empty if none) and why: the load must then fail.
     const std::string& violation() const { return violation_; }
+    const std::string& violationReason() const { return violationReason_; }
+    const std::string& root() const { return root_; }
     const std::string& folder() const { return folder_; }
 
 private:
@@ -68,7 +78,8 @@ private:
 
     FileSource& fs_;
     std::string folder_;
-    std::string violation_;
+    std::string root_;
+    std::string violation_, violationReason_;
 };
 
 /// tinygltf image callback that keeps the encoded bytes instead of decoding them, so only

@@ -182,7 +182,16 @@ public:
         const std::string text = fs_.read(path_, 1ull << 30);
         const json root = parseUserJson(path_, text);
         rd_.allowKeys(root, "", {"camera", "background", "ambient", "render", "materials", "lights", "objects", "timeline",
-                                 "turntable", "exposure", "environment", "ground", "comment"});
+                                 "turntable", "exposure", "environment", "ground", "asset_root", "comment"});
+        // "asset_root": the folder the models' URIs may reach, relative to this file (--asset-root wins).
+        assets_ = options_.assets;
+        if (root.contains("asset_root") && !options_.rootFromCommandLine) {
+            const std::string r = rd_.string(root, "asset_root", "", "");
+            if (r.empty()) rd_.fail("asset_root", "expected a folder name");
+            const std::filesystem::path base = std::filesystem::path(path_).parent_path();
+            assets_.root = (std::filesystem::path(r).is_absolute() ? std::filesystem::path(r) : base / r).lexically_normal().string();
+            if (assets_.root.empty()) assets_.root = ".";
+        }
         Scene s;
         s.sourcePath = path_;
         DVec3 eye(0, 0, 5), target(0.0);
@@ -297,7 +306,7 @@ private:
             const DMat4 m = j.contains("transform") ? readTransform(rd_, j["transform"], w + ".transform") : DMat4(1.0);
             // "material": the scene's (Phong) material for every primitive in place of the
             // file's own, a clay render (gltf_loader.h).
-            loadGltfModel(s, full, m, fs_, j.contains("material") ? material(j, w) : -1);
+            loadGltfModel(s, full, m, fs_, j.contains("material") ? material(j, w) : -1, assets_);
         } else {
             rd_.fail(w + ".type", "expected \"sphere\", \"plane\", \"triangle\", \"mesh\" or \"model\"");
         }
@@ -378,6 +387,7 @@ private:
     FileSource& fs_;
     Reader rd_;
     SceneOptions options_;
+    AssetOptions assets_;  ///< options_.assets with the file's "asset_root"
     std::map<std::string, int> materialIds_;
 };
 

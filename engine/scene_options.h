@@ -1,5 +1,6 @@
 #pragma once
 /// What the command line adds to a scene as it loads, the same on every rank.
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -21,6 +22,19 @@ enum class Ground {
     Shadow,  ///< an invisible shadow catcher at the bottom of the bounds (shadow_catcher.h)
 };
 
+/// Where a glTF model's files may come from, and what its textures may cost (gltf_images.h).
+struct AssetOptions {
+    /// Relative URIs may leave the model's folder but not this folder (--asset-root, the scene
+    /// file's "asset_root"). Empty: the current directory when the model lies under it, else the
+    /// model's own folder.
+    std::string root;
+    /// Textures wider or taller than this are downsampled on load (--max-texture-size).
+    int maxTextureSize = 8192;
+    /// Decoded texels (and their mip-maps) of all of a scene's textures together; a texture that
+    /// would go over is refused (the load fails, saying so).
+    uint64_t textureBudgetBytes = 6ull << 30;
+};
+
 struct SceneOptions {
     std::optional<EnvironmentSpec> environment;  ///< replaces the scene's own
     std::optional<float> environmentRotation;    ///< overrides the rotation of whichever is used
@@ -31,6 +45,10 @@ struct SceneOptions {
     std::optional<Ground> ground;  ///< replaces the scene file's "ground"
     /// --animation NAME|INDEX: the model animation to play, over the scene file's choice.
     std::optional<std::string> animation;
+    /// Asset root and texture limits; rootFromCommandLine: root came from --asset-root and
+    /// overrides a scene file's "asset_root".
+    AssetOptions assets;
+    bool rootFromCommandLine = false;
     /// Called once by a loader that has read every input file (the model, its buffers and
     /// images, the environment image) and is about to build from them: rank 0 sends the files
     /// to the other ranks then, so they build their scenes while it builds its own.

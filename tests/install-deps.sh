@@ -7,6 +7,8 @@ packages=(
   build-essential cmake pkg-config
   libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev   # engine/
   libopenexr-dev                                              # engine/: .exr environments (DWAB)
+  libpng-dev                                                  # engine/: glTF PNGs read row by row, downsampled on load (a huge declared size never costs its texels)
+  libwebp-dev                                                 # engine/: EXT_texture_webp (and data:image/webp); tests encode WebP with it (no cwebp)
   libopenmpi-dev openmpi-bin                                  # farm/: MPI
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev # farm/: H.264 MP4 through FFmpeg
   libavfilter-dev                                             # farm/: GIF palette (palettegen/paletteuse)

@@ -113,7 +113,9 @@ void applyQualityOptions(const ArgParser& p, RenderSettings& s) {
 }
 
 void declareSceneOptions(ArgParser& p) {
-    for (const char* o : {"--environment", "--environment-rotation", "--environment-intensity", "--ground", "--animation"}) p.option(o);
+    for (const char* o : {"--environment", "--environment-rotation", "--environment-intensity", "--ground", "--animation",
+                          "--asset-root", "--max-texture-size"})
+        p.option(o);
 }
 
 SceneOptions sceneOptions(const ArgParser& p) {
@@ -138,6 +140,12 @@ SceneOptions sceneOptions(const ArgParser& p) {
         if (a->empty()) throw UsageError("--animation: expected an animation's name or index");
         o.animation = *a;
     }
+    if (auto r = p.value("--asset-root")) {
+        if (r->empty()) throw UsageError("--asset-root: expected a folder");
+        o.assets.root = *r;
+        o.rootFromCommandLine = true;
+    }
+    o.assets.maxTextureSize = p.intValue("--max-texture-size", o.assets.maxTextureSize, 16, 16384);
     return o;
 }
 

@@ -52,7 +52,10 @@ const char* kStillHelp =
     "                    and contact darkening on it (with a transparent background, as alpha);\n"
     "                    none: no ground (default: the scene file's \"ground\")\n"
     "  --animation A     play the model's animation named A (or numbered A, from 0) instead of\n"
-    "                    its first (the scene file's \"animation\"); unknown: refused, listing them\n";
+    "                    its first (the scene file's \"animation\"); unknown: refused, listing them\n"
+    "  --asset-root DIR  folder a glTF model's relative URIs may reach beyond its own (default:\n"
+    "                    the current directory when the model lies under it, else its folder)\n"
+    "  --max-texture-size N   textures larger on a side are downsampled on load (default 8192)\n";
 
 /// Sets the scene to the still's moment and returns its frame index (the noise seed). The still
 /// is one frame of the scene's film: frame 0 unless --frame or --time says otherwise.

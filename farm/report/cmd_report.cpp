@@ -51,6 +51,7 @@ const char* kReportHelpHead =
     "  --environment F, --environment-rotation DEG, --environment-intensity K, --ground G, --background B,\n"
     "  --animation A\n"
     "                          the picture, as rayfarm still takes them (--background: a colour)\n"
+    "  --asset-root DIR, --max-texture-size N   glTF asset folder and texture size, as for still\n"
     "  --grid ofat|full        one factor at a time around the default (ofat, default) or every\n"
     "                          combination (full: the product of the lists' lengths)\n";
 

@@ -57,10 +57,12 @@ std::string triangle() {
 
 TEST(GltfSafety, UriProblemAcceptsOnlyPlainRelativePaths) {
     EXPECT_EQ(gltf::uriProblem("buffer.bin"), "");
+    // ".." is syntax like any other; the asset root confines where it leads (gltf_asset_root_test).
+    EXPECT_EQ(gltf::uriProblem("../textures/wall.png"), "");
     EXPECT_EQ(gltf::uriProblem("sub/dir/buffer 1.bin"), "");
     EXPECT_EQ(gltf::uriProblem("a..b.bin"), "");  // dots inside a name are fine
     EXPECT_EQ(gltf::uriProblem("rock&roll (1).png"), "");
-    for (const char* bad : {"../x.bin", "sub/../../x.bin", "..", "/etc/passwd", "~/x.bin", "`touch x`.bin", "$(touch x).bin",
+    for (const char* bad : {"/etc/passwd", "~/x.bin", "`touch x`.bin", "$(touch x).bin",
                             "${HOME}/x.bin", "file:///etc/passwd", "http://example.com/x.bin", "C:\\x.bin", "a*b.bin", ""})
         EXPECT_NE(gltf::uriProblem(bad), "") << bad;
     EXPECT_EQ(gltf::decodeUri("%2e%2e/x+y.bin"), "../x y.bin");

@@ -1,0 +1,160 @@
+// glTF images: data URIs by MIME type, formats by their bytes, EXT_texture_webp through libwebp
+// (a lossless WebP draws exactly as its PNG), KHR_texture_basisu's fallback, KTX2 refused.
+#include <gtest/gtest.h>
+
+#include <stb_image.h>
+#include <webp/encode.h>
+
+#include "engine_test_util.h"
+#include "errors.h"
+#include "gltf_images.h"
+#include "gltf_loader.h"
+#include "gltf_test_util.h"
+
+using namespace rf;
+using namespace gltftest;
+using rf::test::render;
+
+namespace {
+
+const std::string kBox = "/usr/share/assimp/models/glTF2/BoxTextured-glTF/";
+
+/// The Cesium logo of BoxTextured, re-encoded as lossless WebP through libwebp.
+std::string logoAsWebP() {
+    const std::string png = readFile(kBox + "CesiumLogoFlat.png");
+    int w = 0, h = 0, c = 0;
+    unsigned char* px = stbi_load_from_memory(reinterpret_cast<const unsigned char*>(png.data()), int(png.size()), &w, &h, &c, 4);
+    EXPECT_NE(px, nullptr);
+    uint8_t* out = nullptr;
+    const size_t n = WebPEncodeLosslessRGBA(px, w, h, w * 4, &out);
+    stbi_image_free(px);
+    std::string webp(reinterpret_cast<const char*>(out), n);
+    WebPFree(out);
+    return webp;
+}
+
+/// BoxTextured with its buffer copied next to it and its image replaced by `images`; textures[0]
+/// gets `texture` merged in.
+std::string boxWith(const TempDir& dir, const json& images, const json& texture, const json& extensionsUsed = json::array()) {
+    json g = json::parse(readFile(kBox + "BoxTextured.gltf"));
+    writeFile(dir / "BoxTextured0.bin", readFile(kBox + "BoxTextured0.bin"));
+    g["images"] = images;
+    g["textures"][0] = texture;
+    if (!extensionsUsed.empty()) g["extensionsUsed"] = extensionsUsed;
+    static int n = 0;
+    const std::string path = dir / ("box" + std::to_string(n++) + ".gltf");
+    writeFile(path, g.dump());
+    return path;
+}
+
+Image renderModel(const std::string& path, std::vector<std::string>* notes = nullptr) {
+    DiskFileSource files;
+    SceneOptions o;
+    o.width = 96;
+    o.height = 72;
+    Scene s = loadGltfScene(path, files, o);
+    if (notes) *notes = s.notes;
+    RenderSettings rs = s.settings;
+    rs.spp = 1;
+    return render(s, rs);
+}
+
+bool identical(const Image& a, const Image& b) {
+    return a.width() == b.width() && a.height() == b.height() &&
+           std::equal(a.data(), a.data() + size_t(a.width()) * a.height() * 3, b.data());
+}
+
+bool anyNoteHas(const std::vector<std::string>& notes, const std::string& needle) {
+    for (const std::string& n : notes)
+        if (n.find(needle) != std::string::npos) return true;
+    return false;
+}
+
+}  // namespace
+
+TEST(GltfImages, DataUrisDecodeByTheirEncoding) {
+    std::string mime, why;
+    EXPECT_EQ(gltf::decodeDataUri("data:image/webp;base64," + base64("RIFF\x01\x02WEBP"), &mime, &why), "RIFF\x01\x02WEBP");
+    EXPECT_EQ(mime, "image/webp");
+    EXPECT_EQ(gltf::decodeDataUri("data:text/plain,a%20b%2c", &mime, &why), "a b,");
+    EXPECT_EQ(mime, "text/plain");
+    EXPECT_EQ(gltf::dataUriMime("data:image/ktx2;base64,AAAA"), "image/ktx2");
+    EXPECT_FALSE(gltf::decodeDataUri("data:image/png;base64,QU*=", &mime, &why));
+    EXPECT_NE(why.find("not base64"), std::string::npos);
+    EXPECT_FALSE(gltf::decodeDataUri("data:image/png;base64", &mime, &why));
+}
+
+TEST(GltfImages, FormatsAreToldByTheirBytes) {
+    const std::string png = readFile(kBox + "CesiumLogoFlat.png"), webp = logoAsWebP();
+    auto header = [](const std::string& b, gltf::ImageHeader& h) {
+        std::string why;
+        return gltf::readImageHeader(reinterpret_cast<const unsigned char*>(b.data()), b.size(), h, why);
+    };
+    gltf::ImageHeader hp, hw, hk;
+    ASSERT_TRUE(header(png, hp));
+    ASSERT_TRUE(header(webp, hw));
+    EXPECT_EQ(hp.format, gltf::ImageFormat::Png);
+    EXPECT_EQ(hw.format, gltf::ImageFormat::WebP);
+    EXPECT_EQ(hw.width, hp.width);
+    EXPECT_EQ(hw.height, hp.height);
+    EXPECT_FALSE(header(std::string("\xabKTX 20\xbb\r\n\x1a\n", 12) + std::string(80, '\0'), hk));
+    EXPECT_EQ(hk.format, gltf::ImageFormat::Ktx2);
+}
+
+TEST(GltfImages, LosslessWebPTextureRendersExactlyAsItsPng) {
+    TempDir dir;
+    writeFile(dir / "logo.png", readFile(kBox + "CesiumLogoFlat.png"));
+    writeFile(dir / "logo.webp", logoAsWebP());
+    const std::string png = boxWith(dir, {{{"uri", "logo.png"}}}, {{"sampler", 0}, {"source", 0}});
+    // EXT_texture_webp with the PNG as fallback, required, and as a data URI.
+    const json webpTex = {{"sampler", 0}, {"source", 0}, {"extensions", {{"EXT_texture_webp", {{"source", 1}}}}}};
+    const std::string webp = boxWith(dir, {{{"uri", "logo.png"}}, {{"uri", "logo.webp"}}}, webpTex, {"EXT_texture_webp"});
+    json g = json::parse(readFile(webp));
+    g["extensionsRequired"] = {"EXT_texture_webp"};
+    g["images"][1] = {{"uri", "data:image/webp;base64," + base64(logoAsWebP())}};
+    g["images"][0] = {{"uri", "missing-fallback.png"}};  // must not be needed
+    writeFile(dir / "required.gltf", g.dump());
+
+    const Image a = renderModel(png);
+    std::vector<std::string> notes;
+    const Image b = renderModel(webp, &notes);
+    const Image c = renderModel(dir / "required.gltf");
+    EXPECT_TRUE(identical(a, b));
+    EXPECT_TRUE(identical(a, c));
+    EXPECT_FALSE(anyNoteHas(notes, "EXT_texture_webp"));
+    // Control: the untextured box differs, so the texture shows.
+    const Image plain = renderModel(boxWith(dir, {{{"uri", "logo.png"}}}, {{"sampler", 0}, {"source", 5}}));
+    EXPECT_FALSE(identical(a, plain));
+}
+
+TEST(GltfImages, UnknownDataUriTypeIsNamedInTheNote) {
+    TempDir dir;
+    const std::string path = boxWith(dir, {{{"uri", "data:image/x-foo;base64," + base64("not an image at all")}}}, {{"source", 0}});
+    std::vector<std::string> notes;
+    renderModel(path, &notes);
+    EXPECT_TRUE(anyNoteHas(notes, "image/x-foo")) << (notes.empty() ? "" : notes[0]);
+}
+
+TEST(GltfImages, BasisuUsesTheFallbackOrRefusesSayingWhatIsNeeded) {
+    TempDir dir;
+    writeFile(dir / "logo.png", readFile(kBox + "CesiumLogoFlat.png"));
+    const std::string ktx2 = "data:image/ktx2;base64," + base64(std::string("\xabKTX 20\xbb\r\n\x1a\n", 12) + std::string(80, '\0'));
+    const json images = {{{"uri", "logo.png"}}, {{"uri", ktx2}}};
+    const json withFallback = {{"sampler", 0}, {"source", 0}, {"extensions", {{"KHR_texture_basisu", {{"source", 1}}}}}};
+    const std::string png = boxWith(dir, {{{"uri", "logo.png"}}}, {{"sampler", 0}, {"source", 0}});
+    EXPECT_TRUE(identical(renderModel(boxWith(dir, images, withFallback, {"KHR_texture_basisu"})), renderModel(png)));
+
+    const json ktxOnly = {{"sampler", 0}, {"extensions", {{"KHR_texture_basisu", {{"source", 1}}}}}};
+    const std::string only = boxWith(dir, images, ktxOnly, {"KHR_texture_basisu"});
+    try {
+        renderModel(only);
+        ADD_FAILURE() << "a KTX2-only texture loaded";
+    } catch (const InputError& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("KTX2"), std::string::npos) << m;
+        EXPECT_NE(m.find("needs a PNG, JPEG or WebP"), std::string::npos) << m;
+        EXPECT_EQ(m.find('\n'), std::string::npos);
+    }
+    // A KTX2 image as a plain texture source is refused the same way.
+    EXPECT_THROW(renderModel(boxWith(dir, images, {{"source", 1}})), InputError);
+}
