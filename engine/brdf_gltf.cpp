@@ -84,6 +84,35 @@ Color directLight(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l,
     return evalBrdf(s, n, v, l, vt) * irradiance * nl;
 }
 
+namespace {
+constexpr float kCoatF0 = 0.04f;  // the coat's ior is 1.5 (the extension fixes it)
+}
+
+Color clearcoatDirect(const Surface& s, const Vec3& nc, const Vec3& v, const Vec3& l, const Color& base, const Color& irradiance) {
+    if (!(s.clearcoat > 0.f)) return base;
+    Vec3 h = v + l;
+    const float hl = glm::length(h);
+    if (!(hl > 0.f)) return base;
+    h /= hl;
+    const float fc = s.clearcoat * schlickFresnel(kCoatF0, std::max(glm::dot(v, h), 0.f));
+    const float nl = glm::dot(nc, l), nv = glm::dot(nc, v);
+    Color coat(0.f);
+    if (nl > 0.f && nv > 0.f) {
+        const float alpha = std::max(alphaFromRoughness(s.clearcoatRoughness), kMinAlpha);
+        const float nh = std::max(glm::dot(nc, h), 0.f);
+        const Vec3 nxh = glm::cross(nc, h);
+        coat = Color(fc * ggxD(nh * nh, glm::dot(nxh, nxh), alpha) * smithVisibility(nl, nv, alpha) * nl) * irradiance;
+    }
+    return (1.f - fc) * base + coat;
+}
+
+Color clearcoatEnvironment(const Surface& s, float ncv, const Color& base, const Color& coatRadiance) {
+    if (!(s.clearcoat > 0.f)) return base;
+    const Vec2 ab = specularScaleBias(ncv, s.clearcoatRoughness);
+    const float fv = s.clearcoat * schlickFresnel(kCoatF0, std::clamp(ncv, 0.f, 1.f));
+    return (1.f - fv) * base + s.occlusion * s.clearcoat * (kCoatF0 * ab.x + ab.y) * coatRadiance;
+}
+
 MetallicRoughness metallicRoughnessFromTexel(float metallicFactor, float roughnessFactor, const Vec4& texel) {
     return {metallicFactor * texel.b, roughnessFactor * texel.g};
 }

@@ -16,6 +16,8 @@ struct Surface {
     float occlusion = 1.f;  ///< dims environment and indirect light only, never direct light
     float specular = 1.f;   ///< KHR_materials_specular: weight of the dielectric's Fresnel layer
     float transmission = 0.f;  ///< KHR_materials_transmission: share of the diffuse base let through
+    float clearcoat = 0.f;           ///< KHR_materials_clearcoat: the coat's weight (0: none)
+    float clearcoatRoughness = 0.f;  ///< its perceptual roughness
 };
 
 /// Smallest α analytic lights see: a delta lobe would make a point light's highlight vanish (or
@@ -62,6 +64,14 @@ Color evalBrdf(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l, co
 Color directLight(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l, const Color& irradiance);
 Color directLight(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l, const Color& irradiance,
                   const ViewTerms& vt);
+
+/// KHR_materials_clearcoat over direct light: the base's reflected radiance `base` (directLight
+/// at the base normal) becomes (1 − c·Fc)·base + c·Fc·D·V·(nc·l)·E, with Fc = Schlick(0.04, v·h)
+/// and D, V of the coat's roughness at its normal nc, as the extension's specification layers it.
+Color clearcoatDirect(const Surface& s, const Vec3& nc, const Vec3& v, const Vec3& l, const Color& base, const Color& irradiance);
+/// The same under environment light: (1 − c·F(nc·v))·base + c·(0.04·A + B)·coatRadiance, the
+/// coat's split sum at its roughness (coatRadiance: prefiltered around the coat's mirror ray).
+Color clearcoatEnvironment(const Surface& s, float ncv, const Color& base, const Color& coatRadiance);
 
 /// glTF's metallicRoughnessTexture: G is roughness, B is metallic, both linear, multiplied by
 /// the factors. R (often occlusion in packed ORM textures) is ignored.

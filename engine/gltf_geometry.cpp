@@ -6,6 +6,14 @@
 namespace rf::gltf {
 
 namespace {
+/// KHR_materials_clearcoat's normal texture needs tangents as the base's does.
+bool hasClearcoatNormal(const tinygltf::Material& m) {
+    auto it = m.extensions.find("KHR_materials_clearcoat");
+    return it != m.extensions.end() && it->second.Has("clearcoatNormalTexture");
+}
+}  // namespace
+
+namespace {
 
 template <typename V>
 std::vector<V> toVectors(const AccessorData& d) {
@@ -339,7 +347,8 @@ bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int primIndex, 
     }
     // Normal maps need tangents; glTF asks for generated ones when TANGENT is missing.
     const bool normalMapped = p.material >= 0 && size_t(p.material) < model.materials.size() &&
-                              model.materials[size_t(p.material)].normalTexture.index >= 0;
+                              (model.materials[size_t(p.material)].normalTexture.index >= 0 ||
+                               hasClearcoatNormal(model.materials[size_t(p.material)]));
     if (tangents && normalMapped && m.tangents.empty() && !m.uvs.empty())
         m.tangents = generateTangents(m.positions, m.normals, model.materials[size_t(p.material)].normalTexture.texCoord == 1 && !m.uvs1.empty() ? m.uvs1 : m.uvs, m.indices);
     out.materialOutOfRange = p.material >= int(model.materials.size());

@@ -155,6 +155,8 @@ Material MaterialBuilder::convert(const tinygltf::Material& gm, const std::strin
         else if (name == "KHR_materials_transmission") transmission = clamp01(number(value, "transmissionFactor", 0.0));
         else if (name == "KHR_materials_ior") m.ior = float(std::clamp(number(value, "ior", 1.5), 1.0, 10.0));
         else if (name == "KHR_materials_specular") m.specularWeight = clamp01(number(value, "specularFactor", 1.0));
+        else if (name == "KHR_materials_unlit") m.unlit = true;
+        else if (name == "KHR_materials_clearcoat") readClearcoat(value, m, where + ".extensions.KHR_materials_clearcoat");
         else if (!isSupportedExtension(name)) note("material extension " + name + " ignored");
     }
     if (gm.emissiveFactor.size() == 3)
@@ -167,6 +169,33 @@ Material MaterialBuilder::convert(const tinygltf::Material& gm, const std::strin
     }
     applyAlphaMode(gm, m);
     return m;
+}
+
+/// A textureInfo object inside an extension (tinygltf leaves those as plain values).
+void MaterialBuilder::extensionTexture(const tinygltf::Value& ext, const char* key, const std::string& where, bool srgb,
+                                       int& texture, TextureTransform& transform, float* scale) {
+    if (!ext.Has(key) || !ext.Get(key).IsObject()) return;
+    const tinygltf::Value& info = ext.Get(key);
+    const int index = int(number(info, "index", -1.0));
+    if (index < 0) return;
+    texture = textureFor(index, srgb, where + "." + key);
+    tinygltf::ExtensionMap ext2;
+    if (info.Has("extensions") && info.Get("extensions").IsObject()) {
+        const tinygltf::Value& e = info.Get("extensions");
+        for (const std::string& k : e.Keys()) ext2[k] = e.Get(k);
+    }
+    readTransform(ext2, int(number(info, "texCoord", 0.0)), transform);
+    if (scale) *scale = float(number(info, "scale", 1.0));
+}
+
+void MaterialBuilder::readClearcoat(const tinygltf::Value& v, Material& m, const std::string& where) {
+    m.clearcoat = clamp01(number(v, "clearcoatFactor", 0.0));
+    m.clearcoatRoughness = clamp01(number(v, "clearcoatRoughnessFactor", 0.0));
+    if (m.clearcoat <= 0.f) return;  // no coat: its textures are never decoded
+    extensionTexture(v, "clearcoatTexture", where, false, m.clearcoatTexture, m.clearcoatTransform, nullptr);
+    extensionTexture(v, "clearcoatRoughnessTexture", where, false, m.clearcoatRoughnessTexture, m.clearcoatRoughnessTransform, nullptr);
+    extensionTexture(v, "clearcoatNormalTexture", where, false, m.clearcoatNormalTexture, m.clearcoatNormalTransform,
+                     &m.clearcoatNormalScale);
 }
 
 int MaterialBuilder::textureFor(int index, bool srgb, const std::string& where) {

@@ -41,6 +41,10 @@ private:
     /// KTX2-only texture, which rayfarm cannot decode.
     int imageOf(const tinygltf::Texture& t, int index, const std::string& where);
     void readTransform(const tinygltf::ExtensionMap& ext, int texCoord, TextureTransform& t);
+    void extensionTexture(const tinygltf::Value& ext, const char* key, const std::string& where, bool srgb, int& texture,
+                          TextureTransform& transform, float* scale);
+    /// KHR_materials_clearcoat: factors, and the coat's weight, roughness and normal textures.
+    void readClearcoat(const tinygltf::Value& v, Material& m, const std::string& where);
     void note(const std::string& text);
 
     Scene& scene_;

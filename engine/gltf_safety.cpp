@@ -181,7 +181,8 @@ void checkDocument(const std::string& path, const json& doc) {
 bool isSupportedExtension(const std::string& name) {
     static const std::set<std::string> s = {"KHR_texture_transform", "KHR_materials_emissive_strength",
                                             "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_specular",
-                                            "KHR_lights_punctual", "KHR_mesh_quantization", "EXT_texture_webp",
+                                            "KHR_lights_punctual", "KHR_mesh_quantization", "EXT_texture_webp", "KHR_materials_unlit",
+                                            "KHR_materials_clearcoat",
                                             "KHR_texture_basisu"};
     return s.count(name) != 0;
 }

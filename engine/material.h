@@ -55,6 +55,20 @@ struct Material {
     TextureTransform occlusionTransform;
     int emissiveTexture = -1;  ///< sRGB; multiplies emission
     TextureTransform emissiveTransform;
+
+    /// KHR_materials_unlit: the base colour is the radiance, no light enters.
+    bool unlit = false;
+    /// KHR_materials_clearcoat: a dielectric coat (f0 0.04) of this weight and roughness, each
+    /// times its texture (R and G), over the base, with its own normal texture.
+    float clearcoat = 0.f;
+    float clearcoatRoughness = 0.f;
+    int clearcoatTexture = -1;  ///< linear; R
+    TextureTransform clearcoatTransform;
+    int clearcoatRoughnessTexture = -1;  ///< linear; G
+    TextureTransform clearcoatRoughnessTransform;
+    int clearcoatNormalTexture = -1;
+    float clearcoatNormalScale = 1.f;
+    TextureTransform clearcoatNormalTransform;
 };
 
 }  // namespace rf

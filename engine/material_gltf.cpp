@@ -29,6 +29,12 @@ GltfSample gltfSample(const Scene& scene, const SurfaceInteraction& si) {
     if (m.emissiveTexture >= 0 && m.emission != Color(0.f)) g.emission *= Color(texel(m.emissiveTexture, m.emissiveTransform));
     g.transmission = m.transmission;
     s.transmission = m.transmission;
+    g.unlit = m.unlit;
+    s.clearcoat = m.clearcoat;
+    s.clearcoatRoughness = m.clearcoatRoughness;
+    if (m.clearcoat > 0.f && m.clearcoatTexture >= 0) s.clearcoat *= texel(m.clearcoatTexture, m.clearcoatTransform).r;
+    if (m.clearcoat > 0.f && m.clearcoatRoughnessTexture >= 0)
+        s.clearcoatRoughness = std::clamp(s.clearcoatRoughness * texel(m.clearcoatRoughnessTexture, m.clearcoatRoughnessTransform).g, 0.f, 1.f);
     return g;
 }
 

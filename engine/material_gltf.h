@@ -12,6 +12,7 @@ struct GltfSample {
     pbr::Surface surface;   ///< base colour, metallic, roughness, ior, specular, occlusion
     Color emission{0.f};    ///< emissiveFactor × emissive texture (sRGB) × emissive strength
     float transmission = 0.f;
+    bool unlit = false;     ///< KHR_materials_unlit: surface.baseColor is the radiance
 };
 
 /// baseColor = factor × texture (sRGB, decoded at load) × COLOR_0; metallic = factor × B and

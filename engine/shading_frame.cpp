@@ -8,8 +8,7 @@ namespace rf {
 namespace {
 /// ns bent by the normal texture in the frame of the interpolated tangent (Gram–Schmidt against
 /// ns, handedness in tangent.w); ns unchanged where that frame or the result degenerates.
-Vec3 normalMapped(const Scene& scene, const Material& m, const SurfaceInteraction& si, const Vec3& ns) {
-    const Vec3 tn = normalTextureSample(scene.textures, m, si.uv, si.uv1, si.uvArea);
+Vec3 normalMapped(const SurfaceInteraction& si, const Vec3& ns, const Vec3& tn) {
     Vec3 t = Vec3(si.tangent) - ns * glm::dot(ns, Vec3(si.tangent));
     const float tl = glm::length(t);
     if (!(tl > 0.f)) return ns;
@@ -29,8 +28,23 @@ ShadingFrame shadingFrame(const Scene& scene, const SurfaceInteraction& si, cons
         f.ns = -f.ns;
         f.side = -1.f;
     }
-    if (m.normalTexture >= 0 && si.tangent != Vec4(0.f)) f.ns = normalMapped(scene, m, si, f.ns);
+    const Vec3 interpolated = f.ns;
+    if (m.normalTexture >= 0 && si.tangent != Vec4(0.f))
+        f.ns = normalMapped(si, f.ns, normalTextureSample(scene.textures, m, si.uv, si.uv1, si.uvArea));
     if (glm::dot(f.ns, V) <= 0.f) f.ns = f.ng;
+    f.nc = f.ns;
+    if (m.clearcoat > 0.f) {
+        f.nc = interpolated;
+        if (m.clearcoatNormalTexture >= 0 && si.tangent != Vec4(0.f)) {
+            const TextureTransform& t = m.clearcoatNormalTransform;
+            Vec3 tn = Vec3(sampleTexture(scene.textures[size_t(m.clearcoatNormalTexture)], textureUv(t, si.uv, si.uv1),
+                                         textureFootprint(t, si.uvArea))) * 2.f - 1.f;
+            tn.x *= m.clearcoatNormalScale;
+            tn.y *= m.clearcoatNormalScale;
+            f.nc = normalMapped(si, interpolated, tn);
+        }
+        if (glm::dot(f.nc, V) <= 0.f) f.nc = f.ng;
+    }
     return f;
 }
 

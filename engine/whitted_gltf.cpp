@@ -32,9 +32,11 @@ Color WhittedTracer::primaryMiss(const Vec3& d) const {
 Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int depth, const Color& weight,
                                RayStats& stats, uint64_t seed) const {
     const Vec3 V = -d;
-    const ShadingFrame frame = shadingFrame(scene_, si, V);
     const GltfSample g = gltfSample(scene_, si);
     const pbr::Surface& s = g.surface;
+    if (g.unlit) return s.baseColor;  // KHR_materials_unlit: no light, no reflection
+    const ShadingFrame frame = shadingFrame(scene_, si, V);
+    const bool coated = s.clearcoat > 0.f;
     Color c = g.emission;
 
     // Punctual lights through the BRDF, shadowed and pruned as the Phong model's are.
@@ -46,7 +48,9 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
         if (!lightIncidence(L, si.p, frame.ns, li)) continue;
         const bool behindFacet = glm::dot(frame.ng, li.dir) <= 0.f;
         if (behindFacet && (si.mesh < 0 || !L.castShadows)) continue;
-        const Color term = pbr::directLight(s, frame.ns, V, li.dir, li.att * L.intensity * L.color, view);
+        const Color irradiance = li.att * L.intensity * L.color;
+        Color term = pbr::directLight(s, frame.ns, V, li.dir, irradiance, view);
+        if (coated) term = pbr::clearcoatDirect(s, frame.nc, V, li.dir, term, irradiance);
         const float worth = maxComponent(weight * term) * displayScale_;
         if (pruned + worth <= settings_.minWeight) {
             pruned += worth;
@@ -106,7 +110,17 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
         ind = sampleIndirect(si, frame, s, V, glossy, diffuse, ind, depth, weight, stats, seed);
     }
     specular += glossy * ind.specular;
-    if (specular != Color(0.f) || ind.diffuse != Color(0.f)) c += pbr::environmentLight(s, splitSum(), specular, ind.diffuse);
+    if (coated) {
+        // The coat reflects the environment around its own mirror ray, at its own roughness,
+        // and lets through what its Fresnel leaves of the base's indirect light.
+        Vec3 Rc = reflect(d, frame.nc);
+        if (glm::dot(Rc, frame.ng) <= 0.f) Rc = reflect(d, frame.ng);
+        const Color coat = scene_.environment ? scene_.environment->specular(Rc, s.clearcoatRoughness) : Color(0.f);
+        const Color base = pbr::environmentLight(s, splitSum(), specular, ind.diffuse);
+        c += pbr::clearcoatEnvironment(s, std::max(glm::dot(frame.nc, V), 1e-4f), base, coat);
+    } else if (specular != Color(0.f) || ind.diffuse != Color(0.f)) {
+        c += pbr::environmentLight(s, splitSum(), specular, ind.diffuse);
+    }
     return c;
 }
 
