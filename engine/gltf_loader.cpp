@@ -12,6 +12,7 @@
 #include "env_lighting.h"
 #include "errors.h"
 #include "gltf_accessors.h"
+#include "gltf_compression.h"
 #include "gltf_geometry.h"
 #include "gltf_lights_cameras.h"
 #include "gltf_materials.h"
@@ -48,15 +49,17 @@ public:
         const PreflightResult pf = preflight(path, bytes);
         std::string folder = std::filesystem::path(path).parent_path().string();
         ConfinedFs cfs(fs, folder.empty() ? "." : folder, assetRootFor(path, assets.root));
+        const std::string patched = pf.patchedJson.empty() ? std::string() : pf.patchedFile(bytes);
+        const std::string& input = pf.patchedJson.empty() ? bytes : patched;
         tinygltf::TinyGLTF loader;
         loader.SetFsCallbacks(cfs.callbacks());
         loader.SetImageLoader(&keepEncodedImage, nullptr);
         std::string err, warn;
         bool ok = false;
         try {
-            ok = pf.binary ? loader.LoadBinaryFromMemory(&model_, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
-                                                         static_cast<unsigned>(bytes.size()), cfs.folder())
-                           : loader.LoadASCIIFromString(&model_, &err, &warn, bytes.data(), static_cast<unsigned>(bytes.size()),
+            ok = pf.binary ? loader.LoadBinaryFromMemory(&model_, &err, &warn, reinterpret_cast<const unsigned char*>(input.data()),
+                                                         static_cast<unsigned>(input.size()), cfs.folder())
+                           : loader.LoadASCIIFromString(&model_, &err, &warn, input.data(), static_cast<unsigned>(input.size()),
                                                         cfs.folder());
         } catch (const std::exception& e) {
             throw InputError(path, std::string("glTF parse error: ") + e.what());
@@ -72,6 +75,7 @@ public:
         }
         if (!warn.empty()) notes_.push_back(firstLine(warn));
         for (const std::string& n : pf.notes) notes_.push_back(n);
+        decodeCompressedGeometry(model_, path_);  // Draco and meshopt, before any accessor is read
         resolveHierarchy();
         checkInstancedSize();
         readAnimations();

@@ -182,9 +182,78 @@ bool isSupportedExtension(const std::string& name) {
     static const std::set<std::string> s = {"KHR_texture_transform", "KHR_materials_emissive_strength",
                                             "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_specular",
                                             "KHR_lights_punctual", "KHR_mesh_quantization", "EXT_texture_webp", "KHR_materials_unlit",
-                                            "KHR_materials_clearcoat",
+                                            "KHR_materials_clearcoat", "KHR_draco_mesh_compression",
+                                            "EXT_meshopt_compression", "KHR_meshopt_compression",
                                             "KHR_texture_basisu"};
     return s.count(name) != 0;
+}
+
+namespace {
+
+/// tinygltf refuses an index accessor without a bufferView, which a Draco primitive's indices
+/// (in the compressed data) need not have: point it at the Draco bufferView, which the decoder
+/// replaces (gltf_compression.h) before anything reads it. True when the document changed.
+bool patchDracoIndices(json& doc) {
+    if (!doc.contains("meshes") || !doc["meshes"].is_array() || !doc.contains("accessors") || !doc["accessors"].is_array()) return false;
+    json& accessors = doc["accessors"];
+    bool changed = false;
+    for (json& mesh : doc["meshes"]) {
+        if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+        for (json& p : mesh["primitives"]) {
+            if (!p.is_object() || !p.contains("indices") || !p["indices"].is_number_unsigned()) continue;
+            if (!p.contains("extensions") || !p["extensions"].is_object()) continue;
+            const json& ext = p["extensions"];
+            if (!ext.contains("KHR_draco_mesh_compression") || !ext["KHR_draco_mesh_compression"].is_object()) continue;
+            const json& d = ext["KHR_draco_mesh_compression"];
+            if (!d.contains("bufferView") || !d["bufferView"].is_number_unsigned()) continue;
+            const size_t i = p["indices"].get<size_t>();
+            if (i >= accessors.size() || !accessors[i].is_object() || accessors[i].contains("bufferView")) continue;
+            accessors[i]["bufferView"] = d["bufferView"];
+            changed = true;
+        }
+    }
+    return changed;
+}
+
+/// A meshopt fallback buffer (EXT_/KHR_meshopt_compression "fallback": true) has no data of its
+/// own, which tinygltf cannot take (in a GLB it would read the BIN chunk): give it one byte.
+/// Every view on it is compressed and gets a decoded buffer; a view that is not, fails its
+/// bounds check. True when the document changed.
+bool patchMeshoptFallbacks(json& doc) {
+    if (!doc.contains("buffers") || !doc["buffers"].is_array()) return false;
+    bool changed = false;
+    for (json& b : doc["buffers"]) {
+        if (!b.is_object() || b.contains("uri") || !b.contains("extensions") || !b["extensions"].is_object()) continue;
+        for (const char* name : {"EXT_meshopt_compression", "KHR_meshopt_compression"}) {
+            const json& e = b["extensions"];
+            if (e.contains(name) && e[name].is_object() && e[name].value("fallback", false)) {
+                b["uri"] = "data:application/octet-stream;base64,AA==";
+                b["byteLength"] = 1;
+                changed = true;
+                break;
+            }
+        }
+    }
+    return changed;
+}
+
+}  // namespace
+
+std::string PreflightResult::patchedFile(const std::string& bytes) const {
+    if (!binary) return patchedJson;
+    std::string json = patchedJson;
+    while (json.size() % 4) json += ' ';
+    const uint32_t oldLen = readU32(bytes, 12);
+    const std::string rest = bytes.substr(20 + size_t(oldLen));
+    std::string out = bytes.substr(0, 12);
+    auto putU32 = [&](std::string& s, size_t at, uint32_t v) { std::memcpy(&s[at], &v, 4); };
+    out += std::string(8, '\0');
+    putU32(out, 12, uint32_t(json.size()));
+    putU32(out, 16, 0x4E4F534Au);
+    out += json;
+    out += rest;
+    putU32(out, 8, uint32_t(out.size()));
+    return out;
 }
 
 PreflightResult preflight(const std::string& path, const std::string& bytes) {
@@ -205,6 +274,8 @@ PreflightResult preflight(const std::string& path, const std::string& bytes) {
         r.notes.push_back(d + ": duplicate JSON key; tinygltf keeps one of them");
 
     checkDocument(path, doc);
+    const bool draco = patchDracoIndices(doc), meshopt = patchMeshoptFallbacks(doc);
+    if (draco || meshopt) r.patchedJson = doc.dump();
     return r;
 }
 

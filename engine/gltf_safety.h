@@ -45,6 +45,10 @@ std::string assetRootFor(const std::string& modelPath, const std::string& root);
 struct PreflightResult {
     bool binary = false;
     std::vector<std::string> notes;
+    /// The document tinygltf must read instead of the file's, when non-empty (patchedFile()).
+    std::string patchedJson;
+    /// The file's bytes with patchedJson in place of its JSON (a GLB keeps its BIN chunk).
+    std::string patchedFile(const std::string& bytes) const;
 };
 
 /// Checks the raw file before tinygltf parses it; throws InputError(path, …) on a glTF 1.0 file,

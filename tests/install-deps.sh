@@ -9,6 +9,9 @@ packages=(
   libopenexr-dev                                              # engine/: .exr environments (DWAB)
   libpng-dev                                                  # engine/: glTF PNGs read row by row, downsampled on load (a huge declared size never costs its texels)
   libwebp-dev                                                 # engine/: EXT_texture_webp (and data:image/webp); tests encode WebP with it (no cwebp)
+  libdraco-dev                                                # engine/: KHR_draco_mesh_compression
+  libmeshoptimizer-dev                                        # engine/: EXT_meshopt_compression decoders (and filters)
+  gltfpack                                                    # tests: meshopt and quantized copies of the project's models
   libopenmpi-dev openmpi-bin                                  # farm/: MPI
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev # farm/: H.264 MP4 through FFmpeg
   libavfilter-dev                                             # farm/: GIF palette (palettegen/paletteuse)
