@@ -219,6 +219,11 @@ std::vector<uint8_t> readImageRgb8(const std::string& path, int& width, int& hei
     return readImage8(path, width, height, 3);
 }
 
+bool readImageSize(const std::string& path, int& width, int& height) {
+    int comp = 0;
+    return stbi_info(path.c_str(), &width, &height, &comp) != 0;
+}
+
 std::vector<uint8_t> readImage8(const std::string& path, int& width, int& height, int channels) {
     int comp = 0;
     unsigned char* data = stbi_load(path.c_str(), &width, &height, &comp, channels);

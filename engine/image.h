@@ -74,6 +74,8 @@ std::vector<uint8_t> toRgba8(const Image& img, ToneMap op, float scale = 1.f);
 void writePng(const std::string& path, int width, int height, const std::vector<uint8_t>& pixels, int channels = 3);
 /// Reads a PNG (or any stb-readable image) as 8-bit RGB; throws naming the path on failure.
 std::vector<uint8_t> readImageRgb8(const std::string& path, int& width, int& height);
+/// The image file's size from its header alone (nothing decoded); false if it is no image stb reads.
+bool readImageSize(const std::string& path, int& width, int& height);
 /// The same with `channels` (3: RGB, 4: RGBA) per pixel.
 std::vector<uint8_t> readImage8(const std::string& path, int& width, int& height, int channels);
 

@@ -181,7 +181,8 @@ report::QualityReportOptions qualityOptions(const ArgParser& p, const std::strin
     if (auto r = p.value("--reference")) {
         for (const char* opt : {"--ref-spp", "--ref-depth"})
             if (p.has(opt)) throw UsageError(std::string(opt) + ": no reference is rendered with --reference");
-        o.external = report::readExternalReference(*r);  // a bad file stops the run here, before rendering
+        // A bad file stops the run here, before rendering; its size is checked from its header.
+        o.external = report::readExternalReference(*r, sceneOptions(p).assets.maxTextureSize);
     }
     return o;
 }

@@ -92,13 +92,17 @@ double writeDefaultImages(const Scene& scene, const RenderSettings& settings, co
 
 }  // namespace
 
-ExternalReference readExternalReference(const std::string& path) {
+ExternalReference readExternalReference(const std::string& path, int maxSide) {
     ExternalReference ext;
     ext.path = path;
     if (std::FILE* f = std::fopen(path.c_str(), "rb"))
         std::fclose(f);
     else
         throw InputError(path, std::string("cannot open the reference image: ") + std::strerror(errno));
+    int w = 0, h = 0;
+    if (readImageSize(path, w, h) && (w > maxSide || h > maxSide))
+        throw InputError(path, "the reference image declares " + std::to_string(w) + "x" + std::to_string(h) + ", over " +
+                                   std::to_string(maxSide) + " on a side (--max-texture-size); nothing was decoded");
     try {
         ext.rgb8 = readImageRgb8(path, ext.width, ext.height);
     } catch (const std::runtime_error&) {

@@ -24,7 +24,8 @@ struct ExternalReference {
 
 /// Reads path (PNG or any stb-readable image) as 8-bit RGB; throws InputError naming path if it
 /// cannot be read.
-ExternalReference readExternalReference(const std::string& path);
+/// maxSide: a reference wider or taller (read from its header, before decoding) is refused.
+ExternalReference readExternalReference(const std::string& path, int maxSide = 8192);
 
 struct QualityReportOptions {
     std::string outDir;

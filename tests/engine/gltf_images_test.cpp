@@ -158,3 +158,36 @@ TEST(GltfImages, BasisuUsesTheFallbackOrRefusesSayingWhatIsNeeded) {
     // A KTX2 image as a plain texture source is refused the same way.
     EXPECT_THROW(renderModel(boxWith(dir, images, {{"source", 1}})), InputError);
 }
+
+TEST(GltfImages, LargeTexturesAreDownsampledFromTheHeaderAndTheBudgetRefusesTheRest) {
+    TempDir dir;
+    std::vector<uint8_t> px(size_t(300) * 200 * 3);
+    for (size_t i = 0; i < px.size(); ++i) px[i] = uint8_t(i * 31 % 251);
+    writePng(dir / "big.png", 300, 200, px);
+    const std::string path = boxWith(dir, {{{"uri", "big.png"}}}, {{"sampler", 0}, {"source", 0}});
+    DiskFileSource files;
+    SceneOptions o;
+    o.assets.maxTextureSize = 64;  // 300 on a side: divided by 5, to 60x40
+    const Scene s = loadGltfScene(path, files, o);
+    ASSERT_EQ(s.textures.size(), 1u);
+    EXPECT_EQ(s.textures[0].width, 60);
+    EXPECT_EQ(s.textures[0].height, 40);
+    EXPECT_TRUE(anyNoteHas(s.notes, "300x200 downsampled to 60x40 on load (--max-texture-size 64)"));
+    // A 5x5 box average of the sRGB bytes, then decoded: texel (1, 0) from pixels x 5..9, y 0..4.
+    uint32_t sum = 0;
+    for (int y = 0; y < 5; ++y)
+        for (int x = 5; x < 10; ++x) sum += px[(size_t(y) * 300 + x) * 3];
+    EXPECT_NEAR(s.textures[0].texels[1].r, srgbDecode(float((sum + 12) / 25) / 255.f), 1e-6f);
+
+    // The total budget: 300x200 float RGBA with mip-maps is 1.28 MB; a 1 MB budget refuses it.
+    SceneOptions tight;
+    tight.assets.textureBudgetBytes = 1 << 20;
+    try {
+        loadGltfScene(path, files, tight);
+        ADD_FAILURE() << "over the budget, loaded";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("over the budget of 1 MB"), std::string::npos) << e.what();
+    }
+    tight.assets.textureBudgetBytes = 2 << 20;
+    EXPECT_EQ(loadGltfScene(path, files, tight).textures.size(), 1u);
+}

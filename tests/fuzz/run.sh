@@ -42,6 +42,45 @@ seed gltf_text "$root"/scenes/*.gltf "${embedded[@]}"
 mapfile -t glbs < <(find "$models" -name '*.glb' -size -64k 2>/dev/null)
 seed glb "${glbs[@]}"
 seed environment "$root"/scenes/environments/*.exr
+# Compressed geometry for the glb harness (its BIN chunk is what the decoders read, so mutations
+# land in the Draco and meshopt streams): gltfpack's meshopt copies of small project models, and
+# below, one primitive of Debian's Draco 2CylinderEngine cut into a GLB of its own.
+if command -v gltfpack >/dev/null; then
+  for m in "$root"/scenes/animated_node.gltf "$root"/tests/reference/textured_spot.gltf; do
+    gltfpack -i "$m" -o "$build/corpus/glb/meshopt-$(basename "$m" .gltf).glb" -cc >/dev/null 2>&1 || true
+  done
+fi
+python3 - "$build/corpus/glb" "$models/draco/2CylinderEngine.gltf" <<'PY'
+import json, os, struct, sys
+out, src = sys.argv[1], sys.argv[2]
+if not os.path.exists(src):
+    sys.exit(0)
+g = json.load(open(src))
+bin_ = open(os.path.join(os.path.dirname(src), g['buffers'][0]['uri']), 'rb').read()
+for mesh in (0, 1):
+    prim = g['meshes'][mesh]['primitives'][0]
+    ext = prim['extensions']['KHR_draco_mesh_compression']
+    view = g['bufferViews'][ext['bufferView']]
+    data = bin_[view.get('byteOffset', 0):view.get('byteOffset', 0) + view['byteLength']]
+    accs = {}
+    for name, a in list(prim['attributes'].items()) + [('indices', prim['indices'])]:
+        accs[a] = len(accs)
+    accessors = [dict(g['accessors'][a]) for a in accs]
+    for a in accessors:
+        a.pop('bufferView', None)
+    p = {'attributes': {n: accs[a] for n, a in prim['attributes'].items()}, 'indices': accs[prim['indices']],
+         'extensions': {'KHR_draco_mesh_compression': {'bufferView': 0, 'attributes': ext['attributes']}}}
+    doc = {'asset': {'version': '2.0'}, 'extensionsUsed': ['KHR_draco_mesh_compression'],
+           'extensionsRequired': ['KHR_draco_mesh_compression'], 'scene': 0, 'scenes': [{'nodes': [0]}],
+           'nodes': [{'mesh': 0}], 'meshes': [{'primitives': [p]}], 'accessors': accessors,
+           'bufferViews': [{'buffer': 0, 'byteLength': len(data)}], 'buffers': [{'byteLength': len(data)}]}
+    j = json.dumps(doc).encode()
+    j += b' ' * (-len(j) % 4)
+    data += b'\0' * (-len(data) % 4)
+    glb = b'glTF' + struct.pack('<II', 2, 12 + 8 + len(j) + 8 + len(data)) + struct.pack('<II', len(j), 0x4E4F534A) + j
+    glb += struct.pack('<II', len(data), 0x004E4942) + data
+    open(os.path.join(out, 'draco-2CylinderEngine-mesh%d.glb' % mesh), 'wb').write(glb)
+PY
 python3 - "$build/corpus" "$root/scenes" <<'PY'
 import os, struct, sys
 out, scenes = sys.argv[1], sys.argv[2]

@@ -1,0 +1,60 @@
+#!/usr/bin/env bash
+# Issue 29: the texture budget, end to end. A small PNG that declares 16384x16384 (grey, all
+# zero: about a quarter of a megabyte) on BoxTextured renders with it downsampled to 8192 (a note
+# says so) within 2 GB of peak memory (/usr/bin/time's maximum resident set) at --exposure 0 (auto
+# exposure meters on a copy of the scene, textures included: that costs the texels twice, see
+# docs/cli.md#texture-memory); --max-texture-size
+# shrinks it further; report --reference refuses such an image from its header, in one line.
+# Prints the figures. Usage: texture_budget_test.sh RAYFARM WORK_DIR
+set -euo pipefail
+RAYFARM=$1 WORK=$2
+SRC=/usr/share/assimp/models/glTF2/BoxTextured-glTF
+fail() { echo "FAIL: $*" >&2; exit 1; }
+[ -x /usr/bin/time ] || fail "/usr/bin/time missing (package time)"
+rm -rf "$WORK"
+mkdir -p "$WORK"
+cd "$WORK"
+cp "$SRC/BoxTextured0.bin" .
+python3 - <<'PY'
+import json, struct, zlib
+side = 16384
+def chunk(kind, data):
+    return struct.pack('>I', len(data)) + kind + data + struct.pack('>I', zlib.crc32(kind + data) & 0xffffffff)
+z = zlib.compressobj(9)
+row = bytes(1 + side)  # filter byte 0, then 16384 zero grey samples
+idat = b''.join(z.compress(row) for _ in range(side)) + z.flush()
+png = b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', side, side, 8, 0, 0, 0, 0)) + chunk(b'IDAT', idat) + chunk(b'IEND', b'')
+open('bomb.png', 'wb').write(png)
+g = json.load(open('/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf'))
+g['images'] = [{'uri': 'bomb.png'}]
+json.dump(g, open('bomb.gltf', 'w'))
+PY
+bytes=$(stat -c %s bomb.png)
+[ "$bytes" -lt 1000000 ] || fail "the bomb PNG is $bytes bytes, not small"
+
+# 1. Downsampled to 8192 on load, under 2 GB.
+/usr/bin/time -f '%M %e' -o time.txt "$RAYFARM" still bomb.gltf -o bomb_still.png --size 64x48 --spp 1 --exposure 0 2>err.txt \
+    || fail "still failed: $(cat err.txt)"
+read -r kb secs <time.txt
+grep -q 'images\[0\] "bomb.png": 16384x16384 downsampled to 8192x8192 on load' err.txt || fail "no downsampling note: $(cat err.txt)"
+[ "$kb" -lt 2000000 ] || fail "peak memory $kb KB, over 2 GB"
+echo "texture_budget: ${bytes}-byte PNG declaring 16384x16384: still in ${secs} s, peak ${kb} KB (limit 2000000)"
+
+# 2. --max-texture-size 1024: a smaller texture, a smaller peak.
+/usr/bin/time -f '%M %e' -o time.txt "$RAYFARM" still bomb.gltf -o small.png --size 64x48 --spp 1 --exposure 0 --max-texture-size 1024 2>err.txt \
+    || fail "still --max-texture-size 1024 failed: $(cat err.txt)"
+read -r kb2 secs2 <time.txt
+grep -q 'downsampled to 1024x1024' err.txt || fail "no 1024 note: $(cat err.txt)"
+[ "$kb2" -lt "$kb" ] || fail "--max-texture-size 1024 peaked at $kb2 KB, not below $kb KB"
+echo "texture_budget: --max-texture-size 1024: ${secs2} s, peak ${kb2} KB"
+
+# 3. report --reference refuses the bomb from its header, in one line, exit 2.
+set +e
+"$RAYFARM" report bomb.gltf --reference bomb.png --out rep 2>err.txt >/dev/null
+status=$?
+set -e
+[ "$status" -eq 2 ] || fail "report --reference bomb.png: exit $status, expected 2: $(cat err.txt)"
+errs=$(grep -v '^rayfarm: note:' err.txt)
+[ "$(printf '%s\n' "$errs" | wc -l)" -eq 1 ] || fail "expected one error line, got: $errs"
+case "$errs" in *"declares 16384x16384, over 8192 on a side (--max-texture-size)"*) ;; *) fail "unexpected message: $errs" ;; esac
+echo "texture_budget: ok"
