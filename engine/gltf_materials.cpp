@@ -157,6 +157,7 @@ Material MaterialBuilder::convert(const tinygltf::Material& gm, const std::strin
         else if (name == "KHR_materials_specular") m.specularWeight = clamp01(number(value, "specularFactor", 1.0));
         else if (name == "KHR_materials_unlit") m.unlit = true;
         else if (name == "KHR_materials_clearcoat") readClearcoat(value, m, where + ".extensions.KHR_materials_clearcoat");
+        else if (name == "KHR_materials_pbrSpecularGlossiness") readSpecularGlossiness(value, m, where + ".extensions." + name);
         else if (!isSupportedExtension(name)) note("material extension " + name + " ignored");
     }
     if (gm.emissiveFactor.size() == 3)
@@ -186,6 +187,53 @@ void MaterialBuilder::extensionTexture(const tinygltf::Value& ext, const char* k
     }
     readTransform(ext2, int(number(info, "texCoord", 0.0)), transform);
     if (scale) *scale = float(number(info, "scale", 1.0));
+}
+
+namespace {
+
+float perceivedBrightness(const Color& c) { return std::sqrt(0.299f * c.r * c.r + 0.587f * c.g * c.g + 0.114f * c.b * c.b); }
+
+/// The metallic that gives a dielectric f0 of 0.04 and the diffuse and specular brightnesses
+/// seen (the Khronos glTF converter's solveMetallic): the root of a·m² + b·m + c = 0.
+float solveMetallic(float diffuse, float specular, float oneMinusSpecularStrength) {
+    constexpr float kDielectric = 0.04f;
+    if (specular < kDielectric) return 0.f;
+    const float a = kDielectric, b = diffuse * oneMinusSpecularStrength / (1.f - kDielectric) + specular - 2.f * kDielectric,
+                c = kDielectric - specular;
+    const float d = std::max(b * b - 4.f * a * c, 0.f);
+    return std::clamp((-b + std::sqrt(d)) / (2.f * a), 0.f, 1.f);
+}
+
+}  // namespace
+
+/// KHR_materials_pbrSpecularGlossiness in place of pbrMetallicRoughness, converted as the
+/// Khronos converter does for factors: metallic solved from the diffuse and specular
+/// brightness, base colour blended from both, roughness 1 − glossiness; the diffuse texture
+/// becomes the base colour texture. The specularGlossinessTexture is not converted (a note).
+void MaterialBuilder::readSpecularGlossiness(const tinygltf::Value& v, Material& m, const std::string& where) {
+    auto vec = [&](const char* key, int n, float fallback, float out[4]) {
+        for (int i = 0; i < n; ++i) out[i] = fallback;
+        if (!v.Has(key) || !v.Get(key).IsArray() || int(v.Get(key).ArrayLen()) != n) return;
+        for (int i = 0; i < n; ++i) out[i] = clamp01(element(v.Get(key), i, fallback));
+    };
+    float diffuse[4], specular[4];
+    vec("diffuseFactor", 4, 1.f, diffuse);
+    vec("specularFactor", 3, 1.f, specular);
+    const float glossiness = clamp01(number(v, "glossinessFactor", 1.0));
+    const Color d(diffuse[0], diffuse[1], diffuse[2]), s(specular[0], specular[1], specular[2]);
+    const float maxSpecular = std::max({s.r, s.g, s.b});
+    const float metallic = solveMetallic(perceivedBrightness(d), perceivedBrightness(s), 1.f - maxSpecular);
+    const Color fromDiffuse = d * ((1.f - maxSpecular) / (1.f - 0.04f) / std::max(1.f - metallic, 1e-4f));
+    const Color fromSpecular = (s - Color(0.04f * (1.f - metallic))) / std::max(metallic, 1e-4f);
+    m.color = glm::clamp(glm::mix(fromDiffuse, fromSpecular, metallic * metallic), Color(0.f), Color(1.f));
+    m.alpha = diffuse[3];
+    m.metallic = metallic;
+    m.roughness = 1.f - glossiness;
+    m.metallicRoughnessTexture = -1;
+    m.baseColorTexture = -1;
+    extensionTexture(v, "diffuseTexture", where, true, m.baseColorTexture, m.baseColorTransform, nullptr);
+    if (v.Has("specularGlossinessTexture"))
+        note(where + ".specularGlossinessTexture: not converted (its factors are); texture ignored");
 }
 
 void MaterialBuilder::readClearcoat(const tinygltf::Value& v, Material& m, const std::string& where) {

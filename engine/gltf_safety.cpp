@@ -183,6 +183,7 @@ bool isSupportedExtension(const std::string& name) {
                                             "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_specular",
                                             "KHR_lights_punctual", "KHR_mesh_quantization", "EXT_texture_webp", "KHR_materials_unlit",
                                             "KHR_materials_clearcoat", "KHR_draco_mesh_compression",
+                                            "KHR_materials_pbrSpecularGlossiness",
                                             "EXT_meshopt_compression", "KHR_meshopt_compression",
                                             "KHR_texture_basisu"};
     return s.count(name) != 0;

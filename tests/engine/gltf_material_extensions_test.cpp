@@ -174,3 +174,36 @@ TEST(GltfMaterialExtensions, KhronosClearcoatSampleLoadsWithoutNotes) {
     EXPECT_GE(coatNormals, 1);
     for (const std::string& n : s.notes) EXPECT_EQ(n.find("clearcoat ignored"), std::string::npos) << n;
 }
+
+TEST(GltfMaterialExtensions, SpecularGlossinessConvertsAsTheKhronosConverterDoes) {
+    DiskFileSource files;
+    const Scene s = loadGltfScene("/usr/share/assimp/models/glTF2/BoxTextured-glTF-pbrSpecularGlossiness/BoxTextured.gltf", files);
+    for (const std::string& n : s.notes) EXPECT_EQ(n.find("pbrSpecularGlossiness ignored"), std::string::npos) << n;
+    const Material* m = nullptr;
+    for (const Material& x : s.materials)
+        if (x.name == "Texture") m = &x;
+    ASSERT_NE(m, nullptr);
+    // diffuse 1, specular 0.2, glossiness 1: by hand, b = 0.8/0.96 + 0.2 - 0.08, c = -0.16,
+    // metallic = (-b + sqrt(b^2 - 4*0.04*c)) / 0.08 = 0.1674; both base colour estimates are 1.
+    const double b = 0.8 / 0.96 + 0.2 - 0.08, metallic = (-b + std::sqrt(b * b + 4 * 0.04 * 0.16)) / 0.08;
+    EXPECT_NEAR(m->metallic, metallic, 1e-5);
+    EXPECT_NEAR(m->metallic, 0.1674, 1e-3);
+    EXPECT_EQ(m->roughness, 0.f);
+    EXPECT_NEAR(m->color.r, 1.f, 1e-5);
+    EXPECT_GE(m->baseColorTexture, 0);
+
+    // A plain dielectric (specular 0.04, glossiness 0.25) is metallic 0, base = diffuse, roughness 0.75:
+    // exactly the metallic-roughness material it stands for.
+    const json sg = {{"extensions", {{"KHR_materials_pbrSpecularGlossiness",
+                                      {{"diffuseFactor", {0.5, 0.25, 0.125, 1}}, {"specularFactor", {0.04, 0.04, 0.04}}, {"glossinessFactor", 0.25}}}}}};
+    const json mr = {{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 0.25, 0.125, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0.75}}}};
+    const Scene a = loadFloor(sg), c = loadFloor(mr);
+    EXPECT_EQ(a.materials[0].metallic, 0.f);
+    EXPECT_NEAR(a.materials[0].roughness, 0.75f, 1e-6);
+    const Image ia = renderFromAbove(a), ic = renderFromAbove(c);
+    double worst = 0.0;
+    for (int y = 0; y < 65; ++y)
+        for (int x = 0; x < 65; ++x)
+            for (int k = 0; k < 3; ++k) worst = std::max(worst, double(std::abs(ia.pixel(x, y)[k] - ic.pixel(x, y)[k])));
+    EXPECT_LT(worst, 1e-5);
+}
