@@ -140,6 +140,9 @@ hup-mpi)
     echo "hup-mpi: the process group hung up: $((held + 1)) frames kept and playable, resume line in the frames log; resumed video identical"
     ;;
 pipe)
+    # Away from a terminal, progress is a line every 5 s: the film must outlast one (about 8 s
+    # here unloaded), or the first write after head has gone is the closing line of a finished run.
+    slow=(render "$SCENE" --size 256x144 --spp 64 --frames 0:59)
     set +e
     "$RAYFARM" "${slow[@]}" -o p.mp4 --stats p.json 2>&1 | head -1 > head.out
     rc=${PIPESTATUS[0]}
