@@ -6,16 +6,18 @@
 
 namespace rf::farm {
 
-FrameAssembler::FrameAssembler(int width, int height, std::vector<int> order, std::set<int> onDisk, PixelLayout layout)
-    : width_(width), height_(height), layout_(layout), order_(std::move(order)), onDisk_(std::move(onDisk)) {
-    for (int f : order_)
-        if (!onDisk_.count(f)) wanted_.insert(f);
+FrameAssembler::FrameAssembler(int width, int height, anim::FrameRanges order, anim::FrameRanges onDisk, PixelLayout layout)
+    : width_(width), height_(height), layout_(layout), order_(std::move(order)), onDisk_(std::move(onDisk)), next_(order_.start()) {}
+
+bool FrameAssembler::wanted(int frame) const {
+    // Frames leave in increasing order: those below the next one have been popped.
+    return !finished() && frame >= order_.at(next_) && order_.contains(frame) && !onDisk_.contains(frame);
 }
 
 bool FrameAssembler::add(const TileResult& r) {
     const TileRect& t = r.item.rect;
     const std::string where = "frame " + std::to_string(r.item.frame);
-    if (!wanted_.count(r.item.frame)) throw std::runtime_error(where + ": result for a frame not being rendered");
+    if (!wanted(r.item.frame)) throw std::runtime_error(where + ": result for a frame not being rendered");
     if (t.x0 < 0 || t.y0 < 0 || t.x1 > width_ || t.y1 > height_ || t.width() <= 0 || t.height() <= 0)
         throw std::runtime_error(where + ": tile outside the image");
     if (!(r.layout == layout_)) throw std::runtime_error(where + ": tile has another pixel layout than the job's");
@@ -57,19 +59,20 @@ const std::vector<uint8_t>* FrameAssembler::pixels(int frame) const {
 }
 
 bool FrameAssembler::popReady(ReadyFrame& out) {
-    if (next_ >= order_.size()) return false;
-    const int f = order_[next_];
-    if (onDisk_.count(f)) {
+    if (finished()) return false;
+    const int f = order_.at(next_);
+    if (onDisk_.contains(f)) {
         out = {f, true, {}};
-        ++next_;
+        order_.advance(next_);
+        ++popped_;
         return true;
     }
     auto it = partial_.find(f);
     if (it == partial_.end() || it->second.remaining > 0) return false;
     out = {f, false, std::move(it->second.rgb)};
     partial_.erase(it);
-    wanted_.erase(f);
-    ++next_;
+    order_.advance(next_);
+    ++popped_;
     return true;
 }
 

@@ -2,9 +2,9 @@
 /// Rank 0's reorder buffer: tiles and frames arrive in any order; frames leave complete and in
 /// output order. Frames already on disk (--resume) take their turn in the order too.
 #include <map>
-#include <set>
 #include <vector>
 
+#include "frame_ranges.h"
 #include "messages.h"
 
 namespace rf::farm {
@@ -18,9 +18,9 @@ struct ReadyFrame {
 
 class FrameAssembler {
 public:
-    /// order: every frame of the output in order; onDisk: those kept from an earlier run.
-    /// Every result must come in `layout`.
-    FrameAssembler(int width, int height, std::vector<int> order, std::set<int> onDisk, PixelLayout layout = {});
+    /// order: every frame of the output (they leave in increasing order); onDisk: those kept
+    /// from an earlier run. Every result must come in `layout`.
+    FrameAssembler(int width, int height, anim::FrameRanges order, anim::FrameRanges onDisk, PixelLayout layout = {});
 
     /// Copies a result into its frame; returns true if that completed the frame. Throws
     /// std::runtime_error if it does not belong to a frame being rendered, lies outside the image
@@ -34,11 +34,11 @@ public:
     /// The next frame in order if it is complete (or on disk).
     bool popReady(ReadyFrame& out);
     /// All frames have been popped.
-    bool finished() const { return next_ >= order_.size(); }
+    bool finished() const { return order_.atEnd(next_); }
     /// Frames being assembled or waiting for their turn.
     int held() const { return int(partial_.size()); }
     /// Frames popped so far.
-    int popped() const { return int(next_); }
+    int popped() const { return popped_; }
 
 private:
     struct Partial {
@@ -48,11 +48,14 @@ private:
     };
     int width_, height_;
     PixelLayout layout_;
-    std::vector<int> order_;
-    std::set<int> onDisk_;
-    std::set<int> wanted_;
+    /// A frame rendered here: in the order, not on disk, and not popped yet.
+    bool wanted(int frame) const;
+
+    anim::FrameRanges order_;
+    anim::FrameRanges onDisk_;
     std::map<int, Partial> partial_;
-    size_t next_ = 0;
+    anim::FrameCursor next_;  ///< the next frame to pop
+    int popped_ = 0;
 };
 
 }  // namespace rf::farm

@@ -9,12 +9,6 @@
 
 namespace rf::farm {
 
-std::vector<int> RenderJob::frames() const {
-    std::vector<int> f;
-    for (int i = first; i <= last; ++i) f.push_back(i);
-    return f;
-}
-
 std::string RenderJob::identity() const {
     nlohmann::ordered_json j;
     std::error_code ec;

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "background.h"
+#include "frame_ranges.h"
 #include "messages.h"
 #include "mp4_sink.h"
 #include "scheduler.h"
@@ -37,7 +38,8 @@ struct RenderJob {
     double workerTimeout = 10.0;
     int tileSize = 128;          ///< pixel mode's work-item size (split again into 16x16 on the rank)
 
-    std::vector<int> frames() const;
+    /// The frames selected (--frames), as one range.
+    anim::FrameRanges frames() const { return anim::FrameRanges::span(first, last); }
     /// How every rank lays out the pixels of this job's tiles and frames.
     PixelLayout layout() const { return {transparent ? 4 : 3, exrFrames}; }
     /// Identifies what a frames directory holds, for --resume.

@@ -2,7 +2,6 @@
 
 #include <csignal>
 #include <cstdio>
-#include <set>
 #include <thread>
 #include <utility>
 
@@ -32,9 +31,9 @@ double secondsBetween(Clock::time_point a, Clock::time_point b) { return std::ch
 
 /// The frames of the output, and which of them an earlier run left in the frames directory.
 struct FramePlan {
-    std::vector<int> order;     ///< every frame of the output, in order
-    std::set<int> kept;         ///< read back from disk (--resume)
-    std::vector<int> toRender;  ///< the rest, in order
+    anim::FrameRanges order;     ///< every frame of the output
+    anim::FrameRanges kept;      ///< read back from disk (--resume)
+    anim::FrameRanges toRender;  ///< the rest
 };
 
 FramePlan planFrames(const RenderJob& job, const std::function<void(const std::string&)>& log) {
@@ -45,18 +44,15 @@ FramePlan planFrames(const RenderJob& job, const std::function<void(const std::s
         p.kept = keptFramesForJob(job, &corrupt);
         for (int f : corrupt)
             log("note: " + framePngPath(job.framesDir, f) + ": does not match the checksum recorded when it was written; rendering it again");
-        char line[256];
-        std::snprintf(line, sizeof line, "resume: %zu of %zu frames kept in %s, %zu to render", p.kept.size(),
-                      p.order.size(), job.framesDir.c_str(), p.order.size() - p.kept.size());
-        log(line);
+        log("resume: " + std::to_string(p.kept.count()) + " of " + std::to_string(p.order.count()) + " frames kept in " +
+            job.framesDir + ", " + std::to_string(p.order.count() - p.kept.count()) + " to render");
     }
-    for (int f : p.order)
-        if (!p.kept.count(f)) p.toRender.push_back(f);
+    p.toRender = p.order.minus(p.kept);
     return p;
 }
 
 /// Pixel or frame scheduler, sized so every renderer's credits can be filled.
-std::unique_ptr<Scheduler> makeScheduler(const RenderJob& job, std::vector<int> toRender, int renderers, int credits) {
+std::unique_ptr<Scheduler> makeScheduler(const RenderJob& job, anim::FrameRanges toRender, int renderers, int credits) {
     const int width = job.settings.width, height = job.settings.height;
     if (job.mode != Mode::Pixel) return makeFrameScheduler(std::move(toRender), width, height, renderers * credits + 2);
     // Big tiles mean fewer messages; small frames still get enough tiles to keep every rank's
@@ -276,14 +272,14 @@ FarmOutcome FarmRun::run(SharedScene& shared) {
     rank0Renders_ = ranks <= 2;  // with more ranks, rank 0's core serves the master and encoder
     const int renderers = rank0Renders_ ? ranks : ranks - 1;
     const FramePlan plan = planFrames(job_, opts_.log);
-    const MasterConfig cfg = masterConfig(int(plan.order.size()));
+    const MasterConfig cfg = masterConfig(int(plan.order.count()));
     std::unique_ptr<Scheduler> sched = makeScheduler(job_, plan.toRender, renderers, cfg.credits);
     FrameAssembler assembler(job_.settings.width, job_.settings.height, plan.order, plan.kept, job_.layout());
     anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, job_.fpsOption);
     std::unique_ptr<RenderEngine> local;
     if (rank0Renders_) local = std::make_unique<RenderEngine>(std::move(shared.scene), timeline, job_.settings, opts_.threads, job_.exrFrames);
 
-    const int total = int(plan.order.size());
+    const int total = int(plan.order.count());
     Master master(t_, *sched, assembler, local.get(), [&](ReadyFrame& rf) { emit(rf, total); }, cfg);
     if (sinks_.frames)
         master.onFrameComplete([&](int frame, const std::vector<uint8_t>& rgb) { sinks_.frames->write(frame, rgb); });
@@ -410,16 +406,12 @@ FarmSinks sinksForJob(const RenderJob& job, std::function<double(int)> frameTime
     return s;
 }
 
-std::set<int> keptFramesForJob(const RenderJob& job, std::vector<int>* corrupt) {
-    const std::vector<int> order = job.frames();
+anim::FrameRanges keptFramesForJob(const RenderJob& job, std::vector<int>* corrupt) {
+    const anim::FrameRanges order = job.frames();
     const int w = job.settings.width, h = job.settings.height;
-    std::set<int> kept = findKeptFrames(job.framesDir, order, w, h, corrupt, job.layout().channels);
+    const anim::FrameRanges kept = findKeptFrames(job.framesDir, order, w, h, corrupt, job.layout().channels);
     if (!job.exrFrames) return kept;
-    const std::set<int> exr = findKeptExrFrames(job.framesDir, order, w, h);
-    std::set<int> both;
-    for (int f : kept)
-        if (exr.count(f)) both.insert(f);
-    return both;
+    return kept.intersect(findKeptExrFrames(job.framesDir, order, w, h));
 }
 
 FarmOutcome runFarm(Transport& t, const RenderJob& job, SharedScene& shared, FarmSinks sinks, const FarmOptions& opts) {

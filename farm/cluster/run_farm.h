@@ -50,7 +50,7 @@ FarmSinks sinksForJob(const RenderJob& job, std::function<double(int)> frameTime
 /// Frames of the job already finished in its frames directory: the PNG (with the job's
 /// channels, its checksum as recorded) and, with EXR frames, the EXR too. corrupt: as for
 /// findKeptFrames.
-std::set<int> keptFramesForJob(const RenderJob& job, std::vector<int>* corrupt = nullptr);
+anim::FrameRanges keptFramesForJob(const RenderJob& job, std::vector<int>* corrupt = nullptr);
 
 /// Frames as the messages name them: "7" or "0–11".
 std::string frameSpan(int first, int last);

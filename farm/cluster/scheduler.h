@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "frame_ranges.h"
 #include "messages.h"
 
 namespace rf::farm {
@@ -15,8 +16,9 @@ enum class Mode { Pixel, Frame };
 
 class Scheduler {
 public:
-    /// frames: the frames to render, in output order.
-    Scheduler(std::vector<int> frames, int window) : frames_(std::move(frames)), window_(std::max(1, window)) {}
+    /// frames: the frames to render; they go out in increasing order.
+    Scheduler(anim::FrameRanges frames, int window)
+        : frames_(std::move(frames)), next_(frames_.start()), window_(std::max(1, window)) {}
     virtual ~Scheduler() = default;
 
     /// The next item to hand out, or nullopt if none may go out now: everything is handed out,
@@ -29,7 +31,7 @@ public:
     /// Frame was written out: its place in the window is free.
     void frameReleased() { --open_; }
     /// Everything has been handed out.
-    bool exhausted() const { return nextFrame_ >= frames_.size() && !midFrame(); }
+    bool exhausted() const { return frames_.atEnd(next_) && !midFrame(); }
     int openFrames() const { return open_; }
     int window() const { return window_; }
 
@@ -38,25 +40,27 @@ protected:
     virtual bool midFrame() const { return false; }
     /// Opens the next frame if the window allows; returns its index or nullopt.
     std::optional<int> openNextFrame() {
-        if (nextFrame_ >= frames_.size() || open_ >= window_) return std::nullopt;
+        if (frames_.atEnd(next_) || open_ >= window_) return std::nullopt;
         ++open_;
-        return frames_[nextFrame_++];
+        const int f = frames_.at(next_);
+        frames_.advance(next_);
+        return f;
     }
 
 private:
-    std::vector<int> frames_;
-    size_t nextFrame_ = 0;
+    anim::FrameRanges frames_;
+    anim::FrameCursor next_;
     int window_;
     int open_ = 0;
 };
 
 /// Pixel mode: every frame split into tiles of tileSize; the next frame's tiles go out as soon as
 /// the current frame's are all handed out, before it is complete, so no rank idles at frame ends.
-std::unique_ptr<Scheduler> makePixelScheduler(std::vector<int> frames, int width, int height, int tileSize,
+std::unique_ptr<Scheduler> makePixelScheduler(anim::FrameRanges frames, int width, int height, int tileSize,
                                               int window);
 
 /// Frame mode: whole frames, one per item.
-std::unique_ptr<Scheduler> makeFrameScheduler(std::vector<int> frames, int width, int height, int window);
+std::unique_ptr<Scheduler> makeFrameScheduler(anim::FrameRanges frames, int width, int height, int window);
 
 /// mode "auto": pixel mode when frames are few compared with the rendering ranks (frame mode
 /// would leave ranks idle) or frames are large; frame mode otherwise (fewer, bigger messages).

@@ -6,7 +6,7 @@ namespace {
 
 class FrameScheduler : public Scheduler {
 public:
-    FrameScheduler(std::vector<int> frames, int width, int height, int window)
+    FrameScheduler(anim::FrameRanges frames, int width, int height, int window)
         : Scheduler(std::move(frames), window), full_{0, 0, width, height} {}
 
     std::optional<WorkItem> next() override {
@@ -23,7 +23,7 @@ private:
 
 }  // namespace
 
-std::unique_ptr<Scheduler> makeFrameScheduler(std::vector<int> frames, int width, int height, int window) {
+std::unique_ptr<Scheduler> makeFrameScheduler(anim::FrameRanges frames, int width, int height, int window) {
     return std::make_unique<FrameScheduler>(std::move(frames), width, height, window);
 }
 

@@ -7,7 +7,7 @@ namespace {
 
 class PixelScheduler : public Scheduler {
 public:
-    PixelScheduler(std::vector<int> frames, int width, int height, int tileSize, int window)
+    PixelScheduler(anim::FrameRanges frames, int width, int height, int tileSize, int window)
         : Scheduler(std::move(frames), window), tiles_(makeTiles(width, height, tileSize)) {}
 
     std::optional<WorkItem> next() override {
@@ -33,7 +33,7 @@ private:
 
 }  // namespace
 
-std::unique_ptr<Scheduler> makePixelScheduler(std::vector<int> frames, int width, int height, int tileSize,
+std::unique_ptr<Scheduler> makePixelScheduler(anim::FrameRanges frames, int width, int height, int tileSize,
                                               int window) {
     return std::make_unique<PixelScheduler>(std::move(frames), width, height, tileSize, window);
 }

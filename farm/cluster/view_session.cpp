@@ -79,8 +79,8 @@ FarmOutcome ViewSession::run(SharedScene& shared) {
         local_ = std::make_unique<RenderEngine>(std::move(shared.scene), timeline, job_.settings, std::max(1, opts_.threads));
     }
     // Nothing to render until the first view: an empty scheduler and assembler.
-    sched_ = makePixelScheduler({}, 1, 1, 1, 1);
-    asm_ = std::make_unique<FrameAssembler>(1, 1, std::vector<int>{}, std::set<int>{}, layout_);
+    sched_ = makePixelScheduler(anim::FrameRanges{}, 1, 1, 1, 1);
+    asm_ = std::make_unique<FrameAssembler>(1, 1, anim::FrameRanges{}, anim::FrameRanges{}, layout_);
     Master master(t_, *sched_, *asm_, local_.get(), [this](ReadyFrame& rf) { publish(rf.rgb, true); }, masterConfig());
     master.onTile([this](int rank, const WorkItem& w) { tiles_.push_back({w.rect, rank}); });
     for (;;) {
@@ -118,8 +118,8 @@ void ViewSession::startPass(Master& master) {
     }
     if (local_) local_->setView(spec);
     const int renderers = rank0Renders_ ? t_.size() : t_.size() - 1;
-    auto sched = makePixelScheduler({view_.frame}, p.width, p.height, passTile(renderers), 1);
-    auto assembler = std::make_unique<FrameAssembler>(p.width, p.height, std::vector<int>{view_.frame}, std::set<int>{}, layout_);
+    auto sched = makePixelScheduler(anim::FrameRanges{view_.frame}, p.width, p.height, passTile(renderers), 1);
+    auto assembler = std::make_unique<FrameAssembler>(p.width, p.height, anim::FrameRanges{view_.frame}, anim::FrameRanges{}, layout_);
     master.retarget(*sched, *assembler, spec.epoch);
     sched_ = std::move(sched);
     asm_ = std::move(assembler);

@@ -8,6 +8,8 @@
 #include <OpenEXR/ImfArray.h>
 #include <OpenEXR/ImfRgbaFile.h>
 
+#include "png_sink.h"
+
 namespace rf::farm {
 
 std::string frameExrPath(const std::string& dir, int frame) {
@@ -57,11 +59,10 @@ std::vector<float> readExrRgba(const std::string& path, int& width, int& height)
     }
 }
 
-std::set<int> findKeptExrFrames(const std::string& dir, const std::vector<int>& frames, int width, int height) {
-    std::set<int> kept;
-    for (int f : frames) {
+anim::FrameRanges findKeptExrFrames(const std::string& dir, const anim::FrameRanges& frames, int width, int height) {
+    anim::FrameRanges kept;
+    for (int f : framesInDir(dir, "exr", frames)) {
         const std::string path = frameExrPath(dir, f);
-        if (!std::filesystem::exists(path)) continue;
         try {
             Imf::RgbaInputFile in(path.c_str(), 1);
             const Imath::Box2i dw = in.dataWindow();

@@ -2,10 +2,10 @@
 /// Linear frames for compositing: half-float OpenEXR (RGBA, premultiplied alpha as OpenEXR
 /// expects, ZIP compression) through Debian's OpenEXR. The frames directory gets
 /// frame_NNNNNN.exr next to each PNG.
-#include <set>
 #include <string>
 #include <vector>
 
+#include "frame_ranges.h"
 #include "frame_sink.h"
 #include "pixel_layout.h"
 
@@ -21,7 +21,7 @@ void writeExrRgba(const std::string& path, int width, int height, const float* r
 std::vector<float> readExrRgba(const std::string& path, int& width, int& height);
 
 /// Frames whose EXR is in dir, readable, of width × height.
-std::set<int> findKeptExrFrames(const std::string& dir, const std::vector<int>& frames, int width, int height);
+anim::FrameRanges findKeptExrFrames(const std::string& dir, const anim::FrameRanges& frames, int width, int height);
 
 /// The frames directory's EXR half: writes each frame's linear plane (PixelLayout).
 class ExrSink : public FrameSink {

@@ -1,6 +1,8 @@
 #include "png_sink.h"
 
+#include <algorithm>
 #include <cerrno>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -145,13 +147,34 @@ std::string readAll(const std::string& path) {
 
 }  // namespace
 
-std::set<int> findKeptFrames(const std::string& dir, const std::vector<int>& frames, int width, int height,
-                             std::vector<int>* corrupt, int channels) {
+std::vector<int> framesInDir(const std::string& dir, const std::string& extension, const anim::FrameRanges& frames) {
+    // One pass over the directory, not one look-up per frame: a selection may hold 10⁹ frames.
+    std::vector<int> found;
+    std::error_code ec;
+    for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string name = it->path().filename().string();
+        const std::string tail = "." + extension;
+        if (name.size() <= 6 + tail.size() || name.compare(0, 6, "frame_") != 0 ||
+            name.compare(name.size() - tail.size(), tail.size(), tail) != 0)
+            continue;
+        const std::string digits = name.substr(6, name.size() - 6 - tail.size());
+        if (digits.size() > 10 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+        const long long f = std::stoll(digits);
+        if (f > INT32_MAX || !frames.contains(int(f))) continue;
+        char canonical[32];
+        std::snprintf(canonical, sizeof canonical, "frame_%06d", int(f));
+        if (name == canonical + tail) found.push_back(int(f));  // the name this rayfarm writes
+    }
+    std::sort(found.begin(), found.end());
+    return found;
+}
+
+anim::FrameRanges findKeptFrames(const std::string& dir, const anim::FrameRanges& frames, int width, int height,
+                                 std::vector<int>* corrupt, int channels) {
     const std::map<std::string, std::string> recorded = recordedDigests(dir);
-    std::set<int> kept;
-    for (int f : frames) {
+    anim::FrameRanges kept;
+    for (int f : framesInDir(dir, "png", frames)) {
         const std::string path = framePngPath(dir, f);
-        if (!std::filesystem::exists(path)) continue;
         const auto it = recorded.find(std::filesystem::path(path).filename().string());
         // A middle bit flipped keeps header and IEND intact: only the digest tells.
         const bool good = isCompletePng(path, width, height, channels) && it != recorded.end() && sha256Hex(readAll(path)) == it->second;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "file_source.h"
+#include "frame_ranges.h"
 #include "frame_sink.h"
 #include "png_encoder.h"
 
@@ -58,10 +59,14 @@ void appendFramesLog(const std::string& dir, const std::string& lines);
 /// a word: throws UsageError naming dir and both ways on when it holds finished frames.
 void refuseEarlierFrames(const std::string& dir);
 
+/// The frames of `frames` that have a file frame_NNNNNN.EXTENSION in dir, in increasing order:
+/// one pass over the directory, whatever the selection's length.
+std::vector<int> framesInDir(const std::string& dir, const std::string& extension, const anim::FrameRanges& frames);
+
 /// Frames of `frames` already in dir as complete PNGs of width × height whose SHA-256 matches
 /// the one recorded when they were written. Frames present but failing that check are listed
 /// in `corrupt` (they are rendered again). channels: 3 (RGB PNGs) or 4 (RGBA).
-std::set<int> findKeptFrames(const std::string& dir, const std::vector<int>& frames, int width, int height,
-                             std::vector<int>* corrupt = nullptr, int channels = 3);
+anim::FrameRanges findKeptFrames(const std::string& dir, const anim::FrameRanges& frames, int width, int height,
+                                 std::vector<int>* corrupt = nullptr, int channels = 3);
 
 }  // namespace rf::farm

@@ -97,3 +97,25 @@ TEST(FrameAssembler, KeptFramesTakeTheirTurnInOrder) {
     EXPECT_EQ(out.frame, 2);
     EXPECT_TRUE(a.finished());
 }
+
+// Issue 30 #2: a film of 10⁹ frames is a range; the assembler holds only the frames in flight.
+TEST(FrameAssembler, ABillionFrameFilmHoldsOnlyFramesInFlight) {
+    FrameAssembler a(2, 2, anim::FrameRanges::span(0, 999999999), {0, 2});
+    ReadyFrame out;
+    ASSERT_TRUE(a.popReady(out));
+    EXPECT_TRUE(out.onDisk);
+    EXPECT_EQ(out.frame, 0);
+    EXPECT_THROW(a.add(tile(2, {0, 0, 2, 2})), std::runtime_error);  // kept on disk: not rendered
+    EXPECT_TRUE(a.add(tile(1, {0, 0, 2, 2})));
+    EXPECT_TRUE(a.add(tile(999999999, {0, 0, 2, 2})));
+    EXPECT_EQ(a.held(), 2);
+    ASSERT_TRUE(a.popReady(out));
+    EXPECT_EQ(out.frame, 1);
+    EXPECT_THROW(a.add(tile(1, {0, 0, 2, 2})), std::runtime_error);  // popped already
+    ASSERT_TRUE(a.popReady(out));
+    EXPECT_EQ(out.frame, 2);
+    EXPECT_TRUE(out.onDisk);
+    EXPECT_FALSE(a.popReady(out));  // frame 3 next
+    EXPECT_EQ(a.popped(), 3);
+    EXPECT_FALSE(a.finished());
+}

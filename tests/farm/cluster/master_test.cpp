@@ -39,8 +39,7 @@ FarmRun runFarm(int ranks, Mode mode, bool rank0Renders, int threads = 1) {
     Scene scene = rf::testing::loadFarmScene();
     const anim::Timeline tl = anim::Timeline::fromScene(scene);
     const RenderSettings settings = scene.settings;
-    std::vector<int> frames;
-    for (int i = 0; i < tl.frameCount(); ++i) frames.push_back(i);
+    const anim::FrameRanges frames = anim::FrameRanges::span(0, tl.frameCount() - 1);
 
     std::vector<std::thread> workers;
     for (int r = 1; r < ranks; ++r)

@@ -88,3 +88,14 @@ TEST(ChooseMode, FewFramesGoPixelManyFramesGoFrame) {
     EXPECT_EQ(chooseMode(120, 2, 7680, 4320, why), Mode::Pixel);
     EXPECT_FALSE(why.empty());
 }
+
+// Issue 30 #2: the frames to render of a 10⁹-frame film are ranges, handed out in order.
+TEST(FrameScheduler, ABillionFramesStartAtOnce) {
+    auto s = makeFrameScheduler(anim::FrameRanges::span(0, 999999999).minus({1, 2}), 8, 8, 3);
+    std::vector<int> frames;
+    while (auto i = s->next()) frames.push_back(i->frame);
+    EXPECT_EQ(frames, (std::vector<int>{0, 3, 4}));
+    EXPECT_FALSE(s->exhausted());
+    s->frameReleased();
+    EXPECT_EQ(s->next()->frame, 5);
+}

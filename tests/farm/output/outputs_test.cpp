@@ -128,7 +128,7 @@ TEST(Outputs, ExrFramesHoldTheLinearFramebufferToHalfPrecision) {
         ASSERT_EQ(back[i], float(Imath::half(want))) << "value " << i;  // exactly the half nearest the float
         ASSERT_LE(std::abs(back[i] - want), std::abs(want) * (1.f / 2048.f) + 6e-8f) << "value " << i;
     }
-    EXPECT_EQ(findKeptExrFrames(dir, {1, 2}, rs.width, rs.height), std::set<int>{2});
+    EXPECT_EQ(findKeptExrFrames(dir, {1, 2}, rs.width, rs.height), anim::FrameRanges{2});
     EXPECT_TRUE(findKeptExrFrames(dir, {2}, rs.width + 1, rs.height).empty());
 }
 

@@ -33,7 +33,7 @@ TEST(PngSink, WritesFramesByTimelineIndexAndReadsThemBack) {
     EXPECT_EQ(readImageRgb8(framePngPath(dir, 12), w, h), rgb);
     EXPECT_EQ(w, 5);
     EXPECT_EQ(h, 3);
-    EXPECT_EQ(findKeptFrames(dir, {11, 12, 13, 40}, 5, 3), (std::set<int>{12, 40}));
+    EXPECT_EQ(findKeptFrames(dir, {11, 12, 13, 40}, 5, 3), (anim::FrameRanges{12, 40}));
 }
 
 TEST(PngSink, TruncatedCorruptOrUnrecordedFramesAreNotKept) {
@@ -54,7 +54,7 @@ TEST(PngSink, TruncatedCorruptOrUnrecordedFramesAreNotKept) {
         f.put(char(0x5a));
     }
     std::vector<int> corrupt;
-    EXPECT_EQ(findKeptFrames(dir, {0, 1, 2, 3, 4, 5}, 4, 4, &corrupt), (std::set<int>{0}));
+    EXPECT_EQ(findKeptFrames(dir, {0, 1, 2, 3, 4, 5}, 4, 4, &corrupt), (anim::FrameRanges{0}));
     EXPECT_EQ(corrupt, (std::vector<int>{1, 2, 3, 4}));
 }
 
@@ -101,4 +101,23 @@ TEST(AsyncSink, ErrorsOnTheSinkThreadReachTheCaller) {
         thrown = std::string(e.what()) == "disk full";
     }
     EXPECT_TRUE(thrown);
+}
+
+// Issue 30 #2: kept frames are found from one pass over the directory, so a selection of 10⁹
+// frames costs no look-up per frame; only names this rayfarm writes count.
+TEST(PngSink, KeptFramesOfABillionFrameSelectionComeFromTheListing) {
+    const std::string dir = freshDir("farm_png_long");
+    writeFramesManifest(dir, "{}", {});
+    const std::vector<uint8_t> rgb(2 * 2 * 3, 9);
+    {
+        AsyncSink sink(std::make_unique<PngSink>(dir, 2, 2), 2);
+        for (int f : {3, 1234567, 999999999}) sink.write(f, rgb);
+        sink.close();
+    }
+    writePng(dir + "/frame_12.png", 2, 2, rgb);       // not the name frame 12 gets
+    writePng(dir + "/frame_0000012.png", 2, 2, rgb);  // nor this
+    writePng(dir + "/frame_000013.png.part", 2, 2, rgb);
+    EXPECT_EQ(framesInDir(dir, "png", anim::FrameRanges::span(0, 999999999)), (std::vector<int>{3, 1234567, 999999999}));
+    EXPECT_EQ(findKeptFrames(dir, anim::FrameRanges::span(0, 999999999), 2, 2), (anim::FrameRanges{3, 1234567, 999999999}));
+    EXPECT_EQ(findKeptFrames(dir, anim::FrameRanges::span(4, 999999998), 2, 2), (anim::FrameRanges{1234567}));
 }
