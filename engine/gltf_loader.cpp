@@ -278,10 +278,25 @@ private:
                     throw InputError(path_, "nodes[" + std::to_string(c) + "] has more than one parent (the node graph must be a tree)");
                 parent_[size_t(c)] = int(i);
             }
-        for (size_t i = 0; i < n; ++i) {
-            size_t steps = 0;
-            for (int p = parent_[i]; p >= 0; p = parent_[size_t(p)])
-                if (++steps > n) throw InputError(path_, "nodes[" + std::to_string(i) + "]: the node hierarchy has a cycle");
+        // Every node has at most one parent, so walking up from each node either reaches a
+        // root or comes back to a node of the same walk (a cycle). Nodes of finished walks are
+        // known to reach a root: each node is walked once, linear even in a 10⁶-node chain.
+        {
+            enum : uint8_t { kUnseen, kOnWalk, kReachesRoot };
+            std::vector<uint8_t> state(n, kUnseen);
+            std::vector<int> walk;
+            for (size_t i = 0; i < n; ++i) {
+                walk.clear();
+                int p = int(i);
+                while (p >= 0 && state[size_t(p)] == kUnseen) {
+                    state[size_t(p)] = kOnWalk;
+                    walk.push_back(p);
+                    p = parent_[size_t(p)];
+                }
+                if (p >= 0 && state[size_t(p)] == kOnWalk)
+                    throw InputError(path_, "nodes[" + std::to_string(i) + "]: the node hierarchy has a cycle");
+                for (int w : walk) state[size_t(w)] = kReachesRoot;
+            }
         }
         std::vector<int> roots;
         if (model_.defaultScene >= 0 && size_t(model_.defaultScene) >= model_.scenes.size())

@@ -117,6 +117,9 @@ public:
     size_t triangleCount() const { return triVerts_.size() / 3; }
     bool usesBvh() const { return useBvh_; }
     const Bvh& bvh() const { return bvh_; }
+    /// After build(): nothing else reaches into sphere i (no other sphere overlaps it, no plane
+    /// cuts it; touching is fine), so a ray starting inside meets only its exit.
+    bool sphereAlone(size_t i) const { return i < sphereAlone_.size() && sphereAlone_[i]; }
 
     /// Below this many bounded primitives, brute force beats building a BVH.
     static constexpr size_t kBvhThreshold = 8;
@@ -139,6 +142,8 @@ private:
     /// which a shadow ray can accept without the exact root.
     uint32_t sphereCandidates(const Ray& r, float tMax, uint32_t* sure = nullptr) const;
     void fillSlotData();
+    /// Fills sphereAlone_ (after the BVH, which it queries when there is one).
+    void findAloneSpheres();
 
     Bvh bvh_;
     bool useBvh_ = false;
