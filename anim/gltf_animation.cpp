@@ -230,11 +230,33 @@ int chooseAnimation(const SceneGraph& g, const std::string& choice) {
 
 std::string missingAnimation(const SceneGraph& g, const std::string& choice) {
     const std::string file = std::filesystem::path(g.source).filename().string();
-    std::string list;
-    for (size_t i = 0; i < g.animations.size(); ++i) list += (i ? ", " : "") + std::to_string(i) + " \"" + g.animations[i].name + "\"";
-    const std::string has = g.animations.empty() ? file + " has no animations"
-                                                 : file + " has " + std::to_string(g.animations.size()) + ": " + list;
-    return "no animation " + (isIndex(choice) ? choice : "named \"" + choice + "\"") + " (" + has + ")";
+    // Built by appends: GCC 12's inlining of operator+ chains warns falsely under LTO.
+    std::string msg = "no animation ";
+    if (isIndex(choice)) {
+        msg += choice;
+    } else {
+        msg += "named \"";
+        msg += choice;
+        msg += '"';
+    }
+    msg += " (";
+    msg += file;
+    if (g.animations.empty()) {
+        msg += " has no animations";
+    } else {
+        msg += " has ";
+        msg += std::to_string(g.animations.size());
+        msg += ": ";
+        for (size_t i = 0; i < g.animations.size(); ++i) {
+            if (i) msg += ", ";
+            msg += std::to_string(i);
+            msg += " \"";
+            msg += g.animations[i].name;
+            msg += '"';
+        }
+    }
+    msg += ')';
+    return msg;
 }
 
 double filmSecondsForClip(double clip, double orbit) {

@@ -18,7 +18,8 @@ using namespace rf::farm;
 namespace {
 
 std::string outDir() {
-    const std::string d = std::string(RAYFARM_TEST_OUT) + "/farm_mp4";
+    std::string d = RAYFARM_TEST_OUT;  // appended, not operator+: GCC 12 warns falsely under LTO
+    d += "/farm_mp4";
     std::filesystem::create_directories(d);
     return d;
 }
