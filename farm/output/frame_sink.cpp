@@ -1,6 +1,24 @@
 #include "frame_sink.h"
 
+#include <stdexcept>
+
 namespace rf::farm {
+
+void FrameSink::writeChunk(const EncodedChunk&) { throw std::logic_error("this output takes frames, not encoded chunks"); }
+
+void FrameSink::writePng(int, const std::string&, const std::string&) {
+    throw std::logic_error("this output takes frames, not PNG files");
+}
+
+void TeeSink::writePng(int frame, const std::string& png, const std::string& sha256) {
+    for (auto& s : sinks_) s->writePng(frame, png, sha256);
+}
+
+bool TeeSink::wants(int frame) const {
+    for (const auto& s : sinks_)
+        if (s->wants(frame)) return true;
+    return false;
+}
 
 void TeeSink::write(int frame, const std::vector<uint8_t>& pixels) {
     for (auto& s : sinks_) s->write(frame, pixels);
@@ -40,11 +58,33 @@ void AsyncSink::rethrowIfFailed() {
 }
 
 void AsyncSink::write(int frame, const std::vector<uint8_t>& rgb) {
+    Item item;
+    item.frame = frame;
+    item.rgb = rgb;
+    push(std::move(item));
+}
+
+void AsyncSink::writeChunk(const EncodedChunk& chunk) {
+    Item item;
+    item.frame = -1;
+    item.chunk = std::make_shared<const EncodedChunk>(chunk);
+    push(std::move(item));
+}
+
+void AsyncSink::writePng(int frame, const std::string& png, const std::string& sha256) {
+    Item item;
+    item.frame = frame;
+    item.png = png;
+    item.sha256 = sha256;
+    push(std::move(item));
+}
+
+void AsyncSink::push(Item item) {
     std::unique_lock<std::mutex> lock(mutex_);
     cv_.wait(lock, [&] { return int(queue_.size()) < capacity_ || error_ || closing_; });
     rethrowIfFailed();
     if (closing_) return;
-    queue_.push_back({frame, rgb});
+    queue_.push_back(std::move(item));
     cv_.notify_all();
 }
 
@@ -74,7 +114,9 @@ void AsyncSink::loop() {
         }
         const auto t0 = std::chrono::steady_clock::now();
         try {
-            inner_->write(item.frame, item.rgb);
+            if (item.chunk) inner_->writeChunk(*item.chunk);
+            else if (!item.png.empty()) inner_->writePng(item.frame, item.png, item.sha256);
+            else inner_->write(item.frame, item.rgb);
         } catch (...) {
             std::lock_guard<std::mutex> lock(mutex_);
             error_ = std::current_exception();
@@ -85,7 +127,7 @@ void AsyncSink::loop() {
         const auto t1 = std::chrono::steady_clock::now();
         std::lock_guard<std::mutex> lock(mutex_);
         busy_ += std::chrono::duration<double>(t1 - t0).count();
-        ++done_;
+        done_ += item.chunk ? item.chunk->frames : 1;
         lastDone_ = t1;
     }
     const auto t0 = std::chrono::steady_clock::now();

@@ -13,6 +13,8 @@
 #include <thread>
 #include <vector>
 
+#include "video_chunk.h"
+
 namespace rf::farm {
 
 class FrameSink {
@@ -25,6 +27,15 @@ public:
     /// Frames already in the output file, playable if the process died now; -1 for a sink that
     /// writes its file only at close (GIF) or keeps no such count. Safe from any thread.
     virtual int framesInOutput() const { return -1; }
+    /// A chunk of the film encoded where it was rendered, next in order (a video joined from
+    /// chunks: Mp4Sink). Other sinks take frames only: they throw std::logic_error.
+    virtual void writeChunk(const EncodedChunk& chunk);
+    /// A frame already compressed as PNG where it was rendered, with its SHA-256 (the PNG
+    /// frames: PngSink). Other sinks throw std::logic_error.
+    virtual void writePng(int frame, const std::string& png, const std::string& sha256);
+    /// Whether write() does anything with this frame (a contact sheet shows a dozen): rank 0
+    /// asks for the pixels of those frames only when frames are rendered elsewhere.
+    virtual bool wants(int /*frame*/) const { return true; }
 };
 
 /// Hands every frame to several sinks in turn (the video and the contact sheet, the PNG and the
@@ -36,6 +47,8 @@ public:
     void close() override;
     /// The first sink's (the video, beside its contact sheet and poster).
     int framesInOutput() const override { return sinks_.empty() ? -1 : sinks_[0]->framesInOutput(); }
+    void writePng(int frame, const std::string& png, const std::string& sha256) override;
+    bool wants(int frame) const override;
 
 private:
     std::vector<std::unique_ptr<FrameSink>> sinks_;
@@ -48,12 +61,15 @@ public:
     AsyncSink(std::unique_ptr<FrameSink> inner, int capacity);
     ~AsyncSink() override;
     void write(int frame, const std::vector<uint8_t>& rgb) override;
+    void writeChunk(const EncodedChunk& chunk) override;
+    void writePng(int frame, const std::string& png, const std::string& sha256) override;
     void close() override;
     int framesInOutput() const override { return inner_->framesInOutput(); }
+    bool wants(int frame) const override { return inner_->wants(frame); }
 
     /// Seconds the thread spent inside the inner sink (write and close).
     double busySeconds() const;
-    /// Frames the inner sink has completed.
+    /// Frames the inner sink has completed (a chunk counts its frames).
     int framesDone() const;
     /// When the inner sink last finished work: a frame, or after close() the closing, which for
     /// an encoder is when the last frames are muxed.
@@ -63,9 +79,12 @@ public:
 
 private:
     struct Item {
-        int frame;
+        int frame = 0;
         std::vector<uint8_t> rgb;
+        std::shared_ptr<const EncodedChunk> chunk;  ///< writeChunk
+        std::string png, sha256;                    ///< writePng
     };
+    void push(Item item);
     void loop();
     void rethrowIfFailed();
 

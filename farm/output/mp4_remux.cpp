@@ -50,6 +50,7 @@ void Remux::open(const std::string& muxer, AVRational rate) {
     const AVStream* src = in->streams[0];
     rc = avformat_alloc_output_context2(&out, nullptr, muxer.c_str(), temp.c_str());
     if (rc < 0 || !out) fail("cannot set up the " + muxer + " muxer", rc);
+    out->flags |= AVFMT_FLAG_BITEXACT;  // no library version tag: the bytes follow the packets alone
     AVStream* dst = avformat_new_stream(out, nullptr);
     pkt = av_packet_alloc();
     if (!dst || !pkt) fail("out of memory", 0);

@@ -2,15 +2,19 @@
 /// The video file through the FFmpeg libraries; the container and codec follow the output's
 /// name (video_format.h): H.264 in MP4 (yuv420p, BT.709 tags, TV range, faststart), VP9 in
 /// WebM (yuva420p with alpha), ProRes 4444 in MOV (yuva444p10le with alpha). Constant frame rate
-/// with timestamps from the frame count. (GIF: gif_sink.h.) Every packet reaches the disk as it
-/// is encoded (MP4/MOV fragmented, remuxed to faststart at close: mp4_remux.h; a WebM cluster per
-/// frame), so the file plays whatever ends the process.
+/// with timestamps from the frame count. (GIF: gif_sink.h.) The film is encoded in chunks of
+/// Mp4Options::chunkFrames frames, each by a fresh encoder (video_chunk.h), whether the frames
+/// come here (write) or a chunk comes encoded by the rank that rendered it (writeChunk): the
+/// file is the same either way. Every packet reaches the disk as it is encoded (MP4/MOV
+/// fragmented, remuxed to faststart at close: mp4_remux.h; a WebM cluster per frame), so the
+/// file plays whatever ends the process.
 #include <cstdint>
 #include <memory>
 #include <stdexcept>
 #include <string>
 
 #include "frame_sink.h"
+#include "video_chunk.h"
 #include "video_format.h"
 
 namespace rf::farm {
@@ -28,6 +32,9 @@ struct Mp4Options {
     int channels = 3;                   ///< frames come as RGB (3) or straight RGBA (4)
     /// For RGBA frames in a format without alpha: the sRGB colour they are laid over.
     uint8_t flattenOver[3] = {0, 0, 0};
+    /// Frames a chunk (--chunk-frames; fixed for a film, whatever the ranks): each chunk starts
+    /// with a key frame and is encoded by an encoder of its own.
+    int chunkFrames = 60;
 };
 
 /// The format these options give for `path` (throws std::invalid_argument like videoFormatFor).
@@ -49,8 +56,16 @@ class Mp4Sink : public FrameSink {
 public:
     Mp4Sink(const std::string& path, int width, int height, const Mp4Options& o);
     ~Mp4Sink() override;
+    /// The film's next frame, encoded here into its chunk (a new encoder at each chunk's start).
     void write(int frame, const std::vector<uint8_t>& rgb) override;
+    /// The film's next chunk, encoded elsewhere: it must start where the frames so far end (a
+    /// chunk boundary). Its packets are copied in, not re-encoded. Throws std::runtime_error
+    /// for a chunk out of order or with another stream header.
+    void writeChunk(const EncodedChunk& chunk) override;
+    /// Closes the chunk in progress (a film that ends, or an interrupted one) and the file.
     void close() override;
+    /// Frames taken so far (written or in chunks).
+    int framesTaken() const;
     /// Frames flushed to the file (thread-safe: read while another thread writes).
     int framesInOutput() const override;
 

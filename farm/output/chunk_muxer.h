@@ -1,0 +1,41 @@
+#pragma once
+/// Rank 0's side of chunked encoding: the film's container (MP4, WebM, MOV), into which the
+/// chunks' packets go in order, their timestamps shifted by the chunk's place in the film, and
+/// never re-encoded. Every packet is flushed to the file as it is written (MP4/MOV as a fragment,
+/// WebM as a cluster), so the file plays whatever ends the process; at close an MP4/MOV is
+/// remuxed to faststart (mp4_remux.h). The muxer is opened in bit-exact mode (no library
+/// version tag, no random segment UID), so the file's bytes depend only on its packets.
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "mp4_sink.h"
+#include "video_chunk.h"
+
+namespace rf::farm {
+
+class ChunkMuxer {
+public:
+    /// Opens path and writes the header, with the stream parameters a chunk encoder of these
+    /// settings has (one is opened to learn them). Throws std::runtime_error "PATH: what failed".
+    ChunkMuxer(const std::string& path, int width, int height, const Mp4Options& o, int chunkFrames);
+    ~ChunkMuxer();
+    ChunkMuxer(const ChunkMuxer&) = delete;
+    ChunkMuxer& operator=(const ChunkMuxer&) = delete;
+
+    /// Writes one packet of the chunk whose first frame is frameOffset frames into the film.
+    void write(const ChunkPacket& p, int64_t frameOffset);
+    /// Throws if a chunk's global header is not the stream's (an encoder built or set up
+    /// differently on another rank): its packets would not decode with this stream's header.
+    void checkExtradata(const std::string& extradata, int chunkIndex) const;
+    /// Trailer, close, and for MP4/MOV the faststart remux. Safe to call twice.
+    void close();
+    /// Packets flushed to the file (a frame each), readable from any thread.
+    int packetsInFile() const;
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace rf::farm
