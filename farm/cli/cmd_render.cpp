@@ -142,6 +142,14 @@ void claimOutputs(const RenderJob& job, const ArgParser& p, std::vector<OutputLo
     if (!job.framesDir.empty() && !job.resume && !p.has("--overwrite")) refuseEarlierFrames(job.framesDir);
 }
 
+/// How the video is encoded, for the plan line.
+std::string videoChunksNote(const RenderJob& job) {
+    if (containerFor(job.output) == Container::Gif) return "the GIF made on rank 0 from the whole film";
+    const std::string k = std::to_string(job.mp4.chunkFrames);
+    return job.chunkedFrames ? "video in chunks of " + k + " frames, each rendered and encoded by one rank"
+                             : "video in chunks of " + k + " frames encoded on rank 0";
+}
+
 /// Rank 0's part of makeJob: everything decided from the options and the loaded scene, checked
 /// before any rendering.
 void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundle& inputs, int ranks, const std::string& threadsNote) {
@@ -154,6 +162,7 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
     job.last = job.timelineFrames - 1;
     if (auto f = p.value("--frames")) parseFrameRange(*f, job.timelineFrames, job.first, job.last);
     job.mp4.fps = tl.isStill() && job.fpsOption > 0.0 ? job.fpsOption : tl.fps();
+    job.mp4.chunkFrames = job.chunkFramesOption > 0 ? job.chunkFramesOption : defaultChunkFrames(job.mp4.fps);
     decideOutputs(job, scene);
     // Metering renders: only once every option has been checked.
     resolveAutoExposure(scene, tl, job.settings, job.threads);
@@ -164,12 +173,18 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
     const int frames = job.last - job.first + 1;
     const int renderers = ranks <= 2 ? ranks : ranks - 1;
     if (job.modeOption == "auto") {
-        job.mode = chooseMode(frames, renderers, job.settings.width, job.settings.height, job.modeWhy);
+        // Frame mode's items are chunks when the rendering ranks can encode them (not a GIF, nor
+        // EXR frames, which rank 0 writes from every frame's pixels).
+        RenderJob asFrames = job;
+        asFrames.mode = Mode::Frame;
+        const int chunkFrames = chunksOnRenderers(asFrames) ? job.mp4.chunkFrames : 1;
+        job.mode = chooseMode(frames, renderers, job.settings.width, job.settings.height, job.modeWhy, chunkFrames);
         job.modeWhy = "auto: " + job.modeWhy;
     } else {
         job.mode = job.modeOption == "pixel" ? Mode::Pixel : Mode::Frame;
         job.modeWhy = "as asked";
     }
+    job.chunkedFrames = chunksOnRenderers(job);
     if (!job.framesDir.empty()) {
         if (job.resume) {
             checkFramesManifest(job.framesDir, job.identity(), inputDigests(inputs));
@@ -179,10 +194,10 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
         }
     }
     const std::string plan =
-        formatted("rayfarm: %s: frames %s of %d, %dx%d, %d spp; mode %s (%s); %d rank%s, %s\n", job.scenePath.c_str(),
+        formatted("rayfarm: %s: frames %s of %d, %dx%d, %d spp; mode %s (%s); %d rank%s, %s; %s\n", job.scenePath.c_str(),
                   frameSpan(job.first, job.last).c_str(), job.timelineFrames, job.settings.width, job.settings.height,
                   job.settings.spp, job.mode == Mode::Pixel ? "pixel" : "frame", job.modeWhy.c_str(), ranks, ranks == 1 ? "" : "s",
-                  threadsNote.c_str());
+                  threadsNote.c_str(), videoChunksNote(job).c_str());
     writeStderrText(plan);
     if (!job.framesDir.empty()) appendFramesLog(job.framesDir, plan);
     if (p.has("--preview")) startPreview(job.framesDir, job.last - job.first + 1);

@@ -59,6 +59,10 @@ const char* kRenderHelp =
     "  --poster F        one frame full size as PNG (--poster-frame N, default the first)\n"
     "  --lossless        RGB H.264 at qp 0: decodes to the PNG frames bit for bit (not every\n"
     "                    player plays it; for reference comparisons)\n"
+    "  --chunk-frames N  frames a video chunk (default: about 2 s of film; at least 2): each\n"
+    "                    chunk starts with a key frame and has an encoder of its own, so the\n"
+    "                    rank that renders a chunk in frame mode encodes it; the file is the same\n"
+    "                    at any rank count for the same N\n"
     "  --threads N       render threads per rank (default: the node's cores shared by its ranks)\n"
     "  --timeout S       seconds a worker may stay silent before the run stops (default 10)\n"
     "  --stats FILE      write run statistics as JSON (sustained_fps, per-rank busy time, ...)\n"
@@ -71,7 +75,7 @@ const char* kRenderHelp =
 void declareRenderOptions(ArgParser& p) {
     for (const char* o : {"-o", "--mode", "--frames", "--fps", "--size", "--spp", "--depth", "--min-weight", "--indirect", "--tonemap",
                           "--exposure", "--frames-dir", "--crf", "--preset", "--stats", "--threads", "--timeout", "--codec",
-                          "--background", "--frames-format", "--contact-sheet", "--poster", "--poster-frame"})
+                          "--background", "--frames-format", "--contact-sheet", "--poster", "--poster-frame", "--chunk-frames"})
         p.option(o);
     for (const char* f : {"--resume", "--overwrite", "--lossless", "--no-frames", "--preview", "--help", "-h"}) p.flag(f);
     declareSceneOptions(p);
@@ -106,6 +110,10 @@ farm::RenderJob jobFromOptions(const ArgParser& p) {
     j.mp4.codec = p.value("--codec").value_or("");
     j.mp4.lossless = p.has("--lossless");
     if (j.mp4.lossless && p.has("--crf")) throw UsageError("--lossless and --crf contradict each other");
+    j.chunkFramesOption = p.intValue("--chunk-frames", 0, 1, 1 << 30);
+    if (p.has("--chunk-frames") && j.chunkFramesOption < farm::kMinChunkFrames)
+        throw UsageError("--chunk-frames: expected 2 or more (a chunk starts with a key frame: chunks of one frame would make "
+                         "consecutive H.264 IDR pictures share idr_pic_id 0)");
     if (auto b = p.value("--background")) j.background = parseBackground(*b);
     const std::string framesFormat = p.value("--frames-format").value_or("png");
     if (framesFormat != "png" && framesFormat != "exr") throw UsageError("--frames-format: expected png or exr, got \"" + framesFormat + "\"");

@@ -32,6 +32,16 @@ std::string Master::who(int rank) const {
 
 std::string Master::describeBusy(const WorkerState& w) const {
     if (w.outstanding.empty()) return "while idle";
+    if (w.outstanding.front().chunk >= 0) {
+        // A chunk: the frame its heartbeat named (rank 0's own: its engine's), and the chunk.
+        const WorkItem& c = w.outstanding.front();
+        int frame = w.rank == 0 && chunks_.local ? local_->currentFrame() : w.reportedFrame;
+        if (frame < c.frame || frame >= c.frame + c.frames) frame = c.frame;
+        std::string s = "while rendering frame " + std::to_string(frame) + " of chunk " + std::to_string(c.chunk) + " (frames " +
+                        std::to_string(c.frame) + "–" + std::to_string(c.frame + c.frames - 1) + ")";
+        if (w.outstanding.size() > 1) s += " (queued: chunk " + std::to_string(w.outstanding[1].chunk) + ")";
+        return s;
+    }
     // Items run in the order given: the first is the one being rendered, the rest wait.
     std::vector<int> frames;
     for (const WorkItem& i : w.outstanding)
@@ -75,20 +85,68 @@ void Master::handle(const Message& m) {
     WorkerState& w = workers_[size_t(m.source)];
     w.lastHeard = Clock::now();
     w.answeredAfterInterrupt = true;
-    switch (m.tag) {
+    dispatch(m.source, m.tag, m.bytes);
+}
+
+void Master::dispatch(int rank, int tag, const std::string& bytes) {
+    WorkerState& w = workers_[size_t(rank)];
+    switch (tag) {
     case kTagResult:
-        accept(m.source, decodeTileResult(m.bytes));
+        accept(rank, decodeTileResult(bytes));
         break;
+    case kTagChunkFrame:
+        acceptChunkFrame(rank, decodeChunkFrame(bytes));
+        break;
+    case kTagChunkDone: {
+        std::string chunk;
+        const WorkItem item = decodeChunkDone(bytes, chunk);
+        acceptChunkDone(rank, item, std::move(chunk));
+        break;
+    }
     case kTagHeartbeat:
-        w.reportedFrame = decodeHeartbeat(m.bytes).currentFrame;
+        w.reportedFrame = decodeHeartbeat(bytes).currentFrame;
         break;
     case kTagError:
-        failure_ = who(m.source) + ": " + m.bytes;
+        failure_ = who(rank) + ": " + bytes;
         break;
     default:
         break;
     }
 }
+
+void Master::acceptChunkFrame(int rank, const ChunkFrame& f) {
+    if (f.item.epoch != epoch_) return;
+    WorkerState& w = workers_[size_t(rank)];
+    const auto it = std::find_if(w.outstanding.begin(), w.outstanding.end(), [&](const WorkItem& i) { return i.chunk == f.item.chunk; });
+    if (!chunks_.collector || it == w.outstanding.end() || f.frame < it->frame || f.frame >= it->frame + it->frames) {
+        failure_ = "rank " + std::to_string(rank) + " returned frame " + std::to_string(f.frame) + " of chunk " +
+                   std::to_string(f.item.chunk) + ", work it was not given";
+        return;
+    }
+    if (f.frame == it->frame + it->frames - 1) w.chunksRendered.push_back(it->chunk);
+    if (!f.wasKept) {
+        out_.rays += f.rays;
+        RankStats& st = out_.perRank[size_t(rank)];
+        st.busySeconds += f.busySeconds;
+        ++st.frames;
+    }
+    if (chunks_.onFrame) chunks_.onFrame(f);
+}
+
+void Master::acceptChunkDone(int rank, const WorkItem& item, std::string bytes) {
+    if (item.epoch != epoch_) return;
+    WorkerState& w = workers_[size_t(rank)];
+    const auto it = std::find_if(w.outstanding.begin(), w.outstanding.end(), [&](const WorkItem& i) { return i.chunk == item.chunk; });
+    if (!chunks_.collector || it == w.outstanding.end()) {
+        failure_ = "rank " + std::to_string(rank) + " returned chunk " + std::to_string(item.chunk) + ", work it was not given";
+        return;
+    }
+    w.outstanding.erase(it);
+    std::erase(w.chunksRendered, item.chunk);
+    chunks_.collector->add(item.chunk, std::move(bytes));
+}
+
+int Master::rendering(const WorkerState& w) const { return int(w.outstanding.size() - w.chunksRendered.size()); }
 
 bool Master::handOut() {
     bool any = false;
@@ -97,7 +155,7 @@ bool Master::handOut() {
         more = false;
         for (WorkerState& w : workers_) {
             if (w.rank == 0 && !local_) continue;
-            if (int(w.outstanding.size()) >= cfg_.credits) continue;
+            if (rendering(w) >= cfg_.credits) continue;
             std::optional<WorkItem> item = sched_->next();
             if (!item) return any;
             item->epoch = epoch_;
@@ -106,8 +164,15 @@ bool Master::handOut() {
                 out_.firstDispatch = Clock::now();
             }
             w.outstanding.push_back(*item);
-            if (w.rank == 0) local_->submit(*item);
-            else t_.send(w.rank, kTagWork, encodeWorkItem(*item));
+            if (item->chunk >= 0) {
+                ChunkOrder order = chunks_.orderFor(*item);
+                if (w.rank == 0) chunks_.local->submit(std::move(order));
+                else t_.send(w.rank, kTagChunkWork, encodeChunkOrder(order));
+            } else if (w.rank == 0) {
+                local_->submit(*item);
+            } else {
+                t_.send(w.rank, kTagWork, encodeWorkItem(*item));
+            }
             any = more = true;
         }
     }
@@ -138,17 +203,55 @@ bool Master::gather() {
             handle(m);
             progressed = true;
         }
-        if (local_) {
-            while (auto r = local_->takeResult()) {
-                accept(0, *r);
-                progressed = true;
-            }
-            if (const std::string err = local_->error(); !err.empty()) failure_ = "rank 0: " + err;
-        }
+        if (local_) progressed |= gatherLocal(0.0);
     } catch (const std::exception& e) {
         if (failure_.empty()) failure_ = e.what();
     }
     return progressed;
+}
+
+bool Master::gatherLocal(double waitSeconds) {
+    bool any = false;
+    if (chunks_.local) {
+        for (auto& [tag, bytes] : chunks_.local->poll(waitSeconds)) {
+            dispatch(0, tag, bytes);
+            any = true;
+        }
+        if (const std::string err = chunks_.local->error(); !err.empty()) failure_ = "rank 0: " + err;
+        return any;
+    }
+    for (auto r = local_->takeResult(waitSeconds); r; r = local_->takeResult()) {
+        accept(0, *r);
+        any = true;
+    }
+    if (const std::string err = local_->error(); !err.empty()) failure_ = "rank 0: " + err;
+    return any;
+}
+
+bool Master::passOn() {
+    bool any = false;
+    if (chunks_.collector) {
+        int chunk = 0;
+        std::string bytes;
+        while (chunks_.collector->popReady(chunk, bytes)) {
+            chunks_.emitChunk(chunk, bytes);
+            sched_->frameReleased();
+            out_.framesPassed += chunks_.collector->plan().framesIn(chunk);
+            out_.lastFramePassed = chunks_.collector->plan().lastFrame(chunk);
+            any = true;
+        }
+        return any;
+    }
+    ReadyFrame rf;
+    while (asm_->popReady(rf)) {
+        const bool rendered = !rf.onDisk;
+        emit_(rf);
+        if (rendered) sched_->frameReleased();
+        ++out_.framesPassed;
+        out_.lastFramePassed = rf.frame;
+        any = true;
+    }
+    return any;
 }
 
 std::string Master::lostWorker(Clock::time_point now, int* rank) const {
@@ -167,8 +270,13 @@ std::string Master::lostWorker(Clock::time_point now, int* rank) const {
 
 std::vector<int> Master::renderingFrames() const {
     std::vector<int> rankFrames(workers_.size(), -1);
-    for (const WorkerState& w : workers_)
-        if (!w.outstanding.empty()) rankFrames[size_t(w.rank)] = w.outstanding.front().frame;
+    for (const WorkerState& w : workers_) {
+        if (w.outstanding.empty()) continue;
+        const WorkItem& i = w.outstanding.front();
+        // A chunk: the frame its rank said it renders, while that lies in the chunk.
+        const int said = w.rank == 0 && local_ ? local_->currentFrame() : w.reportedFrame;
+        rankFrames[size_t(w.rank)] = i.chunk >= 0 && said >= i.frame && said < i.frame + i.frames ? said : i.frame;
+    }
     if (!local_ && !rankFrames.empty()) rankFrames.erase(rankFrames.begin());
     return rankFrames;
 }
@@ -177,6 +285,7 @@ bool Master::interrupted() {
     if (!interruptSignal() && !(cfg_.cancel && cfg_.cancel->load())) return false;
     for (WorkerState& w : workers_) w.answeredAfterInterrupt = false;
     if (local_) local_->cancelQueued();
+    if (chunks_.local) chunks_.local->cancel();
     return true;
 }
 
@@ -200,23 +309,17 @@ MasterOutcome Master::run() {
         progressed |= gather();
         if (!failure_.empty()) return finish(RunEnd::Failed, failure_);
 
-        ReadyFrame rf;
-        while (asm_->popReady(rf)) {
-            const bool rendered = !rf.onDisk;
-            emit_(rf);
-            if (rendered) sched_->frameReleased();
-            ++out_.framesPassed;
-            out_.lastFramePassed = rf.frame;
-            progressed = true;
-        }
-        if (sched_->exhausted() && asm_->finished()) return finish(RunEnd::Done, "");
+        progressed |= passOn();
+        if (!failure_.empty()) return finish(RunEnd::Failed, failure_);
+        if (sched_->exhausted() && (chunks_.collector ? chunks_.collector->finished() : asm_->finished()))
+            return finish(RunEnd::Done, "");
 
         // Heartbeats are read above before this check, so time spent blocked in emit (a full
         // encoder queue) never counts against a worker.
         const auto now = Clock::now();
         keepAlive(now);  // emit may have blocked, or this process been stopped, since the top
         if (std::string lost = lostWorker(now, &out_.lostRank); !lost.empty()) return finish(RunEnd::WorkerLost, std::move(lost));
-        if (!cfg_.quiet) progress.update(asm_->popped(), renderingFrames());
+        if (!cfg_.quiet) progress.update(out_.framesPassed, renderingFrames());
         if (!progressed) {
             if (local_) {
                 // Alone, with no ranks to hear from and no viewer waiting between frames, the
@@ -226,7 +329,11 @@ MasterOutcome Master::run() {
                 // render thread's core from it (2CylinderEngine, pixel mode, 2 ranks: 33.7 ->
                 // 36.4 fps with the workers' 2 ms and 8 credits). A viewer waits 0.5 ms.
                 const double wait = cfg_.between ? 0.0005 : t_.size() == 1 ? 0.02 : 0.002;
-                if (auto r = local_->takeResult(wait)) accept(0, *r);
+                try {
+                    gatherLocal(wait);
+                } catch (const std::exception& e) {
+                    if (failure_.empty()) failure_ = e.what();
+                }
             } else {
                 std::this_thread::sleep_for(std::chrono::microseconds(300));
             }

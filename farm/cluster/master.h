@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "chunk_collector.h"
+#include "chunk_workshop.h"
 #include "frame_assembler.h"
 #include "liveness.h"
 #include "render_engine.h"
@@ -84,6 +86,20 @@ public:
     /// Called for each result accepted into the assembler, with the rank that rendered it.
     void onTile(std::function<void(int rank, const WorkItem&)> f) { onTile_ = std::move(f); }
 
+    /// Frame mode with chunked encoding: the scheduler hands out chunks (makeChunkScheduler),
+    /// each rendered and encoded by one rank; local (rank 0's own workshop over its engine, or
+    /// nullptr) takes rank 0's. orderFor makes a chunk's order (kept frames, pictures wanted);
+    /// onFrame hears of each frame done (its PNG); emitChunk receives every encoded chunk in film
+    /// order from collector. The frame assembler and emit are not used.
+    struct ChunkHooks {
+        ChunkCollector* collector = nullptr;
+        ChunkWorkshop* local = nullptr;
+        std::function<ChunkOrder(const WorkItem&)> orderFor;
+        std::function<void(const ChunkFrame&)> onFrame;
+        std::function<void(int chunk, std::string& bytes)> emitChunk;
+    };
+    void useChunks(ChunkHooks hooks) { chunks_ = std::move(hooks); }
+
     /// Runs until every frame is passed on, an interrupt, a lost worker or an error.
     MasterOutcome run();
     /// An interactive session's next pass: the work of epoch (stamped on every item handed
@@ -107,9 +123,21 @@ private:
         std::chrono::steady_clock::time_point lastHeard{};
         int reportedFrame = -1;
         bool answeredAfterInterrupt = false;
+        std::vector<int> chunksRendered;  ///< chunks in `outstanding` whose frames are all rendered
     };
     void handle(const Message& m);
+    /// A message from a rank (rank 0: its own workshop's).
+    void dispatch(int rank, int tag, const std::string& bytes);
     void accept(int rank, const TileResult& r);
+    void acceptChunkFrame(int rank, const ChunkFrame& f);
+    void acceptChunkDone(int rank, const WorkItem& item, std::string bytes);
+    /// Items a rank holds that still take its renderer (a chunk whose frames are all rendered
+    /// only waits for its encoder: the next chunk may go out).
+    int rendering(const WorkerState& w) const;
+    /// Passes on what is ready, in order; true if anything was.
+    bool passOn();
+    /// rank 0's own results (engine or workshop); waits up to waitSeconds for one.
+    bool gatherLocal(double waitSeconds);
     bool handOut();
     /// Reads every waiting message and local result; false if there was none.
     bool gather();
@@ -131,6 +159,7 @@ private:
     std::function<void(ReadyFrame&)> emit_;
     std::function<void(int, const std::vector<uint8_t>&)> onComplete_;
     std::function<void(int, const WorkItem&)> onTile_;
+    ChunkHooks chunks_;
     uint64_t epoch_ = 0;
     MasterConfig cfg_;
     std::vector<WorkerState> workers_;  ///< index = rank; rank 0 is the local engine if any

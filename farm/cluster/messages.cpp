@@ -15,6 +15,7 @@ namespace {
 struct ResultHeader {
     int32_t frame, x0, y0, x1, y1;
     int32_t layout = 0;  ///< channels | linear << 8
+    int32_t chunk, frames;
     uint64_t epoch;
     double busySeconds;
     RayStats rays;
@@ -38,24 +39,142 @@ T fromBytes(const std::string& b, const char* what) {
 
 struct WireRect {
     int32_t frame, x0, y0, x1, y1;
+    int32_t chunk, frames;
     uint64_t epoch;
+};
+
+WireRect wireOf(const WorkItem& w) { return {w.frame, w.rect.x0, w.rect.y0, w.rect.x1, w.rect.y1, w.chunk, w.frames, w.epoch}; }
+WorkItem itemOf(const WireRect& r) { return {r.frame, {r.x0, r.y0, r.x1, r.y1}, r.epoch, r.chunk, r.frames}; }
+
+/// A payload in parts: fixed-size fields copied as they are, byte strings with their length.
+struct Writer {
+    std::string out;
+    template <class T>
+    void put(const T& v) {
+        static_assert(std::is_trivially_copyable_v<T>);
+        out.append(reinterpret_cast<const char*>(&v), sizeof v);
+    }
+    void bytes(const void* p, size_t n) {
+        put(uint64_t(n));
+        out.append(static_cast<const char*>(p), n);
+    }
+    void bytes(const std::string& s) { bytes(s.data(), s.size()); }
+};
+
+struct Reader {
+    const std::string& in;
+    const char* what;
+    size_t at = 0;
+    [[noreturn]] void bad() const { throw std::runtime_error(std::string("malformed ") + what + " message"); }
+    template <class T>
+    T get() {
+        if (in.size() - at < sizeof(T)) bad();
+        T v;
+        std::memcpy(&v, in.data() + at, sizeof v);
+        at += sizeof v;
+        return v;
+    }
+    std::string bytes() {
+        const uint64_t n = get<uint64_t>();
+        if (n > in.size() - at) bad();
+        std::string b = in.substr(at, size_t(n));
+        at += size_t(n);
+        return b;
+    }
+    uint32_t count(size_t least) {
+        const uint32_t n = get<uint32_t>();
+        if (uint64_t(n) * least > in.size() - at) bad();
+        return n;
+    }
+    void end() const {
+        if (at != in.size()) bad();
+    }
 };
 static_assert(std::is_trivially_copyable_v<ViewSpec>);
 
 }  // namespace
 
-std::string encodeWorkItem(const WorkItem& w) {
-    return bytesOf(WireRect{w.frame, w.rect.x0, w.rect.y0, w.rect.x1, w.rect.y1, w.epoch});
+std::string encodeWorkItem(const WorkItem& w) { return bytesOf(wireOf(w)); }
+
+WorkItem decodeWorkItem(const std::string& bytes) { return itemOf(fromBytes<WireRect>(bytes, "work")); }
+
+std::string encodeChunkOrder(const ChunkOrder& o) {
+    Writer w;
+    w.put(wireOf(o.item));
+    w.put(o.sendPngs);
+    w.put(uint32_t(o.kept.size()));
+    for (const auto& [frame, png] : o.kept) {
+        w.put(frame);
+        w.bytes(png);
+    }
+    w.put(uint32_t(o.rawWanted.size()));
+    for (int32_t f : o.rawWanted) w.put(f);
+    return std::move(w.out);
 }
 
-WorkItem decodeWorkItem(const std::string& bytes) {
-    const WireRect r = fromBytes<WireRect>(bytes, "work");
-    return {r.frame, {r.x0, r.y0, r.x1, r.y1}, r.epoch};
+ChunkOrder decodeChunkOrder(const std::string& bytes) {
+    Reader r{bytes, "chunk order"};
+    ChunkOrder o;
+    o.item = itemOf(r.get<WireRect>());
+    o.sendPngs = r.get<int32_t>();
+    o.kept.resize(r.count(12));
+    for (auto& [frame, png] : o.kept) {
+        frame = r.get<int32_t>();
+        png = r.bytes();
+    }
+    o.rawWanted.resize(r.count(4));
+    for (int32_t& f : o.rawWanted) f = r.get<int32_t>();
+    r.end();
+    if (o.item.chunk < 0 || o.item.frames <= 0) r.bad();
+    return o;
+}
+
+std::string encodeChunkFrame(const ChunkFrame& f) {
+    Writer w;
+    w.put(wireOf(f.item));
+    w.put(f.frame);
+    w.put(f.wasKept);
+    w.put(f.busySeconds);
+    w.put(f.rays);
+    w.bytes(f.png);
+    w.bytes(f.pngSha256);
+    w.bytes(f.pixels.data(), f.pixels.size());
+    return std::move(w.out);
+}
+
+ChunkFrame decodeChunkFrame(const std::string& bytes) {
+    Reader r{bytes, "chunk frame"};
+    ChunkFrame f;
+    f.item = itemOf(r.get<WireRect>());
+    f.frame = r.get<int32_t>();
+    f.wasKept = r.get<int32_t>();
+    f.busySeconds = r.get<double>();
+    f.rays = r.get<RayStats>();
+    f.png = r.bytes();
+    f.pngSha256 = r.bytes();
+    const std::string px = r.bytes();
+    f.pixels.assign(px.begin(), px.end());
+    r.end();
+    return f;
+}
+
+std::string encodeChunkDone(const WorkItem& item, const std::string& chunkBytes) {
+    Writer w;
+    w.put(wireOf(item));
+    w.out.append(chunkBytes);
+    return std::move(w.out);
+}
+
+WorkItem decodeChunkDone(const std::string& bytes, std::string& chunkBytes) {
+    Reader r{bytes, "chunk"};
+    const WorkItem item = itemOf(r.get<WireRect>());
+    chunkBytes = bytes.substr(r.at);
+    return item;
 }
 
 std::string encodeTileResult(const TileResult& r) {
     ResultHeader h{r.item.frame, r.item.rect.x0, r.item.rect.y0, r.item.rect.x1, r.item.rect.y1,
-                   r.layout.channels | int32_t(r.layout.linear) << 8, r.item.epoch, r.busySeconds, r.rays};
+                   r.layout.channels | int32_t(r.layout.linear) << 8, r.item.chunk, r.item.frames, r.item.epoch, r.busySeconds, r.rays};
     std::string out = bytesOf(h);
     out.append(reinterpret_cast<const char*>(r.rgb.data()), r.rgb.size());
     return out;
@@ -66,7 +185,7 @@ TileResult decodeTileResult(const std::string& bytes) {
     ResultHeader h;
     std::memcpy(&h, bytes.data(), sizeof h);
     TileResult r;
-    r.item = {h.frame, {h.x0, h.y0, h.x1, h.y1}, h.epoch};
+    r.item = {h.frame, {h.x0, h.y0, h.x1, h.y1}, h.epoch, h.chunk, h.frames};
     r.layout.channels = h.layout & 0xff;
     r.layout.linear = (h.layout >> 8) & 1;
     if ((r.layout.channels != 3 && r.layout.channels != 4) || (h.layout >> 9) != 0)

@@ -4,6 +4,7 @@
 /// pixels come back; the scene itself travels once, by broadcast (scene_broadcast.h).
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "camera.h"
@@ -25,6 +26,13 @@ enum Tag : int {
     /// session through runFarm): work of any other epoch is stale and dropped, the item being
     /// rendered included
     kTagView = 17,
+    /// master → worker: ChunkOrder, a chunk of whole frames to render, encode and send back
+    /// (frame mode with chunked encoding)
+    kTagChunkWork = 18,
+    /// worker → master: ChunkFrame, one frame of a chunk done (its PNG when frames are kept)
+    kTagChunkFrame = 19,
+    /// worker → master: the chunk's WorkItem, then its EncodedChunk (video_chunk.h)
+    kTagChunkDone = 20,
     /// rayfarm view, window → rank: the timeline JSON to pose the scene as loaded with from now
     /// on (the window's camera keys changed); "" for none
     kTagViewTimeline = 23,
@@ -43,6 +51,10 @@ struct WorkItem {
     /// other, late ones of a cancelled run included. An epoch a ViewSpec names renders as that
     /// says; any other (0 too) is a frame of the job, through the timeline's camera.
     uint64_t epoch = 0;
+    /// A chunk of the film (frame mode with chunked encoding): its number, and `frames` whole
+    /// frames from `frame` on. -1: a single item (a frame, or a tile of one).
+    int32_t chunk = -1;
+    int32_t frames = 1;
 };
 
 /// An interactive epoch: every work item stamped with it renders `frame` through `camera` (or
@@ -71,6 +83,38 @@ struct Heartbeat {
     int32_t currentFrame = -1;  ///< frame being rendered, -1 when idle
     int32_t signalled = 0;
 };
+
+/// A chunk to render (the frames not already kept) and encode, whole, on one rank.
+struct ChunkOrder {
+    WorkItem item;                 ///< chunk, its first frame and frame count, the whole image
+    int32_t sendPngs = 0;          ///< 1: send each rendered frame back as PNG (frames are kept)
+    /// Frames of the chunk kept from an earlier run (--resume): their PNG bytes, read back from
+    /// rank 0's frames directory, so that only the missing frames are rendered.
+    std::vector<std::pair<int32_t, std::string>> kept;
+    /// Frames whose pixels rank 0 needs (the contact sheet's, the poster's).
+    std::vector<int32_t> rawWanted;
+};
+
+/// One frame of a chunk done on its rank: for progress and the stats, and its PNG (kept
+/// frames) or pixels (contact sheet) when asked for.
+struct ChunkFrame {
+    WorkItem item;              ///< the chunk's
+    int32_t frame = 0;
+    int32_t wasKept = 0;        ///< 1: decoded from a kept PNG, not rendered
+    double busySeconds = 0.0;   ///< rendering it
+    RayStats rays;
+    std::string png, pngSha256; ///< empty unless ChunkOrder::sendPngs
+    std::vector<uint8_t> pixels;  ///< the 8-bit plane, only for ChunkOrder::rawWanted frames
+};
+
+std::string encodeChunkOrder(const ChunkOrder& o);
+ChunkOrder decodeChunkOrder(const std::string& bytes);
+std::string encodeChunkFrame(const ChunkFrame& f);
+ChunkFrame decodeChunkFrame(const std::string& bytes);
+/// kTagChunkDone: the item, then the serialized EncodedChunk (kept as bytes: rank 0 parses it
+/// when the chunk's turn comes).
+std::string encodeChunkDone(const WorkItem& item, const std::string& chunkBytes);
+WorkItem decodeChunkDone(const std::string& bytes, std::string& chunkBytes);
 
 std::string encodeWorkItem(const WorkItem& w);
 /// Throws std::runtime_error on a payload of the wrong size.

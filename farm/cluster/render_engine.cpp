@@ -21,30 +21,12 @@ void appendLinearPlane(const std::vector<float>& rgb, const std::vector<float>& 
     }
 }
 
-/// Benchmark hook (examples/bench_coordinator.sh), off unless RAYFARM_BENCH_FREE_WORK is set in
-/// the environment: items are "rendered" as a cheap pattern that moves with the frame, not
-/// traced, so what remains per frame is the farm's own work (dispatch, gather, assembly, PNG,
-/// encode). The pattern is not the scene's picture; it only gives PNG and x264 content to chew.
-bool benchFreeWork() {
-    static const bool on = std::getenv("RAYFARM_BENCH_FREE_WORK") != nullptr;
-    return on;
-}
-
-void fillFreeWork(const TileRect& r, int frame, int channels, uint8_t* dst) {
-    for (int y = r.y0; y < r.y1; ++y)
-        for (int x = r.x0; x < r.x1; ++x, dst += channels) {
-            const int gx = x, gy = y;
-            dst[0] = uint8_t(gx + 2 * frame);
-            dst[1] = uint8_t(gy + frame);
-            dst[2] = uint8_t((gx ^ gy) + 3 * frame);
-            if (channels == 4) dst[3] = 255;
-        }
-}
-
 }  // namespace
 
-RenderEngine::RenderEngine(Scene scene, anim::Timeline timeline, RenderSettings settings, int threads, bool linear)
-    : scene_(std::move(scene)), timeline_(std::move(timeline)), settings_(settings), threads_(std::max(1, threads)), linear_(linear) {
+RenderEngine::RenderEngine(Scene scene, anim::Timeline timeline, RenderSettings settings, int threads, bool linear,
+                           ItemRenderer itemRenderer)
+    : scene_(std::move(scene)), timeline_(std::move(timeline)), settings_(settings), threads_(std::max(1, threads)), linear_(linear),
+      itemRenderer_(std::move(itemRenderer)) {
     thread_ = std::thread([this] { loop(); });
 }
 
@@ -140,8 +122,9 @@ void RenderEngine::loop() {
     std::optional<ViewSpec> view;
     while (next(item, view)) {
         try {
-            TileResult r = render(scene_, timeline_, settings_, threads_, item, appliedFrame_, linear_, view ? &*view : nullptr,
-                                  &cancelCurrent_);
+            TileResult r = itemRenderer_ && !view ? itemRenderer_(item, scene_.transparentBackground ? 4 : 3)
+                                                  : render(scene_, timeline_, settings_, threads_, item, appliedFrame_, linear_,
+                                                           view ? &*view : nullptr, &cancelCurrent_);
             std::lock_guard<std::mutex> lock(mutex_);
             current_ = -1;
             if (cancelCurrent_) {
@@ -184,11 +167,6 @@ TileResult RenderEngine::render(Scene& scene, const anim::Timeline& tl, const Re
     (out.layout.channels == 4 ? buffers.rgba8 : buffers.rgb8) = out.rgb.data();
     std::vector<float> rgbLinear(linear ? 3 * pixels : 0), alpha(linear ? pixels : 0);
     if (linear) buffers.linear = rgbLinear.data(), buffers.alpha = alpha.data();
-    if (benchFreeWork() && !linear && !view) {
-        fillFreeWork(rect, item.frame, out.layout.channels, out.rgb.data());
-        out.busySeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        return out;
-    }
     const Camera& camera = view && !view->followTimeline ? view->camera : scene.camera;
     renderRect(scene, camera, s, item.frame, rect, threads, sub, buffers, out.rays, cancel);
     if (linear) appendLinearPlane(rgbLinear, alpha, scene.transparentBackground, out.rgb.data() + out.layout.linearOffset(pixels));

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -20,9 +21,14 @@ namespace rf::farm {
 
 class RenderEngine {
 public:
+    /// Renders a job's item in place of tracing it (given the 8-bit plane's channels): a
+    /// benchmark's stand-in work (bench_free_work.h). Never used for a viewer's epochs.
+    using ItemRenderer = std::function<TileResult(const WorkItem&, int channels)>;
+
     /// threads: render threads for this rank (≥ 1). linear: results carry the linear plane too
-    /// (PixelLayout), for EXR frames.
-    RenderEngine(Scene scene, anim::Timeline timeline, RenderSettings settings, int threads, bool linear = false);
+    /// (PixelLayout), for EXR frames. itemRenderer: null (trace the scene) but in benchmarks.
+    RenderEngine(Scene scene, anim::Timeline timeline, RenderSettings settings, int threads, bool linear = false,
+                 ItemRenderer itemRenderer = nullptr);
     ~RenderEngine();
     RenderEngine(const RenderEngine&) = delete;
     RenderEngine& operator=(const RenderEngine&) = delete;
@@ -64,6 +70,7 @@ private:
     RenderSettings settings_;
     int threads_;
     bool linear_;
+    ItemRenderer itemRenderer_;
     int appliedFrame_ = -1;
 
     mutable std::mutex mutex_;

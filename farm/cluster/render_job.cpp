@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "chunk_workshop.h"
+
 
 namespace rf::farm {
 
@@ -31,23 +33,40 @@ std::string RenderJob::identity() const {
     return j.dump();
 }
 
+ChunkVideoSpec chunkVideoSpec(const RenderJob& j) {
+    ChunkVideoSpec v;
+    v.path = j.output;
+    v.width = j.settings.width;
+    v.height = j.settings.height;
+    v.options = j.mp4;
+    return v;
+}
+
+bool chunksOnRenderers(const RenderJob& j) {
+    return j.mode == Mode::Frame && containerFor(j.output) != Container::Gif && !j.exrFrames;
+}
+
 std::string encodeWorkerJob(const RenderJob& j) {
     // Settings as a byte copy: every rank runs the same executable, and a field added to
     // RenderSettings later travels without anyone remembering to add it here.
     static_assert(std::is_trivially_copyable_v<RenderSettings>);
     static_assert(std::is_trivially_copyable_v<WorkerOutputs>);
     const WorkerOutputs outputs{j.background, j.exrFrames ? 1 : 0};
-    return std::string(reinterpret_cast<const char*>(&j.settings), sizeof(RenderSettings)) +
-           std::string(reinterpret_cast<const char*>(&outputs), sizeof outputs);
+    std::string out(reinterpret_cast<const char*>(&j.settings), sizeof(RenderSettings));
+    out.append(reinterpret_cast<const char*>(&outputs), sizeof outputs);
+    if (j.chunkedFrames) out.append(encodeChunkVideoSpec(chunkVideoSpec(j)));
+    return out;
 }
 
-RenderSettings decodeWorkerJob(const std::string& bytes, WorkerOutputs* outputs) {
-    if (bytes.size() != sizeof(RenderSettings) + sizeof(WorkerOutputs)) throw std::runtime_error("malformed job broadcast");
+RenderSettings decodeWorkerJob(const std::string& bytes, WorkerOutputs* outputs, std::string* chunkVideo) {
+    constexpr size_t fixed = sizeof(RenderSettings) + sizeof(WorkerOutputs);
+    if (bytes.size() < fixed) throw std::runtime_error("malformed job broadcast");
     RenderSettings s;
     std::memcpy(&s, bytes.data(), sizeof s);
     WorkerOutputs o;
     std::memcpy(&o, bytes.data() + sizeof s, sizeof o);
     if (outputs) *outputs = o;
+    if (chunkVideo) *chunkVideo = bytes.substr(fixed);
     return s;
 }
 

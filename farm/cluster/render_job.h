@@ -36,7 +36,11 @@ struct RenderJob {
     int posterFrame = -1;        ///< --poster-frame (timeline index), -1: the first frame
     int threads = 0;             ///< --threads (0: share the node's cores among its ranks)
     double workerTimeout = 10.0;
-    int tileSize = 128;          ///< pixel mode's work-item size (split again into 16x16 on the rank)
+    int tileSize = 128;
+    int chunkFramesOption = 0;   ///< --chunk-frames, 0 if not given (mp4.chunkFrames is decided)
+    /// Frame mode with chunked encoding on the rendering ranks (chunksOnRenderers): decided by
+    /// `render` before the job goes to the workers, which then encode too.
+    bool chunkedFrames = false;          ///< pixel mode's work-item size (split again into 16x16 on the rank)
 
     /// The frames selected (--frames), as one range.
     anim::FrameRanges frames() const { return anim::FrameRanges::span(first, last); }
@@ -52,10 +56,20 @@ struct WorkerOutputs {
     BackgroundChoice background;
     int32_t linear = 0;
 };
+/// Whether this job's chunks are rendered and encoded by one rank each (frame mode whose video
+/// is joined from chunks: MP4, WebM, MOV; not a GIF, whose palette needs the whole film on rank
+/// 0, nor EXR frames, whose linear pixels rank 0 writes).
+bool chunksOnRenderers(const RenderJob& j);
+
+/// How the job's chunks are encoded, for the ranks that encode them.
+struct ChunkVideoSpec;
+ChunkVideoSpec chunkVideoSpec(const RenderJob& j);
+
 /// What the workers need beyond the scene bundle and the options every rank parsed (the render
-/// settings rank 0 settled on, the outputs' pixel needs), as bytes for the scene broadcast, and
-/// back. outputs (if given) gets the WorkerOutputs.
+/// settings rank 0 settled on, the outputs' pixel needs, and with chunkedFrames the video's
+/// encoding), as bytes for the scene broadcast, and back. outputs (if given) gets the
+/// WorkerOutputs; chunkVideo (if given) the encoded ChunkVideoSpec, "" when ranks do not encode.
 std::string encodeWorkerJob(const RenderJob& j);
-RenderSettings decodeWorkerJob(const std::string& bytes, WorkerOutputs* outputs = nullptr);
+RenderSettings decodeWorkerJob(const std::string& bytes, WorkerOutputs* outputs = nullptr, std::string* chunkVideo = nullptr);
 
 }  // namespace rf::farm

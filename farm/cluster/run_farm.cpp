@@ -2,10 +2,17 @@
 
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <thread>
 #include <utility>
 
+#include <sys/resource.h>
+
 #include "background.h"
+#include "bench_free_work.h"
+#include "chunk_collector.h"
+#include "chunk_workshop.h"
 #include "contact_sheet.h"
 #include "exr_frames.h"
 #include "frame_assembler.h"
@@ -28,6 +35,14 @@ using Clock = std::chrono::steady_clock;
 namespace {
 
 double secondsBetween(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+
+/// A kept frame's file, whole (it was checked against its digest when the run started).
+std::string readFileBytes(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    if (!f.good() && !f.eof()) throw std::runtime_error(path + ": cannot read the kept frame");
+    return bytes;
+}
 
 /// The frames of the output, and which of them an earlier run left in the frames directory.
 struct FramePlan {
@@ -66,24 +81,31 @@ std::unique_ptr<Scheduler> makeScheduler(const RenderJob& job, anim::FrameRanges
 
 /// The sinks, each on its own thread.
 struct AsyncSinks {
-    std::unique_ptr<AsyncSink> video, frames;
+    std::unique_ptr<AsyncSink> video, pictures, frames;
+    /// Run between closing the PNG frames and the video (frame mode with chunked encoding: the
+    /// frames after the last whole chunk, from their PNGs).
+    std::function<void()> beforeVideoCloses;
 
     explicit AsyncSinks(FarmSinks s) {
         if (!s.video) throw std::invalid_argument("runFarm: a video sink is required");
         video = std::make_unique<AsyncSink>(std::move(s.video), 4);
+        if (s.pictures) pictures = std::make_unique<AsyncSink>(std::move(s.pictures), 4);
         if (s.frames) frames = std::make_unique<AsyncSink>(std::move(s.frames), 4);
     }
-    /// Closes both (the PNG frames first: they are what a resume needs); rethrows the first error.
+    /// Closes every sink (the PNG frames first: they are what a resume needs); rethrows the first error.
     void close() {
         std::exception_ptr first;
-        for (AsyncSink* s : {frames.get(), video.get()}) {
-            if (!s) continue;
+        auto closing = [&](const std::function<void()>& f) {
             try {
-                s->close();
+                f();
             } catch (...) {
                 if (!first) first = std::current_exception();
             }
-        }
+        };
+        if (frames) closing([&] { frames->close(); });
+        if (beforeVideoCloses) closing(std::exchange(beforeVideoCloses, nullptr));
+        if (pictures) closing([&] { pictures->close(); });
+        closing([&] { video->close(); });
         if (first) std::rethrow_exception(first);
     }
 };
@@ -102,6 +124,10 @@ public:
 private:
     MasterConfig masterConfig(int totalFrames) const;
     void emit(ReadyFrame& rf, int total);
+    ChunkOrder orderFor(const WorkItem& item) const;
+    void onChunkFrame(const ChunkFrame& f);
+    void emitChunk(int chunk, std::string& bytes, int total);
+    void videoFromKeptFrames();
     MasterOutcome runMaster(Master& master, SignalDeadline& deadline);
     int lastWords();
     std::string videoHolds() const;
@@ -117,7 +143,15 @@ private:
     const FarmOptions& opts_;
     AsyncSinks sinks_;
     bool rank0Renders_ = false;
-    int framesPassed_ = 0, encodedKept_ = 0;
+    std::atomic<int> framesPassed_{0};
+    int encodedKept_ = 0;
+    /// Frame mode with chunked encoding: each chunk rendered and encoded by one rank.
+    bool chunked_ = false;
+    ChunkPlan plan_;
+    anim::FrameRanges kept_;
+    std::unique_ptr<ChunkCollector> collector_;
+    double rankEncodeSeconds_ = 0.0;  ///< chunk encoders' time on the ranks that rendered them
+    int chunksJoined_ = 0;
     int silentRank_ = -1;
     Clock::time_point end_{};
     /// After an interrupt the sinks close on a thread of their own (startClose), so the
@@ -159,8 +193,64 @@ void FarmRun::emit(ReadyFrame& rf, int total) {
         ++encodedKept_;
     }
     sinks_.video->write(rf.frame, rf.rgb);
+    if (sinks_.pictures && sinks_.pictures->wants(rf.frame)) sinks_.pictures->write(rf.frame, rf.rgb);
     ++framesPassed_;
     if (opts_.onFrame) opts_.onFrame(FarmProgress{rf.frame, framesPassed_, total, rf.onDisk, &rf.rgb});
+}
+
+/// A chunk as it goes out: the PNGs of its frames kept by an earlier run (read here, decoded
+/// by the rank, which renders only the rest), the frames the pictures want, and whether to send
+/// PNGs back.
+ChunkOrder FarmRun::orderFor(const WorkItem& item) const {
+    ChunkOrder o;
+    o.item = item;
+    o.sendPngs = sinks_.frames ? 1 : 0;
+    for (int f = item.frame; f < item.frame + item.frames; ++f) {
+        if (kept_.contains(f)) o.kept.emplace_back(f, readFileBytes(framePngPath(job_.framesDir, f)));
+        if (sinks_.pictures && sinks_.pictures->wants(f)) o.rawWanted.push_back(f);
+    }
+    return o;
+}
+
+void FarmRun::onChunkFrame(const ChunkFrame& f) {
+    if (!f.png.empty() && sinks_.frames) sinks_.frames->writePng(f.frame, f.png, f.pngSha256);
+    if (!f.pixels.empty()) collector_->holdPixels(f.frame, f.pixels);
+    if (f.wasKept) ++encodedKept_;
+}
+
+void FarmRun::emitChunk(int chunk, std::string& bytes, int total) {
+    EncodedChunk c = parseChunk(bytes);
+    if (c.index != chunk || c.frames != plan_.framesIn(chunk))
+        throw std::runtime_error("chunk " + std::to_string(chunk) + " arrived holding chunk " + std::to_string(c.index) + " of " +
+                                 std::to_string(c.frames) + " frames");
+    rankEncodeSeconds_ += c.encodeSeconds;
+    sinks_.video->writeChunk(c);
+    ++chunksJoined_;
+    for (auto& [frame, px] : collector_->takePixels(chunk)) sinks_.pictures->write(frame, px);
+    for (int f = plan_.firstFrame(chunk); f <= plan_.lastFrame(chunk); ++f) {
+        ++framesPassed_;
+        if (opts_.onFrame) opts_.onFrame(FarmProgress{f, framesPassed_, total, kept_.contains(f), nullptr});
+    }
+}
+
+/// Frame mode with chunked encoding, when the run stops early (a signal, a lost worker): the
+/// video holds the whole chunks joined so far; the frames after them whose PNGs reached rank 0
+/// go in too, encoded here into a chunk of their own, so that the video holds every frame
+/// finished in order, as in pixel mode. (A resume rewrites the video whole.)
+void FarmRun::videoFromKeptFrames() {
+    if (!chunked_ || job_.framesDir.empty()) return;
+    const int width = job_.settings.width, height = job_.settings.height;
+    for (int f = job_.first + framesPassed_; f <= job_.last; ++f) {
+        const std::string path = framePngPath(job_.framesDir, f);
+        std::error_code ec;
+        if (!std::filesystem::exists(path, ec)) return;
+        int w = 0, h = 0;
+        std::vector<uint8_t> rgb = readImage8(path, w, h, job_.layout().channels);
+        if (w != width || h != height) return;
+        sinks_.video->write(f, rgb);
+        if (sinks_.pictures && sinks_.pictures->wants(f)) sinks_.pictures->write(f, rgb);
+        ++framesPassed_;
+    }
 }
 
 /// Turns the outcome into a failure with `what`, unless it already is one (the first error is
@@ -272,17 +362,39 @@ FarmOutcome FarmRun::run(SharedScene& shared) {
     rank0Renders_ = ranks <= 2;  // with more ranks, rank 0's core serves the master and encoder
     const int renderers = rank0Renders_ ? ranks : ranks - 1;
     const FramePlan plan = planFrames(job_, opts_.log);
-    const MasterConfig cfg = masterConfig(int(plan.order.count()));
-    std::unique_ptr<Scheduler> sched = makeScheduler(job_, plan.toRender, renderers, cfg.credits);
+    MasterConfig cfg = masterConfig(int(plan.order.count()));
+    chunked_ = job_.chunkedFrames;
+    plan_ = ChunkPlan{job_.first, job_.last, std::max(kMinChunkFrames, job_.mp4.chunkFrames)};
+    kept_ = plan.kept;
+    // A rank holds one chunk while it renders it; the next goes out once its frames are all
+    // rendered (Master::rendering), while its encoder finishes.
+    if (chunked_) cfg.credits = 1;
+    std::unique_ptr<Scheduler> sched = chunked_ ? makeChunkScheduler(plan_, job_.settings.width, job_.settings.height, renderers + 2)
+                                                : makeScheduler(job_, plan.toRender, renderers, cfg.credits);
     FrameAssembler assembler(job_.settings.width, job_.settings.height, plan.order, plan.kept, job_.layout());
     anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, job_.fpsOption);
     std::unique_ptr<RenderEngine> local;
-    if (rank0Renders_) local = std::make_unique<RenderEngine>(std::move(shared.scene), timeline, job_.settings, opts_.threads, job_.exrFrames);
+    if (rank0Renders_)
+        local = std::make_unique<RenderEngine>(std::move(shared.scene), timeline, job_.settings, opts_.threads, job_.exrFrames,
+                                               benchFreeWorkRenderer(job_.exrFrames));
+    std::unique_ptr<ChunkWorkshop> localShop;
+    if (chunked_ && local) localShop = std::make_unique<ChunkWorkshop>(*local, chunkVideoSpec(job_));
 
     const int total = int(plan.order.count());
     Master master(t_, *sched, assembler, local.get(), [&](ReadyFrame& rf) { emit(rf, total); }, cfg);
     if (sinks_.frames)
         master.onFrameComplete([&](int frame, const std::vector<uint8_t>& rgb) { sinks_.frames->write(frame, rgb); });
+    if (chunked_) {
+        collector_ = std::make_unique<ChunkCollector>(plan_);
+        Master::ChunkHooks hooks;
+        hooks.collector = collector_.get();
+        hooks.local = localShop.get();
+        hooks.orderFor = [this](const WorkItem& item) { return orderFor(item); };
+        hooks.onFrame = [this](const ChunkFrame& f) { onChunkFrame(f); };
+        hooks.emitChunk = [this, total](int chunk, std::string& bytes) { emitChunk(chunk, bytes, total); };
+        master.useChunks(std::move(hooks));
+        sinks_.beforeVideoCloses = [this] { videoFromKeptFrames(); };
+    }
     // mpirun's SIGKILL follows its SIGTERM within about a second (signal_deadline.h).
     SignalDeadline deadline(0.25, [this] { return lastWords(); });
     setUp.dismiss();
@@ -297,6 +409,7 @@ FarmOutcome FarmRun::run(SharedScene& shared) {
     // Rank 0's engine finishes the item in hand before it goes (in frame mode a whole frame,
     // seconds at a high spp): only once the user has been told how the run ended.
     FarmOutcome out = conclude(master, o, silent, shared);
+    localShop.reset();
     local.reset();
     return out;
 }
@@ -343,7 +456,9 @@ RunStats FarmRun::stats(const MasterOutcome& o, Clock::time_point end, const Sha
     s.renderSeconds = secondsBetween(firstDispatch, std::max(sinks_.video->lastDone(), o.firstDispatch));
     s.sustainedFps = s.renderSeconds > 0.0 ? s.frames / s.renderSeconds : 0.0;
     s.wallSeconds = secondsBetween(opts_.wallStart, end);
-    s.encodeSeconds = sinks_.video->busySeconds();
+    // Chunks encoded on the ranks that rendered them are encoder time too; rank 0's video
+    // thread then only joins them (mux_s).
+    s.encodeSeconds = sinks_.video->busySeconds() + rankEncodeSeconds_;
     s.width = job_.settings.width;
     s.height = job_.settings.height;
     s.mode = job_.mode == Mode::Pixel ? "pixel" : "frame";
@@ -357,9 +472,17 @@ RunStats FarmRun::stats(const MasterOutcome& o, Clock::time_point end, const Sha
     s.extra["encoder_share"] = s.renderSeconds > 0 ? s.encodeSeconds / s.renderSeconds : 0.0;
     s.extra["png_s"] = sinks_.frames ? sinks_.frames->busySeconds() : 0.0;
     s.extra["load_s"] = shared.loadSeconds;
+    s.extra["chunk_frames"] = job_.mp4.chunkFrames;
+    s.extra["mux_s"] = sinks_.video->busySeconds();
+    s.extra["rank_encode_s"] = rankEncodeSeconds_;
+    s.extra["chunks_from_ranks"] = chunksJoined_;
+    struct rusage ru {};
+    if (getrusage(RUSAGE_SELF, &ru) == 0)  // rank 0's whole process: what bounds the farm
+        s.extra["rank0_cpu_s"] = double(ru.ru_utime.tv_sec + ru.ru_stime.tv_sec) + 1e-6 * double(ru.ru_utime.tv_usec + ru.ru_stime.tv_usec);
     s.extra["scene_bytes"] = double(shared.bundleBytes);
     s.extraText["mode_reason"] = job_.modeWhy;
     s.extraText["rank0_renders"] = rank0Renders_ ? "yes" : "no";
+    s.extraText["chunks_encoded_by"] = chunked_ ? "the rendering ranks" : "rank 0";
     s.extraText["encoder"] = videoFormatOf(job_.output, job_.mp4).describe;
     return s;
 }
@@ -382,21 +505,21 @@ std::unique_ptr<FrameSink> teeOf(std::vector<std::unique_ptr<FrameSink>> sinks) 
 FarmSinks sinksForJob(const RenderJob& job, std::function<double(int)> frameTime) {
     const int w = job.settings.width, h = job.settings.height;
     const PixelLayout layout = job.layout();
-    std::vector<std::unique_ptr<FrameSink>> inOrder;
+    FarmSinks s;
     const VideoFormat video = videoFormatOf(job.output, job.mp4);
     if (video.container == Container::Gif) {
         const std::string dither = video.encoderOptions.at(0).second;
-        inOrder.push_back(std::make_unique<GifSink>(job.output, w, h, layout.channels, job.mp4.fps, dither));
+        s.video = std::make_unique<GifSink>(job.output, w, h, layout.channels, job.mp4.fps, dither);
     } else {
-        inOrder.push_back(std::make_unique<Mp4Sink>(job.output, w, h, job.mp4));
+        s.video = std::make_unique<Mp4Sink>(job.output, w, h, job.mp4);
     }
     if (!frameTime) frameTime = [fps = job.mp4.fps](int f) { return f / fps; };
+    std::vector<std::unique_ptr<FrameSink>> pictures;
     if (!job.contactSheet.empty())
-        inOrder.push_back(std::make_unique<ContactSheetSink>(job.contactSheet, w, h, layout.channels, job.first, job.last, frameTime));
+        pictures.push_back(std::make_unique<ContactSheetSink>(job.contactSheet, w, h, layout.channels, job.first, job.last, frameTime));
     if (!job.poster.empty())
-        inOrder.push_back(std::make_unique<PosterSink>(job.poster, job.posterFrame >= 0 ? job.posterFrame : job.first, w, h, layout.channels));
-    FarmSinks s;
-    s.video = teeOf(std::move(inOrder));
+        pictures.push_back(std::make_unique<PosterSink>(job.poster, job.posterFrame >= 0 ? job.posterFrame : job.first, w, h, layout.channels));
+    if (!pictures.empty()) s.pictures = teeOf(std::move(pictures));
     if (!job.framesDir.empty()) {
         std::vector<std::unique_ptr<FrameSink>> frames;
         frames.push_back(std::make_unique<PngSink>(job.framesDir, w, h, layout.channels));
@@ -425,13 +548,18 @@ FarmOutcome runFarm(Transport& t, const RenderJob& job, SharedScene& shared, Far
 int runFarmWorker(Transport& t, SharedScene& shared, double fpsOption, int threads, double masterTimeout) {
     try {
         WorkerOutputs outputs;
-        const RenderSettings settings = decodeWorkerJob(shared.job, &outputs);
+        std::string chunkVideo;
+        const RenderSettings settings = decodeWorkerJob(shared.job, &outputs, &chunkVideo);
         // The background as rank 0 decided it: the broadcast carries the scene's files, not rank 0's scene.
         applyBackground(outputs.background, shared.scene);
         // Every rank parsed the same options, so the worker's timeline matches rank 0's.
         anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, fpsOption);
-        RenderEngine engine(std::move(shared.scene), timeline, settings, threads, outputs.linear != 0);
-        return runWorker(t, engine, masterTimeout);
+        RenderEngine engine(std::move(shared.scene), timeline, settings, threads, outputs.linear != 0,
+                            benchFreeWorkRenderer(outputs.linear != 0));
+        if (chunkVideo.empty()) return runWorker(t, engine, masterTimeout);
+        // This rank renders whole chunks and encodes them itself, as rank 0 would.
+        ChunkWorkshop shop(engine, decodeChunkVideoSpec(chunkVideo));
+        return runWorker(t, engine, masterTimeout, nullptr, &shop);
     } catch (const std::exception& e) {
         reportWorkerError(t, e.what());
         return 1;

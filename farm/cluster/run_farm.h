@@ -35,13 +35,16 @@ namespace rf::farm {
 
 /// Where finished frames go. runFarm runs each sink on a thread of its own behind a short queue.
 struct FarmSinks {
-    std::unique_ptr<FrameSink> video;   ///< every frame in output order (the MP4); required
+    /// every frame in output order (the MP4), or, in frame mode with chunked encoding, every
+    /// chunk encoded where it was rendered (FrameSink::writeChunk); required
+    std::unique_ptr<FrameSink> video;
+    /// the frames each wants (FrameSink::wants) in output order: the contact sheet, the poster; optional
+    std::unique_ptr<FrameSink> pictures;
     std::unique_ptr<FrameSink> frames;  ///< each frame as soon as it is complete (PNG frames); optional
 };
 
 /// The sinks a job names: the video at job.output in the format its name picked (MP4, WebM,
-/// MOV: Mp4Sink; GIF: GifSink), with the contact sheet and the poster beside it in output
-/// order; when job.framesDir is set, the PNG frames (and with --frames-format exr the EXR
+/// MOV: Mp4Sink; GIF: GifSink), the contact sheet and the poster as pictures; when job.framesDir is set, the PNG frames (and with --frames-format exr the EXR
 /// frames) as frames complete. frameTime: a frame's time in seconds for the contact sheet's
 /// labels (unset: frame / fps). Opens the encoder, so it throws what the sink throws on an
 /// unwritable output.

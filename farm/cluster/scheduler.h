@@ -9,6 +9,7 @@
 
 #include "frame_ranges.h"
 #include "messages.h"
+#include "video_chunk.h"
 
 namespace rf::farm {
 
@@ -62,9 +63,16 @@ std::unique_ptr<Scheduler> makePixelScheduler(anim::FrameRanges frames, int widt
 /// Frame mode: whole frames, one per item.
 std::unique_ptr<Scheduler> makeFrameScheduler(anim::FrameRanges frames, int width, int height, int window);
 
-/// mode "auto": pixel mode when frames are few compared with the rendering ranks (frame mode
-/// would leave ranks idle) or frames are large; frame mode otherwise (fewer, bigger messages).
+/// Frame mode with chunked encoding: one item a chunk of the film (WorkItem::chunk, the whole
+/// image), rendered and encoded by one rank. The window counts chunks.
+std::unique_ptr<Scheduler> makeChunkScheduler(const ChunkPlan& plan, int width, int height, int window);
+
+/// mode "auto": pixel mode when frame mode's items are few compared with the rendering ranks
+/// (it would leave ranks idle); frame mode otherwise (fewer, bigger messages). chunkFrames > 1:
+/// frame mode's items are chunks of that many frames, rendered and encoded where they are
+/// rendered, so rank 0 holds no frames whatever their size; chunkFrames 1: whole frames go to
+/// rank 0 (a GIF, EXR frames), and large frames get pixel mode to keep its window small.
 /// why receives a one-line reason.
-Mode chooseMode(int frames, int renderers, int width, int height, std::string& why);
+Mode chooseMode(int frames, int renderers, int width, int height, std::string& why, int chunkFrames = 1);
 
 }  // namespace rf::farm

@@ -32,7 +32,8 @@ std::string whoAmI(const Transport& t) {
 
 }  // namespace
 
-int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const std::function<void(const Message&)>& other) {
+int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const std::function<void(const Message&)>& other,
+              ChunkWorkshop* shop) {
     using Clock = std::chrono::steady_clock;
     auto lastBeat = Clock::now() - std::chrono::seconds(1);
     auto lastFromMaster = Clock::now();
@@ -61,6 +62,7 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
             signalled = true;
             signalledAt = now;
             engine.cancelQueued();
+            if (shop) shop->cancel();
             lastBeat = now - std::chrono::seconds(1);
         }
         if (signalled && now - signalledAt > std::chrono::seconds(3)) return 130;
@@ -76,13 +78,18 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
                 const WorkItem item = decodeWorkItem(m.bytes);
                 lastItemPixels = item.rect.pixels();
                 engine.submit(item);
+            } else if (m.tag == kTagChunkWork && shop) {
+                if (signalled) continue;
+                ChunkOrder order = decodeChunkOrder(m.bytes);
+                lastItemPixels = order.item.rect.pixels();
+                shop->submit(std::move(order));
             } else if (m.tag == kTagView) {
                 engine.setView(decodeViewSpec(m.bytes));
                 viewing = true;
             }
-            else if (m.tag != kTagWork && m.tag != kTagAlive && other) other(m);
+            else if (m.tag != kTagWork && m.tag != kTagChunkWork && m.tag != kTagAlive && other) other(m);
         }
-        if (const std::string err = engine.error(); !err.empty()) {
+        if (const std::string err = shop ? shop->error() : engine.error(); !err.empty()) {
             reportWorkerError(t, err);
             return 1;
         }
@@ -97,7 +104,10 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
         // (frame mode: 22k -> 8k context switches). A viewer's camera change must stop the
         // work in hand within a millisecond, so while viewing it looks every millisecond.
         const double wait = viewing ? 0.001 : lastItemPixels >= 100000 ? 0.004 : 0.002;
-        if (auto r = engine.takeResult(wait)) {
+        if (shop) {
+            for (auto& [tag, bytes] : shop->poll(wait))
+                if (!signalled) t.send(0, tag, std::move(bytes));
+        } else if (auto r = engine.takeResult(wait)) {
             if (!signalled) t.send(0, kTagResult, encodeTileResult(*r));
             while ((r = engine.takeResult()))
                 if (!signalled) t.send(0, kTagResult, encodeTileResult(*r));

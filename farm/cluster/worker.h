@@ -3,6 +3,7 @@
 /// threads, send pixels back, and say it is alive every kHeartbeatSeconds meanwhile.
 #include <functional>
 
+#include "chunk_workshop.h"
 #include "render_engine.h"
 #include "transport.h"
 
@@ -17,9 +18,10 @@ inline constexpr int kMasterSilentExit = 3;
 /// or rank 0 says nothing for `masterTimeout` seconds while this worker runs (prints why;
 /// returns kMasterSilentExit).
 /// kTagView sets the engine's interactive epoch (RenderEngine::setView); other tags runWorker
-/// does not know go to `other` when given (a viewer's own messages).
+/// does not know go to `other` when given (a viewer's own messages). shop: the rank's
+/// ChunkWorkshop over engine when the job encodes chunks where they are rendered (kTagChunkWork).
 int runWorker(Transport& t, RenderEngine& engine, double masterTimeout = 20.0,
-              const std::function<void(const Message&)>& other = nullptr);
+              const std::function<void(const Message&)>& other = nullptr, ChunkWorkshop* shop = nullptr);
 
 /// Tells rank 0 this worker failed (before it could render anything, e.g. while loading).
 void reportWorkerError(Transport& t, const std::string& message);

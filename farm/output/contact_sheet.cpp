@@ -59,6 +59,10 @@ ContactSheetSink::ContactSheetSink(std::string path, int width, int height, int 
     for (size_t i = 0; i < sheet_.size(); ++i) sheet_[i] = kSheetGrey[i % 3];
 }
 
+bool ContactSheetSink::wants(int frame) const {
+    return std::find(plan_.frames.begin(), plan_.frames.end(), frame) != plan_.frames.end();
+}
+
 void ContactSheetSink::write(int frame, const std::vector<uint8_t>& pixels) {
     const auto it = std::find(plan_.frames.begin(), plan_.frames.end(), frame);
     if (it == plan_.frames.end()) return;

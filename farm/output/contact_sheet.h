@@ -36,6 +36,7 @@ public:
     ContactSheetSink(std::string path, int width, int height, int channels, int first, int last,
                      std::function<double(int)> timeOf);
     void write(int frame, const std::vector<uint8_t>& pixels) override;
+    bool wants(int frame) const override;
     /// Writes the sheet with the frames that came (nothing if none did).
     void close() override;
     const ContactSheetPlan& plan() const { return plan_; }
@@ -56,6 +57,7 @@ public:
     PosterSink(std::string path, int frame, int width, int height, int channels)
         : path_(std::move(path)), frame_(frame), width_(width), height_(height), channels_(channels) {}
     void write(int frame, const std::vector<uint8_t>& pixels) override;
+    bool wants(int frame) const override { return frame == frame_; }
     void close() override {}
 
 private:

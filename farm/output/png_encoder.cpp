@@ -1,5 +1,8 @@
 #include "png_encoder.h"
 
+#include <cstdint>
+#include <stb_image.h>
+
 #include <cstring>
 #include <stdexcept>
 
@@ -62,6 +65,20 @@ std::string PngEncoder::encode(const std::vector<uint8_t>& rgb) {
     if (avcodec_receive_packet(m.ctx, m.pkt) < 0) throw std::runtime_error("PNG encoding failed");
     std::string out(reinterpret_cast<const char*>(m.pkt->data), size_t(m.pkt->size));
     av_packet_unref(m.pkt);
+    return out;
+}
+
+std::vector<uint8_t> decodePngFrame(const std::string& png, const std::string& what, int width, int height, int channels) {
+    int w = 0, h = 0, comp = 0;
+    if (png.size() > size_t(INT32_MAX)) throw std::runtime_error(what + ": over 2 GB");
+    unsigned char* data =
+        stbi_load_from_memory(reinterpret_cast<const unsigned char*>(png.data()), int(png.size()), &w, &h, &comp, channels);
+    if (!data) throw std::runtime_error(what + ": cannot read the PNG (" + stbi_failure_reason() + ")");
+    std::vector<uint8_t> out(data, data + size_t(w) * h * channels);
+    stbi_image_free(data);
+    if (w != width || h != height)
+        throw std::runtime_error(what + ": " + std::to_string(w) + "x" + std::to_string(h) + ", expected " + std::to_string(width) +
+                                 "x" + std::to_string(height));
     return out;
 }
 

@@ -29,4 +29,8 @@ private:
     std::unique_ptr<Impl> impl_;
 };
 
+/// A PNG file image back to width × height × channels bytes (a kept frame sent to the rank that
+/// encodes its chunk); throws std::runtime_error naming `what` when it is no PNG of that size.
+std::vector<uint8_t> decodePngFrame(const std::string& png, const std::string& what, int width, int height, int channels);
+
 }  // namespace rf::farm

@@ -51,10 +51,14 @@ std::string framePngPath(const std::string& dir, int frame) {
 }
 
 void PngSink::write(int frame, const std::vector<uint8_t>& rgb) {
-    const std::string path = framePngPath(dir_, frame);
-    const std::string tmp = path + ".part";
     if (!encoder_) encoder_ = std::make_unique<PngEncoder>(width_, height_, channels_);
     const std::string png = encoder_->encode(rgb);
+    writePng(frame, png, sha256Hex(png));
+}
+
+void PngSink::writePng(int frame, const std::string& png, const std::string& sha256) {
+    const std::string path = framePngPath(dir_, frame);
+    const std::string tmp = path + ".part";
     // No fsync per frame (it would stall the sink at 30 fps); write and close are checked,
     // and the resume check verifies each kept frame's digest anyway.
     try {
@@ -69,7 +73,7 @@ void PngSink::write(int frame, const std::vector<uint8_t>& rgb) {
     if (ec) throw std::runtime_error(path + ": cannot write: " + ec.message());
     // One append per frame; a frame renamed but not yet listed (killed in between) is simply
     // rendered again by --resume.
-    const std::string line = sha256Hex(png) + "  " + std::filesystem::path(path).filename().string() + "\n";
+    const std::string line = sha256 + "  " + std::filesystem::path(path).filename().string() + "\n";
     const std::string sums = (std::filesystem::path(dir_) / kChecksums).string();
     const int fd = ::open(sums.c_str(), O_WRONLY | O_APPEND | O_CREAT | O_CLOEXEC, 0666);
     const bool ok = fd >= 0 && ::write(fd, line.data(), line.size()) == ssize_t(line.size());

@@ -25,6 +25,8 @@ public:
     PngSink(std::string dir, int width, int height, int channels = 3)
         : dir_(std::move(dir)), width_(width), height_(height), channels_(channels) {}
     void write(int frame, const std::vector<uint8_t>& rgb) override;
+    /// A frame compressed where it was rendered: written as it is, with the digest sent along.
+    void writePng(int frame, const std::string& png, const std::string& sha256) override;
     void close() override {}
 
 private:

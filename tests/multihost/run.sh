@@ -2,11 +2,15 @@
 # rayfarm across three real network stacks: `bash tests/multihost/run.sh [RAYFARM] [WORK_DIR]`.
 # Three network namespaces on a bridge (hosts.sh) play three hosts; Open MPI starts its daemons
 # on them through netns_agent.sh in place of ssh, and every byte goes over TCP on 10.123.0.0/24.
-#   1. pixel and frame mode on 3 hosts give PNGs bit-identical to one process;
+#   1. pixel and frame mode on 3 hosts give PNGs bit-identical to one process, and the same
+#      video file byte for byte (chunks of 4 frames, in frame mode encoded on the hosts that
+#      rendered them);
 #   2. kill -9 of the worker on farm2: the run stops, naming rank 1 and farm2;
-#   3. farm3's link cut mid-run: the shell gets control back within 15 s, the run names rank 2
-#      and farm3, the video is playable, and farm3's processes end by themselves within 30 s;
-#   4. --resume on the two hosts left gives a video identical to one uninterrupted run.
+#   3. farm3's link cut mid-chunk (frame mode, chunks of 8 frames rendered and encoded on the
+#      hosts): the shell gets control back within 15 s, the run names rank 2, farm3 and its
+#      chunk, the video is playable, and farm3's processes end by themselves within 30 s;
+#   4. --resume on the two hosts left re-renders that chunk there, and the video is the same
+#      file, byte for byte, as one uninterrupted process gives.
 # Prints one summary line. Removes namespaces, bridge and name files even when a step fails;
 # /etc/hosts is never touched (checked). Needs root; exits 77 (skipped) without it.
 set -euo pipefail
@@ -78,17 +82,19 @@ hosts_up
 [ "$(on_host farm3 hostname)" = farm3 ] || fail "farm3 does not call itself farm3"
 
 # 1. Bit-identical to one process, in both modes.
-small=(render "$SCENE" --size 160x90 --frames 0:11)
+small=(render "$SCENE" --size 160x90 --frames 0:11 --chunk-frames 4)
 "$RAYFARM" "${small[@]}" -o one.mp4 2> one.log || { cat one.log; fail "one-process run failed"; }
 for mode in pixel frame; do
     farm hosts3 3 "${small[@]}" --mode "$mode" -o "$mode.mp4" 2> "$mode.log" || { cat "$mode.log"; fail "$mode run on 3 hosts failed"; }
     cmp -s <(pngs_md5 one.frames) <(pngs_md5 "$mode.frames") || fail "$mode mode on 3 hosts: PNGs differ from one process"
     [ "$(frames_in "$mode.mp4")" = 12 ] || fail "$mode mode on 3 hosts: the MP4 does not hold 12 frames"
+    cmp -s one.mp4 "$mode.mp4" || fail "$mode mode on 3 hosts: the MP4 differs from one process's"
 done
-echo "multihost: pixel and frame mode on farm1-3: 12 PNGs bit-identical to one process"
+grep -q "video in chunks of 4 frames, each rendered and encoded by one rank" frame.log || { cat frame.log; fail "frame mode did not encode chunks on the hosts"; }
+echo "multihost: pixel and frame mode on farm1-3: 12 PNGs bit-identical to one process, the MP4 byte-identical"
 
 # 2. A remote worker killed.
-long=(render "$SCENE" --size 320x180 --spp 16 --frames 0:47 --timeout 3 --lossless)
+long=(render "$SCENE" --size 320x180 --spp 16 --frames 0:47 --timeout 3 --lossless --mode frame --chunk-frames 8)
 timed_bg kill farm hosts3 3 "${long[@]}" -o kill.mp4 2> kill.log
 job=$!
 wait_for_pngs kill.frames 2
@@ -160,16 +166,19 @@ gone_s=$(since "$t0")
     fail "processes still on farm3 $gone_s s after its link went down: $(host_pids farm3 | xargs -r ps -o comm= -p | tr '\n' ' ')"
 [ "$rc" -ne 0 ] || fail "a run that lost a host exited 0"
 within "$shell_s" 15 || fail "mpirun returned $shell_s s after the cut (bound 15 s)"
-grep -Eq "rayfarm: error: rank 2 on farm3 stopped answering" cut.log || { cat cut.log; fail "the stop does not name rank 2 on farm3"; }
+grep -Eq "rayfarm: error: rank 2 on farm3 stopped answering .*while rendering frame [0-9]+ of chunk [0-9]+" cut.log ||
+    { cat cut.log; fail "the stop does not name rank 2 on farm3 and its chunk"; }
+cut_chunk=$(grep -Eo "of chunk [0-9]+ \(frames [0-9]+–[0-9]+\)" cut.log | head -1)
 played=$(frames_in cut.mp4)
 kept=$(ls cut.frames | grep -c '^frame_.*\.png$')
 [ "$played" -ge 1 ] && [ "$played" -le "$kept" ] || fail "after the cut the MP4 plays $played frames, $kept PNGs kept"
-echo "multihost: farm3 cut off: shell back in $shell_s s, farm3 empty in $gone_s s, MP4 plays $played frames, $kept kept"
+echo "multihost: farm3 cut off mid-chunk ($cut_chunk): shell back in $shell_s s, farm3 empty in $gone_s s, MP4 plays $played frames, $kept kept"
 
 # 4. Resume on the hosts left, against one uninterrupted process.
 farm hosts2 2 "${long[@]}" -o cut.mp4 --resume 2> resume.log || { cat resume.log; fail "resume on farm1-2 failed"; }
 grep -q "rayfarm: resume: $kept of 48 frames kept" resume.log || { cat resume.log; fail "resume did not keep the $kept frames"; }
 "$RAYFARM" "${long[@]}" -o whole.mp4 2> whole.log || { cat whole.log; fail "uninterrupted run failed"; }
 cmp -s <(decoded_md5 whole.mp4) <(decoded_md5 cut.mp4) || fail "the resumed video differs from an uninterrupted run"
+cmp -s whole.mp4 cut.mp4 || fail "the resumed MP4 is not byte-identical to an uninterrupted run's"
 echo "multihost: PASS in $(since "$start") s: 3 hosts bit-identical to 1 process; killed worker stopped in $kill_s s;" \
-     "cut host: shell back in $shell_s s, its processes gone in $gone_s s, $kept frames kept; resume on 2 hosts identical (lossless)"
+     "cut host mid-chunk: shell back in $shell_s s, its processes gone in $gone_s s, $kept frames kept; resume on 2 hosts byte-identical"

@@ -15,6 +15,8 @@
 #include "farm_test_scene.h"
 #include "loopback_transport.h"
 #include "render_engine.h"
+#include "mp4_sink.h"
+#include "png_encoder.h"
 #include "run_farm.h"
 #include "timeline.h"
 
@@ -224,4 +226,92 @@ TEST(RunFarm, AFailedWriteGivesOneMessageWhicheverPathItTakes) {
         EXPECT_EQ(m.find(prefix, 1), std::string::npos) << "said twice: " << m;
     }
     EXPECT_EQ(atClose, prefix + "frames 0–5 of 0–5");  // every frame reached the video before the close failed
+}
+
+namespace {
+
+/// The PNG frames as a rank sent them (writePng), decoded back for comparison.
+class PngCollectingSink : public FrameSink {
+public:
+    PngCollectingSink(std::map<int, std::string>& out, int& rawWrites) : out_(out), raw_(rawWrites) {}
+    void write(int, const std::vector<uint8_t>&) override { ++raw_; }
+    void writePng(int frame, const std::string& png, const std::string&) override { out_[frame] = png; }
+    void close() override {}
+
+private:
+    std::map<int, std::string>& out_;
+    int& raw_;
+};
+
+struct ChunkedRun {
+    FarmOutcome outcome;
+    std::string video;                 ///< the file's bytes
+    std::map<int, std::string> pngs;   ///< PNG frames that reached rank 0 as PNGs
+    int rawFrameWrites = 0;            ///< frames that reached the PNG sink as pixels
+};
+
+/// ranks loopback ranks render the test scene to a real MP4 in chunks of 2 frames, in `mode`
+/// (frame mode: chunked on the ranks that render them).
+ChunkedRun runChunkedFarm(int ranks, Mode mode) {
+    const std::string path = writeSceneFile();
+    const std::string out = std::string(RAYFARM_TEST_OUT) + "/run_farm/chunked_" + std::to_string(::getpid()) + "_" +
+                            std::to_string(ranks) + (mode == Mode::Frame ? "f" : "p") + ".mp4";
+    LoopbackHub hub(ranks);
+    std::vector<std::thread> workers;
+    for (int r = 1; r < ranks; ++r)
+        workers.emplace_back([&, r] {
+            LoopbackTransport t(hub, r);
+            SharedScene s = shareScene(t, path, nullptr, nullptr);
+            EXPECT_EQ(runFarmWorker(t, s, 0.0, 1, 20.0), 0) << "rank " << r;
+        });
+    LoopbackTransport t(hub, 0);
+    RenderJob job;
+    SharedScene shared = shareScene(t, path, nullptr, [&](Scene& scene, const FileBundle&) {
+        job = jobFor(scene, mode);
+        job.output = out;
+        job.mp4.chunkFrames = 2;
+        job.chunkedFrames = chunksOnRenderers(job);
+        return encodeWorkerJob(job);
+    });
+    ChunkedRun run;
+    FarmSinks sinks;
+    sinks.video = std::make_unique<Mp4Sink>(out, job.settings.width, job.settings.height, job.mp4);
+    sinks.frames = std::make_unique<PngCollectingSink>(run.pngs, run.rawFrameWrites);
+    FarmOptions opts;
+    opts.quiet = true;
+    run.outcome = runFarm(t, job, shared, std::move(sinks), opts);
+    for (auto& w : workers) w.join();
+    std::ifstream f(out, std::ios::binary);
+    run.video.assign(std::istreambuf_iterator<char>(f), {});
+    return run;
+}
+
+}  // namespace
+
+// Issue 32: in frame mode each rank renders and encodes whole chunks, and sends rank 0 PNGs and
+// the encoded chunk, never pixels; the file is byte for byte the one pixel mode gives (rank 0
+// encoding every chunk itself) and the one a single renderer gives.
+TEST(RunFarm, ChunkedFrameModeGivesTheSameFileAtAnyRankCount) {
+    const ChunkedRun ref = runChunkedFarm(2, Mode::Pixel);
+    ASSERT_EQ(ref.outcome.end, FarmEnd::Done) << ref.outcome.error;
+    ASSERT_GT(ref.video.size(), 100u);
+    EXPECT_EQ(ref.outcome.stats.extraText.at("chunks_encoded_by"), "rank 0");
+    EXPECT_EQ(ref.rawFrameWrites, 6);
+    const auto frames = rf::testing::referenceFarmFrames();
+    for (int ranks : {1, 2, 3}) {
+        const ChunkedRun run = runChunkedFarm(ranks, Mode::Frame);
+        ASSERT_EQ(run.outcome.end, FarmEnd::Done) << run.outcome.error;
+        EXPECT_TRUE(run.video == ref.video) << ranks << " ranks, chunked frame mode: another file than pixel mode's";
+        EXPECT_EQ(run.outcome.stats.extraText.at("chunks_encoded_by"), "the rendering ranks");
+        EXPECT_EQ(run.outcome.stats.extra.at("chunks_from_ranks"), 3.0) << "6 frames in chunks of 2";
+        EXPECT_EQ(run.outcome.stats.frames, 6);
+        EXPECT_EQ(run.rawFrameWrites, 0) << "pixels reached rank 0's PNG sink";
+        ASSERT_EQ(run.pngs.size(), frames.size());
+        for (const auto& [f, png] : run.pngs) {
+            const std::vector<uint8_t> px = decodePngFrame(png, "frame", 40, 30, 3);
+            EXPECT_TRUE(px == frames.at(f)) << ranks << " ranks: PNG of frame " << f << " is not the frame";
+        }
+        EXPECT_EQ(run.outcome.videoHolds, "the video " + std::string(RAYFARM_TEST_OUT) + "/run_farm/chunked_" +
+                                              std::to_string(::getpid()) + "_" + std::to_string(ranks) + "f.mp4 holds frames 0–5 of 0–5");
+    }
 }

@@ -2,6 +2,7 @@
 
 #include <set>
 
+#include "chunk_collector.h"
 #include "scheduler.h"
 
 using namespace rf;
@@ -98,4 +99,64 @@ TEST(FrameScheduler, ABillionFramesStartAtOnce) {
     EXPECT_FALSE(s->exhausted());
     s->frameReleased();
     EXPECT_EQ(s->next()->frame, 5);
+}
+
+// Issue 32: with chunked encoding, frame mode's items are chunks, so auto counts chunks; frame
+// size no longer sends it to pixel mode (rank 0 holds no frames).
+TEST(Scheduler, AutoModeCountsChunksWhenRanksEncodeThem) {
+    std::string why;
+    EXPECT_EQ(chooseMode(120, 2, 640, 360, why, 60), Mode::Pixel) << "2 chunks for 2 ranks";
+    EXPECT_NE(why.find("120 frame(s) in 2 chunk(s) of 60 for 2 rendering ranks"), std::string::npos) << why;
+    EXPECT_EQ(chooseMode(480, 2, 640, 360, why, 60), Mode::Frame) << "8 chunks for 2 ranks";
+    EXPECT_EQ(chooseMode(480, 2, 3840, 2160, why, 60), Mode::Frame) << "4K in chunks: nothing held on rank 0";
+    EXPECT_EQ(chooseMode(480, 2, 3840, 2160, why, 1), Mode::Pixel) << "4K frames to rank 0 (a GIF)";
+    EXPECT_EQ(chooseMode(7, 1, 640, 360, why, 60), Mode::Frame) << "one renderer";
+}
+
+TEST(Scheduler, ChunkSchedulerHandsOutWholeChunksInOrderWithinItsWindow) {
+    const ChunkPlan plan{10, 20, 4};  // chunks 10-13, 14-17, 18-20
+    auto s = makeChunkScheduler(plan, 64, 48, 2);
+    auto a = s->next(), b = s->next();
+    ASSERT_TRUE(a && b);
+    EXPECT_FALSE(s->next()) << "window of 2 chunks";
+    EXPECT_EQ(a->chunk, 0);
+    EXPECT_EQ(a->frame, 10);
+    EXPECT_EQ(a->frames, 4);
+    EXPECT_EQ(a->rect.pixels(), 64 * 48);
+    EXPECT_EQ(b->chunk, 1);
+    s->frameReleased();
+    auto c = s->next();
+    ASSERT_TRUE(c);
+    EXPECT_EQ(c->chunk, 2);
+    EXPECT_EQ(c->frame, 18);
+    EXPECT_EQ(c->frames, 3);
+    EXPECT_TRUE(s->exhausted());
+}
+
+TEST(Scheduler, ChunkCollectorPassesChunksOnInFilmOrder) {
+    ChunkCollector c(ChunkPlan{0, 9, 4});  // 3 chunks
+    int index = -1;
+    std::string bytes;
+    c.add(2, "two");
+    c.holdPixels(9, {9});
+    c.holdPixels(1, {1});
+    EXPECT_FALSE(c.popReady(index, bytes));
+    c.add(0, "zero");
+    ASSERT_TRUE(c.popReady(index, bytes));
+    EXPECT_EQ(index, 0);
+    EXPECT_EQ(bytes, "zero");
+    EXPECT_EQ(c.takePixels(0).size(), 1u);
+    EXPECT_FALSE(c.popReady(index, bytes));
+    EXPECT_THROW(c.add(0, "again"), std::runtime_error) << "a chunk already passed on";
+    EXPECT_THROW(c.add(2, "twice"), std::runtime_error);
+    EXPECT_THROW(c.add(3, "beyond"), std::runtime_error);
+    c.add(1, "one");
+    ASSERT_TRUE(c.popReady(index, bytes));
+    ASSERT_TRUE(c.popReady(index, bytes));
+    EXPECT_EQ(index, 2);
+    const auto px = c.takePixels(2);
+    ASSERT_EQ(px.size(), 1u);
+    EXPECT_EQ(px[0].first, 9);
+    EXPECT_TRUE(c.finished());
+    EXPECT_EQ(c.framesPopped(), 10);
 }

@@ -1,0 +1,269 @@
+#include "chunk_workshop.h"
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "chunk_encoder.h"
+#include "digest.h"
+#include "png_encoder.h"
+#include "video_chunk.h"
+
+namespace rf::farm {
+
+namespace {
+
+/// Frames a rank holds between the engine and the encoder: enough that neither waits for the
+/// other, few enough that a 4K chunk never sits in memory whole (the engine renders far faster
+/// than x264 encodes when the work is near free: bench_coordinator.sh).
+constexpr int kFramesAhead = 3;
+
+}  // namespace
+
+std::string encodeChunkVideoSpec(const ChunkVideoSpec& s) {
+    const Mp4Options& o = s.options;
+    // nlohmann writes doubles with enough digits to read back the same value: fps round-trips.
+    const nlohmann::json j = {{"path", s.path},
+                              {"width", s.width},
+                              {"height", s.height},
+                              {"fps", o.fps},
+                              {"crf", o.crf},
+                              {"preset", o.preset},
+                              {"lossless", o.lossless},
+                              {"codec", o.codec},
+                              {"channels", o.channels},
+                              {"over", {o.flattenOver[0], o.flattenOver[1], o.flattenOver[2]}},
+                              {"chunk_frames", o.chunkFrames}};
+    return j.dump();
+}
+
+ChunkVideoSpec decodeChunkVideoSpec(const std::string& bytes) {
+    try {
+        const nlohmann::json j = nlohmann::json::parse(bytes);
+        ChunkVideoSpec s;
+        s.path = j.at("path").get<std::string>();
+        s.width = j.at("width").get<int>();
+        s.height = j.at("height").get<int>();
+        Mp4Options& o = s.options;
+        o.fps = j.at("fps").get<double>();
+        o.crf = j.at("crf").get<int>();
+        o.preset = j.at("preset").get<std::string>();
+        o.lossless = j.at("lossless").get<bool>();
+        o.codec = j.at("codec").get<std::string>();
+        o.channels = j.at("channels").get<int>();
+        for (int c = 0; c < 3; ++c) o.flattenOver[c] = j.at("over").at(size_t(c)).get<uint8_t>();
+        o.chunkFrames = j.at("chunk_frames").get<int>();
+        return s;
+    } catch (const nlohmann::json::exception& e) {
+        throw std::runtime_error(std::string("malformed video settings in the job broadcast: ") + e.what());
+    }
+}
+
+/// The encoder thread's own: made and used there only.
+struct ChunkWorkshop::EncoderState {
+    std::unique_ptr<PngEncoder> png;
+    std::unique_ptr<ChunkEncoder> video;
+    EncodedChunk chunk;
+};
+
+ChunkWorkshop::ChunkWorkshop(RenderEngine& engine, ChunkVideoSpec spec)
+    : engine_(engine), spec_(std::move(spec)), enc_(std::make_unique<EncoderState>()) {
+    thread_ = std::thread([this] { encoderLoop(); });
+}
+
+ChunkWorkshop::~ChunkWorkshop() {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        stop_ = true;
+        tasks_.clear();
+    }
+    cv_.notify_all();
+    thread_.join();
+}
+
+void ChunkWorkshop::submit(ChunkOrder order) {
+    auto sp = std::make_shared<const ChunkOrder>(std::move(order));
+    const WorkItem& c = sp->item;
+    for (int f = c.frame; f < c.frame + c.frames; ++f) {
+        Pending p{sp, f, nullptr, false};
+        for (const auto& [frame, png] : sp->kept)
+            if (frame == f) p.keptPng = &png;
+        pending_.push_back(p);
+    }
+    ++chunksOut_;
+    feedEngine();
+}
+
+void ChunkWorkshop::feedEngine() {
+    size_t backlog = 0;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        backlog = tasks_.size() + (working_ ? 1 : 0);
+    }
+    backlog += size_t(inEngine_) + rendered_.size();
+    for (Pending& p : pending_) {
+        if (backlog >= size_t(kFramesAhead)) return;
+        if (p.keptPng || p.submitted) continue;
+        WorkItem item = p.order->item;
+        item.frame = p.frame;
+        item.frames = 1;  // the engine renders one frame of the chunk
+        engine_.submit(item);
+        p.submitted = true;
+        ++inEngine_;
+        ++backlog;
+    }
+}
+
+/// Hands the encoder thread every frame whose turn has come: kept frames at once, rendered ones
+/// once their result is here (the engine renders in the order given, so results come in order).
+void ChunkWorkshop::queueReady() {
+    std::vector<Task> ready;
+    while (!pending_.empty()) {
+        Pending& p = pending_.front();
+        Task t;
+        if (p.keptPng) {
+            t.keptPng = p.keptPng;
+        } else if (p.submitted && !rendered_.empty() && rendered_.front().item.frame == p.frame) {
+            t.result = std::move(rendered_.front());
+            rendered_.pop_front();
+        } else {
+            break;
+        }
+        t.order = p.order;
+        t.frame = p.frame;
+        t.first = p.frame == p.order->item.frame;
+        t.last = p.frame == p.order->item.frame + p.order->item.frames - 1;
+        ready.push_back(std::move(t));
+        pending_.pop_front();
+    }
+    if (ready.empty()) return;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        for (Task& t : ready) tasks_.push_back(std::move(t));
+    }
+    cv_.notify_all();
+}
+
+std::vector<std::pair<int, std::string>> ChunkWorkshop::poll(double waitSeconds) {
+    std::vector<std::pair<int, std::string>> out;
+    for (auto r = engine_.takeResult(waitSeconds); r; r = engine_.takeResult()) {
+        if (r->item.chunk < 0) {
+            out.emplace_back(kTagResult, encodeTileResult(*r));  // a single item: as runWorker sends it
+            continue;
+        }
+        --inEngine_;
+        rendered_.push_back(std::move(*r));
+    }
+    queueReady();
+    feedEngine();
+    std::vector<std::pair<int, std::string>> posted;
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        posted.swap(outbox_);
+    }
+    for (auto& m : posted) {
+        if (m.first == kTagChunkDone) --chunksOut_;
+        out.push_back(std::move(m));
+    }
+    return out;
+}
+
+int ChunkWorkshop::outstanding() const { return chunksOut_; }
+
+std::string ChunkWorkshop::error() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return error_.empty() ? engine_.error() : error_;
+}
+
+void ChunkWorkshop::cancel() {
+    pending_.clear();
+    rendered_.clear();
+    inEngine_ = 0;
+    chunksOut_ = 0;
+    std::lock_guard<std::mutex> lock(mutex_);
+    tasks_.clear();
+}
+
+void ChunkWorkshop::post(int tag, std::string bytes) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    outbox_.emplace_back(tag, std::move(bytes));
+}
+
+void ChunkWorkshop::encoderLoop() {
+    for (;;) {
+        Task t;
+        {
+            std::unique_lock<std::mutex> lock(mutex_);
+            cv_.wait(lock, [&] { return stop_ || !tasks_.empty(); });
+            if (stop_) return;
+            t = std::move(tasks_.front());
+            tasks_.pop_front();
+            working_ = true;  // counted by feedEngine as a frame waiting for the encoder
+        }
+        try {
+            encodeTask(t);
+        } catch (const std::exception& e) {
+            std::lock_guard<std::mutex> lock(mutex_);
+            error_ = "frame " + std::to_string(t.frame) + ": " + e.what();
+            tasks_.clear();
+            return;
+        }
+        std::lock_guard<std::mutex> lock(mutex_);
+        working_ = false;
+    }
+}
+
+/// One frame: its PNG and pixels for rank 0 if asked for, then into the chunk's encoder; the
+/// chunk goes out after its last frame.
+void ChunkWorkshop::encodeTask(Task& t) {
+    EncoderState& st = *enc_;
+    const ChunkOrder& o = *t.order;
+    const int w = spec_.width, h = spec_.height, ch = spec_.options.channels;
+    const size_t planeBytes = size_t(w) * h * size_t(ch);
+    std::vector<uint8_t> decoded;
+    const std::vector<uint8_t>* pixels = &t.result.rgb;
+    ChunkFrame cf;
+    cf.item = o.item;
+    cf.frame = t.frame;
+    if (t.keptPng) {
+        decoded = decodePngFrame(*t.keptPng, "kept frame " + std::to_string(t.frame), w, h, ch);
+        pixels = &decoded;
+        cf.wasKept = 1;
+    } else {
+        if (pixels->size() < planeBytes) throw std::runtime_error("rendered frame has the wrong size");
+        cf.busySeconds = t.result.busySeconds;
+        cf.rays = t.result.rays;
+        if (o.sendPngs) {
+            if (!st.png) st.png = std::make_unique<PngEncoder>(w, h, ch);
+            cf.png = st.png->encode(*pixels);
+            cf.pngSha256 = sha256Hex(cf.png);  // here, not on rank 0: its CPU is the farm's ceiling
+        }
+    }
+    if (std::find(o.rawWanted.begin(), o.rawWanted.end(), t.frame) != o.rawWanted.end())
+        cf.pixels.assign(pixels->begin(), pixels->begin() + long(planeBytes));
+    post(kTagChunkFrame, encodeChunkFrame(cf));
+
+    const auto t0 = std::chrono::steady_clock::now();
+    if (t.first) {
+        st.video = std::make_unique<ChunkEncoder>(spec_.path, w, h, spec_.options, spec_.options.chunkFrames);
+        st.chunk = EncodedChunk{};
+        st.chunk.index = o.item.chunk;
+        st.chunk.frames = o.item.frames;
+    }
+    if (!st.video) throw std::runtime_error("chunk " + std::to_string(o.item.chunk) + " began mid-chunk");
+    for (ChunkPacket& p : st.video->add(*pixels)) st.chunk.packets.push_back(std::move(p));
+    if (t.last) {
+        for (ChunkPacket& p : st.video->finish()) st.chunk.packets.push_back(std::move(p));
+        st.chunk.extradata = st.video->extradata();
+    }
+    st.chunk.encodeSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (t.last) {
+        post(kTagChunkDone, encodeChunkDone(o.item, serializeChunk(st.chunk)));
+        st.video.reset();
+        st.chunk = EncodedChunk{};
+    }
+}
+
+}  // namespace rf::farm
