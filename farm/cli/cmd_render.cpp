@@ -10,6 +10,7 @@
 
 #include "background_option.h"
 #include "cli.h"
+#include "errors.h"
 #include "exposure_meter.h"
 #include "gif_sink.h"
 #include "interrupt.h"
@@ -29,6 +30,7 @@
 #include "scene_broadcast.h"
 #include "timeline.h"
 #include "transport.h"
+#include "usage_error.h"
 #include "video_format.h"
 #include "worker.h"
 
@@ -152,7 +154,8 @@ std::string videoChunksNote(const RenderJob& job) {
 
 /// Rank 0's part of makeJob: everything decided from the options and the loaded scene, checked
 /// before any rendering.
-void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundle& inputs, int ranks, const std::string& threadsNote) {
+void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundle& inputs, int ranks, const std::string& threadsNote,
+               bool filmOfSeveral) {
     job.settings = scene.settings;
     applyQualityOptions(p, job.settings);
     const anim::Timeline tl = anim::Timeline::fromScene(scene, job.fpsOption);
@@ -186,6 +189,11 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
     }
     job.chunkedFrames = chunksOnRenderers(job);
     if (!job.framesDir.empty()) {
+        // In a job of several films --resume applies film by film: one never started starts now.
+        if (job.resume && filmOfSeveral && !std::filesystem::exists(std::filesystem::path(job.framesDir) / "rayfarm-frames.json")) {
+            printLine("note", job.framesDir + ": nothing kept for this film yet; rendering it whole");
+            job.resume = false;
+        }
         if (job.resume) {
             checkFramesManifest(job.framesDir, job.identity(), inputDigests(inputs));
         } else {
@@ -257,12 +265,13 @@ int reportOutcome(int ranks, const RenderJob& job, const FarmOutcome& o, const s
 /// Rank 0 after the scene is shared: runFarm with the job's sinks, then the outcome's lines. It
 /// takes the MPI transport for abort(): a lost worker cannot be stopped any other way.
 int runRank0(MpiTransport& t, const RenderJob& job, SharedScene& shared, const std::vector<std::string>& args,
-             Clock::time_point wallStart) {
+             Clock::time_point wallStart, const std::string& progressLabel) {
     for (const std::string& note : shared.scene.notes) printLine("note", note);  // one write() a line: mpirun interleaves ranks by write
     FarmOptions opts;
     opts.threads = threadsForRank(job, t);
     opts.liveProgress = stderrIsTerminal();
     opts.wallStart = wallStart;
+    opts.progressLabel = progressLabel;
     int code = 0;
     opts.onEnd = [&](const FarmOutcome& o) { code = reportOutcome(t.size(), job, o, args); };
     StopWorkersOnThrow setUp(t);  // opening the video can fail (a full disk), after the workers started
@@ -284,28 +293,18 @@ int runRank0(MpiTransport& t, const RenderJob& job, SharedScene& shared, const s
 
 }  // namespace
 
-int runRender(const std::vector<std::string>& args) {
-    for (const std::string& a : args)
-        if (a == "--help" || a == "-h") {
-            std::fputs(kRenderHelp, stdout);
-            return 0;
-        }
-    const auto wallStart = Clock::now();
-    MpiTransport t;
-    installInterruptHandlers();
-    ArgParser p("render");
-    declareRenderOptions(p);
-    RenderJob job;
-    try {
-        p.parse(args);
-        job = jobFromOptions(p);
-    } catch (...) {
-        if (t.rank() == 0) throw;
-        return 2;  // every rank parsed the same arguments; rank 0 reports
-    }
+/// Where a film stands in a job of several (null: a job of one film).
+struct FilmInJob {
+    int index = 0, count = 1;
+};
+
+/// One film on every rank: the scene shared, the job decided, rank 0's farm or a worker's loop.
+/// Returns the exit status (rank 0 may throw instead, as a job of one film has always done).
+int renderFilm(MpiTransport& t, const ArgParser& p, const std::vector<std::string>& args, RenderJob job,
+               Clock::time_point wallStart, const FilmInJob* film) {
     const std::string threadsNote = describeThreads(job, t);
     SharedScene shared;
-    std::vector<OutputLock> locks;  // rank 0's, until the run ends
+    std::vector<OutputLock> locks;  // rank 0's, until the film ends
     try {
         shared = shareScene(
             t, job.scenePath, [&] { claimOutputs(job, p, locks); },
@@ -313,7 +312,7 @@ int runRender(const std::vector<std::string>& args) {
                 std::vector<std::string> read;
                 for (const auto& [path, bytes] : inputs.files) read.push_back(path);
                 checkOutputPaths(renderOutputs(job), read);  // the model's buffers and textures too
-                decideJob(job, p, scene, inputs, t.size(), threadsNote);
+                decideJob(job, p, scene, inputs, t.size(), threadsNote, film != nullptr);
                 return encodeWorkerJob(job);
             },
             sceneOptions(p));
@@ -330,8 +329,90 @@ int runRender(const std::vector<std::string>& args) {
         if (code == kMasterSilentExit) std::_Exit(1);
         return code;
     }
+    std::string label;
+    if (film) label = "film " + std::to_string(film->index + 1) + " of " + std::to_string(film->count) + ", " + filmName(job.scenePath);
+    return runRank0(t, job, shared, args, wallStart, label);
+}
 
-    return runRank0(t, job, shared, args, wallStart);
+/// Several films as one job on the same ranks, one after another: each scene is shared once
+/// with every rank, each film has its own outputs, locks, frames directory and resume. A film
+/// that fails (a broken model, an output that cannot be written, a worker's error) is named and
+/// the job goes on with the next; a signal or a lost rank ends the job as it ends one film.
+int renderJobOfFilms(MpiTransport& t, const ArgParser& p, const std::vector<std::string>& args, const std::vector<RenderJob>& jobs) {
+    const int n = int(jobs.size());
+    std::vector<std::string> failed;
+    bool onlyInputErrors = true;
+    int written = 0;
+    for (int i = 0; i < n; ++i) {
+        const RenderJob& job = jobs[size_t(i)];
+        if (t.rank() == 0)
+            writeStderrText(formatted("rayfarm: film %d of %d: %s -> %s\n", i + 1, n, job.scenePath.c_str(), job.output.c_str()));
+        const FilmInJob film{i, n};
+        int code = 0;
+        try {
+            code = renderFilm(t, p, args, job, Clock::now(), &film);
+        } catch (const InputError& e) {
+            printLine("error", e.what());
+            code = 2;
+        } catch (const UsageError& e) {
+            printLine("error", e.what());
+            code = 2;
+        } catch (const std::exception& e) {
+            printLine("error", e.what());
+            code = 1;
+        }
+        if (t.rank() != 0) {
+            if (code == 130) return code;  // a signal: the job ends
+            // A failure this rank told rank 0 of: rank 0's word to stop that film comes next.
+            if (code == 1) awaitStop(t, std::max(4.0, 2.0 * job.workerTimeout));
+            continue;
+        }
+        if (code == 0) {
+            ++written;
+            continue;
+        }
+        if (code > 128) {  // interrupted: the films after it were not started
+            writeStderrText(formatted("rayfarm: job interrupted in film %d of %d (%s); %d written before it\n", i + 1, n,
+                                      job.scenePath.c_str(), written));
+            return code;
+        }
+        failed.push_back(job.scenePath);
+        onlyInputErrors = onlyInputErrors && code == 2;
+    }
+    if (t.rank() != 0) return 0;
+    std::string summary = formatted("rayfarm: job of %d films: %d written", n, written);
+    if (!failed.empty()) {
+        summary += "; failed: ";
+        for (size_t i = 0; i < failed.size(); ++i) {
+            if (i) summary += ", ";
+            summary += failed[i];
+        }
+    }
+    writeStderrText(summary + "\n");
+    return failed.empty() ? 0 : onlyInputErrors ? 2 : 1;
+}
+
+int runRender(const std::vector<std::string>& args) {
+    for (const std::string& a : args)
+        if (a == "--help" || a == "-h") {
+            std::fputs(kRenderHelp, stdout);
+            return 0;
+        }
+    const auto wallStart = Clock::now();
+    MpiTransport t;
+    installInterruptHandlers();
+    ArgParser p("render");
+    declareRenderOptions(p);
+    std::vector<RenderJob> jobs;
+    try {
+        p.parse(args);
+        jobs = jobsFromOptions(p);
+    } catch (...) {
+        if (t.rank() == 0) throw;
+        return 2;  // every rank parsed the same arguments; rank 0 reports
+    }
+    if (jobs.size() == 1) return renderFilm(t, p, args, jobs[0], wallStart, nullptr);
+    return renderJobOfFilms(t, p, args, jobs);
 }
 
 }  // namespace rf::cli

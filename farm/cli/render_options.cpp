@@ -12,10 +12,15 @@ namespace rf::cli {
 
 const char* kRenderHelp =
     "usage: rayfarm render SCENE|MODEL -o out.mp4|.webm|.mov|.gif [options]\n"
+    "       rayfarm render A.glb B.glb ... -o 'out/{name}.mp4' [options]   (one job, many films)\n"
     "       mpirun -np N rayfarm render SCENE|MODEL -o out.mp4 [options]\n"
     "\n"
     "Renders the scene's timeline (a bare glTF model: the default turntable) to a video.\n"
     "Without mpirun it runs as one process on all cores; under mpirun rank 0 hands out work.\n"
+    "Several scenes make one job of several films, one after another on the same ranks: {name}\n"
+    "(the scene file's name without its extension) in -o, --frames-dir, --stats, --contact-sheet\n"
+    "and --poster names each film's file; a film that fails does not stop the others, and the\n"
+    "job exits non-zero naming it; --resume applies film by film.\n"
     "\n"
     "  -o FILE           the video (required); its name picks the format: .mp4 H.264, .webm VP9\n"
     "                    (with alpha when transparent), .mov ProRes 4444 (with alpha), .gif\n"
@@ -81,12 +86,47 @@ void declareRenderOptions(ArgParser& p) {
     declareSceneOptions(p);
 }
 
-farm::RenderJob jobFromOptions(const ArgParser& p) {
+namespace {
+
+/// An option's value with {name} replaced by the film's name ("" when the option is not given).
+std::string forFilm(const ArgParser& p, const char* option, const std::string& name) {
+    std::string v = p.value(option).value_or("");
+    for (size_t at; (at = v.find("{name}")) != std::string::npos;) v.replace(at, 6, name);
+    return v;
+}
+
+}  // namespace
+
+std::string filmName(const std::string& scenePath) { return std::filesystem::path(scenePath).stem().string(); }
+
+std::vector<farm::RenderJob> jobsFromOptions(const ArgParser& p) {
+    const std::vector<std::string>& scenes = p.positional();
+    if (scenes.empty()) throw UsageError("render: expected a SCENE or MODEL (see rayfarm render --help)");
+    if (scenes.size() == 1) return {jobFromOptions(p, scenes[0], "")};
+    // Several films: every file a film writes must be its own.
+    for (const char* o : {"-o", "--frames-dir", "--stats", "--contact-sheet", "--poster"}) {
+        const auto v = p.value(o);
+        if (v && v->find("{name}") == std::string::npos)
+            throw UsageError(std::string(o) + " " + *v + ": with " + std::to_string(scenes.size()) +
+                             " scenes, it must hold {name} (each film's name), e.g. -o 'out/{name}.mp4'");
+    }
+    std::vector<farm::RenderJob> jobs;
+    for (const std::string& scene : scenes) {
+        const std::string name = filmName(scene);
+        for (const farm::RenderJob& j : jobs)
+            if (filmName(j.scenePath) == name)
+                throw UsageError("render: " + j.scenePath + " and " + scene + " would both be the film \"" + name +
+                                 "\" ({name} is the file's name without its extension)");
+        jobs.push_back(jobFromOptions(p, scene, name));
+    }
+    return jobs;
+}
+
+farm::RenderJob jobFromOptions(const ArgParser& p, const std::string& scene, const std::string& name) {
     farm::RenderJob j;
-    if (p.positional().size() != 1) throw UsageError("render: expected one SCENE or MODEL (see rayfarm render --help)");
-    j.scenePath = p.positional()[0];
+    j.scenePath = scene;
     if (!p.value("-o")) throw UsageError("render: -o out.mp4 is required");
-    j.output = *p.value("-o");
+    j.output = forFilm(p, "-o", name);
     try {
         farm::containerFor(j.output);
     } catch (const std::invalid_argument& e) {
@@ -97,8 +137,9 @@ farm::RenderJob jobFromOptions(const ArgParser& p) {
     if (p.has("--no-frames") && p.has("--resume")) throw UsageError("--resume needs the frames directory (drop --no-frames)");
     if (p.has("--no-frames") && p.has("--preview")) throw UsageError("--preview shows the PNG frames as they complete (drop --no-frames)");
     if (!p.has("--no-frames"))
-        j.framesDir = p.value("--frames-dir").value_or(std::filesystem::path(j.output).replace_extension(".frames").string());
-    j.statsPath = p.value("--stats").value_or("");
+        j.framesDir = p.has("--frames-dir") ? forFilm(p, "--frames-dir", name)
+                                             : std::filesystem::path(j.output).replace_extension(".frames").string();
+    j.statsPath = forFilm(p, "--stats", name);
     sceneOptions(p);  // checked here, where every rank parses, before the scene is shared
     j.modeOption = p.value("--mode").value_or("auto");
     if (j.modeOption != "auto" && j.modeOption != "pixel" && j.modeOption != "frame")
@@ -119,8 +160,8 @@ farm::RenderJob jobFromOptions(const ArgParser& p) {
     if (framesFormat != "png" && framesFormat != "exr") throw UsageError("--frames-format: expected png or exr, got \"" + framesFormat + "\"");
     j.exrFrames = framesFormat == "exr";
     if (j.exrFrames && j.framesDir.empty()) throw UsageError("--frames-format exr needs the frames directory (drop --no-frames)");
-    j.contactSheet = p.value("--contact-sheet").value_or("");
-    j.poster = p.value("--poster").value_or("");
+    j.contactSheet = forFilm(p, "--contact-sheet", name);
+    j.poster = forFilm(p, "--poster", name);
     for (const std::string* png : {&j.contactSheet, &j.poster})
         if (!png->empty() && std::filesystem::path(*png).extension() != ".png")
             throw UsageError(*png + ": expected a .png file name");

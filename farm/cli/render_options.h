@@ -2,6 +2,7 @@
 /// render's command line: its options, its help text, and the job they describe before the
 /// scene is read.
 #include <string>
+#include <vector>
 
 #include "cli.h"
 #include "render_job.h"
@@ -12,8 +13,14 @@ namespace rf::cli {
 void declareRenderOptions(ArgParser& p);
 extern const char* kRenderHelp;
 
-/// The options that do not need the scene (paths, mode, encoder); throws UsageError.
-farm::RenderJob jobFromOptions(const ArgParser& p);
+/// The options that do not need the scene (paths, mode, encoder), for one scene; name: the
+/// film's name, put in place of {name} in the paths; throws UsageError.
+farm::RenderJob jobFromOptions(const ArgParser& p, const std::string& scene, const std::string& name);
+/// One job per scene on the command line (several: a job of several films, whose paths must
+/// hold {name}); throws UsageError.
+std::vector<farm::RenderJob> jobsFromOptions(const ArgParser& p);
+/// A film's name: its scene file's name without the extension.
+std::string filmName(const std::string& scenePath);
 /// Parses "A:B", "A:", ":B" or "A" against a timeline of n frames (inclusive, 0-based).
 void parseFrameRange(const std::string& text, int n, int& first, int& last);
 

@@ -55,6 +55,7 @@ struct FarmOptions {
     bool keepWorkers = false;
     bool liveProgress = false;  ///< the master's live progress line (a terminal)
     bool quiet = false;         ///< no progress lines at all (a viewer shows its own)
+    std::string progressLabel;  ///< before each progress line ("film 2 of 3, NAME" in a job of several)
     /// When the run started, for the wall time in the stats (the command's start, before loading).
     std::chrono::steady_clock::time_point wallStart = std::chrono::steady_clock::now();
 };

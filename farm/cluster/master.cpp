@@ -296,7 +296,7 @@ MasterOutcome Master::finish(RunEnd end, std::string message) {
 }
 
 MasterOutcome Master::run() {
-    Progress progress(cfg_.totalFrames, cfg_.liveProgress);
+    Progress progress(cfg_.totalFrames, cfg_.liveProgress, stderr, cfg_.progressLabel);
     auto finish = [&](RunEnd end, std::string msg) {
         if (!cfg_.quiet) progress.finish();
         return this->finish(end, std::move(msg));

@@ -26,6 +26,7 @@ struct MasterConfig {
     bool liveProgress = false;
     bool quiet = false;           ///< no progress lines (tests)
     int totalFrames = 0;          ///< frames in the output, for progress
+    std::string progressLabel;    ///< before each progress line (a film of a job of several)
     /// The caller's stop request (a viewer's cancel button): read like a signal, ends Interrupted.
     const std::atomic<bool>* cancel = nullptr;
     /// Called between scheduling steps (an interactive session: partial pictures, a newer

@@ -176,6 +176,7 @@ MasterConfig FarmRun::masterConfig(int totalFrames) const {
     cfg.credits = job_.mode == Mode::Pixel ? 8 : 2;
     cfg.liveProgress = opts_.liveProgress;
     cfg.quiet = opts_.quiet;
+    cfg.progressLabel = opts_.progressLabel;
     cfg.totalFrames = totalFrames;
     cfg.cancel = opts_.cancel;
     // Its own epoch: on workers that served an earlier run (a viewer's cancelled film), late

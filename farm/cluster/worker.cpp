@@ -21,6 +21,16 @@ void reportWorkerError(Transport& t, const std::string& message) {
     }
 }
 
+void awaitStop(Transport& t, double seconds) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    Message m;
+    while (std::chrono::steady_clock::now() < until) {
+        while (t.poll(m))
+            if (m.source == 0 && m.tag == kTagStop) return;
+        ::usleep(1000);
+    }
+}
+
 namespace {
 
 /// "rank 2 on node3": where a message comes from when ranks span hosts.

@@ -26,4 +26,8 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout = 20.0,
 /// Tells rank 0 this worker failed (before it could render anything, e.g. while loading).
 void reportWorkerError(Transport& t, const std::string& message);
 
+/// After a failure it told rank 0 of, in a job of several films: waits (up to `seconds`) for
+/// rank 0's word to stop that film, so that the word is not taken for the next film's.
+void awaitStop(Transport& t, double seconds);
+
 }  // namespace rf::farm

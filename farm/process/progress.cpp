@@ -1,5 +1,7 @@
 #include "progress.h"
 
+#include <utility>
+
 #include <unistd.h>
 
 #include "interrupt.h"
@@ -8,8 +10,8 @@ namespace rf::farm {
 
 bool stderrIsTerminal() { return ::isatty(STDERR_FILENO) == 1; }
 
-Progress::Progress(int total, bool live, std::FILE* out)
-    : total_(total), live_(live), out_(out), start_(std::chrono::steady_clock::now()), last_(start_) {}
+Progress::Progress(int total, bool live, std::FILE* out, std::string label)
+    : total_(total), live_(live), label_(std::move(label)), out_(out), start_(std::chrono::steady_clock::now()), last_(start_) {}
 
 std::string Progress::line(int done, int total, double seconds, int doneAtStart, const std::vector<int>& rankFrames) {
     char buf[160];
@@ -41,7 +43,8 @@ void Progress::update(int done, const std::vector<int>& rankFrames) {
     const double sinceLast = std::chrono::duration<double>(now - last_).count();
     if (sinceLast < (live_ ? 0.25 : 5.0)) return;
     last_ = now;
-    const std::string s = line(done, total_, std::chrono::duration<double>(now - start_).count(), doneAtStart_, rankFrames);
+    std::string s = label_.empty() ? std::string() : label_ + ": ";
+    s += line(done, total_, std::chrono::duration<double>(now - start_).count(), doneAtStart_, rankFrames);
     const std::string text = live_ ? "\r\033[K" + s : s + "\n";
     if (out_ == stderr) {
         writeStderrText(text);  // a broken stderr (| head -1) ends the run as SIGPIPE would

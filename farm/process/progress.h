@@ -10,8 +10,9 @@ namespace rf::farm {
 
 class Progress {
 public:
-    /// total: frames in the output (kept frames count as done from the start).
-    Progress(int total, bool live, std::FILE* out = stderr);
+    /// total: frames in the output (kept frames count as done from the start). label: put before
+    /// each line (a job of several films: "film 2 of 3, NAME"), "" for none.
+    Progress(int total, bool live, std::FILE* out = stderr, std::string label = "");
     /// Rate-limited: prints only if enough time has passed. rankFrames[r]: the frame rank r is
     /// rendering (-1: idle), for ranks that render.
     void update(int done, const std::vector<int>& rankFrames);
@@ -23,6 +24,7 @@ public:
 private:
     int total_;
     bool live_;
+    std::string label_;
     std::FILE* out_;
     int doneAtStart_ = -1;
     bool printed_ = false;
