@@ -1,5 +1,7 @@
 #include "messages.h"
 
+#include "byte_fields.h"
+
 #include <atomic>
 #include <cstring>
 #include <stdexcept>
@@ -46,52 +48,6 @@ struct WireRect {
 WireRect wireOf(const WorkItem& w) { return {w.frame, w.rect.x0, w.rect.y0, w.rect.x1, w.rect.y1, w.chunk, w.frames, w.epoch}; }
 WorkItem itemOf(const WireRect& r) { return {r.frame, {r.x0, r.y0, r.x1, r.y1}, r.epoch, r.chunk, r.frames}; }
 
-/// A payload in parts: fixed-size fields copied as they are, byte strings with their length.
-struct Writer {
-    std::string out;
-    template <class T>
-    void put(const T& v) {
-        static_assert(std::is_trivially_copyable_v<T>);
-        out.append(reinterpret_cast<const char*>(&v), sizeof v);
-    }
-    void bytes(const void* p, size_t n) {
-        put(uint64_t(n));
-        out.append(static_cast<const char*>(p), n);
-    }
-    void bytes(const std::string& s) { bytes(s.data(), s.size()); }
-};
-
-struct Reader {
-    const std::string& in;
-    const char* what;
-    size_t at = 0;
-    [[noreturn]] void bad() const { throw std::runtime_error(std::string("malformed ") + what + " message"); }
-    template <class T>
-    T get() {
-        if (in.size() - at < sizeof(T)) bad();
-        T v;
-        std::memcpy(&v, in.data() + at, sizeof v);
-        at += sizeof v;
-        return v;
-    }
-    std::string bytes() {
-        const uint64_t n = get<uint64_t>();
-        if (n > in.size() - at) bad();
-        std::string b = in.substr(at, size_t(n));
-        at += size_t(n);
-        return b;
-    }
-    uint32_t count(size_t least) {
-        const uint32_t n = get<uint32_t>();
-        if (uint64_t(n) * least > in.size() - at) bad();
-        return n;
-    }
-    void end() const {
-        if (at != in.size()) bad();
-    }
-};
-static_assert(std::is_trivially_copyable_v<ViewSpec>);
-
 }  // namespace
 
 std::string encodeWorkItem(const WorkItem& w) { return bytesOf(wireOf(w)); }
@@ -99,7 +55,7 @@ std::string encodeWorkItem(const WorkItem& w) { return bytesOf(wireOf(w)); }
 WorkItem decodeWorkItem(const std::string& bytes) { return itemOf(fromBytes<WireRect>(bytes, "work")); }
 
 std::string encodeChunkOrder(const ChunkOrder& o) {
-    Writer w;
+    ByteWriter w;
     w.put(wireOf(o.item));
     w.put(o.sendPngs);
     w.put(uint32_t(o.kept.size()));
@@ -113,7 +69,7 @@ std::string encodeChunkOrder(const ChunkOrder& o) {
 }
 
 ChunkOrder decodeChunkOrder(const std::string& bytes) {
-    Reader r{bytes, "chunk order"};
+    ByteReader r{bytes, "chunk order"};
     ChunkOrder o;
     o.item = itemOf(r.get<WireRect>());
     o.sendPngs = r.get<int32_t>();
@@ -125,12 +81,12 @@ ChunkOrder decodeChunkOrder(const std::string& bytes) {
     o.rawWanted.resize(r.count(4));
     for (int32_t& f : o.rawWanted) f = r.get<int32_t>();
     r.end();
-    if (o.item.chunk < 0 || o.item.frames <= 0) r.bad();
+    if (o.item.chunk < 0 || o.item.frames <= 0) r.bad("not a chunk");
     return o;
 }
 
 std::string encodeChunkFrame(const ChunkFrame& f) {
-    Writer w;
+    ByteWriter w;
     w.put(wireOf(f.item));
     w.put(f.frame);
     w.put(f.wasKept);
@@ -143,7 +99,7 @@ std::string encodeChunkFrame(const ChunkFrame& f) {
 }
 
 ChunkFrame decodeChunkFrame(const std::string& bytes) {
-    Reader r{bytes, "chunk frame"};
+    ByteReader r{bytes, "chunk frame"};
     ChunkFrame f;
     f.item = itemOf(r.get<WireRect>());
     f.frame = r.get<int32_t>();
@@ -159,14 +115,14 @@ ChunkFrame decodeChunkFrame(const std::string& bytes) {
 }
 
 std::string encodeChunkDone(const WorkItem& item, const std::string& chunkBytes) {
-    Writer w;
+    ByteWriter w;
     w.put(wireOf(item));
     w.out.append(chunkBytes);
     return std::move(w.out);
 }
 
 WorkItem decodeChunkDone(const std::string& bytes, std::string& chunkBytes) {
-    Reader r{bytes, "chunk"};
+    ByteReader r{bytes, "chunk"};
     const WorkItem item = itemOf(r.get<WireRect>());
     chunkBytes = bytes.substr(r.at);
     return item;

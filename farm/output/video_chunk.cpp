@@ -1,86 +1,47 @@
 #include "video_chunk.h"
 
 #include <cmath>
-#include <cstring>
-#include <stdexcept>
+#include <utility>
+
+#include "byte_fields.h"
 
 namespace rf::farm {
 
 namespace {
-
-// Little helpers for a flat byte layout: every rank runs the same build (mpirun starts one
-// executable), so fixed-size fields are copied as they are.
-template <class T>
-void put(std::string& out, const T& v) {
-    out.append(reinterpret_cast<const char*>(&v), sizeof v);
-}
-
-void putBytes(std::string& out, const std::string& b) {
-    put(out, uint64_t(b.size()));
-    out.append(b);
-}
-
-struct Reader {
-    const std::string& in;
-    size_t at = 0;
-
-    template <class T>
-    T get() {
-        if (in.size() - at < sizeof(T)) throw std::runtime_error("malformed chunk message: truncated");
-        T v;
-        std::memcpy(&v, in.data() + at, sizeof v);
-        at += sizeof v;
-        return v;
-    }
-    std::string bytes() {
-        const uint64_t n = get<uint64_t>();
-        if (n > in.size() - at) throw std::runtime_error("malformed chunk message: a field runs past its end");
-        std::string b = in.substr(at, size_t(n));
-        at += size_t(n);
-        return b;
-    }
-    /// A count of items each at least `least` bytes: bounded by what is left, so a corrupt count
-    /// cannot make the reader reserve gigabytes.
-    uint32_t count(size_t least) {
-        const uint32_t n = get<uint32_t>();
-        if (uint64_t(n) * least > in.size() - at) throw std::runtime_error("malformed chunk message: bad count");
-        return n;
-    }
-};
 
 constexpr uint32_t kMagic = 0x4b4e4843;  // "CHNK"
 
 }  // namespace
 
 std::string serializeChunk(const EncodedChunk& c) {
-    std::string out;
+    ByteWriter w;
     size_t total = 64 + c.extradata.size();
     for (const ChunkPacket& p : c.packets) total += 64 + p.data.size();
-    out.reserve(total);
-    put(out, kMagic);
-    put(out, c.index);
-    put(out, c.frames);
-    put(out, c.encodeSeconds);
-    putBytes(out, c.extradata);
-    put(out, uint32_t(c.packets.size()));
+    w.out.reserve(total);
+    w.put(kMagic);
+    w.put(c.index);
+    w.put(c.frames);
+    w.put(c.encodeSeconds);
+    w.bytes(c.extradata);
+    w.put(uint32_t(c.packets.size()));
     for (const ChunkPacket& p : c.packets) {
-        put(out, p.pts);
-        put(out, p.dts);
-        put(out, p.duration);
-        put(out, p.flags);
-        putBytes(out, p.data);
-        put(out, uint32_t(p.side.size()));
+        w.put(p.pts);
+        w.put(p.dts);
+        w.put(p.duration);
+        w.put(p.flags);
+        w.bytes(p.data);
+        w.put(uint32_t(p.side.size()));
         for (const auto& [type, bytes] : p.side) {
-            put(out, type);
-            putBytes(out, bytes);
+            w.put(type);
+            w.bytes(bytes);
         }
     }
-    return out;
+    return std::move(w.out);
 }
 
 EncodedChunk parseChunk(const std::string& bytes) {
-    Reader r{bytes};
-    if (r.get<uint32_t>() != kMagic) throw std::runtime_error("malformed chunk message: not a chunk");
+    ByteReader r{bytes, "chunk"};
+    if (r.get<uint32_t>() != kMagic) r.bad("not a chunk");
     EncodedChunk c;
     c.index = r.get<int32_t>();
     c.frames = r.get<int32_t>();
@@ -101,8 +62,8 @@ EncodedChunk parseChunk(const std::string& bytes) {
             b = r.bytes();
         }
     }
-    if (r.at != bytes.size()) throw std::runtime_error("malformed chunk message: bytes after its end");
-    if (c.index < 0 || c.frames <= 0) throw std::runtime_error("malformed chunk message: bad index or frame count");
+    r.end();
+    if (c.index < 0 || c.frames <= 0) r.bad("bad index or frame count");
     return c;
 }
 

@@ -12,27 +12,16 @@
 
 #include "chunk_encoder.h"
 #include "mp4_sink.h"
+#include "tool_output.h"
 #include "video_chunk.h"
 
 using namespace rf::farm;
 
 namespace {
 
-std::string outDir() {
-    std::string d = RAYFARM_TEST_OUT;  // appended, not operator+: GCC 12 warns falsely under LTO
-    d += "/farm_chunks";
-    std::filesystem::create_directories(d);
-    return d;
-}
+std::string outDir() { return rf::testing::testOutDir("farm_chunks"); }
 
-std::string runCapture(const std::string& cmd) {
-    std::unique_ptr<FILE, int (*)(FILE*)> p(popen(cmd.c_str(), "r"), pclose);
-    std::string out;
-    char buf[65536];
-    size_t n;
-    while (p && (n = fread(buf, 1, sizeof buf, p.get())) > 0) out.append(buf, n);
-    return out;
-}
+using rf::testing::runCapture;
 
 std::string fileBytes(const std::string& path) {
     std::ifstream f(path, std::ios::binary);

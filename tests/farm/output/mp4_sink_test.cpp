@@ -12,26 +12,15 @@
 
 #include "mp4_remux.h"
 #include "mp4_sink.h"
+#include "tool_output.h"
 
 using namespace rf::farm;
 
 namespace {
 
-std::string outDir() {
-    std::string d = RAYFARM_TEST_OUT;  // appended, not operator+: GCC 12 warns falsely under LTO
-    d += "/farm_mp4";
-    std::filesystem::create_directories(d);
-    return d;
-}
+std::string outDir() { return rf::testing::testOutDir("farm_mp4"); }
 
-std::string runCapture(const std::string& cmd) {
-    std::unique_ptr<FILE, int (*)(FILE*)> p(popen(cmd.c_str(), "r"), pclose);
-    std::string out;
-    char buf[65536];
-    size_t n;
-    while (p && (n = fread(buf, 1, sizeof buf, p.get())) > 0) out.append(buf, n);
-    return out;
-}
+using rf::testing::runCapture;
 
 std::string probe(const std::string& file, const std::string& entries) {
     std::string s = runCapture("ffprobe -v error -select_streams v:0 -count_frames -show_entries stream=" + entries +
