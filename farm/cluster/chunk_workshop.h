@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "messages.h"
-#include "mp4_sink.h"
+#include "video_options.h"
 #include "render_engine.h"
 
 namespace rf::farm {

@@ -7,7 +7,7 @@
 #include "background.h"
 #include "frame_ranges.h"
 #include "messages.h"
-#include "mp4_sink.h"
+#include "video_options.h"
 #include "scheduler.h"
 #include "settings.h"
 

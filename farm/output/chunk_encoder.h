@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "mp4_sink.h"
+#include "video_options.h"
 #include "video_chunk.h"
 
 struct AVCodecContext;  // libavcodec's, for the muxer beside this file (chunk_muxer.cpp)

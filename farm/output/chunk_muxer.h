@@ -9,7 +9,7 @@
 #include <memory>
 #include <string>
 
-#include "mp4_sink.h"
+#include "video_options.h"
 #include "video_chunk.h"
 
 namespace rf::farm {

@@ -8,7 +8,7 @@
 
 #include "bitmap_font.h"
 #include "image.h"
-#include "mp4_sink.h"
+#include "video_options.h"
 
 namespace rf::farm {
 
