@@ -7,7 +7,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <sstream>
 
 #include <fcntl.h>
@@ -151,23 +150,27 @@ std::string readAll(const std::string& path) {
 
 }  // namespace
 
+int frameOfFileName(const std::string& name, const std::string& extension) {
+    const std::string tail = "." + extension;
+    if (name.size() <= 6 + tail.size() || name.compare(0, 6, "frame_") != 0 ||
+        name.compare(name.size() - tail.size(), tail.size(), tail) != 0)
+        return -1;
+    const std::string digits = name.substr(6, name.size() - 6 - tail.size());
+    if (digits.size() > 10 || digits.find_first_not_of("0123456789") != std::string::npos) return -1;
+    const long long f = std::stoll(digits);
+    if (f > INT32_MAX) return -1;
+    char canonical[32];
+    std::snprintf(canonical, sizeof canonical, "frame_%06d", int(f));
+    return name == canonical + tail ? int(f) : -1;  // only the name this rayfarm writes
+}
+
 std::vector<int> framesInDir(const std::string& dir, const std::string& extension, const anim::FrameRanges& frames) {
     // One pass over the directory, not one look-up per frame: a selection may hold 10⁹ frames.
     std::vector<int> found;
     std::error_code ec;
     for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-        const std::string name = it->path().filename().string();
-        const std::string tail = "." + extension;
-        if (name.size() <= 6 + tail.size() || name.compare(0, 6, "frame_") != 0 ||
-            name.compare(name.size() - tail.size(), tail.size(), tail) != 0)
-            continue;
-        const std::string digits = name.substr(6, name.size() - 6 - tail.size());
-        if (digits.size() > 10 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
-        const long long f = std::stoll(digits);
-        if (f > INT32_MAX || !frames.contains(int(f))) continue;
-        char canonical[32];
-        std::snprintf(canonical, sizeof canonical, "frame_%06d", int(f));
-        if (name == canonical + tail) found.push_back(int(f));  // the name this rayfarm writes
+        const int f = frameOfFileName(it->path().filename().string(), extension);
+        if (f >= 0 && frames.contains(f)) found.push_back(f);
     }
     std::sort(found.begin(), found.end());
     return found;
@@ -188,13 +191,21 @@ anim::FrameRanges findKeptFrames(const std::string& dir, const anim::FrameRanges
     return kept;
 }
 
+namespace {
+/// A frame PNG or EXR of any frame number (frame_000012.png, frame_1234567.exr), or with
+/// withPart, one a killed run left half-written (frame_000012.png.part).
+bool isFrameFile(std::string name, bool withPart) {
+    if (withPart && name.size() > 5 && name.compare(name.size() - 5, 5, ".part") == 0) name.resize(name.size() - 5);
+    return frameOfFileName(name, "png") >= 0 || frameOfFileName(name, "exr") >= 0;
+}
+}  // namespace
+
 void prepareFramesDir(const std::string& dir) {
     ensureWritableDir(dir);
     const bool ours = std::filesystem::exists(std::filesystem::path(dir) / "rayfarm-frames.json");
-    static const std::regex framePattern(R"(frame_\d{6}\.(png|exr)(\.part)?)");
     std::vector<std::filesystem::path> old;
     for (const auto& e : std::filesystem::directory_iterator(dir))
-        if (std::regex_match(e.path().filename().string(), framePattern)) old.push_back(e.path());
+        if (isFrameFile(e.path().filename().string(), true)) old.push_back(e.path());
     if (!old.empty() && !ours)
         throw UsageError(dir + ": holds frame PNGs that rayfarm did not write; choose another --frames-dir");
     for (const auto& p : old) std::filesystem::remove(p);
@@ -213,10 +224,9 @@ void appendFramesLog(const std::string& dir, const std::string& lines) {
 void refuseEarlierFrames(const std::string& dir) {
     std::error_code ec;
     if (!std::filesystem::is_directory(dir, ec)) return;
-    static const std::regex finished(R"(frame_\d{6}\.(png|exr))");
     size_t n = 0;
     for (const auto& e : std::filesystem::directory_iterator(dir, ec))
-        if (std::regex_match(e.path().filename().string(), finished)) ++n;
+        if (isFrameFile(e.path().filename().string(), false)) ++n;
     if (n == 0) return;
     throw UsageError(dir + ": holds " + std::to_string(n) + " frame file" + (n == 1 ? "" : "s") +
                      " of an earlier run; add --resume to render only the frames missing, or --overwrite to render all again");

@@ -61,6 +61,10 @@ void appendFramesLog(const std::string& dir, const std::string& lines);
 /// a word: throws UsageError naming dir and both ways on when it holds finished frames.
 void refuseEarlierFrames(const std::string& dir);
 
+/// The frame a file of the frames directory holds: "frame_000012.png" -> 12, "frame_1234567.png"
+/// -> 1234567 (%06d grows past six digits); -1 for any name this rayfarm does not write
+/// ("frame_12.png", "frame_0000012.png", another extension).
+int frameOfFileName(const std::string& name, const std::string& extension);
 /// The frames of `frames` that have a file frame_NNNNNN.EXTENSION in dir, in increasing order:
 /// one pass over the directory, whatever the selection's length.
 std::vector<int> framesInDir(const std::string& dir, const std::string& extension, const anim::FrameRanges& frames);

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -120,4 +121,34 @@ TEST(PngSink, KeptFramesOfABillionFrameSelectionComeFromTheListing) {
     EXPECT_EQ(framesInDir(dir, "png", anim::FrameRanges::span(0, 999999999)), (std::vector<int>{3, 1234567, 999999999}));
     EXPECT_EQ(findKeptFrames(dir, anim::FrameRanges::span(0, 999999999), 2, 2), (anim::FrameRanges{3, 1234567, 999999999}));
     EXPECT_EQ(findKeptFrames(dir, anim::FrameRanges::span(4, 999999998), 2, 2), (anim::FrameRanges{1234567}));
+}
+
+// Seen in issue 30: the clean-up of a fresh run and the refusal to throw an earlier run's frames
+// away matched six-digit names only, so frames from 10⁶ on were left behind (and later taken for
+// this run's by --resume) and went uncounted.
+TEST(PngSink, FramesPastSixDigitsAreClearedAndCountedLikeTheOthers) {
+    EXPECT_EQ(frameOfFileName("frame_000012.png", "png"), 12);
+    EXPECT_EQ(frameOfFileName("frame_1000000.png", "png"), 1000000);
+    EXPECT_EQ(frameOfFileName("frame_2147483647.exr", "exr"), 2147483647);
+    EXPECT_EQ(frameOfFileName("frame_2147483648.png", "png"), -1);
+    EXPECT_EQ(frameOfFileName("frame_0000012.png", "png"), -1);
+    EXPECT_EQ(frameOfFileName("frame_000012.exr", "png"), -1);
+
+    const std::string dir = freshDir("farm_png_seven_digits");
+    writeFramesManifest(dir, "{}", {});
+    const std::vector<uint8_t> rgb(2 * 2 * 3, 9);
+    for (const char* name : {"frame_000003.png", "frame_1000000.png", "frame_1234567.exr", "frame_12345678.png.part"})
+        writePng(dir + "/" + name, 2, 2, rgb);
+    writePng(dir + "/frame_0000004.png", 2, 2, rgb);  // not a name rayfarm writes: someone else's
+    try {
+        refuseEarlierFrames(dir);
+        ADD_FAILURE() << "earlier frames were not refused";
+    } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find("holds 3 frame files"), std::string::npos) << e.what();
+    }
+    prepareFramesDir(dir);
+    std::vector<std::string> left;
+    for (const auto& e : std::filesystem::directory_iterator(dir)) left.push_back(e.path().filename().string());
+    std::sort(left.begin(), left.end());
+    EXPECT_EQ(left, (std::vector<std::string>{"frame_0000004.png", "rayfarm-frames.json", "rayfarm-frames.sha256"}));
 }
