@@ -42,6 +42,20 @@ KeyTrack trackFromSampler(const AnimSampler& s, AnimPath path) {
     return track;
 }
 
+namespace {
+
+/// Where a key's fault lies in the sampler's accessors: its time in input[k]; its value in
+/// output[k], or with CUBICSPLINE (in-tangent, value, out-tangent per key) in output[3k + 0..2].
+std::string samplerElement(const AnimSampler& s, const KeyError& e) {
+    const long long k = e.key();
+    if (e.field() == "time") return ".input[" + std::to_string(k) + "]";
+    const bool cubic = s.interpolation == KeyInterpolation::CubicSpline;
+    const long long at = !cubic ? k : 3 * k + (e.field() == "in" ? 0 : e.field() == "out" ? 2 : 1);
+    return ".output[" + std::to_string(at) + "]";
+}
+
+}  // namespace
+
 DMat4 nodeLocalMatrix(const SceneNode& n) {
     if (n.useMatrix) return n.matrix;
     DMat4 m = glm::translate(DMat4(1.0), n.translation);
@@ -89,7 +103,7 @@ GltfAnimationPlayer::GltfAnimationPlayer(const SceneGraph& g, int model, int ani
         try {
             channels_.push_back({ch.node, ch.path, trackFromSampler(a.samplers[ch.sampler], ch.path)});
         } catch (const KeyError& e) {
-            throw InputError(g.source, sw + ".input[" + std::to_string(e.key()) + "]: " + e.what());
+            throw InputError(g.source, sw + samplerElement(a.samplers[ch.sampler], e) + ": " + e.what());
         } catch (const std::invalid_argument& e) {
             throw InputError(g.source, sw + ": " + e.what());
         }

@@ -1,5 +1,7 @@
 #include "gltf_lights_cameras.h"
 
+#include <cstdio>
+
 #include "errors.h"
 #include "exposure.h"
 
@@ -41,14 +43,20 @@ Light punctualLight(const tinygltf::Light& gl, const DMat4& renderFromNode, cons
     return L;
 }
 
-std::optional<Camera> perspectiveCamera(const tinygltf::Camera& gc, const DMat4& renderFromNode) {
+std::optional<Camera> perspectiveCamera(const tinygltf::Camera& gc, const DMat4& renderFromNode, std::string& fault) {
     if (gc.type != "perspective") return std::nullopt;
     Camera c;
     c.eye = Vec3(glm::dvec3(renderFromNode[3]));
     c.target = c.eye + nodeAxis(renderFromNode, glm::dvec3(0, 0, -1));
     c.up = nodeAxis(renderFromNode, glm::dvec3(0, 1, 0));
     const double fov = glm::degrees(gc.perspective.yfov);
-    c.fovDeg = float(fov > 0.0 && fov < 180.0 ? fov : 45.0);
+    fault.clear();
+    if (!(fov > 0.0 && fov < 180.0)) {
+        char v[32];
+        std::snprintf(v, sizeof v, "%g", gc.perspective.yfov);
+        fault = std::string("perspective.yfov ") + v + " is not a field of view (expected radians between 0 and pi)";
+    }
+    c.fovDeg = float(fault.empty() ? fov : 45.0);  // never shown: useGltfCamera refuses it
     c.fovHorizontal = false;
     return c;
 }

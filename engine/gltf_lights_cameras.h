@@ -18,7 +18,8 @@ namespace rf::gltf {
 Light punctualLight(const tinygltf::Light& light, const DMat4& renderFromNode, const std::string& file, int index);
 
 /// Engine camera for a glTF perspective camera on a node (looking down the node's −z with +y
-/// up); nullopt for orthographic cameras, which the pin-hole camera cannot show.
-std::optional<Camera> perspectiveCamera(const tinygltf::Camera& camera, const DMat4& renderFromNode);
+/// up); nullopt for orthographic cameras, which the pin-hole camera cannot show. A yfov that is
+/// no field of view (0, negative, π or more, not a number) leaves `fault` saying so (else "").
+std::optional<Camera> perspectiveCamera(const tinygltf::Camera& camera, const DMat4& renderFromNode, std::string& fault);
 
 }  // namespace rf::gltf

@@ -547,8 +547,11 @@ void GltfModel::addNodeLightAndCamera(Scene& scene, int node, const DMat4& rende
     if (n.camera >= 0) {
         if (size_t(n.camera) >= model_.cameras.size())
             throw InputError(path_, "nodes[" + std::to_string(node) + "].camera: no such camera");
-        if (auto c = perspectiveCamera(model_.cameras[size_t(n.camera)], renderFromNode)) scene.gltfCameras.push_back(*c);
-        else notes_.push_back("cameras[" + std::to_string(n.camera) + "]: " + model_.cameras[size_t(n.camera)].type + " cameras are not supported; skipped");
+        std::string fault;
+        if (auto c = perspectiveCamera(model_.cameras[size_t(n.camera)], renderFromNode, fault)) {
+            scene.gltfCameras.push_back(*c);
+            scene.gltfCameraFaults.emplace_back(path_, fault.empty() ? fault : "cameras[" + std::to_string(n.camera) + "]." + fault);
+        } else notes_.push_back("cameras[" + std::to_string(n.camera) + "]: " + model_.cameras[size_t(n.camera)].type + " cameras are not supported; skipped");
     }
 }
 
@@ -636,11 +639,18 @@ Scene loadGltfScene(const std::string& path, FileSource& fs, const SceneOptions&
     return s;
 }
 
-void useGltfCamera(Scene& scene, int index) {
+const Camera& chosenGltfCamera(const Scene& scene, int index) {
     if (index < 0 || size_t(index) >= scene.gltfCameras.size())
         throw InputError(scene.sourcePath, "no glTF camera " + std::to_string(index) + " (the scene has " +
                                                std::to_string(scene.gltfCameras.size()) + ")");
-    scene.camera = scene.gltfCameras[size_t(index)];
+    // Named as the file names it: "model.gltf: cameras[2].perspective.yfov 0 is not ...".
+    if (size_t(index) < scene.gltfCameraFaults.size() && !scene.gltfCameraFaults[size_t(index)].second.empty()) {
+        const auto& [file, fault] = scene.gltfCameraFaults[size_t(index)];
+        throw InputError(file, fault + "; choose another --camera");
+    }
+    return scene.gltfCameras[size_t(index)];
 }
+
+void useGltfCamera(Scene& scene, int index) { scene.camera = chosenGltfCamera(scene, index); }
 
 }  // namespace rf

@@ -31,7 +31,10 @@ void loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFrom
 /// options name (none by default).
 Scene loadGltfScene(const std::string& path, FileSource& fs, const SceneOptions& options = {});
 
-/// Makes scene.gltfCameras[index] the render camera; throws InputError if there is none.
+/// scene.gltfCameras[index]; throws InputError if there is none, or if the file's camera is
+/// unusable (a yfov of 0), naming the file and the camera.
+const Camera& chosenGltfCamera(const Scene& scene, int index);
+/// Makes chosenGltfCamera(scene, index) the render camera.
 void useGltfCamera(Scene& scene, int index);
 
 }  // namespace rf

@@ -125,6 +125,8 @@ std::string glbJsonChunk(const std::string& path, const std::string& bytes) {
     if (length > bytes.size()) throw InputError(path, "GLB header says " + std::to_string(length) + " bytes, file has " + std::to_string(bytes.size()));
     const uint32_t chunkLen = readU32(bytes, 12), chunkType = readU32(bytes, 16);
     if (chunkType != 0x4E4F534Au) throw InputError(path, "first GLB chunk is not JSON");
+    // Else the JSON's own bytes would be read as the BIN chunk's header below.
+    if (chunkLen == 0) throw InputError(path, "GLB JSON chunk is empty (its length is 0)");
     if (uint64_t(chunkLen) + 20 > length) throw InputError(path, "GLB JSON chunk runs past the end of the file");
     const uint64_t next = 20 + uint64_t(chunkLen);
     if (next < length) {

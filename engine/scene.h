@@ -48,6 +48,9 @@ public:
     std::vector<Texture> textures;
     std::vector<SceneGraph> models;
     std::vector<Camera> gltfCameras;  ///< perspective cameras of glTF models, selectable as the render camera
+    /// Beside each of gltfCameras: its file, and why it cannot be used ("" if it can), said
+    /// when it is chosen.
+    std::vector<std::pair<std::string, std::string>> gltfCameraFaults;
     Color background{0.f};
     /// Primary rays that miss give no colour and zero coverage (alpha), so the film can be laid
     /// over something else; reflections and refractions still see `background`.

@@ -7,12 +7,21 @@
 
 #include <unistd.h>
 
+#include "errors.h"
 #include "interrupt.h"
 #include "sample_count.h"
 
 namespace rf::cli {
 
-void printLine(const std::string& kind, const std::string& text) { writeStderr("rayfarm: " + kind + ": " + text + "\n"); }
+void printLine(const std::string& kind, const std::string& text) {
+    // One line whatever the text holds: names from files and the command line are escaped.
+    std::string line = "rayfarm: ";
+    line += kind;
+    line += ": ";
+    line += printable(text);
+    line += '\n';
+    writeStderr(line);
+}
 
 void writeStderr(const std::string& line) { farm::writeStderrText(line); }
 

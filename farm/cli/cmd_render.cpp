@@ -202,7 +202,7 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
         }
     }
     const std::string plan =
-        formatted("rayfarm: %s: frames %s of %d, %dx%d, %d spp; mode %s (%s); %d rank%s, %s; %s\n", job.scenePath.c_str(),
+        formatted("rayfarm: %s: frames %s of %d, %dx%d, %d spp; mode %s (%s); %d rank%s, %s; %s\n", printable(job.scenePath).c_str(),
                   frameSpan(job.first, job.last).c_str(), job.timelineFrames, job.settings.width, job.settings.height,
                   job.settings.spp, job.mode == Mode::Pixel ? "pixel" : "frame", job.modeWhy.c_str(), ranks, ranks == 1 ? "" : "s",
                   threadsNote.c_str(), videoChunksNote(job).c_str());
@@ -253,7 +253,7 @@ int reportOutcome(int ranks, const RenderJob& job, const FarmOutcome& o, const s
     const RunStats& s = o.stats;
     std::string lines = formatted("rayfarm: wrote %s: %d frames %dx%d at %.4g fps; %.1f fps sustained over %.2f s (wall %.2f s); "
                                   "encoder busy %.2f s (%.0f%%)\n",
-                                  job.output.c_str(), s.frames, s.width, s.height, job.mp4.fps, s.sustainedFps, s.renderSeconds,
+                                  printable(job.output).c_str(), s.frames, s.width, s.height, job.mp4.fps, s.sustainedFps, s.renderSeconds,
                                   s.wallSeconds, s.encodeSeconds, s.renderSeconds > 0 ? 100.0 * s.encodeSeconds / s.renderSeconds : 0.0);
     if (s.rays.nonFinite)
         lines += "rayfarm: note: " + std::to_string((unsigned long long)s.rays.nonFinite) + " non-finite samples replaced by black\n";

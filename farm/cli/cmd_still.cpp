@@ -7,6 +7,7 @@
 
 #include "background_option.h"
 #include "cli.h"
+#include "errors.h"
 #include "exposure_meter.h"
 #include "gltf_loader.h"
 #include "image.h"
@@ -163,7 +164,7 @@ int runStill(const std::vector<std::string>& args) {
 
     const double renderS = std::chrono::duration<double>(t2 - t1).count();
     const double wallS = std::chrono::duration<double>(t3 - t0).count();
-    std::fprintf(stderr, "rayfarm: wrote %s (%dx%d, %d spp, depth %d) in %.3f s render, %.2f Mrays/s\n", out.c_str(),
+    std::fprintf(stderr, "rayfarm: wrote %s (%dx%d, %d spp, depth %d) in %.3f s render, %.2f Mrays/s\n", printable(out).c_str(),
                  settings.width, settings.height, settings.spp, settings.maxDepth, renderS,
                  rays.total() / std::max(renderS, 1e-9) * 1e-6);
     if (rays.nonFinite) std::fprintf(stderr, "rayfarm: note: %llu non-finite samples replaced by black\n", (unsigned long long)rays.nonFinite);

@@ -14,6 +14,7 @@
 #include "chunk_collector.h"
 #include "chunk_workshop.h"
 #include "contact_sheet.h"
+#include "errors.h"
 #include "exr_frames.h"
 #include "frame_assembler.h"
 #include "gif_sink.h"
@@ -330,7 +331,7 @@ void FarmRun::finishClose() {
 std::string FarmRun::videoHolds() const {
     int encoded = sinks_.video->framesInOutput();
     if (encoded < 0) encoded = sinks_.video->framesDone();
-    std::string s = "the video " + job_.output + " holds " +
+    std::string s = "the video " + printable(job_.output) + " holds " +
                     (encoded ? "frames " + frameSpan(job_.first, job_.first + encoded - 1) : std::string("no frames")) + " of " +
                     frameSpan(job_.first, job_.last);
     if (closer_.joinable() && !closed_ && framesPassed_ > encoded)

@@ -138,9 +138,7 @@ int runWindow(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job, Scen
     const RenderSettings settings = pictureSettings(p, scene);
     if (p.has("--camera")) {
         o.gltfCamera = p.intValue("--camera", 0, 0, 1 << 20);
-        if (size_t(o.gltfCamera) >= scene.gltfCameras.size())
-            throw InputError(scene.sourcePath, "no glTF camera " + std::to_string(o.gltfCamera) + " (the scene has " +
-                                                   std::to_string(scene.gltfCameras.size()) + ")");
+        chosenGltfCamera(scene, o.gltfCamera);  // throws for a missing or unusable one
     }
     qInstallMessageHandler(qtMessages);
     int argc = 1;

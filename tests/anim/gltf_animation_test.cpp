@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <limits>
 
 #include <nlohmann/json.hpp>
 #include <fstream>
@@ -127,6 +128,36 @@ TEST(GltfAnimation, MatrixNodesCannotBeAnimated) {
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("chain.gltf: animations[0].channels[0]: animates node 0, which has a matrix"), std::string::npos) << e.what();
     }
+}
+
+/// The message of the InputError a player of g throws ("" if none).
+std::string playerError(const SceneGraph& g) {
+    try {
+        GltfAnimationPlayer p(g, 0, 0, true);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+// Issue 30 #9: a zero quaternion was reported at samplers[1].input[1], the key's time, which is
+// fine; the fault is in the output accessor, at the key's element (CUBICSPLINE: in-tangent,
+// value, out-tangent per key, so key k's value is element 3k + 1).
+TEST(GltfAnimation, AKeysFaultIsNamedInTheAccessorThatHoldsIt) {
+    SceneGraph g = chain();
+    AnimSampler& rot = g.animations[0].samplers[1];
+    rot.values = {0, 0, 0, 1, 0, 0, 0, 0};
+    EXPECT_EQ(playerError(g), "chain.gltf: animations[0].samplers[1].output[1]: a rotation quaternion must not be zero");
+    rot.interpolation = KeyInterpolation::CubicSpline;
+    rot.values = {0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, /* key 1: */ 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    EXPECT_EQ(playerError(g), "chain.gltf: animations[0].samplers[1].output[4]: a rotation quaternion must not be zero");
+    rot.values[13] = 1.f;  // key 1's in-tangent: non-finite below
+    rot.values[16] = 1.f;  // its value
+    rot.values[20] = std::numeric_limits<float>::infinity();  // its out-tangent
+    EXPECT_EQ(playerError(g), "chain.gltf: animations[0].samplers[1].output[5]: expected finite tangents");
+    rot.values[20] = 0.f;
+    rot.times = {1.f, 1.f};
+    EXPECT_NE(playerError(g).find("chain.gltf: animations[0].samplers[1].input[1]: times must increase"), std::string::npos) << playerError(g);
 }
 
 /// scenes/animated_node.gltf, worked out by hand. "carrier" (node 0) translates by a CUBICSPLINE

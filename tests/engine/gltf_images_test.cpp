@@ -191,3 +191,19 @@ TEST(GltfImages, LargeTexturesAreDownsampledFromTheHeaderAndTheBudgetRefusesTheR
     tight.assets.textureBudgetBytes = 2 << 20;
     EXPECT_EQ(loadGltfScene(path, files, tight).textures.size(), 1u);
 }
+
+// Issue 30 #9: a data:image/webp URI was reported as "would leave the model's folder". As a
+// texture's own source (without EXT_texture_webp, which glTF asks for) and through the
+// extension, it is read from its bytes: no URI check, no file, the same picture as the PNG.
+TEST(GltfImages, WebPDataUriIsReadFromItsBytesNeverAsAPath) {
+    TempDir dir;
+    writeFile(dir / "logo.png", readFile(kBox + "CesiumLogoFlat.png"));
+    const std::string webpUri = "data:image/webp;base64," + base64(logoAsWebP());
+    std::vector<std::string> notes;
+    const Image plain = renderModel(boxWith(dir, {{{"uri", webpUri}}}, {{"sampler", 0}, {"source", 0}}), &notes);
+    for (const std::string& n : notes) EXPECT_EQ(n.find("folder"), std::string::npos) << n;
+    const Image png = renderModel(boxWith(dir, {{{"uri", "logo.png"}}}, {{"sampler", 0}, {"source", 0}}));
+    EXPECT_TRUE(identical(plain, png));
+    const json viaExtension = {{"sampler", 0}, {"extensions", {{"EXT_texture_webp", {{"source", 0}}}}}};
+    EXPECT_TRUE(identical(renderModel(boxWith(dir, {{{"uri", webpUri}}}, viaExtension, {"EXT_texture_webp"})), png));
+}
