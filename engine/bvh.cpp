@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "load_control.h"
+
 namespace rf {
 
 namespace {
@@ -15,7 +17,8 @@ constexpr float kTraversalCost = 1.0f;  // relative to one primitive test
 constexpr int kMaxDepth = 62;           // traversal stack is 64 deep; deeper subtrees split by count
 }  // namespace
 
-void Bvh::build(const std::vector<Aabb>& primBounds, int maxLeafSize) {
+void Bvh::build(const std::vector<Aabb>& primBounds, int maxLeafSize, bool pollCancel) {
+    pollCancel_ = pollCancel;
     nodes_.clear();
     primIndex_.clear();
     if (primBounds.empty()) return;
@@ -203,6 +206,7 @@ uint32_t Bvh::partition(std::vector<BuildItem>& items, uint32_t begin, uint32_t 
 
 uint32_t Bvh::buildRecursive(std::vector<BuildItem>& items, uint32_t begin, uint32_t end, int maxLeaf, int depth) {
     const uint32_t nodeIndex = static_cast<uint32_t>(nodes_.size());
+    if (pollCancel_ && nodeIndex % 1024 == 0) pollLoadCancel();
     nodes_.emplace_back();
     Aabb box, cbox;
     for (uint32_t i = begin; i < end; ++i) {

@@ -31,8 +31,9 @@ static_assert(offsetof(Bvh4Node, hi) == 12 * sizeof(float), "traversal reads lo 
 
 class Bvh {
 public:
-    /// Builds over primitive bounds; an empty input gives an empty tree.
-    void build(const std::vector<Aabb>& primBounds, int maxLeafSize = 4);
+    /// Builds over primitive bounds; an empty input gives an empty tree. With pollCancel (a
+    /// scene's load, never a render's rebuild) it calls pollLoadCancel as it goes.
+    void build(const std::vector<Aabb>& primBounds, int maxLeafSize = 4, bool pollCancel = false);
 
     /// Recomputes node boxes from moved primitives; the tree's topology stays.
     void refit(const std::vector<Aabb>& primBounds);
@@ -108,6 +109,7 @@ private:
     uint32_t collapseNode(uint32_t node2);
 
     std::vector<BvhNode> nodes_;
+    bool pollCancel_ = false;  ///< during build(): whether a load may stop it
     std::vector<Bvh4Node> nodes4_;
     std::vector<uint32_t> primIndex_;
 };

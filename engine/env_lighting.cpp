@@ -2,6 +2,7 @@
 
 #include "brdf_gltf.h"
 #include "errors.h"
+#include "load_control.h"
 #include "render.h"
 #include "scene.h"
 
@@ -38,6 +39,7 @@ OctahedralImage convolveIrradiance(const EquirectImage& src, int threads) {
         }
     // 24² texels: about the 32 × 16 of an equirect, evenly spread.
     return OctahedralImage::build(24, threads, [&](const Vec3& n) {
+        pollLoadCancel();
         Color sum(0.f);
         for (size_t i = 0; i < dirs.size(); ++i) sum += weighted[i] * std::max(0.f, glm::dot(n, dirs[i]));
         return sum;
@@ -53,6 +55,7 @@ OctahedralImage prefilterSpecular(const std::vector<EquirectImage>& mips, float 
     const EquirectImage& top = mips.front();
     const float texel = 4.f * kPi / (float(top.width) * float(top.height));
     return OctahedralImage::build(size, threads, [&](const Vec3& r) {
+        pollLoadCancel();
         Vec3 t, b;
         orthonormalBasis(r, t, b);
         Color sum(0.f);
@@ -83,6 +86,7 @@ EnvironmentLight::EnvironmentLight(EquirectImage radiance, float rotationDeg, fl
     sinRot_ = std::sin(rot);
     if (intensity != 1.f)
         for (Color& c : radiance.texels) c *= intensity;
+    LoadStep step("filtering the environment");
     mips_.push_back(std::move(radiance));
     while (mips_.back().width > 8 && mips_.back().height > 4) mips_.push_back(mips_.back().halved());
     // A copy about 128 texels wide is fine enough for a cosine lobe.
@@ -131,6 +135,7 @@ std::shared_ptr<const EnvironmentLight> loadEnvironment(const EnvironmentSpec& s
     if (!std::isfinite(spec.rotationDeg)) throw InputError(spec.file, "environment rotation is not a finite number");
     if (!(spec.intensity >= 0.f) || !std::isfinite(spec.intensity))
         throw InputError(spec.file.empty() ? "environment" : spec.file, "environment intensity must be a finite number >= 0");
+    LoadStep step("decoding the environment");
     EquirectImage img = spec.file.empty() ? builtinStudioEnvironment()
                                           : decodeEnvironment(fs.read(spec.file, kMaxEnvironmentBytes), spec.file);
     return std::make_shared<const EnvironmentLight>(std::move(img), spec.rotationDeg, spec.intensity);

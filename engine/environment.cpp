@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "errors.h"
+#include "load_control.h"
 #include "render.h"
 
 namespace rf {
@@ -207,12 +208,14 @@ EquirectImage EquirectImage::halved() const {
     h.width = std::max(1, width / 2);
     h.height = std::max(1, height / 2);
     h.texels.resize(size_t(h.width) * h.height);
-    for (int y = 0; y < h.height; ++y)
+    for (int y = 0; y < h.height; ++y) {
+        if (y % 64 == 0) pollLoadCancel();
         for (int x = 0; x < h.width; ++x) {
             const int xa = std::min(2 * x, width - 1), xb = std::min(2 * x + 1, width - 1);
             const int ya = std::min(2 * y, height - 1), yb = std::min(2 * y + 1, height - 1);
             h.texels[size_t(y) * h.width + x] = 0.25f * (at(xa, ya) + at(xb, ya) + at(xa, yb) + at(xb, yb));
         }
+    }
     return h;
 }
 
@@ -341,7 +344,9 @@ EquirectImage decodeEnvironment(const std::string& bytes, const std::string& pat
     if (bytes.size() >= 4 && std::memcmp(bytes.data(), kExrMagic, 4) == 0) img = decodeExr(bytes, path);
     else if (bytes.rfind("#?", 0) == 0) img = decodeHdr(bytes, path);
     else throw InputError(path, "not an environment image (expected an equirectangular .hdr or .exr)");
-    for (Color& c : img.texels) {
+    for (size_t i = 0; i < img.texels.size(); ++i) {
+        if (i % (1 << 20) == 0) pollLoadCancel();
+        Color& c = img.texels[i];
         if (!isFinite(c)) throw InputError(path, "environment image holds non-finite radiance");
         c = glm::max(c, Color(0.f));  // lossy compression (DWA) rings slightly below zero
     }

@@ -7,6 +7,8 @@
 #include <stb_image.h>
 #include <webp/decode.h>
 
+#include "load_control.h"
+
 namespace rf::gltf {
 
 namespace {
@@ -112,11 +114,14 @@ std::optional<Rgba8Image> decodePng(const unsigned char* bytes, size_t size, int
         row.resize(size_t(w) * 4);
         shrink.emplace(w, h, downsampleFactor(w, h, maxSide));
         for (int y = 0; y < h; ++y) {
+            // A cancelled load stops here and throws below, once libpng's state is freed.
+            if (y % 64 == 0 && loadCancelSignal() != 0) break;
             png_read_row(png, row.data(), nullptr);
             shrink->addRow(y, row.data());
         }
     }
     png_destroy_read_struct(&png, &info, nullptr);
+    pollLoadCancel();
     if (shrink) return shrink->take();
     // Interlaced: its rows come in seven passes, so the whole image is decoded first.
     if (uint64_t(w) * uint64_t(h) > uint64_t(8192) * 8192) {

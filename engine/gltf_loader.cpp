@@ -15,6 +15,7 @@
 #include "gltf_compression.h"
 #include "gltf_geometry.h"
 #include "gltf_lights_cameras.h"
+#include "load_control.h"
 #include "gltf_materials.h"
 #include "gltf_safety.h"
 #include "render_origin.h"
@@ -45,6 +46,7 @@ bool finiteMat(const DMat4& m) {
 class GltfModel {
 public:
     GltfModel(const std::string& path, FileSource& fs, const AssetOptions& assets) : path_(path), assets_(assets) {
+        LoadStep parsing("parsing the glTF");
         const std::string bytes = fs.read(path, Limits::kMaxFileBytes);
         const PreflightResult pf = preflight(path, bytes);
         std::string folder = std::filesystem::path(path).parent_path().string();
@@ -75,6 +77,8 @@ public:
         }
         if (!warn.empty()) notes_.push_back(firstLine(warn));
         for (const std::string& n : pf.notes) notes_.push_back(n);
+        pollLoadCancel();
+        LoadStep resolving("resolving its node hierarchy");
         decodeCompressedGeometry(model_, path_);  // Draco and meshopt, before any accessor is read
         resolveHierarchy();
         checkInstancedSize();
@@ -87,7 +91,9 @@ public:
         lo = glm::dvec3(std::numeric_limits<double>::infinity());
         hi = -lo;
         bool any = false;
+        LoadStep step("reading its meshes");
         for (int node : order_) {
+            pollLoadCancel();
             const tinygltf::Node& n = model_.nodes[size_t(node)];
             if (n.mesh < 0) continue;
             const DMat4 m = worldFromModel * modelFromNode_[size_t(node)];
@@ -256,6 +262,7 @@ private:
         restModelFromNode_.assign(n, DMat4(1.0));
         std::vector<uint8_t> done(n, 0);
         for (size_t i = 0; i < n; ++i) {
+            if (i % 4096 == 0) pollLoadCancel();
             std::vector<size_t> chain;
             for (int k = int(i); k >= 0 && !done[size_t(k)]; k = parent_[size_t(k)]) chain.push_back(size_t(k));
             for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
@@ -270,7 +277,8 @@ private:
     void resolveHierarchy() {
         const size_t n = model_.nodes.size();
         parent_.assign(n, -1);
-        for (size_t i = 0; i < n; ++i)
+        for (size_t i = 0; i < n; ++i) {
+            if (i % 4096 == 0) pollLoadCancel();
             for (int c : model_.nodes[i].children) {
                 if (c < 0 || size_t(c) >= n)
                     throw InputError(path_, "nodes[" + std::to_string(i) + "].children: no node " + std::to_string(c));
@@ -278,6 +286,7 @@ private:
                     throw InputError(path_, "nodes[" + std::to_string(c) + "] has more than one parent (the node graph must be a tree)");
                 parent_[size_t(c)] = int(i);
             }
+        }
         // Every node has at most one parent, so walking up from each node either reaches a
         // root or comes back to a node of the same walk (a cycle). Nodes of finished walks are
         // known to reach a root: each node is walked once, linear even in a 10⁶-node chain.
@@ -286,6 +295,7 @@ private:
             std::vector<uint8_t> state(n, kUnseen);
             std::vector<int> walk;
             for (size_t i = 0; i < n; ++i) {
+                if (i % 4096 == 0) pollLoadCancel();
                 walk.clear();
                 int p = int(i);
                 while (p >= 0 && state[size_t(p)] == kUnseen) {
@@ -322,6 +332,7 @@ private:
         std::vector<uint8_t> seen(n, 0);
         std::vector<int> stack(roots.rbegin(), roots.rend());
         while (!stack.empty()) {
+            if (order_.size() % 4096 == 0) pollLoadCancel();
             const int i = stack.back();
             stack.pop_back();
             if (seen[size_t(i)]) continue;
@@ -580,9 +591,11 @@ void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel, int materialOve
     std::vector<uint8_t> dynamic(model_.nodes.size(), 0);
     for (int i : order_) dynamic[size_t(i)] = animatedNode_[size_t(i)] || (parent_[size_t(i)] >= 0 && dynamic[size_t(parent_[size_t(i)])]);
 
+    LoadStep step("building its meshes and materials");
     MaterialBuilder materials(scene, model_, path_, assets_);
     DropCounts dropped;
     for (int node : order_) {
+        pollLoadCancel();
         const DMat4 renderFromNode = renderFromModel * modelFromNode_[size_t(node)];
         addNodeMeshes(scene, node, renderFromNode, modelIndex, dynamic[size_t(node)] != 0, materials, dropped);
         addNodeLightAndCamera(scene, node, renderFromNode);

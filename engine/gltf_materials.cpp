@@ -5,6 +5,7 @@
 #include "gltf_images.h"
 #include "gltf_safety.h"
 #include "image.h"
+#include "load_control.h"
 
 namespace rf::gltf {
 
@@ -311,6 +312,8 @@ int MaterialBuilder::imageOf(const tinygltf::Texture& gt, int index, const std::
 }
 
 std::optional<Texture> MaterialBuilder::decodeImage(int image, bool srgb, const std::string& where) {
+    LoadStep step("decoding its textures");
+    pollLoadCancel();
     const tinygltf::Image& gi = model_.images[size_t(image)];
     const std::string mime = dataUriMime(gi.uri);
     const std::string wi = "images[" + std::to_string(image) + "]" +
@@ -367,8 +370,10 @@ std::optional<Texture> MaterialBuilder::decodeImage(int image, bool srgb, const 
     float lut[256];
     for (int i = 0; i < 256; ++i) lut[i] = srgb ? srgbDecode(i / 255.f) : i / 255.f;
     const uint8_t* p = px->pixels.data();
-    for (size_t i = 0; i < t.texels.size(); ++i)
+    for (size_t i = 0; i < t.texels.size(); ++i) {
+        if (i % (1 << 20) == 0) pollLoadCancel();
         t.texels[i] = Vec4(lut[p[4 * i]], lut[p[4 * i + 1]], lut[p[4 * i + 2]], p[4 * i + 3] / 255.f);
+    }
     return t;
 }
 

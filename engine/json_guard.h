@@ -28,6 +28,12 @@ std::string duplicateJsonKey(const std::string& text);
 /// InputError naming `file`.
 nlohmann::json parseUserJson(const std::string& file, const std::string& text);
 
+/// Leaves `doc`'s contents allocated for the rest of the process, and doc null. For a load that
+/// ran out of memory: nlohmann frees a document through a stack it allocates, and that
+/// allocation failing inside its destructor ends the process (std::terminate) before the error
+/// can be told. The process is about to exit with the error anyway.
+void abandonJson(nlohmann::json& doc) noexcept;
+
 /// Why a finite number read from a scene cannot be used in single precision ("" if it can):
 /// beyond ±kMaxSceneMagnitude, or non-zero but so small it would round to zero.
 std::string sceneNumberProblem(double v);

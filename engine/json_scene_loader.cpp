@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <new>
+#include <optional>
 #include <set>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -15,6 +17,7 @@
 #include "shadow_catcher.h"
 #include "gltf_loader.h"
 #include "json_guard.h"
+#include "load_control.h"
 #include "render_origin.h"
 
 namespace rf {
@@ -167,6 +170,7 @@ std::vector<Vec3> readPoints(const Reader& rd, const json& j, const std::string&
     std::vector<Vec3> out;
     out.reserve(j.size());
     for (size_t i = 0; i < j.size(); ++i) {
+        if (i % 65536 == 0) pollLoadCancel();
         const DVec3 p = rd.dvec3(j[i], Reader::index(w, i));
         out.push_back(Vec3(isDirection ? p : p - origin));
     }
@@ -179,8 +183,30 @@ public:
         : path_(path), fs_(fs), rd_(path), options_(options) {}
 
     Scene load() {
-        const std::string text = fs_.read(path_, 1ull << 30);
-        const json root = parseUserJson(path_, text);
+        Scene s;
+        std::optional<EnvironmentSpec> environment;
+        bool fileGround = false;
+        {
+            json root;
+            try {
+                root = parseUserJson(path_, fs_.read(path_, 1ull << 30));
+                readDocument(root, s, fileGround);
+                if (root.contains("environment")) environment = readEnvironment(root["environment"]);
+            } catch (const std::bad_alloc&) {
+                abandonJson(root);  // freeing it would need memory there is none of
+                throw;
+            }
+        }  // the document goes before the environment and the BVH: for a million spheres it is most of the peak
+        attachEnvironment(s, environment, options_, fs_);
+        s.build();
+        if (fileGround) placeGround(s, Ground::Shadow);  // the command line's --ground, if any, comes after
+        return s;
+    }
+
+private:
+    /// Everything the document says but the environment, into s.
+    void readDocument(const json& root, Scene& s, bool& fileGround) {
+        LoadStep reading("reading the scene's objects");
         rd_.allowKeys(root, "", {"camera", "background", "ambient", "render", "materials", "lights", "objects", "timeline",
                                  "turntable", "exposure", "environment", "ground", "asset_root", "comment"});
         // "asset_root": the folder the models' URIs may reach, relative to this file (--asset-root wins).
@@ -192,7 +218,6 @@ public:
             assets_.root = (std::filesystem::path(r).is_absolute() ? std::filesystem::path(r) : base / r).lexically_normal().string();
             if (assets_.root.empty()) assets_.root = ".";
         }
-        Scene s;
         s.sourcePath = path_;
         DVec3 eye(0, 0, 5), target(0.0);
         if (root.contains("camera")) readCamera(rd_, root["camera"], s.camera, eye, target);
@@ -211,7 +236,7 @@ public:
             s.background = rd_.color(root, "background", "", s.background);
         }
         s.ambientLight = rd_.color(root, "ambient", "", s.ambientLight);
-        const bool fileGround = root.contains("ground") && readGround(root["ground"]) == Ground::Shadow;
+        fileGround = root.contains("ground") && readGround(root["ground"]) == Ground::Shadow;
         if (root.contains("render")) readRender(rd_, root["render"], s.settings);
         applyRenderSize(options_, s.settings);
         if (root.contains("exposure")) readExposure(rd_, root["exposure"], s.settings);
@@ -219,12 +244,15 @@ public:
         if (root.contains("lights")) {
             const json& ls = root["lights"];
             if (!ls.is_array()) rd_.fail("lights", "expected an array");
-            for (size_t i = 0; i < ls.size(); ++i) s.lights.push_back(readLight(rd_, ls[i], Reader::index("lights", i), s.renderOrigin));
+            for (size_t i = 0; i < ls.size(); ++i, pollLoadCancel()) s.lights.push_back(readLight(rd_, ls[i], Reader::index("lights", i), s.renderOrigin));
         }
         if (root.contains("objects")) {
             const json& os = root["objects"];
             if (!os.is_array()) rd_.fail("objects", "expected an array");
-            for (size_t i = 0; i < os.size(); ++i) readObject(os[i], Reader::index("objects", i), s);
+            for (size_t i = 0; i < os.size(); ++i) {
+                pollLoadCancel();
+                readObject(os[i], Reader::index("objects", i), s);
+            }
         }
         json anim = json::object();
         if (root.contains("timeline") && root["timeline"].is_string()) {
@@ -240,11 +268,6 @@ public:
         }
         if (root.contains("turntable")) anim["turntable"] = root["turntable"];
         if (!anim.empty()) s.timeline = std::make_shared<const json>(std::move(anim));
-        attachEnvironment(s, root.contains("environment") ? std::optional(readEnvironment(root["environment"])) : std::nullopt,
-                          options_, fs_);
-        s.build();
-        if (fileGround) placeGround(s, Ground::Shadow);  // the command line's --ground, if any, comes after
-        return s;
     }
 
 private:
@@ -257,6 +280,7 @@ private:
         const json& ms = root["materials"];
         if (!ms.is_object()) rd_.fail("materials", "expected an object of name: material");
         for (auto it = ms.begin(); it != ms.end(); ++it) {
+            pollLoadCancel();
             const std::string w = "materials." + it.key();
             Material m = readMaterial(rd_, it.value(), w, it.key());
             if (materialIds_.count(it.key())) {
@@ -329,6 +353,7 @@ private:
                 const json& ix = j["indices"];
                 if (!ix.is_array() || ix.size() % 3 != 0) rd_.fail(w + ".indices", "expected a multiple of 3 integers");
                 for (size_t i = 0; i < ix.size(); ++i) {
+                    if (i % 65536 == 0) pollLoadCancel();
                     if (!ix[i].is_number_unsigned() || ix[i].get<uint64_t>() >= m.positions.size())
                         rd_.fail(Reader::index(w + ".indices", i), "expected an index below " + std::to_string(m.positions.size()));
                     m.indices.push_back(ix[i].get<uint32_t>());

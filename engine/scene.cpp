@@ -3,6 +3,7 @@
 #include <cstring>
 #include <new>
 
+#include "load_control.h"
 #include "material_eval.h"
 #include "skinning.h"
 
@@ -25,6 +26,7 @@ Aabb sphereBox(const Sphere& s) {
 }  // namespace
 
 void Scene::build() {
+    LoadStep step("building the BVH");
     triVerts_.clear();
     triMesh_.clear();
     triLocal_.clear();
@@ -38,6 +40,7 @@ void Scene::build() {
             anyMasked_ = true;
         }
         for (size_t t = 0; t < mesh.triangleCount(); ++t) {
+            if (t % 65536 == 0) pollLoadCancel();
             for (int k = 0; k < 3; ++k) triVerts_.push_back(mesh.positions[mesh.indices[3 * t + k]]);
             triMesh_.push_back(static_cast<uint32_t>(m));
             triLocal_.push_back(static_cast<uint32_t>(t));
@@ -53,11 +56,12 @@ void Scene::build() {
         for (size_t t = 0; t < triMesh_.size(); ++t)
             boxes.push_back(triangleBox(triVerts_[3 * t], triVerts_[3 * t + 1], triVerts_[3 * t + 2]));
         for (const Sphere& s : spheres) boxes.push_back(sphereBox(s));
-        bvh_.build(boxes);
+        bvh_.build(boxes, 4, true);
         slotPrim_ = bvh_.primIndex();
         builtBvh_ = bvh_;
         builtCost_ = bvh_.sahCost();
         lastRebuilt_ = false;
+        LoadStep overlaps("checking which spheres overlap");
         findAloneSpheres();
     } else {
         bvh_ = Bvh{};
@@ -114,6 +118,7 @@ void Scene::findAloneSpheres() {
     const std::vector<uint32_t>& prims = bvh_.primIndex();
     std::vector<uint32_t> stack;
     for (size_t i = 0; i < spheres.size(); ++i) {
+        if (i % 4096 == 0) pollLoadCancel();
         const Sphere& a = spheres[i];
         if (!noPlaneCuts(planes, a)) continue;
         const Vec3 lo = a.center - Vec3(a.radius + widen), hi = a.center + Vec3(a.radius + widen);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "load_control.h"
+
 namespace rf {
 
 namespace {
@@ -43,7 +45,8 @@ TextureLevel halve(const Vec4* src, int w, int h) {
     out.width = std::max(1, (w + 1) / 2);
     out.height = std::max(1, (h + 1) / 2);
     out.texels.resize(size_t(out.width) * out.height);
-    for (int y = 0; y < out.height; ++y)
+    for (int y = 0; y < out.height; ++y) {
+        if (y % 256 == 0) pollLoadCancel();  // only loads make mip-maps
         for (int x = 0; x < out.width; ++x) {
             Vec4 sum(0.f);
             int n = 0;
@@ -56,6 +59,7 @@ TextureLevel halve(const Vec4* src, int w, int h) {
                 }
             out.texels[size_t(y) * out.width + x] = sum / float(n);
         }
+    }
     return out;
 }
 }  // namespace

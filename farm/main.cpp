@@ -1,6 +1,8 @@
 // rayfarm: one executable, four commands (render, still, report, view).
+#include <csignal>
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -9,6 +11,8 @@
 #include "cli.h"
 #include "cmd_report.h"
 #include "errors.h"
+#include "interrupt.h"
+#include "load_watch.h"
 #include "usage_error.h"
 #ifdef RAYFARM_HAVE_VIEW
 #include "cmd_view.h"
@@ -63,6 +67,15 @@ int main(int argc, char** argv) {
     } catch (const rf::UsageError& e) {
         rf::cli::printLine("error", e.what());
         return 2;
+    } catch (const rf::LoadCancelled& c) {
+        // A command without a load watch of its own (report, view) interrupted while loading.
+        const int sig = c.signal ? c.signal : SIGTERM;
+        rf::farm::writeStderrText(rf::farm::loadInterruptedLine(sig, c.file, c.step));
+        return rf::farm::signalExitStatus(sig);
+    } catch (const std::bad_alloc&) {
+        // Loads name what they were doing (OutOfMemoryError); anything else says at least this.
+        rf::cli::printLine("error", "out of memory while running '" + cmd + "'");
+        return 1;
     } catch (const std::exception& e) {
         rf::cli::printLine("error", e.what());
         return 1;

@@ -20,7 +20,8 @@ ALLOWED = {
     "engine": [],
     "engine/stability": ["engine"],
     "anim": ["engine"],
-    # engine: usage errors are made printable as input errors are (engine/errors.h).
+    # engine: the signal handlers stop a load in progress (engine/load_control.h), and usage
+    # errors are made printable as input errors are (engine/errors.h).
     "farm/process": ["engine"],
     "farm/output": ["farm/process", "engine", "anim"],
     "farm/cluster": ["farm/output", "farm/process", "engine", "anim"],

@@ -15,6 +15,7 @@
 #include "gif_sink.h"
 #include "interrupt.h"
 #include "launch_command.h"
+#include "load_watch.h"
 #include "master.h"
 #include "output_check.h"
 #include "output_lock.h"
@@ -305,18 +306,33 @@ int renderFilm(MpiTransport& t, const ArgParser& p, const std::vector<std::strin
     const std::string threadsNote = describeThreads(job, t);
     SharedScene shared;
     std::vector<OutputLock> locks;  // rank 0's, until the film ends
+    locks.reserve(2);               // never moved: the load watch may release them from its thread
     try {
-        shared = shareScene(
-            t, job.scenePath, [&] { claimOutputs(job, p, locks); },
-            [&](Scene& scene, const FileBundle& inputs) {
-                std::vector<std::string> read;
-                for (const auto& [path, bytes] : inputs.files) read.push_back(path);
-                checkOutputPaths(renderOutputs(job), read);  // the model's buffers and textures too
-                decideJob(job, p, scene, inputs, t.size(), threadsNote, film != nullptr);
-                return encodeWorkerJob(job);
-            },
-            sceneOptions(p));
+        // A signal while loading ends the run within a second (load_watch.h).
+        LoadWatch watch(job.scenePath, t.rank() == 0, [&locks] {
+            for (OutputLock& l : locks) l.release();
+        });
+        try {
+            shared = shareScene(
+                t, job.scenePath, [&] { claimOutputs(job, p, locks); },
+                [&](Scene& scene, const FileBundle& inputs) {
+                    std::vector<std::string> read;
+                    for (const auto& [path, bytes] : inputs.files) read.push_back(path);
+                    checkOutputPaths(renderOutputs(job), read);  // the model's buffers and textures too
+                    decideJob(job, p, scene, inputs, t.size(), threadsNote, film != nullptr);
+                    return encodeWorkerJob(job);
+                },
+                sceneOptions(p));
+        } catch (const LoadCancelled& c) {
+            const int code = watch.interrupted(c);
+            // A worker gets here only when rank 0 loaded and waits for it: say why it will not hear.
+            if (t.rank() != 0) reportWorkerError(t, "interrupted (" + signalName(c.signal) + ") while loading its scene");
+            return code;
+        }
+        watch.done();
     } catch (const PeerFailed& e) {
+        // Rank 0 failed (and said why), or was interrupted while loading as this rank was.
+        if (loadCancelSignal()) return signalExitStatus(loadCancelSignal());
         return e.code();
     } catch (const std::exception& e) {
         if (t.rank() == 0) throw;

@@ -12,6 +12,7 @@
 #include "gltf_loader.h"
 #include "image.h"
 #include "interrupt.h"
+#include "load_watch.h"
 #include "output_check.h"
 #include "output_paths.h"
 #include "render.h"
@@ -126,11 +127,23 @@ int runStill(const std::vector<std::string>& args) {
     checkOutputPaths(outputs, inputs);
     checkWritableFile(out);
     if (auto st = p.value("--stats")) checkWritableFile(*st);
-    farm::ignoreWriteSignals();  // past `ulimit -f`: EFBIG, reported, instead of SIGXFSZ's silent death
+    // Past `ulimit -f`: EFBIG, reported, instead of SIGXFSZ's silent death. Ctrl-C while loading:
+    // one line within a second (load_watch.h); while rendering it ends the process at once.
+    farm::installInterruptHandlers();
 
     const auto t0 = std::chrono::steady_clock::now();
     DiskFileSource fs;
-    Scene scene = loadScene(scenePath, fs, sceneOptions(p));
+    Scene scene;
+    {
+        farm::LoadWatch watch(scenePath, true);
+        try {
+            scene = loadScene(scenePath, fs, sceneOptions(p));
+        } catch (const LoadCancelled& c) {
+            return watch.interrupted(c);
+        }
+        watch.done();
+    }
+    farm::restoreDefaultSignals();
     {
         std::vector<std::string> read;  // the model's buffers and textures, the environment
         for (const auto& [path, bytes] : fs.bundle().files) read.push_back(path);

@@ -5,6 +5,7 @@
 
 #include "cli.h"
 #include "exposure.h"
+#include "load_control.h"
 #include "render.h"
 
 namespace rf::cli {
@@ -46,10 +47,12 @@ void resolveAutoExposure(const Scene& scene, const anim::Timeline& timeline, Ren
     small.minWeight = 0.f;
     // Posed on a copy: posing leaves traces in a scene (its BVH is refitted, not rebuilt), and a
     // farm worker that never metered must render the same frames as rank 0.
+    LoadStep step("metering the exposure");  // part of the set-up a signal cuts short
     Scene probe = scene;
     ExposureMeter meter;
     RayStats rays;
     for (int f : frames) {
+        pollLoadCancel();
         timeline.applyFrame(probe, f);
         if (afterPose) afterPose(probe);
         meter.add(renderFrame(probe, probe.camera, small, f, threads, rays));

@@ -31,6 +31,7 @@ std::string Master::who(int rank) const {
 }
 
 std::string Master::describeBusy(const WorkerState& w) const {
+    if (w.building) return "while building its scene";
     if (w.outstanding.empty()) return "while idle";
     if (w.outstanding.front().chunk >= 0) {
         // A chunk: the frame its heartbeat named (rank 0's own: its engine's), and the chunk.
@@ -103,9 +104,12 @@ void Master::dispatch(int rank, int tag, const std::string& bytes) {
         acceptChunkDone(rank, item, std::move(chunk));
         break;
     }
-    case kTagHeartbeat:
-        w.reportedFrame = decodeHeartbeat(bytes).currentFrame;
+    case kTagHeartbeat: {
+        const Heartbeat h = decodeHeartbeat(bytes);
+        w.reportedFrame = h.currentFrame;
+        w.building = h.building != 0;
         break;
+    }
     case kTagError:
         failure_ = who(rank) + ": " + bytes;
         break;

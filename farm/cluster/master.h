@@ -123,6 +123,7 @@ private:
         std::vector<WorkItem> outstanding;
         std::chrono::steady_clock::time_point lastHeard{};
         int reportedFrame = -1;
+        bool building = false;  ///< its last heartbeat said it is still building its scene
         bool answeredAfterInterrupt = false;
         std::vector<int> chunksRendered;  ///< chunks in `outstanding` whose frames are all rendered
     };

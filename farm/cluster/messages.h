@@ -78,10 +78,12 @@ struct TileResult {
 };
 
 /// A worker's sign of life. signalled: the worker received SIGINT/SIGTERM (mpirun forwards
-/// Ctrl-C as SIGTERM to every rank) and renders nothing more.
+/// Ctrl-C as SIGTERM to every rank) and renders nothing more. building: it is still building its
+/// scene (build_beats.h), busy and alive.
 struct Heartbeat {
     int32_t currentFrame = -1;  ///< frame being rendered, -1 when idle
     int32_t signalled = 0;
+    int32_t building = 0;
 };
 
 /// A chunk to render (the frames not already kept) and encode, whole, on one rank.

@@ -1,10 +1,14 @@
 #include "scene_broadcast.h"
 
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <exception>
 #include <set>
+#include <thread>
 
+#include "build_beats.h"
+#include "load_control.h"
 #include "usage_error.h"
 #include "errors.h"
 #include "file_source.h"
@@ -30,6 +34,20 @@ std::string packOk(const std::string& job, const std::string& bundle) {
     std::string fail = code;
     t.broadcast(fail, 0);
     throw;  // NOLINT: only called from a catch block
+}
+
+/// Test hook (tests/farm/cluster/load_signal_test.sh): RAYFARM_TEST_WORKER_BUILD_SECONDS makes a
+/// worker's build last that much longer, as a slow machine or a huge scene would, so the test can
+/// show rank 0 counting a building worker alive. Off unless set; a cancelled load ends it.
+void testBuildDelay() {
+    static const char* seconds = std::getenv("RAYFARM_TEST_WORKER_BUILD_SECONDS");
+    if (!seconds) return;
+    LoadStep step("building the scene (test delay)");
+    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(std::atof(seconds));
+    while (std::chrono::steady_clock::now() < end) {
+        pollLoadCancel();
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
 }
 
 /// The files in `all` that `sent` does not hold.
@@ -95,10 +113,14 @@ SharedScene shareScene(Transport& t, const std::string& path, const std::functio
         // Built from the files while rank 0 decides the job; a failure here is told only if
         // rank 0 succeeded (else rank 0 reports its own).
         std::exception_ptr failed;
-        try {
-            out.scene = loadScene(path, fs, options);
-        } catch (...) {
-            failed = std::current_exception();
+        {
+            BuildBeats beats(t);  // rank 0 hears this rank builds; joined before the next MPI call
+            try {
+                out.scene = loadScene(path, fs, options);
+                testBuildDelay();
+            } catch (...) {
+                failed = std::current_exception();
+            }
         }
         receive();
         uint64_t n = 0;
@@ -112,6 +134,7 @@ SharedScene shareScene(Transport& t, const std::string& path, const std::functio
         if (!late.files.empty()) {
             // Rank 0's loader read more after it shared the files: load again with all of them.
             fs.add(std::move(late));
+            BuildBeats beats(t);
             out.scene = loadScene(path, fs, options);
         } else if (failed) {
             std::rethrow_exception(failed);

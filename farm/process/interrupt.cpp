@@ -6,18 +6,23 @@
 
 #include <unistd.h>
 
+#include "load_control.h"
+
 namespace rf::farm {
 
 namespace {
 std::atomic<int> gSignal{0};
 static_assert(std::atomic<int>::is_always_lock_free, "signal handlers need a lock-free flag");
 
-extern "C" void onSignal(int sig) { gSignal.store(sig); }
+extern "C" void onSignal(int sig) {
+    gSignal.store(sig);
+    requestLoadCancel(sig);  // a load in progress stops at its next poll (load_control.h)
+}
 
 void noteStderrFailure(int err) {
     // The first signal wins: a broken pipe after SIGHUP is part of the same hang-up.
     int none = 0;
-    if (err == EPIPE) gSignal.compare_exchange_strong(none, SIGPIPE);
+    if (err == EPIPE && gSignal.compare_exchange_strong(none, SIGPIPE)) requestLoadCancel(SIGPIPE);
 }
 }  // namespace
 
@@ -40,9 +45,20 @@ void installInterruptHandlers() {
     ignoreWriteSignals();
 }
 
+void restoreDefaultSignals() {
+    struct sigaction dfl {};
+    dfl.sa_handler = SIG_DFL;
+    sigemptyset(&dfl.sa_mask);
+    for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &dfl, nullptr);
+    if (const int sig = gSignal.load(); sig == SIGINT || sig == SIGTERM || sig == SIGHUP) ::raise(sig);
+}
+
 int interruptSignal() { return gSignal.load(); }
 
-void raiseInterrupt(int sig) { gSignal.store(sig); }
+void raiseInterrupt(int sig) {
+    gSignal.store(sig);
+    requestLoadCancel(sig);
+}
 
 std::string signalName(int sig) {
     switch (sig) {

@@ -13,10 +13,15 @@
 
 namespace rf::farm {
 
-/// Installs the handlers (idempotent).
+/// Installs the handlers (idempotent). Each signal also stops a load in progress
+/// (requestLoadCancel, engine/load_control.h).
 void installInterruptHandlers();
 /// Only SIGXFSZ and SIGPIPE ignored (for commands that have no wind-down of their own).
 void ignoreWriteSignals();
+/// SIGINT, SIGTERM and SIGHUP back to their default action (end the process at once), for a
+/// command that handles them only while it loads (`still`); a signal that arrived meanwhile is
+/// acted on now, as the default action would have.
+void restoreDefaultSignals();
 /// The signal received (SIGINT, SIGTERM, SIGHUP, or SIGPIPE for a broken stderr), 0 if none.
 int interruptSignal();
 /// For tests: pretend a signal arrived (0 clears).

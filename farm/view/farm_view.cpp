@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "interrupt.h"
+#include "load_control.h"
 #include "loopback_transport.h"
 #include "master.h"
 #include "messages.h"
@@ -221,6 +222,11 @@ void FarmView::runFilm() {
     } catch (const std::exception& e) {
         end.kind = FilmEnd::Failed;
         end.message = e.what();
+    } catch (const LoadCancelled&) {
+        // A signal reached the film's load (it reads the scene's files for the manifest): on
+        // this thread, not out of it; the signal itself ends the window.
+        end.kind = FilmEnd::Failed;
+        end.message = "interrupted while loading the scene";
     }
     if (end.kind == FilmEnd::RankLost) {
         // The lost rank cannot be told to stop: no more views; the window says why.

@@ -10,6 +10,7 @@
 #include <map>
 #include <thread>
 
+#include "build_beats.h"
 #include "farm_test_scene.h"
 #include "usage_error.h"
 #include "errors.h"
@@ -153,6 +154,62 @@ TEST(Master, SilentWorkerStopsTheRunNamingRankAndFrame) {
     EXPECT_NE(o.message.find("rank 2 stopped answering"), std::string::npos) << o.message;
     EXPECT_NE(o.message.find("frame"), std::string::npos) << o.message;
     EXPECT_LT(took, 5.0);  // a bound on detection, not a speed measurement
+}
+
+// Issue 30 #4: rank 0 starts its clock once its own build is done; a worker still building
+// (a huge scene or environment, a slower host) was declared dead. Its build beats keep it alive
+// past the timeout; a worker that goes silent while building is still found, and named so.
+TEST(Master, AWorkerBuildingItsSceneIsAliveAndNamedSoIfItGoesSilent) {
+    Scene scene = rf::testing::loadFarmScene();
+    const int w = scene.settings.width, h = scene.settings.height;
+    MasterConfig cfg;
+    cfg.quiet = true;
+    cfg.workerTimeout = 0.5;
+    {
+        LoopbackHub hub(2);
+        std::thread worker([&hub] {
+            LoopbackTransport t(hub, 1);
+            Scene s = rf::testing::loadFarmScene();
+            {
+                BuildBeats beats(t);
+                std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // three timeouts of building
+            }
+            const anim::Timeline tl = anim::Timeline::fromScene(s);
+            const RenderSettings st = s.settings;
+            RenderEngine engine(std::move(s), tl, st, 1);
+            runWorker(t, engine);
+        });
+        LoopbackTransport t(hub, 0);
+        auto sched = makeFrameScheduler({0, 1}, w, h, 4);
+        FrameAssembler assembler(w, h, {0, 1}, {});
+        Master master(t, *sched, assembler, nullptr, [](ReadyFrame&) {}, cfg);
+        const MasterOutcome o = master.run();
+        master.stopWorkers();
+        worker.join();
+        EXPECT_EQ(o.end, RunEnd::Done) << o.message;
+    }
+    {
+        LoopbackHub hub(2);
+        std::atomic<bool> over{false};
+        std::thread worker([&hub, &over] {
+            LoopbackTransport t(hub, 1);
+            {
+                BuildBeats beats(t);
+                std::this_thread::sleep_for(std::chrono::milliseconds(300));
+            }
+            while (!over) std::this_thread::sleep_for(std::chrono::milliseconds(10));  // then silent: a hung host
+        });
+        LoopbackTransport t(hub, 0);
+        auto sched = makeFrameScheduler({0, 1}, w, h, 4);
+        FrameAssembler assembler(w, h, {0, 1}, {});
+        Master master(t, *sched, assembler, nullptr, [](ReadyFrame&) {}, cfg);
+        const MasterOutcome o = master.run();
+        over = true;
+        worker.join();
+        EXPECT_EQ(o.end, RunEnd::WorkerLost);
+        EXPECT_NE(o.message.find("rank 1 stopped answering (silent for"), std::string::npos) << o.message;
+        EXPECT_NE(o.message.find("while building its scene"), std::string::npos) << o.message;
+    }
 }
 
 TEST(Master, WorkerErrorEndsTheRunNamingTheRank) {
