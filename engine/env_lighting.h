@@ -37,6 +37,11 @@ public:
     /// Roughness levels prefiltered: 0, 1/(n−1), ..., 1 (level 0 is the radiance itself).
     static constexpr int kLevels = 6;
 
+    /// What the filtering cost, in texels: the mip levels made, and the level the irradiance
+    /// summed for each of its texels. Both follow the image's pixel count whatever its shape.
+    size_t mipPixels() const;
+    size_t irradianceSourcePixels() const { return irradianceSourcePixels_; }
+
 private:
     Vec3 toMap(const Vec3& d) const;
 
@@ -44,6 +49,7 @@ private:
     OctahedralImage irradiance_;             ///< E/π
     std::vector<OctahedralImage> specular_;  ///< levels 1 .. kLevels − 1
     float cosRot_ = 1.f, sinRot_ = 0.f;
+    size_t irradianceSourcePixels_ = 0;
 };
 
 class Scene;

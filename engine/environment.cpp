@@ -242,9 +242,13 @@ private:
 
 void checkSize(long long w, long long h, const std::string& path) {
     if (w <= 0 || h <= 0) throw InputError(path, "environment image has no pixels");
-    if (w * h > kMaxEnvironmentPixels)
-        throw InputError(path, "environment image of " + std::to_string(w) + "x" + std::to_string(h) +
-                                   " is over the limit of 8192x4096 pixels");
+    const std::string size = std::to_string(w) + "x" + std::to_string(h);
+    if (w * h > kMaxEnvironmentPixels) throw InputError(path, "environment image of " + size + " is over the limit of 8192x4096 pixels");
+    // From the header, before any pixel is decoded: an equirect is 2:1, and nothing far from it
+    // maps the sphere (a strip of 8 x 4,194,304 texels is not a panorama).
+    if (std::max(w, h) > kMaxEnvironmentAspect * std::min(w, h))
+        throw InputError(path, "environment image of " + size + " is not an equirectangular panorama (expected about 2:1; refused past " +
+                                   std::to_string(kMaxEnvironmentAspect) + ":1 either way)");
 }
 
 EquirectImage decodeExr(const std::string& bytes, const std::string& path) {

@@ -53,11 +53,14 @@ Vec3 octahedralDirection(Vec2 uv);
 
 /// Pixels an environment file may have: 8192 × 4096 (an "8K" HDRI) and no more.
 constexpr long long kMaxEnvironmentPixels = 8192LL * 4096LL;
+/// The most one side of an environment file may exceed the other by (an equirect is 2:1).
+constexpr long long kMaxEnvironmentAspect = 8;
 
 /// Decodes an equirectangular .hdr (Radiance RGBE, through stb) or .exr (OpenEXR: every
 /// compression it reads, DWAA/DWAB included) from its bytes, told apart by their magic numbers.
 /// Throws InputError(path, ...) for anything else, a malformed or truncated file, a size beyond
-/// kMaxEnvironmentPixels, or non-finite radiance. Negative values (lossy DWA ringing) become 0.
+/// kMaxEnvironmentPixels or sides further apart than kMaxEnvironmentAspect, or non-finite
+/// radiance. Negative values (lossy DWA ringing) become 0.
 EquirectImage decodeEnvironment(const std::string& bytes, const std::string& path);
 
 /// The built-in studio for bare models, made in code: a dim grey room with a warm floor
