@@ -28,31 +28,10 @@ for b in ${old:+"$old"} "$build"; do
   "$b/bin/env_bench" --threads 2
 done
 
-python3 - "$tmp" <<'PY'
-import json, sys
-out = sys.argv[1]
-def hdr(name, w, h):
-    # Run-length encoded scanlines of one colour (RLE needs 8 <= width < 32768; flat pixels else).
-    def runs(v, n):
-        b = b''
-        while n:
-            k = min(127, n)
-            b += bytes([128 + k, v])
-            n -= k
-        return b
-    head = b'#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y %d +X %d\n' % (h, w)
-    if 8 <= w < 32768:
-        line = bytes([2, 2, w >> 8, w & 255]) + runs(128, w) + runs(100, w) + runs(80, w) + runs(129, w)
-        body = line * h
-    else:
-        body = bytes([128, 100, 80, 129]) * (w * h)
-    open(f"{out}/{name}.hdr", "wb").write(head + body)
-    json.dump({"camera": {"eye": [0, 0, 5], "target": [0, 0, 0]}, "environment": {"file": f"{name}.hdr"},
-               "objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 1}]}, open(f"{out}/{name}.json", "w"))
-for name, w, h in [("2to1", 8192, 4096), ("1to1", 5792, 5792), ("8to1", 16384, 2048), ("1to8", 2048, 16384),
-                   ("strip", 8, 4194304)]:
-    hdr(name, w, h)
-PY
+for shape in "2to1 8192 4096" "1to1 5792 5792" "8to1 16384 2048" "1to8 2048 16384" "strip 8 4194304"; do
+  set -- $shape
+  python3 tests/farm/data/big_inputs.py hdr "$2" "$3" "$tmp/$1.hdr" "$tmp/$1.json"
+done
 
 echo "== rayfarm still SHAPE.json --size 32x18 (wall s; the old binary first when given)"
 printf '%-22s %10s %10s %8s  %s\n' shape old new ratio "new's last line"

@@ -8,6 +8,7 @@
 # Prints the figures. Usage: texture_budget_test.sh RAYFARM WORK_DIR
 set -euo pipefail
 RAYFARM=$1 WORK=$2
+HERE=$(cd "$(dirname "$0")" && pwd)
 SRC=/usr/share/assimp/models/glTF2/BoxTextured-glTF
 fail() { echo "FAIL: $*" >&2; exit 1; }
 [ -x /usr/bin/time ] || fail "/usr/bin/time missing (package time)"
@@ -15,20 +16,7 @@ rm -rf "$WORK"
 mkdir -p "$WORK"
 cd "$WORK"
 cp "$SRC/BoxTextured0.bin" .
-python3 - <<'PY'
-import json, struct, zlib
-side = 16384
-def chunk(kind, data):
-    return struct.pack('>I', len(data)) + kind + data + struct.pack('>I', zlib.crc32(kind + data) & 0xffffffff)
-z = zlib.compressobj(9)
-row = bytes(1 + side)  # filter byte 0, then 16384 zero grey samples
-idat = b''.join(z.compress(row) for _ in range(side)) + z.flush()
-png = b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', side, side, 8, 0, 0, 0, 0)) + chunk(b'IDAT', idat) + chunk(b'IEND', b'')
-open('bomb.png', 'wb').write(png)
-g = json.load(open('/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf'))
-g['images'] = [{'uri': 'bomb.png'}]
-json.dump(g, open('bomb.gltf', 'w'))
-PY
+python3 "$HERE/../data/big_inputs.py" png-bomb 16384 bomb.png bomb.gltf
 bytes=$(stat -c %s bomb.png)
 [ "$bytes" -lt 1000000 ] || fail "the bomb PNG is $bytes bytes, not small"
 
