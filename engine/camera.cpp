@@ -28,6 +28,18 @@ CameraBasis lookAt(const Vec3& eye, const Vec3& target, const Vec3& up) {
 CameraRays::CameraRays(const Camera& cam, int w, int h) : origin(cam.eye), width(w), height(h) {
     basis = lookAt(cam.eye, cam.target, cam.up);
     const float aspect = static_cast<float>(w) / static_cast<float>(h);
+    twoOverW = 2.f / static_cast<float>(w);
+    twoOverH = 2.f / static_cast<float>(h);
+    if (cam.orthographic) {
+        // Like the field of view: the given axis spans ±orthoHalf, the other follows the aspect.
+        orthographic = true;
+        const float half = std::isfinite(cam.orthoHalf) && cam.orthoHalf > 0.f ? cam.orthoHalf : 1.f;
+        tanHalfX = cam.fovHorizontal ? half : half * aspect;
+        tanHalfY = cam.fovHorizontal ? half / aspect : half;
+        if (cam.leftHanded) tanHalfX = -tanHalfX;
+        pixelWidth = 2.f * tanHalfY / static_cast<float>(h);
+        return;
+    }
     const float half = 0.5f * glm::radians(std::clamp(cam.fovDeg, 1e-4f, 179.9f));
     if (cam.fovHorizontal) {
         tanHalfX = std::tan(half);
@@ -37,8 +49,6 @@ CameraRays::CameraRays(const Camera& cam, int w, int h) : origin(cam.eye), width
         tanHalfX = tanHalfY * aspect;
     }
     if (cam.leftHanded) tanHalfX = -tanHalfX;  // mirror the image's x axis
-    twoOverW = 2.f / static_cast<float>(w);
-    twoOverH = 2.f / static_cast<float>(h);
     pixelSpread = 2.f * std::abs(tanHalfY) / static_cast<float>(h);
 }
 
@@ -46,6 +56,14 @@ Ray CameraRays::generate(float x, float y) const {
     const float sx = (x * twoOverW - 1.f) * tanHalfX;
     const float sy = (1.f - y * twoOverH) * tanHalfY;
     Ray r;
+    if (orthographic) {
+        // Every ray leaves the image plane through the eye along the view direction; its cone is
+        // a pixel wide and does not widen.
+        r.o = origin + sx * basis.right + sy * basis.up;
+        r.d = basis.forward;
+        r.coneWidth = pixelWidth;
+        return r;
+    }
     r.o = origin;
     r.d = glm::normalize(basis.forward + sx * basis.right + sy * basis.up);
     r.coneSpread = pixelSpread;

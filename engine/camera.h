@@ -1,5 +1,5 @@
 #pragma once
-/// Perspective pin-hole camera and primary rays.
+/// Perspective pin-hole and orthographic cameras, and their primary rays.
 #include "ray.h"
 
 namespace rf {
@@ -13,6 +13,11 @@ struct Camera {
     /// POV-Ray's convention: image x runs along up × forward, not forward × up. Lets a scene
     /// keep a left-handed modeller's coordinates and still render unmirrored.
     bool leftHanded = false;
+    /// Orthographic: parallel rays along the view direction from a plane through the eye. The
+    /// view spans ±orthoHalf scene units along the fov axis (vertical unless fovHorizontal), the
+    /// other axis following the image's aspect, so pixels stay square; fovDeg is not used.
+    bool orthographic = false;
+    float orthoHalf = 1.f;
 };
 
 /// World-from-camera basis: right, up and forward, orthonormal and right-handed.
@@ -30,10 +35,14 @@ CameraBasis lookAt(const Vec3& eye, const Vec3& target, const Vec3& up);
 struct CameraRays {
     Vec3 origin;
     CameraBasis basis;
-    float tanHalfX = 1.f, tanHalfY = 1.f;  ///< tanHalfX < 0 for a left-handed camera
+    /// Perspective: tangents of the half view angles; orthographic: the view's half width and
+    /// height in scene units. tanHalfX < 0 for a left-handed camera.
+    float tanHalfX = 1.f, tanHalfY = 1.f;
+    bool orthographic = false;
     int width = 1, height = 1;
     float twoOverW = 2.f, twoOverH = 2.f;   ///< pixel to [0, 2] scale, so rays need no division
     float pixelSpread = 0.f;  ///< a pixel's angle at the image centre: each ray's Ray::coneSpread
+    float pixelWidth = 0.f;   ///< orthographic: a pixel's width in scene units, each ray's Ray::coneWidth
 
     CameraRays(const Camera& cam, int width, int height);
     /// Ray through image position (x, y) in pixels, (0, 0) the top-left corner, with a cone one

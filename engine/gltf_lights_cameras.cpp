@@ -43,21 +43,40 @@ Light punctualLight(const tinygltf::Light& gl, const DMat4& renderFromNode, cons
     return L;
 }
 
-std::optional<Camera> perspectiveCamera(const tinygltf::Camera& gc, const DMat4& renderFromNode, std::string& fault) {
-    if (gc.type != "perspective") return std::nullopt;
+std::optional<Camera> gltfCamera(const tinygltf::Camera& gc, const DMat4& renderFromNode, std::string& why, std::string& fault) {
     Camera c;
     c.eye = Vec3(glm::dvec3(renderFromNode[3]));
     c.target = c.eye + nodeAxis(renderFromNode, glm::dvec3(0, 0, -1));
     c.up = nodeAxis(renderFromNode, glm::dvec3(0, 1, 0));
-    const double fov = glm::degrees(gc.perspective.yfov);
     fault.clear();
-    if (!(fov > 0.0 && fov < 180.0)) {
-        char v[32];
-        std::snprintf(v, sizeof v, "%g", gc.perspective.yfov);
-        fault = std::string("perspective.yfov ") + v + " is not a field of view (expected radians between 0 and pi)";
-    }
-    c.fovDeg = float(fault.empty() ? fov : 45.0);  // never shown: useGltfCamera refuses it
     c.fovHorizontal = false;
+    if (gc.type == "perspective") {
+        const double fov = glm::degrees(gc.perspective.yfov);
+        if (!(fov > 0.0 && fov < 180.0)) {
+            char v[32];
+            std::snprintf(v, sizeof v, "%g", gc.perspective.yfov);
+            fault = std::string("perspective.yfov ") + v + " is not a field of view (expected radians between 0 and pi)";
+        }
+        c.fovDeg = float(fault.empty() ? fov : 45.0);  // never shown: useGltfCamera refuses it
+        return c;
+    }
+    if (gc.type != "orthographic") {
+        why = "type \"" + gc.type + "\" is neither perspective nor orthographic";
+        return std::nullopt;
+    }
+    // The specification forbids 0 and advises against negative magnifications; a sign would
+    // only mirror the image, so the magnitude is taken.
+    auto usable = [](double m) { return std::isfinite(m) && std::abs(m) > 0.0 && std::abs(m) < 1e30; };
+    c.orthographic = true;
+    if (usable(gc.orthographic.ymag)) {
+        c.orthoHalf = float(std::abs(gc.orthographic.ymag));
+    } else if (usable(gc.orthographic.xmag)) {
+        c.orthoHalf = float(std::abs(gc.orthographic.xmag));
+        c.fovHorizontal = true;
+    } else {
+        why = "orthographic camera without a usable xmag or ymag";
+        return std::nullopt;
+    }
     return c;
 }
 

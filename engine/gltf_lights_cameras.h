@@ -1,5 +1,6 @@
 #pragma once
-/// KHR_lights_punctual lights and glTF perspective cameras, placed by their node's transform.
+/// KHR_lights_punctual lights and glTF perspective and orthographic cameras, placed by their
+/// node's transform.
 #include <optional>
 #include <string>
 
@@ -17,9 +18,14 @@ namespace rf::gltf {
 /// directional lights (lux) become lux/π. Throws InputError(file, …) on non-finite values.
 Light punctualLight(const tinygltf::Light& light, const DMat4& renderFromNode, const std::string& file, int index);
 
-/// Engine camera for a glTF perspective camera on a node (looking down the node's −z with +y
-/// up); nullopt for orthographic cameras, which the pin-hole camera cannot show. A yfov that is
-/// no field of view (0, negative, π or more, not a number) leaves `fault` saying so (else "").
-std::optional<Camera> perspectiveCamera(const tinygltf::Camera& camera, const DMat4& renderFromNode, std::string& fault);
+/// Engine camera for a glTF camera on a node, looking down the node's −z with +y up (the node's
+/// scale does not enter). Perspective: yfov, the image's aspect in place of aspectRatio (as
+/// the specification asks of a viewport). Orthographic: ymag is the view's half height and the
+/// width follows the image's aspect (xmag when that aspect is xmag/ymag), so pixels stay
+/// square; without a usable ymag, xmag gives the half width. znear and zfar are not used.
+/// nullopt (why says why) for an unknown type or an orthographic camera without a magnification.
+/// A perspective yfov that is no field of view (0, negative, π or more, not a number) leaves
+/// `fault` saying so (else ""): the camera is kept and refused only when used.
+std::optional<Camera> gltfCamera(const tinygltf::Camera& camera, const DMat4& renderFromNode, std::string& why, std::string& fault);
 
 }  // namespace rf::gltf

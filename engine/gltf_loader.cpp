@@ -558,11 +558,11 @@ void GltfModel::addNodeLightAndCamera(Scene& scene, int node, const DMat4& rende
     if (n.camera >= 0) {
         if (size_t(n.camera) >= model_.cameras.size())
             throw InputError(path_, "nodes[" + std::to_string(node) + "].camera: no such camera");
-        std::string fault;
-        if (auto c = perspectiveCamera(model_.cameras[size_t(n.camera)], renderFromNode, fault)) {
+        std::string why, fault;
+        if (auto c = gltfCamera(model_.cameras[size_t(n.camera)], renderFromNode, why, fault)) {
             scene.gltfCameras.push_back(*c);
             scene.gltfCameraFaults.emplace_back(path_, fault.empty() ? fault : "cameras[" + std::to_string(n.camera) + "]." + fault);
-        } else notes_.push_back("cameras[" + std::to_string(n.camera) + "]: " + model_.cameras[size_t(n.camera)].type + " cameras are not supported; skipped");
+        } else notes_.push_back("cameras[" + std::to_string(n.camera) + "]: " + why + "; skipped");
     }
 }
 

@@ -9,7 +9,8 @@
 /// - KHR_lights_punctual: point/spot intensity in candela becomes intensity/π with inverse-square
 ///   attenuation (1/d² of a Lambertian surface's radiance, exposure 1); directional lux/π.
 /// - alphaMode BLEND: see-through without bending (transmission 1 − alpha at ior 1).
-/// - glTF perspective cameras go to Scene::gltfCameras; useGltfCamera() picks one.
+/// - glTF cameras (perspective and orthographic, in node order) go to Scene::gltfCameras;
+///   useGltfCamera() picks one.
 #include <string>
 
 #include "file_source.h"

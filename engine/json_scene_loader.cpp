@@ -31,19 +31,38 @@ using Reader = JsonReader;
 
 void readCamera(const Reader& rd, const json& j, Camera& cam, DVec3& eye, DVec3& target) {
     const std::string w = "camera";
-    rd.allowKeys(j, w, {"eye", "position", "target", "up", "fov", "fov_axis", "handedness"});
+    rd.allowKeys(j, w, {"eye", "position", "target", "up", "type", "fov", "fov_axis", "xmag", "ymag", "handedness"});
     eye = j.contains("eye") ? rd.dvec3(j["eye"], "camera.eye") : rd.dvec3(j, "position", w, DVec3(0, 0, 5));
     target = rd.dvec3(j, "target", w, DVec3(0.0));
     if (eye == target) rd.fail("camera.target", "eye and target coincide, so the view direction is undefined");
     const DVec3 up = rd.dvec3(j, "up", w, DVec3(0, 1, 0));
     if (glm::length(up) == 0.0) rd.fail("camera.up", "expected a non-zero vector");
     cam.up = Vec3(up);
-    const double fov = rd.number(j, "fov", w, 45.0);
-    if (!(fov > 0.0 && fov < 180.0)) rd.fail("camera.fov", "expected degrees in (0, 180)");
-    cam.fovDeg = static_cast<float>(fov);
-    const std::string axis = rd.string(j, "fov_axis", w, "vertical");
-    if (axis != "vertical" && axis != "horizontal") rd.fail("camera.fov_axis", "expected \"vertical\" or \"horizontal\"");
-    cam.fovHorizontal = axis == "horizontal";
+    const std::string type = rd.string(j, "type", w, "perspective");
+    if (type != "perspective" && type != "orthographic") rd.fail("camera.type", "expected \"perspective\" or \"orthographic\"");
+    if (type == "orthographic") {
+        // glTF's names: the view's half height (ymag) or half width (xmag) in scene units, the
+        // other from the image's aspect. One of them, as a perspective camera has one fov.
+        if (j.contains("fov") || j.contains("fov_axis"))
+            rd.fail(j.contains("fov") ? "camera.fov" : "camera.fov_axis", "an orthographic camera has no field of view; give xmag or ymag");
+        if (j.contains("xmag") == j.contains("ymag"))
+            rd.fail("camera", "an orthographic camera needs one of xmag (half width) or ymag (half height), in scene units");
+        const char* key = j.contains("xmag") ? "xmag" : "ymag";
+        const double mag = rd.number(j, key, w, 1.0);
+        if (!(mag > 0.0 && mag < 1e30)) rd.fail(std::string("camera.") + key, "expected a positive half extent in scene units");
+        cam.orthographic = true;
+        cam.orthoHalf = static_cast<float>(mag);
+        cam.fovHorizontal = j.contains("xmag");
+    } else {
+        for (const char* key : {"xmag", "ymag"})
+            if (j.contains(key)) rd.fail(std::string("camera.") + key, "only an orthographic camera (\"type\": \"orthographic\") has one");
+        const double fov = rd.number(j, "fov", w, 45.0);
+        if (!(fov > 0.0 && fov < 180.0)) rd.fail("camera.fov", "expected degrees in (0, 180)");
+        cam.fovDeg = static_cast<float>(fov);
+        const std::string axis = rd.string(j, "fov_axis", w, "vertical");
+        if (axis != "vertical" && axis != "horizontal") rd.fail("camera.fov_axis", "expected \"vertical\" or \"horizontal\"");
+        cam.fovHorizontal = axis == "horizontal";
+    }
     const std::string hand = rd.string(j, "handedness", w, "right");
     if (hand != "right" && hand != "left") rd.fail("camera.handedness", "expected \"right\" or \"left\"");
     cam.leftHanded = hand == "left";

@@ -65,6 +65,7 @@ void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, 
                         }
                         packet[i] = rays.generate(px[i] + (sx + jx) * invN, py[i] + (sy + jy) * invN);
                         packet[i].coneSpread *= invN;  // each of n×n samples covers its stratum of the pixel
+                        packet[i].coneWidth *= invN;
                         seeds[i] = seeded ? sampleSeed(frame, pixel, sample) : kNoSampleSeed;
                         covered[i] = 0.f;
                     }

@@ -42,7 +42,9 @@ Camera orbit(const Camera& c, double dx, double dy) {
 Camera pan(const Camera& c, double dx, double dy, int imageHeight) {
     const CameraBasis b = lookAt(c.eye, c.target, c.up);
     const double dist = glm::length(d3(c.target) - d3(c.eye));
-    const double perPixel = 2.0 * dist * verticalTanHalf(c, 1.0) / std::max(1, imageHeight);
+    // An orthographic view's height is the same at every distance: 2·orthoHalf (vertical axis).
+    const double viewHeight = c.orthographic ? 2.0 * double(c.orthoHalf) : 2.0 * dist * verticalTanHalf(c, 1.0);
+    const double perPixel = viewHeight / std::max(1, imageHeight);
     const double sign = c.leftHanded ? -1.0 : 1.0;
     const DVec3 move = d3(b.right) * (-dx * perPixel * sign) + d3(b.up) * (dy * perPixel);
     Camera out = c;
@@ -59,6 +61,8 @@ Camera zoom(const Camera& c, double steps) {
     const double nr = std::max(r * std::pow(0.9, steps), 1e-6);
     Camera out = c;
     out.eye = Vec3(target + off * (nr / r));
+    // Moving an orthographic eye changes nothing on screen: its view shrinks by as much instead.
+    if (c.orthographic) out.orthoHalf = float(std::max(double(c.orthoHalf) * std::pow(0.9, steps), 1e-9));
     return out;
 }
 
@@ -75,6 +79,11 @@ Camera frameBox(const Camera& c, const Aabb& box, double aspect) {
     Camera out = c;
     out.target = Vec3(center);
     out.eye = Vec3(center + dir * dist);
+    if (c.orthographic) {
+        // The box's sphere across the narrower side of the view, with the same margin.
+        if (c.fovHorizontal) out.orthoHalf = float(1.1 * radius * std::max(1.0, aspect));
+        else out.orthoHalf = float(1.1 * radius * std::max(1.0, 1.0 / aspect));
+    }
     return out;
 }
 

@@ -215,8 +215,8 @@ TEST(GltfLoader, PerspectiveCamerasAreStoredAndSelectable) {
     const std::string path = kGltf2 + "cameras/Cameras.gltf";
     DiskFileSource files;
     Scene scene = loadGltfScene(path, files);
-    ASSERT_EQ(scene.gltfCameras.size(), 1u);  // the orthographic one is skipped with a note
-    EXPECT_TRUE(hasNote(scene, "orthographic"));
+    ASSERT_EQ(scene.gltfCameras.size(), 2u);  // and the orthographic one (orthographic_camera_test.cpp)
+    EXPECT_FALSE(hasNote(scene, "skipped"));
     const Camera& c = scene.gltfCameras[0];
     // Node 1: translation (0.5, 0.5, 3), no rotation: looks down −z with +y up.
     const glm::dvec3 eye = glm::dvec3(c.eye) + scene.renderOrigin;
@@ -229,7 +229,7 @@ TEST(GltfLoader, PerspectiveCamerasAreStoredAndSelectable) {
     EXPECT_NEAR(c.fovDeg, 0.7 * 180.0 / 3.14159265358979, 1e-4);
     useGltfCamera(scene, 0);
     EXPECT_EQ(scene.camera.eye, c.eye);
-    EXPECT_THROW(useGltfCamera(scene, 1), InputError);
+    EXPECT_THROW(useGltfCamera(scene, 2), InputError);
     // The square (x, y in [0, 1], tilted 45° about x) sits straight ahead of the camera
     // (misses show the plain background, not the built-in studio, to tell them apart).
     scene.environmentBackground = false;
