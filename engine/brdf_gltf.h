@@ -18,6 +18,8 @@ struct Surface {
     float transmission = 0.f;  ///< KHR_materials_transmission: share of the diffuse base let through
     float clearcoat = 0.f;           ///< KHR_materials_clearcoat: the coat's weight (0: none)
     float clearcoatRoughness = 0.f;  ///< its perceptual roughness
+    Color sheenColor{0.f};           ///< KHR_materials_sheen: the sheen's colour (0: none), brdf_sheen.h
+    float sheenRoughness = 0.f;      ///< its perceptual roughness
 };
 
 /// Smallest α analytic lights see: a delta lobe would make a point light's highlight vanish (or

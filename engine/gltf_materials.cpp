@@ -1,11 +1,14 @@
 #include "gltf_materials.h"
 
+#include <limits>
+
 #include "errors.h"
 #include "gltf_accessors.h"
 #include "gltf_images.h"
 #include "gltf_safety.h"
 #include "image.h"
 #include "load_control.h"
+#include "specular_glossiness.h"
 
 namespace rf::gltf {
 
@@ -158,6 +161,8 @@ Material MaterialBuilder::convert(const tinygltf::Material& gm, const std::strin
         else if (name == "KHR_materials_specular") m.specularWeight = clamp01(number(value, "specularFactor", 1.0));
         else if (name == "KHR_materials_unlit") m.unlit = true;
         else if (name == "KHR_materials_clearcoat") readClearcoat(value, m, where + ".extensions.KHR_materials_clearcoat");
+        else if (name == "KHR_materials_sheen") readSheen(value, m, where + ".extensions.KHR_materials_sheen");
+        else if (name == "KHR_materials_volume") readVolume(value, m, where + ".extensions.KHR_materials_volume");
         else if (name == "KHR_materials_pbrSpecularGlossiness") readSpecularGlossiness(value, m, where + ".extensions." + name);
         else if (!isSupportedExtension(name)) note("material extension " + name + " ignored");
     }
@@ -190,27 +195,10 @@ void MaterialBuilder::extensionTexture(const tinygltf::Value& ext, const char* k
     if (scale) *scale = float(number(info, "scale", 1.0));
 }
 
-namespace {
-
-float perceivedBrightness(const Color& c) { return std::sqrt(0.299f * c.r * c.r + 0.587f * c.g * c.g + 0.114f * c.b * c.b); }
-
-/// The metallic that gives a dielectric f0 of 0.04 and the diffuse and specular brightnesses
-/// seen (the Khronos glTF converter's solveMetallic): the root of a·m² + b·m + c = 0.
-float solveMetallic(float diffuse, float specular, float oneMinusSpecularStrength) {
-    constexpr float kDielectric = 0.04f;
-    if (specular < kDielectric) return 0.f;
-    const float a = kDielectric, b = diffuse * oneMinusSpecularStrength / (1.f - kDielectric) + specular - 2.f * kDielectric,
-                c = kDielectric - specular;
-    const float d = std::max(b * b - 4.f * a * c, 0.f);
-    return std::clamp((-b + std::sqrt(d)) / (2.f * a), 0.f, 1.f);
-}
-
-}  // namespace
-
-/// KHR_materials_pbrSpecularGlossiness in place of pbrMetallicRoughness, converted as the
-/// Khronos converter does for factors: metallic solved from the diffuse and specular
-/// brightness, base colour blended from both, roughness 1 − glossiness; the diffuse texture
-/// becomes the base colour texture. The specularGlossinessTexture is not converted (a note).
+/// KHR_materials_pbrSpecularGlossiness in place of pbrMetallicRoughness (specular_glossiness.h):
+/// the factors converted here; with a diffuse or specular-glossiness texture the material keeps
+/// the factors and textures, the diffuse ones as its base colour, and is converted at every
+/// shading point (material_gltf.cpp), texel by texel.
 void MaterialBuilder::readSpecularGlossiness(const tinygltf::Value& v, Material& m, const std::string& where) {
     auto vec = [&](const char* key, int n, float fallback, float out[4]) {
         for (int i = 0; i < n; ++i) out[i] = fallback;
@@ -222,19 +210,23 @@ void MaterialBuilder::readSpecularGlossiness(const tinygltf::Value& v, Material&
     vec("specularFactor", 3, 1.f, specular);
     const float glossiness = clamp01(number(v, "glossinessFactor", 1.0));
     const Color d(diffuse[0], diffuse[1], diffuse[2]), s(specular[0], specular[1], specular[2]);
-    const float maxSpecular = std::max({s.r, s.g, s.b});
-    const float metallic = solveMetallic(perceivedBrightness(d), perceivedBrightness(s), 1.f - maxSpecular);
-    const Color fromDiffuse = d * ((1.f - maxSpecular) / (1.f - 0.04f) / std::max(1.f - metallic, 1e-4f));
-    const Color fromSpecular = (s - Color(0.04f * (1.f - metallic))) / std::max(metallic, 1e-4f);
-    m.color = glm::clamp(glm::mix(fromDiffuse, fromSpecular, metallic * metallic), Color(0.f), Color(1.f));
+    const SpecularGlossinessAsMetallic mr = convertSpecularGlossiness(d, s, glossiness);
+    m.color = mr.baseColor;
     m.alpha = diffuse[3];
-    m.metallic = metallic;
-    m.roughness = 1.f - glossiness;
+    m.metallic = mr.metallic;
+    m.roughness = mr.roughness;
     m.metallicRoughnessTexture = -1;
     m.baseColorTexture = -1;
     extensionTexture(v, "diffuseTexture", where, true, m.baseColorTexture, m.baseColorTransform, nullptr);
-    if (v.Has("specularGlossinessTexture"))
-        note(where + ".specularGlossinessTexture: not converted (its factors are); texture ignored");
+    // RGB is the specular colour in sRGB, A the glossiness (linear): decoded as an sRGB texture.
+    extensionTexture(v, "specularGlossinessTexture", where, true, m.specularGlossinessTexture, m.specularGlossinessTransform,
+                     nullptr);
+    if (m.baseColorTexture >= 0 || m.specularGlossinessTexture >= 0) {
+        m.specularGlossiness = true;
+        m.color = d;  // baseColor() then gives the diffuse colour, which the conversion takes
+        m.sgSpecular = s;
+        m.sgGlossiness = glossiness;
+    }
 }
 
 void MaterialBuilder::readClearcoat(const tinygltf::Value& v, Material& m, const std::string& where) {
@@ -245,6 +237,35 @@ void MaterialBuilder::readClearcoat(const tinygltf::Value& v, Material& m, const
     extensionTexture(v, "clearcoatRoughnessTexture", where, false, m.clearcoatRoughnessTexture, m.clearcoatRoughnessTransform, nullptr);
     extensionTexture(v, "clearcoatNormalTexture", where, false, m.clearcoatNormalTexture, m.clearcoatNormalTransform,
                      &m.clearcoatNormalScale);
+}
+
+void MaterialBuilder::readSheen(const tinygltf::Value& v, Material& m, const std::string& where) {
+    if (v.Has("sheenColorFactor") && v.Get("sheenColorFactor").IsArray() && v.Get("sheenColorFactor").ArrayLen() == 3) {
+        const tinygltf::Value& c = v.Get("sheenColorFactor");
+        m.sheenColor = Color(clamp01(element(c, 0, 0.0)), clamp01(element(c, 1, 0.0)), clamp01(element(c, 2, 0.0)));
+    }
+    m.sheenRoughness = clamp01(number(v, "sheenRoughnessFactor", 0.0));
+    if (m.sheenColor == Color(0.f)) return;  // "If sheenColorFactor is zero, the whole sheen layer is disabled"
+    extensionTexture(v, "sheenColorTexture", where, true, m.sheenColorTexture, m.sheenColorTransform, nullptr);
+    extensionTexture(v, "sheenRoughnessTexture", where, false, m.sheenRoughnessTexture, m.sheenRoughnessTransform, nullptr);
+}
+
+void MaterialBuilder::readVolume(const tinygltf::Value& v, Material& m, const std::string& where) {
+    m.thickness = float(std::max(0.0, number(v, "thicknessFactor", 0.0)));
+    const double distance = number(v, "attenuationDistance", std::numeric_limits<double>::infinity());
+    Color color(1.f);
+    if (v.Has("attenuationColor") && v.Get("attenuationColor").IsArray() && v.Get("attenuationColor").ArrayLen() == 3) {
+        const tinygltf::Value& c = v.Get("attenuationColor");
+        color = Color(clamp01(element(c, 0, 1.0)), clamp01(element(c, 1, 1.0)), clamp01(element(c, 2, 1.0)));
+    }
+    // Beer–Lambert: light that travels d inside keeps attenuationColor^(d / attenuationDistance)
+    // = exp(−σ·d). A colour channel of 0 absorbs everything beyond the surface (σ capped so that
+    // exp(−σ·d) stays 0 without an infinity times a zero distance).
+    if (distance > 0.0 && std::isfinite(distance))
+        for (int i = 0; i < 3; ++i)
+            m.attenuation[i] = float(std::min(-std::log(std::max(double(color[i]), 1e-30)), 1e30) / distance);
+    if (m.thickness <= 0.f) return;  // thin-walled: no volume, and its texture is never decoded
+    extensionTexture(v, "thicknessTexture", where, false, m.thicknessTexture, m.thicknessTransform, nullptr);
 }
 
 int MaterialBuilder::textureFor(int index, bool srgb, const std::string& where) {

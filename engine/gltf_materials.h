@@ -45,6 +45,8 @@ private:
                           TextureTransform& transform, float* scale);
     /// KHR_materials_clearcoat: factors, and the coat's weight, roughness and normal textures.
     void readClearcoat(const tinygltf::Value& v, Material& m, const std::string& where);
+    void readSheen(const tinygltf::Value& v, Material& m, const std::string& where);
+    void readVolume(const tinygltf::Value& v, Material& m, const std::string& where);
     void readSpecularGlossiness(const tinygltf::Value& v, Material& m, const std::string& where);
     void note(const std::string& text);
 

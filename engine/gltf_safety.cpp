@@ -185,7 +185,8 @@ bool isSupportedExtension(const std::string& name) {
                                             "KHR_materials_transmission", "KHR_materials_ior", "KHR_materials_specular",
                                             "KHR_lights_punctual", "KHR_mesh_quantization", "EXT_texture_webp", "KHR_materials_unlit",
                                             "KHR_materials_clearcoat", "KHR_draco_mesh_compression",
-                                            "KHR_materials_pbrSpecularGlossiness",
+                                            "KHR_materials_pbrSpecularGlossiness", "KHR_materials_sheen", "KHR_materials_volume",
+                                            "KHR_materials_variants",
                                             "EXT_meshopt_compression", "KHR_meshopt_compression",
                                             "KHR_texture_basisu"};
     return s.count(name) != 0;

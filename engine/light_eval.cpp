@@ -3,6 +3,7 @@
 #include <functional>
 
 #include "material_eval.h"
+#include "material_gltf.h"
 #include "optics.h"
 #include "scene.h"
 
@@ -91,6 +92,10 @@ Color ShadowRays::transmittance(const Light& L, const LightIncidence& li, bool b
         const float cosI = (cosNs < 0.f) == entering && cosNs != 0.f ? std::abs(cosNs) : std::abs(glm::dot(sr.d, hs.ng));
         const float F = fresnelDielectric(cosI, entering ? m.ior : 1.f / m.ior);
         t *= m.transmission * (1.f - F) * baseColor(scene_, hs);
+        // Leaving a volume (KHR_materials_volume): Beer–Lambert over the way inside, from the
+        // surface the ray entered by (or the shading point, inside) to here.
+        if (!entering && m.volume() && m.attenuation != Color(0.f) && gltfThickness(scene_, hs) > 0.f)
+            t *= glm::exp(-m.attenuation * hit.t);
         if (maxComponent(t) < 1e-4f) return Color(0.f);
         skip = scene_.skipFor(hs, sr.d);
         const Vec3 o = spawnOrigin(hs.p, hs, hs.ng, sr.d, skip);

@@ -79,7 +79,8 @@ public:
     bool unoccluded(const Light& L, const LightIncidence& li, bool behindFacet, RayStats& stats);
     /// What reaches the point from light L: 1 unblocked, 0 blocked, and through glTF materials
     /// with KHR_materials_transmission their colour × transmission × (1 − Fresnel) per surface
-    /// crossed (no bending: a Whitted shadow ray goes straight), so glass casts a light shadow.
+    /// crossed (no bending: a Whitted shadow ray goes straight), so glass casts a light shadow;
+    /// inside a KHR_materials_volume, Beer–Lambert over the straight way through it as well.
     /// seeThrough false: the plain unoccluded() test.
     Color transmittance(const Light& L, const LightIncidence& li, bool behindFacet, RayStats& stats, bool seeThrough);
 

@@ -69,6 +69,31 @@ struct Material {
     int clearcoatNormalTexture = -1;
     float clearcoatNormalScale = 1.f;
     TextureTransform clearcoatNormalTransform;
+    /// KHR_materials_pbrSpecularGlossiness with a texture (specular_glossiness.h): converted at
+    /// each shading point from the diffuse colour (color × baseColorTexture, which hold the
+    /// diffuse factor and texture) and sgSpecular, sgGlossiness × the texture's sRGB RGB and A.
+    bool specularGlossiness = false;
+    Color sgSpecular{1.f};
+    float sgGlossiness = 1.f;
+    int specularGlossinessTexture = -1;
+    TextureTransform specularGlossinessTransform;
+    /// KHR_materials_sheen: colour and roughness factors, times their textures (sRGB RGB; the
+    /// roughness texture's alpha).
+    Color sheenColor{0.f};
+    float sheenRoughness = 0.f;
+    int sheenColorTexture = -1;
+    TextureTransform sheenColorTransform;
+    int sheenRoughnessTexture = -1;
+    TextureTransform sheenRoughnessTransform;
+    /// KHR_materials_volume (with transmission): a thickness above 0 (factor × the texture's G)
+    /// makes the mesh a volume whose inside absorbs σ per unit length, σ = −ln(attenuationColor)
+    /// / attenuationDistance (0 when the distance is infinite), along every path inside it.
+    float thickness = 0.f;
+    int thicknessTexture = -1;
+    TextureTransform thicknessTransform;
+    Color attenuation{0.f};
+    /// True where the material is a volume at all (thickness factor > 0 with transmission).
+    bool volume() const { return gltfPbr && transmission > 0.f && thickness > 0.f; }
 };
 
 }  // namespace rf

@@ -2,6 +2,7 @@
 
 #include "material_eval.h"
 #include "scene.h"
+#include "specular_glossiness.h"
 
 namespace rf {
 
@@ -23,6 +24,19 @@ GltfSample gltfSample(const Scene& scene, const SurfaceInteraction& si) {
         s.metallic = std::clamp(mr.metallic, 0.f, 1.f);
         s.roughness = std::clamp(mr.roughness, 0.f, 1.f);
     }
+    if (m.specularGlossiness) {
+        Color specular = m.sgSpecular;
+        float glossiness = m.sgGlossiness;
+        if (m.specularGlossinessTexture >= 0) {
+            const Vec4 t = texel(m.specularGlossinessTexture, m.specularGlossinessTransform);
+            specular *= Color(t);
+            glossiness *= t.a;
+        }
+        const SpecularGlossinessAsMetallic mr = convertSpecularGlossiness(s.baseColor, specular, glossiness);
+        s.baseColor = mr.baseColor;
+        s.metallic = mr.metallic;
+        s.roughness = mr.roughness;
+    }
     if (m.occlusionTexture >= 0)
         s.occlusion = std::clamp(pbr::occlusionFromTexel(m.occlusionStrength, texel(m.occlusionTexture, m.occlusionTransform)), 0.f, 1.f);
     g.emission = m.emission;
@@ -35,7 +49,22 @@ GltfSample gltfSample(const Scene& scene, const SurfaceInteraction& si) {
     if (m.clearcoat > 0.f && m.clearcoatTexture >= 0) s.clearcoat *= texel(m.clearcoatTexture, m.clearcoatTransform).r;
     if (m.clearcoat > 0.f && m.clearcoatRoughnessTexture >= 0)
         s.clearcoatRoughness = std::clamp(s.clearcoatRoughness * texel(m.clearcoatRoughnessTexture, m.clearcoatRoughnessTransform).g, 0.f, 1.f);
+    s.sheenColor = m.sheenColor;
+    s.sheenRoughness = m.sheenRoughness;
+    if (m.sheenColor != Color(0.f)) {
+        if (m.sheenColorTexture >= 0) s.sheenColor *= Color(texel(m.sheenColorTexture, m.sheenColorTransform));
+        if (m.sheenRoughnessTexture >= 0)
+            s.sheenRoughness = std::clamp(s.sheenRoughness * texel(m.sheenRoughnessTexture, m.sheenRoughnessTransform).a, 0.f, 1.f);
+    }
     return g;
+}
+
+float gltfThickness(const Scene& scene, const SurfaceInteraction& si) {
+    const Material& m = scene.materials[si.material];
+    if (m.thicknessTexture < 0 || !(m.thickness > 0.f)) return m.thickness;
+    const TextureTransform& t = m.thicknessTransform;
+    return m.thickness * sampleTexture(scene.textures[size_t(m.thicknessTexture)], textureUv(t, si.uv, si.uv1),
+                                       textureFootprint(t, si.uvArea)).g;
 }
 
 }  // namespace rf

@@ -21,4 +21,7 @@ struct GltfSample {
 /// its own texCoord set through its own KHR_texture_transform.
 GltfSample gltfSample(const Scene& scene, const SurfaceInteraction& si);
 
+/// KHR_materials_volume's thickness at si: factor × the thickness texture's G (0: thin-walled).
+float gltfThickness(const Scene& scene, const SurfaceInteraction& si);
+
 }  // namespace rf

@@ -6,6 +6,7 @@
 #include "image.h"
 #include "light_eval.h"
 #include "material_eval.h"
+#include "material_gltf.h"
 #include "optics.h"
 #include "sampler.h"
 #include "shading_frame.h"
@@ -135,10 +136,24 @@ Color WhittedTracer::groundLi(const Ray& r, float t, RayStats& stats, float* cov
     return primaryMiss(r.d) * l.share;
 }
 
-Color WhittedTracer::trace(const Ray& r, int depth, const Color& weight, RayStats& stats, uint64_t seed, uint32_t skip) const {
+Color WhittedTracer::trace(const Ray& r, int depth, const Color& weight, RayStats& stats, uint64_t seed, uint32_t skip,
+                           float* tHit) const {
     Hit hit;
-    if (!scene_.intersect(r, hit, skip)) return depth == 1 ? primaryMiss(r.d) : missRadiance(r.d);
+    if (!scene_.intersect(r, hit, skip)) {
+        if (tHit) *tHit = kInf;
+        return depth == 1 ? primaryMiss(r.d) : missRadiance(r.d);
+    }
+    if (tHit) *tHit = hit.t;
     return traceHit(r, hit, depth, weight, stats, seed);
+}
+
+Color WhittedTracer::volumeTransmittance(const SurfaceInteraction& si, float t) const {
+    const Material& m = scene_.materials[si.material];
+    if (!m.volume() || m.attenuation == Color(0.f)) return Color(1.f);
+    const float thickness = gltfThickness(scene_, si);
+    if (!(thickness > 0.f)) return Color(1.f);  // thin-walled here (the thickness texture's 0)
+    const float d = std::isinf(t) ? thickness : t;
+    return glm::exp(-m.attenuation * d);
 }
 
 Color WhittedTracer::traceHit(const Ray& r, const Hit& hit, int depth, const Color& weight, RayStats& stats,
@@ -185,7 +200,10 @@ Color WhittedTracer::traceHit(const Ray& r, const Hit& hit, int depth, const Col
             rr.coneWidth = si.coneWidth;
             rr.coneSpread = si.coneSpread;
             ++stats.reflection;
-            c += kr * trace(rr, depth + 1, w, stats, childSeed(seed, 1), skip);
+            float t = kInf;
+            const Color back = trace(rr, depth + 1, w, stats, childSeed(seed, 1), skip, &t);
+            // Reflected inside a volume (leaving it, or totally reflected): the way back crosses it.
+            c += kr * (entering ? back : back * volumeTransmittance(si, t));
         }
     }
     if (kt > 0.f) {
@@ -199,7 +217,10 @@ Color WhittedTracer::traceHit(const Ray& r, const Hit& hit, int depth, const Col
             tr.coneWidth = si.coneWidth;
             tr.coneSpread = si.coneSpread;
             ++stats.refraction;
-            c += kt * filter * trace(tr, depth + 1, w, stats, childSeed(seed, 2), skip);
+            float t = kInf;
+            const Color through = trace(tr, depth + 1, w, stats, childSeed(seed, 2), skip, &t);
+            // Refracted into a volume: Beer–Lambert over the way to the next surface.
+            c += kt * filter * (entering ? through * volumeTransmittance(si, t) : through);
         }
     }
     return c;

@@ -34,8 +34,13 @@ public:
 private:
     /// seed: the ray's sample stream (sampler.h); kNoSampleSeed for rays that must not sample
     /// indirect light themselves (the samples' own rays: one bounce, not a path).
+    /// tHit (if given): the distance to what the ray met, infinity if it met nothing.
     Color trace(const Ray& r, int depth, const Color& weight, RayStats& stats, uint64_t seed,
-                uint32_t skip = Scene::kNoPrim) const;
+                uint32_t skip = Scene::kNoPrim, float* tHit = nullptr) const;
+    /// KHR_materials_volume: what is left of light that crossed the inside of si's volume along
+    /// a ray that met something at distance t (exp(−σ·t)); the thickness at si where it met
+    /// nothing (an open mesh). White where si's material is no volume there.
+    Color volumeTransmittance(const SurfaceInteraction& si, float t) const;
     /// Li once the primary ray's closest hit is known (met: whether it has one).
     Color primaryLi(const Ray& r, bool met, const Hit& h, uint64_t seed, RayStats& stats, float* coverage) const;
     /// trace() once the ray's closest hit is known.

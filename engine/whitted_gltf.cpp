@@ -1,6 +1,7 @@
 // The glTF metallic-roughness material model of the Whitted tracer (the seed's Phong model is
 // in whitted.cpp): same rays, shadows, depth limit and pruning, another BRDF.
 #include "brdf_gltf.h"
+#include "brdf_sheen.h"
 #include "env_lighting.h"
 #include "light_eval.h"
 #include "material_gltf.h"
@@ -37,6 +38,7 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
     if (g.unlit) return s.baseColor;  // KHR_materials_unlit: no light, no reflection
     const ShadingFrame frame = shadingFrame(scene_, si, V);
     const bool coated = s.clearcoat > 0.f;
+    const bool sheen = s.sheenColor != Color(0.f);  // KHR_materials_sheen: over the base, under the coat
     Color c = g.emission;
 
     // Punctual lights through the BRDF, shadowed and pruned as the Phong model's are.
@@ -50,6 +52,7 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
         if (behindFacet && (si.mesh < 0 || !L.castShadows)) continue;
         const Color irradiance = li.att * L.intensity * L.color;
         Color term = pbr::directLight(s, frame.ns, V, li.dir, irradiance, view);
+        if (sheen) term = pbr::sheenDirect(s, frame.ns, V, li.dir, term, irradiance);
         if (coated) term = pbr::clearcoatDirect(s, frame.nc, V, li.dir, term, irradiance);
         const float worth = maxComponent(weight * term) * displayScale_;
         if (pruned + worth <= settings_.minWeight) {
@@ -110,14 +113,39 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
         ind = sampleIndirect(si, frame, s, V, glossy, diffuse, ind, depth, weight, stats, seed);
     }
     specular += glossy * ind.specular;
-    if (coated) {
-        // The coat reflects the environment around its own mirror ray, at its own roughness,
-        // and lets through what its Fresnel leaves of the base's indirect light.
-        Vec3 Rc = reflect(d, frame.nc);
-        if (glm::dot(Rc, frame.ng) <= 0.f) Rc = reflect(d, frame.ng);
-        const Color coat = scene_.environment ? scene_.environment->specular(Rc, s.clearcoatRoughness) : Color(0.f);
-        const Color base = pbr::environmentLight(s, splitSum(), specular, ind.diffuse);
-        c += pbr::clearcoatEnvironment(s, std::max(glm::dot(frame.nc, V), 1e-4f), base, coat);
+    if (coated || sheen) {
+        // The sheen gathers the light the diffuse lobe does (it is as wide, towards grazing) and
+        // dims the base by its albedo; the coat reflects the environment around its own mirror
+        // ray, at its own roughness, and lets through what its Fresnel leaves of the rest.
+        Color base = pbr::environmentLight(s, splitSum(), specular, ind.diffuse);
+        if (sheen) base = pbr::sheenEnvironment(s, nv, base, ind.diffuse);
+        if (coated) {
+            Vec3 Rc = reflect(d, frame.nc);
+            if (glm::dot(Rc, frame.ng) <= 0.f) Rc = reflect(d, frame.ng);
+            const float ncv = std::max(glm::dot(frame.nc, V), 1e-4f);
+            Color coat = scene_.environment ? scene_.environment->specular(Rc, s.clearcoatRoughness) : Color(0.f);
+            // A smooth coat traces its mirror ray, as a smooth base does, so it reflects the
+            // scene and not only the environment; the same share rule fades it out by roughness.
+            const float share = depth >= settings_.maxDepth ? 0.f
+                                : sampled ? (s.clearcoatRoughness < kSampledMirrorRoughness ? 1.f : 0.f)
+                                          : std::clamp(1.f - s.clearcoatRoughness / kTracedRoughness, 0.f, 1.f);
+            if (share > 0.f) {
+                const Vec2 ab = pbr::specularScaleBias(ncv, s.clearcoatRoughness);
+                const Color w = weight * (share * s.occlusion * s.clearcoat * (0.04f * ab.x + ab.y));
+                if (maxComponent(w) > settings_.minWeight) {
+                    const uint32_t skip = scene_.skipFor(si, Rc);
+                    Ray rr;
+                    rr.o = spawnOrigin(si.p, si, frame.ng, Rc, skip);
+                    rr.d = Rc;
+                    rr.coneWidth = si.coneWidth;
+                    rr.coneSpread = si.coneSpread;
+                    ++stats.reflection;
+                    coat = share * trace(rr, depth + 1, w, stats, childSeed(seed, 4), skip) + (1.f - share) * coat;
+                }
+            }
+            base = pbr::clearcoatEnvironment(s, ncv, base, coat);
+        }
+        c += base;
     } else if (specular != Color(0.f) || ind.diffuse != Color(0.f)) {
         c += pbr::environmentLight(s, splitSum(), specular, ind.diffuse);
     }

@@ -5,87 +5,11 @@
 #include <gtest/gtest.h>
 
 #include "brdf_gltf.h"
-#include "env_lighting.h"
-#include "gltf_loader.h"
-#include "gltf_test_util.h"
+#include "gltf_floor_scene.h"
 #include "image.h"
-#include "render.h"
 
 using namespace rf;
 using namespace gltftest;
-
-namespace {
-
-/// A 20×20 floor at y = 0 facing +y in material 0, a point light 1 above its centre; images:
-/// 2×1 PNGs (left | right texels) the materials may use.
-Scene loadFloor(const json& material, const std::vector<std::array<uint8_t, 6>>& pngs = {}) {
-    TempDir dir;
-    std::string buf;
-    put<float>(buf, {-10, 0, -10, -10, 0, 10, 10, 0, 10, 10, 0, -10});
-    put<float>(buf, {0, 0, 0, 1, 1, 1, 1, 0});
-    put<uint16_t>(buf, {0, 1, 2, 0, 2, 3});
-    json images = json::array(), textures = json::array();
-    for (size_t i = 0; i < pngs.size(); ++i) {
-        const std::string name = "t" + std::to_string(i) + ".png";
-        writePng(dir / name, 2, 1, std::vector<uint8_t>(pngs[i].begin(), pngs[i].end()));
-        images.push_back({{"uri", name}});
-        textures.push_back({{"source", i}, {"sampler", 0}});
-    }
-    json g{{"asset", {{"version", "2.0"}}},
-           {"extensionsUsed", {"KHR_materials_unlit", "KHR_materials_clearcoat", "KHR_materials_specular", "KHR_lights_punctual"}},
-           {"extensions", {{"KHR_lights_punctual", {{"lights", {{{"type", "point"}, {"intensity", 683}}}}}}}},
-           {"scene", 0},
-           {"scenes", {{{"nodes", {0, 1}}}}},
-           {"nodes", {{{"mesh", 0}}, {{"translation", {0, 1, 0}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}}}},
-           {"materials", {material}},
-           {"samplers", {{{"magFilter", 9728}, {"minFilter", 9728}}}},
-           {"meshes", {{{"primitives", {{{"attributes", {{"POSITION", 0}, {"TEXCOORD_0", 1}}}, {"indices", 2}, {"material", 0}}}}}}},
-           {"accessors", {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}, {"min", {-10, 0, -10}}, {"max", {10, 0, 10}}},
-                          {{"bufferView", 1}, {"componentType", 5126}, {"count", 4}, {"type", "VEC2"}},
-                          {{"bufferView", 2}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}}},
-           {"bufferViews", {{{"buffer", 0}, {"byteLength", 48}}, {{"buffer", 0}, {"byteOffset", 48}, {"byteLength", 32}},
-                            {{"buffer", 0}, {"byteOffset", 80}, {"byteLength", 12}}}},
-           {"buffers", {{{"uri", dataUri(buf)}, {"byteLength", buf.size()}}}}};
-    if (!images.empty()) {
-        g["images"] = images;
-        g["textures"] = textures;
-    }
-    writeFile(dir / "m.gltf", g.dump());
-    DiskFileSource files;
-    return loadGltfScene(dir / "m.gltf", files);
-}
-
-std::shared_ptr<const EnvironmentLight> uniformEnvironment(float radiance) {
-    EquirectImage img;
-    img.width = 16;
-    img.height = 8;
-    img.texels.assign(16 * 8, Color(radiance));
-    return std::make_shared<const EnvironmentLight>(img, 0.f, 1.f, 1);
-}
-
-/// 65×65 from 3 above the centre looking down (fov 0.5 rad), linear radiance, exposure 0.
-Image renderFromAbove(Scene s) {
-    s.camera.eye = Vec3(0.f, 3.f, 0.f);
-    s.camera.target = Vec3(0.f);
-    s.camera.up = Vec3(0.f, 0.f, -1.f);
-    s.camera.fovDeg = float(glm::degrees(0.5));
-    RenderSettings rs = s.settings;
-    rs.spp = 1;
-    rs.width = rs.height = 65;
-    rs.exposure = 0.f;
-    rs.autoExposure = false;
-    RayStats stats;
-    return renderFrame(s, s.camera, rs, 0, 1, stats);
-}
-
-/// n·v at pixel (x, y): the ray through the pixel centre meets the floor's normal +y.
-float cosineAt(int x, int y) {
-    const float t = std::tan(0.25f);
-    const Vec3 d = glm::normalize(Vec3((2.f * (x + 0.5f) / 65.f - 1.f) * t, -1.f, (2.f * (y + 0.5f) / 65.f - 1.f) * t));
-    return -d.y;
-}
-
-}  // namespace
 
 TEST(GltfMaterialExtensions, UnlitIsTheBaseColourExactly) {
     const json unlit = {{"pbrMetallicRoughness", {{"baseColorFactor", {0.25, 0.5, 0.75, 1}}, {"baseColorTexture", {{"index", 0}}}}},
@@ -206,4 +130,37 @@ TEST(GltfMaterialExtensions, SpecularGlossinessConvertsAsTheKhronosConverterDoes
         for (int x = 0; x < 65; ++x)
             for (int k = 0; k < 3; ++k) worst = std::max(worst, double(std::abs(ia.pixel(x, y)[k] - ic.pixel(x, y)[k])));
     EXPECT_LT(worst, 1e-5);
+}
+
+TEST(GltfMaterialExtensions, SpecularGlossinessTexturesAreConvertedTexelByTexel) {
+    // A specularGlossinessTexture with a dark left texel and a white right one: each half of the
+    // floor renders as the factor-only material with that texel's specular colour, converted on
+    // its own (a dielectric on the left, a near-metal on the right). Ignoring the texture, or
+    // converting only the factors, draws both halves alike.
+    const float gloss = 0.6f;
+    auto sg = [&](const json& specular, bool textured) {
+        json e = {{"diffuseFactor", {0.7, 0.5, 0.3, 1}}, {"specularFactor", specular}, {"glossinessFactor", gloss}};
+        if (textured) e["specularGlossinessTexture"] = {{"index", 0}};
+        return json{{"extensions", {{"KHR_materials_pbrSpecularGlossiness", e}}}};
+    };
+    const std::vector<std::array<uint8_t, 6>> png = {{{40, 40, 40, 255, 255, 255}}};
+    const float dark = srgbDecode(40 / 255.f);
+    Scene textured = loadFloor(sg({1, 1, 1}, true), png);
+    Scene left = loadFloor(sg({dark, dark, dark}, false)), right = loadFloor(sg({1, 1, 1}, false));
+    ASSERT_TRUE(textured.materials[0].specularGlossiness);
+    ASSERT_GE(textured.materials[0].specularGlossinessTexture, 0);
+    EXPECT_EQ(left.materials[0].metallic, 0.f);
+    EXPECT_GT(right.materials[0].metallic, 0.5f);
+    for (Scene* s : {&textured, &left, &right}) s->environment = uniformEnvironment(0.5f);
+    const Image it = renderFromAbove(textured), il = renderFromAbove(left), ir = renderFromAbove(right);
+    double worst = 0.0;
+    for (int y = 0; y < 65; ++y)
+        for (int x = 0; x < 65; ++x) {
+            if (x == 32) continue;  // the texel seam
+            const Image& want = x < 32 ? il : ir;
+            for (int c = 0; c < 3; ++c) worst = std::max(worst, double(std::abs(it.pixel(x, y)[c] - want.pixel(x, y)[c])));
+        }
+    EXPECT_LT(worst, 1e-4);
+    EXPECT_GT(std::abs(il.pixel(10, 32)[0] - ir.pixel(10, 32)[0]), 0.05f) << "the two texels must look different";
+    for (const std::string& n : textured.notes) EXPECT_EQ(n.find("not converted"), std::string::npos) << n;
 }
