@@ -59,7 +59,7 @@ std::vector<unsigned char> attributeBytes(const draco::PointAttribute& att, uint
 
 /// Replaces one Draco-compressed primitive's attributes and indices by decoded accessors.
 void decodeDracoPrimitive(tinygltf::Model& model, tinygltf::Primitive& prim, const tinygltf::Value& ext, const std::string& where,
-                          const std::string& file) {
+                          const std::string& file, std::vector<std::string>* notes) {
     const std::string w = where + ".extensions.KHR_draco_mesh_compression";
     const int view = intMember(ext, "bufferView", -1);
     const ByteSpan span = bufferViewSpan(model, view, file);
@@ -76,6 +76,7 @@ void decodeDracoPrimitive(tinygltf::Model& model, tinygltf::Primitive& prim, con
 
     if (!ext.Has("attributes") || !ext.Get("attributes").IsObject()) throw InputError(file, w + ".attributes: expected an object");
     const tinygltf::Value& attrs = ext.Get("attributes");
+    bool mismatch = false;
     for (const std::string& name : attrs.Keys()) {
         auto it = prim.attributes.find(name);
         if (it == prim.attributes.end()) continue;  // the extension may carry more than the primitive uses
@@ -99,6 +100,13 @@ void decodeDracoPrimitive(tinygltf::Model& model, tinygltf::Primitive& prim, con
             case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: bytes = attributeBytes<uint32_t>(*att, points, comps, wa, file); break;
             default: throw InputError(file, wa + ": componentType " + std::to_string(acc.componentType) + " is not a glTF type");
         }
+        // The extension asks the accessor's count to be the decoded one; where a file disagrees,
+        // the data decoded is what is drawn, and the note says so once per primitive.
+        if (acc.count != points && notes && !mismatch) {
+            notes->push_back(wa + ": the accessor declares " + std::to_string(acc.count) + " vertices, the Draco data decodes " +
+                             std::to_string(points) + "; the decoded count is used");
+            mismatch = true;
+        }
         acc.bufferView = appendBuffer(model, std::move(bytes));
         acc.byteOffset = 0;
         acc.count = points;
@@ -118,6 +126,9 @@ void decodeDracoPrimitive(tinygltf::Model& model, tinygltf::Primitive& prim, con
         }
     tinygltf::Accessor ia;
     if (prim.indices >= 0 && size_t(prim.indices) < model.accessors.size()) ia = model.accessors[size_t(prim.indices)];
+    if (prim.indices >= 0 && ia.count != size_t(mesh->num_faces()) * 3 && notes)
+        notes->push_back(w + ": the index accessor declares " + std::to_string(ia.count) + " indices, the Draco data decodes " +
+                         std::to_string(size_t(mesh->num_faces()) * 3) + "; the decoded count is used");
     ia.bufferView = appendBuffer(model, std::move(idx));
     ia.byteOffset = 0;
     ia.componentType = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
@@ -187,7 +198,7 @@ void decodeMeshoptView(tinygltf::Model& model, size_t index, const tinygltf::Val
 
 }  // namespace
 
-void decodeCompressedGeometry(tinygltf::Model& model, const std::string& file) {
+void decodeCompressedGeometry(tinygltf::Model& model, const std::string& file, std::vector<std::string>* notes) {
     const size_t views = model.bufferViews.size();
     for (size_t i = 0; i < views; ++i)
         for (const char* name : {"EXT_meshopt_compression", "KHR_meshopt_compression"}) {
@@ -203,7 +214,8 @@ void decodeCompressedGeometry(tinygltf::Model& model, const std::string& file) {
             auto it = prim.extensions.find("KHR_draco_mesh_compression");
             if (it == prim.extensions.end()) continue;
             const tinygltf::Value ext = it->second;
-            decodeDracoPrimitive(model, prim, ext, "meshes[" + std::to_string(m) + "].primitives[" + std::to_string(p) + "]", file);
+            decodeDracoPrimitive(model, prim, ext, "meshes[" + std::to_string(m) + "].primitives[" + std::to_string(p) + "]", file,
+                                 notes);
         }
 }
 

@@ -8,12 +8,14 @@
 ///   into a new buffer and pointed at it.
 /// Malformed compressed data throws InputError(file, "meshes[i].primitives[j]: ...") in one line.
 #include <string>
+#include <vector>
 
 #include <tiny_gltf.h>
 
 namespace rf::gltf {
 
-/// Decodes every compressed bufferView and primitive of the model in place.
-void decodeCompressedGeometry(tinygltf::Model& model, const std::string& file);
+/// Decodes every compressed bufferView and primitive of the model in place. notes (if given)
+/// gets a line where a Draco primitive's accessors declare counts other than what it decodes.
+void decodeCompressedGeometry(tinygltf::Model& model, const std::string& file, std::vector<std::string>* notes = nullptr);
 
 }  // namespace rf::gltf

@@ -18,6 +18,7 @@
 #include "load_control.h"
 #include "gltf_materials.h"
 #include "gltf_safety.h"
+#include "gltf_variants.h"
 #include "render_origin.h"
 #include "skinning.h"
 
@@ -79,7 +80,8 @@ public:
         for (const std::string& n : pf.notes) notes_.push_back(n);
         pollLoadCancel();
         LoadStep resolving("resolving its node hierarchy");
-        decodeCompressedGeometry(model_, path_);  // Draco and meshopt, before any accessor is read
+        decodeCompressedGeometry(model_, path_, &notes_);  // Draco and meshopt, before any accessor is read
+        chooseMaterialVariant();
         resolveHierarchy();
         checkInstancedSize();
         readAnimations();
@@ -113,6 +115,9 @@ public:
         }
         return any && std::isfinite(lo.x + lo.y + lo.z + hi.x + hi.y + hi.z);
     }
+
+    /// How many material variants the file names (KHR_materials_variants).
+    size_t variantCount() const { return materialVariants(model_).size(); }
 
     /// materialOverride ≥ 0: every primitive in that scene material, the file's left unread.
     void addTo(Scene& scene, const DMat4& worldFromModel, int materialOverride = -1);
@@ -435,6 +440,22 @@ private:
                        MaterialBuilder& materials, DropCounts& dropped);
     void addNodeLightAndCamera(Scene& scene, int node, const DMat4& renderFromNode);
     void noteDrops(const DropCounts& d);
+    /// assets_.variant as an index into the file's variants (variant_), refused if it has none
+    /// by that name; without a choice, a note lists the variants the file offers.
+    void chooseMaterialVariant() {
+        const std::vector<std::string> names = materialVariants(model_);
+        if (assets_.variant.empty()) {
+            if (!names.empty())
+                notes_.push_back("material variants " + listVariants(names) + "; showing the default materials (--variant NAME picks one)");
+            return;
+        }
+        if (names.empty() && !assets_.variantRequired) return;
+        variant_ = chooseVariant(model_, path_, assets_.variant, assets_.variantSource);
+    }
+    /// The file's material for primitive p of mesh under the chosen variant.
+    int primitiveMaterial(const tinygltf::Mesh& mesh, size_t p, int loaded) const {
+        return variant_ >= 0 ? variantMaterial(mesh.primitives[p], variant_) : loaded;
+    }
 
     std::string path_;
     AssetOptions assets_;
@@ -448,6 +469,7 @@ private:
     std::vector<Skin> skins_;
     std::vector<DMat4> restModelFromNode_;  ///< every node's rest transform (filled when there are skins)
     size_t weightsNormalized_ = 0, weightsZero_ = 0;
+    int variant_ = -1;  ///< the chosen KHR_materials_variants variant, −1 for none
     std::map<std::pair<int, int>, std::optional<PrimitiveGeometry>> prims_;
     bool skippedPointsLines_ = false;
     int materialOverride_ = -1;
@@ -507,7 +529,7 @@ void GltfModel::addNodeMeshes(Scene& scene, int node, const DMat4& renderFromNod
             }
             weightsNormalized_ += g->weightsNormalized;
             weightsZero_ += g->weightsZero;
-            m.material = materialOverride_ >= 0 ? materialOverride_ : materials.materialFor(g->gltfMaterial);
+            m.material = materialOverride_ >= 0 ? materialOverride_ : materials.materialFor(primitiveMaterial(gm, p, g->gltfMaterial));
             if (materialOverride_ >= 0) m.colors.clear(), m.tangents.clear(), m.objectTangents.clear();
             scene.meshes.push_back(std::move(m));
             continue;
@@ -539,7 +561,7 @@ void GltfModel::addNodeMeshes(Scene& scene, int node, const DMat4& renderFromNod
             m.tangents.clear();
             m.objectTangents.clear();
         } else {
-            m.material = materials.materialFor(g->gltfMaterial);
+            m.material = materials.materialFor(primitiveMaterial(gm, p, g->gltfMaterial));
         }
         scene.meshes.push_back(std::move(m));
     }
@@ -606,10 +628,11 @@ void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel, int materialOve
 
 }  // namespace
 
-void loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFromModel, FileSource& fs, int materialOverride,
-                   const AssetOptions& assets) {
+size_t loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFromModel, FileSource& fs, int materialOverride,
+                     const AssetOptions& assets) {
     GltfModel model(path, fs, assets);
     model.addTo(scene, worldFromModel, materialOverride);
+    return model.variantCount();
 }
 
 Scene loadGltfScene(const std::string& path, FileSource& fs, const SceneOptions& options) {

@@ -23,9 +23,10 @@ namespace rf {
 /// loader rebases by scene.renderOrigin). Throws InputError naming the file on bad input.
 /// materialOverride ≥ 0 (a scene material): every primitive in it, without vertex colours or
 /// tangents; the file's materials and textures are then not read at all. assets: the asset root
-/// its URIs must stay inside and the texture limits (scene_options.h).
-void loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFromModel, FileSource& fs,
-                   int materialOverride = -1, const AssetOptions& assets = {});
+/// its URIs must stay inside, the texture limits and the material variant (scene_options.h).
+/// Returns how many material variants (KHR_materials_variants) the file names.
+size_t loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFromModel, FileSource& fs,
+                     int materialOverride = -1, const AssetOptions& assets = {});
 
 /// A bare model as a whole scene: the model, a camera framed on its bounding sphere with a
 /// margin, and a default key/fill/rim rig when the model brings no lights; the environment

@@ -273,6 +273,8 @@ private:
                 readObject(os[i], Reader::index("objects", i), s);
             }
         }
+        if (!assets_.variant.empty() && modelVariants_ == 0)
+            throw InputError(path_, assets_.variantSource + ": no model in the scene has material variants (KHR_materials_variants)");
         json anim = json::object();
         if (root.contains("timeline") && root["timeline"].is_string()) {
             // A timeline in its own file: read through the FileSource (so farm workers get it in
@@ -341,7 +343,7 @@ private:
         } else if (type == "triangle" || type == "mesh") {
             readMesh(j, w, s, type == "triangle");
         } else if (type == "model") {
-            rd_.allowKeys(j, w, {"type", "path", "transform", "material"});
+            rd_.allowKeys(j, w, {"type", "path", "transform", "material", "variant"});
             const std::string rel = rd_.string(j, "path", w, "");
             if (rel.empty()) rd_.fail(w + ".path", "expected the model's file name");
             const std::filesystem::path base = std::filesystem::path(path_).parent_path();
@@ -349,7 +351,17 @@ private:
             const DMat4 m = j.contains("transform") ? readTransform(rd_, j["transform"], w + ".transform") : DMat4(1.0);
             // "material": the scene's (Phong) material for every primitive in place of the
             // file's own, a clay render (gltf_loader.h).
-            loadGltfModel(s, full, m, fs_, j.contains("material") ? material(j, w) : -1, assets_);
+            // "variant": the model's KHR_materials_variants variant; --variant overrides it for
+            // every model that has variants (and a model without variants then keeps its own).
+            AssetOptions a = assets_;
+            if (!a.variant.empty()) {
+                a.variantRequired = false;
+            } else if (j.contains("variant")) {
+                a.variant = rd_.string(j, "variant", w, "");
+                if (a.variant.empty()) rd_.fail(w + ".variant", "expected a variant's name");
+                a.variantSource = w + ".variant";
+            }
+            modelVariants_ += loadGltfModel(s, full, m, fs_, j.contains("material") ? material(j, w) : -1, a);
         } else {
             rd_.fail(w + ".type", "expected \"sphere\", \"plane\", \"triangle\", \"mesh\" or \"model\"");
         }
@@ -432,6 +444,7 @@ private:
     Reader rd_;
     SceneOptions options_;
     AssetOptions assets_;  ///< options_.assets with the file's "asset_root"
+    size_t modelVariants_ = 0;  ///< material variants of all the scene's models
     std::map<std::string, int> materialIds_;
 };
 

@@ -33,6 +33,13 @@ struct AssetOptions {
     /// Decoded texels (and their mip-maps) of all of a scene's textures together; a texture that
     /// would go over is refused (the load fails, saying so).
     uint64_t textureBudgetBytes = 6ull << 30;
+    /// KHR_materials_variants: the variant to show ("": the file's own materials), and what
+    /// chose it, for messages ("--variant", "objects[2].variant"). variantRequired: a file
+    /// without variants is refused; otherwise (--variant over a scene of several models) it
+    /// shows its own materials.
+    std::string variant;
+    std::string variantSource = "--variant";
+    bool variantRequired = true;
 };
 
 struct SceneOptions {

@@ -123,7 +123,7 @@ void applyQualityOptions(const ArgParser& p, RenderSettings& s) {
 
 void declareSceneOptions(ArgParser& p) {
     for (const char* o : {"--environment", "--environment-rotation", "--environment-intensity", "--ground", "--animation",
-                          "--asset-root", "--max-texture-size"})
+                          "--asset-root", "--max-texture-size", "--variant"})
         p.option(o);
 }
 
@@ -153,6 +153,10 @@ SceneOptions sceneOptions(const ArgParser& p) {
         if (r->empty()) throw UsageError("--asset-root: expected a folder");
         o.assets.root = *r;
         o.rootFromCommandLine = true;
+    }
+    if (auto v = p.value("--variant")) {
+        if (v->empty()) throw UsageError("--variant: expected a material variant's name");
+        o.assets.variant = *v;
     }
     o.assets.maxTextureSize = p.intValue("--max-texture-size", o.assets.maxTextureSize, 16, 16384);
     return o;

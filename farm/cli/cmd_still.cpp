@@ -57,7 +57,9 @@ const char* kStillHelp =
     "                    its first (the scene file's \"animation\"); unknown: refused, listing them\n"
     "  --asset-root DIR  folder a glTF model's relative URIs may reach beyond its own (default:\n"
     "                    the current directory when the model lies under it, else its folder)\n"
-    "  --max-texture-size N   textures larger on a side are downsampled on load (default 8192)\n";
+    "  --max-texture-size N   textures larger on a side are downsampled on load (default 8192)\n"
+    "  --variant NAME    show the model's KHR_materials_variants variant NAME (the scene file's\n"
+    "                    model \"variant\"); unknown: refused, listing the file's variants\n";
 
 /// Sets the scene to the still's moment and returns its frame index (the noise seed). The still
 /// is one frame of the scene's film: frame 0 unless --frame or --time says otherwise.

@@ -36,6 +36,7 @@ const char* kRenderHelp =
     "  --animation A     play the model's animation named A (or numbered A, from 0) instead of\n"
     "                    its first; as for still\n"
     "  --asset-root DIR, --max-texture-size N   glTF asset folder and texture size, as for still\n"
+    "  --variant NAME    the model's material variant NAME (KHR_materials_variants), as for still\n"
     "  --depth N         maximum ray depth; --min-weight W, --tonemap clamp|reinhard|pbr-neutral,\n"
     "                    --exposure EV|auto as for still (auto: one EV metered for the whole film)\n"
     "  --indirect N      glTF materials: N traced samples of indirect light (as for still)\n"

@@ -152,6 +152,34 @@ TEST(GltfCompression, TruncatedOrCorruptDracoDataIsRefusedInOneLine) {
     EXPECT_NE(expectRefusedInOneLine(dir / "past.gltf").find("run past the end of buffer"), std::string::npos);
 }
 
+TEST(GltfCompression, ADracoAccessorCountThatDisagreesWithTheDataIsNoted) {
+    // The extension requires the accessors' counts to be the decoded ones; a file that declares
+    // others still draws what Draco decodes, and says so.
+    TempDir dir;
+    const std::string src = kGltf2 + "draco/";
+    writeFile(dir / "2CylinderEngine.bin", readFile(src + "2CylinderEngine.bin"));
+    json g = json::parse(readFile(src + "2CylinderEngine.gltf"));
+    json& prim = g["meshes"][0]["primitives"][0];
+    const int position = prim["attributes"]["POSITION"], indices = prim["indices"];
+    const int declared = g["accessors"][position]["count"];
+    g["accessors"][position]["count"] = declared + 5;
+    g["accessors"][indices]["count"] = g["accessors"][indices]["count"].get<int>() + 3;
+    writeFile(dir / "counts.gltf", g.dump());
+    DiskFileSource files;
+    const Scene s = loadGltfScene(dir / "counts.gltf", files);
+    std::string all;
+    for (const std::string& n : s.notes) all += n + "\n";
+    const std::string where = "meshes[0].primitives[0].extensions.KHR_draco_mesh_compression";
+    EXPECT_NE(all.find(where + ".attributes.POSITION: the accessor declares " + std::to_string(declared + 5) +
+                       " vertices, the Draco data decodes " + std::to_string(declared) + "; the decoded count is used"),
+              std::string::npos)
+        << all;
+    EXPECT_NE(all.find(where + ": the index accessor declares"), std::string::npos) << all;
+    // The unedited file has no such note.
+    const Scene plain = loadGltfScene(src + "2CylinderEngine.gltf", files);
+    for (const std::string& n : plain.notes) EXPECT_EQ(n.find("the decoded count is used"), std::string::npos) << n;
+}
+
 TEST(GltfCompression, MeshoptAndQuantizedCopiesRenderLikeTheirSources) {
     TempDir dir;
     // Per model: quantization moves texture coordinates by up to half a step, which on
