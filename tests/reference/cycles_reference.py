@@ -3,7 +3,9 @@
 # background, factory settings); it is a developer tool, never a test dependency.
 #
 # What it sets up, so a rayfarm still with `--exposure 0 --tonemap clamp` is the fair match:
-# - the file through Blender's own glTF importer, lights in its "Standard" lighting mode
+# - the file through Blender's own glTF importer, with the clearcoat, sheen and volume layers it
+#   reads otherwise than their specifications rebuilt as they say (match_gltf_layers), lights in
+#   its "Standard" lighting mode
 #   (W = cd·4π/683, W/m² = lx/683: the photometric conversion rayfarm's --exposure 0 uses),
 #   lights otherwise as imported (Blender's default point radius and sun angle);
 # - the view through the file's camera N, counted as rayfarm's --camera N counts: perspective
@@ -15,6 +17,7 @@
 # - an 8-bit RGB PNG at --size.
 import argparse
 import json
+import math
 import os
 import struct
 import sys
@@ -104,6 +107,122 @@ def pick_camera(doc, index):
                      % (index, names[index]))
 
 
+def charlie_albedo(nv, roughness, theta_steps=96, phi_steps=48):
+    """E(n·v) of KHR_materials_sheen's lobe (Charlie distribution, the extension's fitted
+    visibility, sheen colour 1) by quadrature over the hemisphere, as rayfarm tabulates it
+    (engine/brdf_sheen.cpp: roughness from 0.07, alpha its square)."""
+    alpha = max(0.07, min(1.0, roughness)) ** 2
+    t = (1 - alpha) ** 2
+    co = [a + (b - a) * t for a, b in ((21.5473, 25.3245), (3.82987, 3.32435), (0.19823, 0.16801),
+                                        (-1.97760, -1.27393), (-4.32054, -4.85967))]
+
+    def lam(c):
+        fit = lambda x: co[0] / (1 + co[1] * x ** co[2]) + co[3] * x + co[4]
+        return math.exp(fit(c)) if c < 0.5 else math.exp(2 * fit(0.5) - fit(1 - c))
+
+    nv = max(1e-4, min(1.0, nv))
+    v = (math.sqrt(1 - nv * nv), 0.0, nv)
+    total = 0.0
+    for i in range(theta_steps):
+        c = (i + 0.5) / theta_steps
+        s = math.sqrt(1 - c * c)
+        for j in range(phi_steps):
+            phi = math.pi * (j + 0.5) / phi_steps
+            l = (s * math.cos(phi), s * math.sin(phi), c)
+            h = [v[k] + l[k] for k in range(3)]
+            hl = math.sqrt(sum(x * x for x in h))
+            nh = h[2] / hl
+            d = (2 + 1 / alpha) * max(0.0, 1 - nh * nh) ** (0.5 / alpha) / (2 * math.pi)
+            vis = min(1.0, 1 / ((1 + lam(nv) + lam(c)) * 4 * nv * c))
+            total += d * vis * c
+    return total * 2 * math.pi / (theta_steps * phi_steps)
+
+
+def match_gltf_layers(doc):
+    """Blender 3.4's importer reads three material extensions otherwise than their specifications
+    say; rebuild those layers so that Cycles renders what the file says:
+    - KHR_materials_clearcoat becomes Principled's Clearcoat, a quarter-weight GTR lobe in
+      Cycles 3.4: replaced by the glTF layering, a GGX Glossy BSDF of the coat's roughness mixed
+      over the rest by clearcoat x Fresnel(ior 1.5);
+    - KHR_materials_volume's attenuation becomes a Volume Absorption of colour c and density 1/d,
+      which absorbs (1 - c)/d per unit length: set to sigma = -ln(c)/d, the Beer-Lambert law the
+      extension gives (density max(sigma), colour 1 - sigma/density);
+    - KHR_materials_sheen becomes a Velvet BSDF added over the base, with no albedo scaling: the
+      base is now dimmed by 1 - max(sheenColor) x E(n.v), E the Charlie lobe's albedo (a Float
+      Curve over Layer Weight's Facing). The Velvet lobe itself (Ashikhmin) stays: Cycles 3.4
+      has no Charlie sheen, so the sheen's own shape is the one difference left (README).
+    Factors only: a material with these extensions' textures keeps what the importer made."""
+    for gm in doc.get("materials", []):
+        ext = gm.get("extensions", {})
+        bm = bpy.data.materials.get(gm.get("name", ""))
+        if bm is None or not bm.use_nodes:
+            continue
+        nodes, links = bm.node_tree.nodes, bm.node_tree.links
+        out = next(n for n in nodes if n.bl_idname == "ShaderNodeOutputMaterial")
+        pr = next((n for n in nodes if n.bl_idname == "ShaderNodeBsdfPrincipled"), None)
+        vol = ext.get("KHR_materials_volume")
+        if vol:
+            absorb = next((n for n in nodes if n.bl_idname == "ShaderNodeVolumeAbsorption"), None)
+            dist = vol.get("attenuationDistance")
+            colour = vol.get("attenuationColor", [1, 1, 1])
+            if absorb and dist:
+                sigma = [-math.log(max(c, 1e-30)) / dist for c in colour]
+                density = max(sigma)
+                absorb.inputs["Density"].default_value = density
+                absorb.inputs["Color"].default_value = [1 - sg / density if density > 0 else 1 for sg in sigma] + [1]
+        sheen = ext.get("KHR_materials_sheen")
+        if sheen and pr and "sheenColorTexture" not in sheen:
+            m = max(sheen.get("sheenColorFactor", [0, 0, 0]))
+            r = sheen.get("sheenRoughnessFactor", 0.0)
+            add = next((n for n in nodes if n.bl_idname == "ShaderNodeAddShader"), None)
+            if add and m > 0:
+                to = next(l.to_socket for l in pr.outputs["BSDF"].links if l.to_node == add)
+                weight = nodes.new("ShaderNodeLayerWeight")
+                weight.inputs["Blend"].default_value = 0.5  # Facing = 1 - |n.v|
+                curve = nodes.new("ShaderNodeFloatCurve")
+                pts = curve.mapping.curves[0].points
+                xs = [i / 16 for i in range(17)]
+                ys = [min(1.0, m * charlie_albedo(1 - x, r)) for x in xs]
+                pts[0].location, pts[1].location = (xs[0], ys[0]), (xs[-1], ys[-1])
+                for x, y in zip(xs[1:-1], ys[1:-1]):
+                    pts.new(x, y)
+                curve.mapping.clip_max_y = 1.0
+                curve.mapping.update()
+                links.new(weight.outputs["Facing"], curve.inputs["Value"])
+                black = nodes.new("ShaderNodeEmission")
+                black.inputs["Strength"].default_value = 0.0
+                mix = nodes.new("ShaderNodeMixShader")
+                links.new(curve.outputs["Value"], mix.inputs["Fac"])
+                links.new(pr.outputs["BSDF"], mix.inputs[1])
+                links.new(black.outputs["Emission"], mix.inputs[2])
+                links.new(mix.outputs["Shader"], to)
+        coat = ext.get("KHR_materials_clearcoat")
+        if coat and pr and "clearcoatTexture" not in coat and "clearcoatRoughnessTexture" not in coat:
+            factor = coat.get("clearcoatFactor", 0.0)
+            pr.inputs["Clearcoat"].default_value = 0.0
+            if factor > 0:
+                surface = out.inputs["Surface"].links[0].from_socket
+                fresnel = nodes.new("ShaderNodeFresnel")
+                fresnel.inputs["IOR"].default_value = 1.5
+                scale = nodes.new("ShaderNodeMath")
+                scale.operation = "MULTIPLY"
+                scale.inputs[1].default_value = factor
+                links.new(fresnel.outputs["Fac"], scale.inputs[0])
+                glossy = nodes.new("ShaderNodeBsdfGlossy")
+                glossy.distribution = "GGX"
+                glossy.inputs["Color"].default_value = (1, 1, 1, 1)
+                glossy.inputs["Roughness"].default_value = coat.get("clearcoatRoughnessFactor", 0.0)
+                if pr.inputs["Clearcoat Normal"].is_linked:
+                    nsrc = pr.inputs["Clearcoat Normal"].links[0].from_socket
+                    links.new(nsrc, fresnel.inputs["Normal"])
+                    links.new(nsrc, glossy.inputs["Normal"])
+                mix = nodes.new("ShaderNodeMixShader")
+                links.new(scale.outputs["Value"], mix.inputs["Fac"])
+                links.new(surface, mix.inputs[1])
+                links.new(glossy.outputs["BSDF"], mix.inputs[2])
+                links.new(mix.outputs["Shader"], out.inputs["Surface"])
+
+
 def set_world(scene, env_path, strength):
     world = bpy.data.worlds.new("reference world")
     world.use_nodes = True
@@ -157,6 +276,7 @@ def main():
     doc = read_gltf_json(a.gltf)
     bpy.ops.import_scene.gltf(filepath=a.gltf, convert_lighting_mode="SPEC")
     scene = bpy.context.scene
+    match_gltf_layers(doc)
     scene.camera = pick_camera(doc, a.camera)
     set_world(scene, a.environment, a.environment_strength)
     set_render(scene, a)

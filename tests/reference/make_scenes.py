@@ -8,6 +8,9 @@
 # - textured_spot.gltf: a box with a baseColor texture and a normal map, a sphere with a
 #   metallicRoughness texture, an emissive-textured sphere, a grey floor; a spot and a point
 #   light, black world.
+# - coat_sheen_volume.gltf: a red sphere under a clear coat (KHR_materials_clearcoat), a blue
+#   velvet sphere (KHR_materials_sheen) and an amber glass sphere (transmission with
+#   KHR_materials_volume's attenuation) on a grey floor, a sun; rendered under courtyard.exr.
 # Lights are in the photometric units Blender's exporter writes (lx = W/m²·683, cd = W·683/4π).
 import json
 import math
@@ -259,5 +262,35 @@ def textured_spot():
     g.write("textured_spot.gltf")
 
 
+def coat_sheen_volume():
+    g = Gltf()
+    g.node({"name": "floor", "mesh": g.mesh("floor", floor(), g.material(pbr("grey floor", (0.45, 0.45, 0.45), 0, 0.8)))})
+    sph = sphere(48, 24)
+    g.use("KHR_materials_clearcoat")
+    coat = pbr("red under clear coat", (0.55, 0.04, 0.03), 0.0, 0.7, extensions={
+        "KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": 0.05}})
+    g.node({"name": "coated sphere", "mesh": g.mesh("coated sphere", sph, g.material(coat)), "translation": [-2.0, 0.8, 0.0],
+            "scale": [0.8, 0.8, 0.8]})
+    g.use("KHR_materials_sheen")
+    cloth = pbr("blue velvet", (0.03, 0.04, 0.16), 0.0, 0.9, extensions={
+        "KHR_materials_sheen": {"sheenColorFactor": [0.9, 0.75, 0.5], "sheenRoughnessFactor": 0.45}})
+    g.node({"name": "velvet sphere", "mesh": g.mesh("velvet sphere", sph, g.material(cloth)), "translation": [0.0, 0.8, -0.4],
+            "scale": [0.8, 0.8, 0.8]})
+    g.use("KHR_materials_transmission")
+    g.use("KHR_materials_ior")
+    g.use("KHR_materials_volume")
+    amber = pbr("amber glass volume", (1, 1, 1), 0.0, 0.0, extensions={
+        "KHR_materials_transmission": {"transmissionFactor": 1.0}, "KHR_materials_ior": {"ior": 1.5},
+        "KHR_materials_volume": {"thicknessFactor": 1.0, "attenuationColor": [0.9, 0.45, 0.12], "attenuationDistance": 0.8}})
+    g.node({"name": "amber sphere", "mesh": g.mesh("amber sphere", sph, g.material(amber)), "translation": [2.0, 0.75, 0.3],
+            "scale": [0.75, 0.75, 0.75]})
+    g.light({"type": "directional", "name": "sun", "color": [1, 0.97, 0.92], "intensity": 2.5 * 683.0},
+            {"name": "sun", "rotation": look_at((0, 0, 0), (-0.6, -1.0, -0.5))})
+    eye = (0.0, 2.4, 7.0)
+    g.camera(30, 16 / 9, {"name": "camera", "translation": list(eye), "rotation": look_at(eye, (0.0, 0.7, 0))})
+    g.write("coat_sheen_volume.gltf")
+
+
 metals_glass()
 textured_spot()
+coat_sheen_volume()
