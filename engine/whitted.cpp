@@ -193,15 +193,8 @@ Color WhittedTracer::traceHit(const Ray& r, const Hit& hit, int depth, const Col
         if (maxComponent(w) > settings_.minWeight) {
             Vec3 dir = reflect(r.d, ns);
             if (glm::dot(dir, ng) <= 0.f) dir = reflect(r.d, ng);  // below the surface: use ng
-            const uint32_t skip = scene_.skipFor(si, dir);
-            Ray rr;
-            rr.o = spawnOrigin(si.p, si, ng, dir, skip);
-            rr.d = dir;
-            rr.coneWidth = si.coneWidth;
-            rr.coneSpread = si.coneSpread;
-            ++stats.reflection;
             float t = kInf;
-            const Color back = trace(rr, depth + 1, w, stats, childSeed(seed, 1), skip, &t);
+            const Color back = traceReflection(si, ng, dir, depth, w, stats, childSeed(seed, 1), &t);
             // Reflected inside a volume (leaving it, or totally reflected): the way back crosses it.
             c += kr * (entering ? back : back * volumeTransmittance(si, t));
         }

@@ -45,6 +45,10 @@ private:
     Color primaryLi(const Ray& r, bool met, const Hit& h, uint64_t seed, RayStats& stats, float* coverage) const;
     /// trace() once the ray's closest hit is known.
     Color traceHit(const Ray& r, const Hit& hit, int depth, const Color& weight, RayStats& stats, uint64_t seed) const;
+    /// The mirror ray from si along dir (on the side of ng it leaves to), traced at depth + 1
+    /// and counted as a reflection ray; tHit as trace()'s.
+    Color traceReflection(const SurfaceInteraction& si, const Vec3& ng, const Vec3& dir, int depth, const Color& weight,
+                          RayStats& stats, uint64_t seed, float* tHit = nullptr) const;
     /// The glTF material model (whitted_gltf.cpp): the metallic-roughness BRDF under the lights,
     /// the environment and, for smooth surfaces, the traced mirror ray. depth: of the ray that hit.
     Color shadeGltf(const SurfaceInteraction& si, const Vec3& d, int depth, const Color& weight, RayStats& stats,

@@ -30,6 +30,18 @@ Color WhittedTracer::primaryMiss(const Vec3& d) const {
     return scene_.environment && scene_.environmentBackground ? scene_.environment->radiance(d) : scene_.background;
 }
 
+Color WhittedTracer::traceReflection(const SurfaceInteraction& si, const Vec3& ng, const Vec3& dir, int depth,
+                                     const Color& weight, RayStats& stats, uint64_t seed, float* tHit) const {
+    const uint32_t skip = scene_.skipFor(si, dir);
+    Ray rr;
+    rr.o = spawnOrigin(si.p, si, ng, dir, skip);
+    rr.d = dir;
+    rr.coneWidth = si.coneWidth;
+    rr.coneSpread = si.coneSpread;
+    ++stats.reflection;
+    return trace(rr, depth + 1, weight, stats, seed, skip, tHit);
+}
+
 Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int depth, const Color& weight,
                                RayStats& stats, uint64_t seed) const {
     const Vec3 V = -d;
@@ -90,14 +102,7 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
                                     : std::clamp(1.f - s.roughness / kTracedRoughness, 0.f, 1.f);
         const Color w = share > 0.f ? weight * share * s.occlusion * pbr::specularAlbedo(s, splitSum()) : Color(0.f);
         if (maxComponent(w) > settings_.minWeight) {
-            const uint32_t skip = scene_.skipFor(si, R);
-            Ray rr;
-            rr.o = spawnOrigin(si.p, si, frame.ng, R, skip);
-            rr.d = R;
-            rr.coneWidth = si.coneWidth;
-            rr.coneSpread = si.coneSpread;
-            ++stats.reflection;
-            specular = share * trace(rr, depth + 1, w, stats, childSeed(seed, 3), skip);
+            specular = share * traceReflection(si, frame.ng, R, depth, w, stats, childSeed(seed, 3));
             traced = share;
         }
     }
@@ -132,16 +137,8 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
             if (share > 0.f) {
                 const Vec2 ab = pbr::specularScaleBias(ncv, s.clearcoatRoughness);
                 const Color w = weight * (share * s.occlusion * s.clearcoat * (0.04f * ab.x + ab.y));
-                if (maxComponent(w) > settings_.minWeight) {
-                    const uint32_t skip = scene_.skipFor(si, Rc);
-                    Ray rr;
-                    rr.o = spawnOrigin(si.p, si, frame.ng, Rc, skip);
-                    rr.d = Rc;
-                    rr.coneWidth = si.coneWidth;
-                    rr.coneSpread = si.coneSpread;
-                    ++stats.reflection;
-                    coat = share * trace(rr, depth + 1, w, stats, childSeed(seed, 4), skip) + (1.f - share) * coat;
-                }
+                if (maxComponent(w) > settings_.minWeight)
+                    coat = share * traceReflection(si, frame.ng, Rc, depth, w, stats, childSeed(seed, 4)) + (1.f - share) * coat;
             }
             base = pbr::clearcoatEnvironment(s, ncv, base, coat);
         }

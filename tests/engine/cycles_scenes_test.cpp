@@ -27,6 +27,17 @@ struct Expectation {
     double minSsim, minPsnr;
 };
 
+/// What a fair `rayfarm still --exposure 0 --tonemap clamp` at the reference's size renders with.
+RenderSettings referenceSettings(const Scene& scene, int w, int h) {
+    RenderSettings s = scene.settings;
+    s.width = w;
+    s.height = h;
+    s.toneMap = ToneMap::Clamp;
+    s.exposure = 0.f;
+    s.autoExposure = false;
+    return s;
+}
+
 ImageErrorMetrics scoreAgainstCycles(const std::string& name, const std::string& environment, Expectation want) {
     SceneOptions options;
     if (!environment.empty())
@@ -37,12 +48,7 @@ ImageErrorMetrics scoreAgainstCycles(const std::string& name, const std::string&
     useGltfCamera(scene, 0);
     int w = 0, h = 0;
     const std::vector<uint8_t> ref = readImageRgb8(kDir + name + ".cycles.png", w, h);
-    RenderSettings s = scene.settings;
-    s.width = w;
-    s.height = h;
-    s.toneMap = ToneMap::Clamp;
-    s.exposure = 0.f;
-    s.autoExposure = false;
+    const RenderSettings s = referenceSettings(scene, w, h);
     RayStats rays;
     const std::vector<uint8_t> ours = toRgb8(renderFrame(scene, scene.camera, s, 0, 0, rays), s);
     const ImageErrorMetrics e = compareRgb8(ours, ref, w, h);
@@ -114,12 +120,7 @@ TEST(CyclesScenes, ClearcoatSheenAndVolumeMatchCyclesOnEachSphere) {
         for (const char* ext : {"clearcoat", "sheen", "volume"}) EXPECT_EQ(n.find(ext), std::string::npos) << n;
     int w = 0, h = 0;
     const std::vector<uint8_t> ref = readImageRgb8(kDir + "coat_sheen_volume.cycles.png", w, h);
-    RenderSettings s = scene.settings;
-    s.width = w;
-    s.height = h;
-    s.toneMap = ToneMap::Clamp;
-    s.exposure = 0.f;
-    s.autoExposure = false;
+    const RenderSettings s = referenceSettings(scene, w, h);
     RayStats rays;
     const std::vector<uint8_t> ours = toRgb8(renderFrame(scene, scene.camera, s, 0, 0, rays), s);
     // The control: the same spheres without their coat, sheen and volume must score worse, and

@@ -60,6 +60,16 @@ Material clearVolume(const Color& sigma, float thickness) {
     return m;
 }
 
+/// The centre pixel of a 9×9 render of the scene's camera, unpruned, 8 deep.
+Color centrePixel(Scene& s) {
+    s.build();
+    RenderSettings rs = test::smallSettings(9, 9, 1, 8);
+    rs.minWeight = 0.f;
+    const Image img = test::render(s, rs);
+    const float* p = img.pixel(4, 4);
+    return Color(p[0], p[1], p[2]);
+}
+
 /// A slab of clear volume (material 1), x and z in [−1, 1], y in [0, height], over a uniform
 /// white sky, seen straight down through an orthographic camera: every pixel's ray crosses it
 /// vertically. Returns the centre pixel.
@@ -73,12 +83,7 @@ Color throughSlab(float height, const Color& sigma, float thickness = 1.f) {
     s.camera.up = Vec3(0.f, 0.f, -1.f);
     s.camera.orthographic = true;
     s.camera.orthoHalf = 0.5f;
-    s.build();
-    RenderSettings rs = test::smallSettings(9, 9, 1, 8);
-    rs.minWeight = 0.f;
-    const Image img = test::render(s, rs);
-    const float* p = img.pixel(4, 4);
-    return Color(p[0], p[1], p[2]);
+    return centrePixel(s);
 }
 
 }  // namespace
@@ -271,12 +276,7 @@ TEST(Volume, ShadowRaysThroughAVolumeKeepExpMinusSigmaTimesTheWayInside) {
         s.camera.eye = Vec3(0.f, 0.5f, 6.f);
         s.camera.target = Vec3(0.f, 0.f, 0.f);
         s.camera.fovDeg = 10.f;
-        s.build();
-        RenderSettings rs = test::smallSettings(9, 9, 1, 8);
-        rs.minWeight = 0.f;
-        const Image img = test::render(s, rs);
-        const float* p = img.pixel(4, 4);
-        return Color(p[0], p[1], p[2]);
+        return centrePixel(s);
     };
     const Color sigma(0.3f, 0.1f, 0.f);
     const Color lit = floorUnder(Color(0.f)), dim = floorUnder(sigma);
