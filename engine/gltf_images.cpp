@@ -3,6 +3,9 @@
 #include <csetjmp>
 #include <cstring>
 
+#include <cstdio>
+
+#include <jpeglib.h>
 #include <png.h>
 #include <stb_image.h>
 #include <webp/decode.h>
@@ -157,7 +160,81 @@ std::optional<Rgba8Image> decodeWebP(const unsigned char* bytes, size_t size, in
     return out;
 }
 
-/// stb (JPEG, BMP, GIF, interlaced PNG): the whole image, then box-filtered if it is too large.
+struct JpegError {
+    jpeg_error_mgr mgr;
+    std::jmp_buf jump;
+    char message[JMSG_LENGTH_MAX];
+};
+
+void jpegErrorExit(j_common_ptr c) {
+    auto* e = reinterpret_cast<JpegError*>(c->err);
+    (*c->err->format_message)(c, e->message);
+    std::longjmp(e->jump, 1);
+}
+
+void jpegSilent(j_common_ptr, int) {}
+
+/// What libjpeg may allocate for one image: a baseline JPEG needs a few rows of blocks, so only
+/// a progressive one of ~16k² (its coefficients, 2 bytes each, all kept) comes near.
+constexpr long kJpegMemory = 512l << 20;
+
+/// libjpeg-turbo, scaled in the DCT by the largest of 1/2, 1/4, 1/8 the downsampling allows,
+/// scanline by scanline into a BoxShrinker for the rest: a huge JPEG never costs its full
+/// texels, and a reduced-size IDCT is cheaper than decoding them. As decodePng, every C++ object
+/// lives outside the setjmp region.
+std::optional<Rgba8Image> decodeJpeg(const unsigned char* bytes, size_t size, int maxSide, std::string& why) {
+    jpeg_decompress_struct cinfo;
+    JpegError err;
+    std::vector<uint8_t> rgb, rgba;
+    std::optional<BoxShrinker> shrink;
+    cinfo.err = jpeg_std_error(&err.mgr);
+    err.mgr.error_exit = &jpegErrorExit;
+    err.mgr.emit_message = &jpegSilent;
+    err.message[0] = 0;
+    if (setjmp(err.jump)) {
+        jpeg_destroy_decompress(&cinfo);
+        why = err.message[0] ? err.message : "JPEG decode failed";
+        return std::nullopt;
+    }
+    jpeg_create_decompress(&cinfo);
+    cinfo.mem->max_memory_to_use = kJpegMemory;
+    jpeg_mem_src(&cinfo, bytes, static_cast<unsigned long>(size));
+    jpeg_read_header(&cinfo, TRUE);
+    const int w = int(cinfo.image_width), h = int(cinfo.image_height);
+    const int k = downsampleFactor(w, h, maxSide);
+    cinfo.scale_num = 1;
+    cinfo.scale_denom = k >= 8 ? 8 : k >= 4 ? 4 : k >= 2 ? 2 : 1;
+    cinfo.out_color_space = JCS_RGB;  // greyscale and YCbCr alike; CMYK is refused by libjpeg here
+    jpeg_calc_output_dimensions(&cinfo);
+    const int sw = int(cinfo.output_width), sh = int(cinfo.output_height);
+    rgb.resize(size_t(sw) * 3);
+    rgba.resize(size_t(sw) * 4);
+    shrink.emplace(sw, sh, downsampleFactor(sw, sh, maxSide));
+    jpeg_start_decompress(&cinfo);
+    for (int y = 0; y < sh; ++y) {
+        JSAMPROW row = rgb.data();
+        if (jpeg_read_scanlines(&cinfo, &row, 1) != 1) {
+            std::snprintf(err.message, sizeof err.message, "JPEG data ends at row %d of %d", y, sh);
+            std::longjmp(err.jump, 1);
+        }
+        for (int x = 0; x < sw; ++x) {
+            std::memcpy(&rgba[size_t(x) * 4], &rgb[size_t(x) * 3], 3);
+            rgba[size_t(x) * 4 + 3] = 255;
+        }
+        shrink->addRow(y, rgba.data());
+    }
+    jpeg_finish_decompress(&cinfo);
+    jpeg_destroy_decompress(&cinfo);
+    Rgba8Image out = shrink->take();
+    out.factor = cinfo.scale_denom * out.factor;
+    return out;
+}
+
+/// BMP and GIF have no scaled or row-by-row decoder here: stb decodes them whole, so beyond this
+/// many pixels (256 MB of RGBA) they are refused from their header rather than decoded.
+constexpr uint64_t kMaxWholeDecodePixels = uint64_t(8192) * 8192;
+
+/// stb (BMP, GIF, interlaced PNG): the whole image, then box-filtered if it is too large.
 std::optional<Rgba8Image> decodeStb(const unsigned char* bytes, size_t size, int maxSide, std::string& why) {
     int w = 0, h = 0, comp = 0;
     unsigned char* px = stbi_load_from_memory(bytes, int(size), &w, &h, &comp, 4);
@@ -284,7 +361,13 @@ std::optional<Rgba8Image> decodeImage(const unsigned char* bytes, size_t size, i
         if (auto img = decodePng(bytes, size, maxSide, why)) return img;
         if (!why.empty()) return std::nullopt;  // else interlaced: stb below
     }
+    if (h.format == ImageFormat::Jpeg) return decodeJpeg(bytes, size, maxSide, why);
     if (size > size_t(INT32_MAX)) return why = "image over 2 GB", std::nullopt;
+    if (uint64_t(h.width) * uint64_t(h.height) > kMaxWholeDecodePixels) {
+        why = std::string(formatName(h.format)) + " of " + std::to_string(h.width) + "x" + std::to_string(h.height) +
+              " is decoded whole and is too large for that (at most 8192x8192; PNG, JPEG and WebP are downsampled as they decode)";
+        return std::nullopt;
+    }
     return decodeStb(bytes, size, maxSide, why);
 }
 

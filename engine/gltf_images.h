@@ -1,9 +1,11 @@
 #pragma once
 /// glTF images as bytes become pixels: data URIs by their MIME type, formats told by their
-/// magic bytes (PNG, JPEG, BMP, GIF through stb; WebP through libwebp; KTX2 recognised and
-/// refused, Debian having no Basis decoder), sizes read from the header before anything is
-/// decoded, and images over a side limit decoded straight to a smaller size (PNG row by row,
-/// WebP by its own scaler) so a small file that declares a huge image never costs its texels.
+/// magic bytes (PNG through libpng, JPEG through libjpeg-turbo, WebP through libwebp, BMP and
+/// GIF through stb; KTX2 recognised and refused, Debian having no Basis decoder), sizes read
+/// from the header before anything is decoded, and images over a side limit decoded straight to
+/// a smaller size (PNG row by row, JPEG scaled in the DCT and row by row, WebP by its own
+/// scaler) so a small file that declares a huge image never costs its texels. BMP and GIF are
+/// decoded whole, so those over 8192² pixels are refused.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -42,8 +44,9 @@ struct Rgba8Image {
     std::vector<uint8_t> pixels;  ///< RGBA, 8 bits each, row 0 at the top
 };
 
-/// Decodes to RGBA8, box-filtered down by downsampleFactor(w, h, maxSide) on the way so the full
-/// image is never held for PNG and WebP; nullopt with why when it cannot be decoded.
+/// Decodes to RGBA8, within maxSide on both sides (box-filtered down by downsampleFactor on the
+/// way, JPEG first by its DCT scaling), so the full image is never held for PNG, JPEG and WebP;
+/// nullopt with why when it cannot be decoded.
 std::optional<Rgba8Image> decodeImage(const unsigned char* bytes, size_t size, int maxSide, std::string& why);
 
 }  // namespace rf::gltf

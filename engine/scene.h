@@ -45,9 +45,9 @@ public:
     std::vector<Sphere> spheres;
     std::vector<Plane> planes;
     std::vector<TriangleMesh> meshes;
-    std::vector<Texture> textures;
+    TextureSet textures;  ///< shared by copies of the scene (texture.h)
     std::vector<SceneGraph> models;
-    std::vector<Camera> gltfCameras;  ///< perspective cameras of glTF models, selectable as the render camera
+    std::vector<Camera> gltfCameras;  ///< glTF models' cameras in node order, selectable as the render camera
     /// Beside each of gltfCameras: its file, and why it cannot be used ("" if it can), said
     /// when it is chosen.
     std::vector<std::pair<std::string, std::string>> gltfCameraFaults;

@@ -9,6 +9,7 @@ packages=(
   libopenexr-dev                                              # engine/: .exr environments (DWAB)
   libpng-dev                                                  # engine/: glTF PNGs read row by row, downsampled on load (a huge declared size never costs its texels)
   libwebp-dev                                                 # engine/: EXT_texture_webp (and data:image/webp); tests encode WebP with it (no cwebp)
+  libjpeg-dev                                                 # engine/: glTF JPEGs scaled in the DCT and read by scanline (a huge JPEG never costs its full texels)
   libdraco-dev                                                # engine/: KHR_draco_mesh_compression
   libmeshoptimizer-dev                                        # engine/: EXT_meshopt_compression decoders (and filters)
   gltfpack                                                    # tests: meshopt and quantized copies of the project's models

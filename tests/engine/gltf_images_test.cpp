@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <stb_image.h>
+#include <stb_image_write.h>
 #include <webp/encode.h>
 
 #include "engine_test_util.h"
@@ -206,4 +207,63 @@ TEST(GltfImages, WebPDataUriIsReadFromItsBytesNeverAsAPath) {
     EXPECT_TRUE(identical(plain, png));
     const json viaExtension = {{"sampler", 0}, {"extensions", {{"EXT_texture_webp", {{"source", 0}}}}}};
     EXPECT_TRUE(identical(renderModel(boxWith(dir, {{{"uri", webpUri}}}, viaExtension, {"EXT_texture_webp"})), png));
+}
+
+TEST(GltfImages, LargeJpegsAreScaledAsTheyDecode) {
+    // A 1200x800 JPEG (left half red, right half blue, a 16-pixel black grid) under
+    // --max-texture-size 128: libjpeg-turbo decodes it at 1/8 (150x100) in the DCT, then the box
+    // filter halves it (75x50). The halves keep their colours; nothing decodes 1200x800.
+    const int w = 1200, h = 800;
+    std::vector<uint8_t> px(size_t(w) * h * 3);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            uint8_t* p = &px[(size_t(y) * w + x) * 3];
+            const bool line = x % 16 == 0 || y % 16 == 0;
+            p[0] = line ? 0 : x < w / 2 ? 220 : 20;
+            p[1] = line ? 0 : 30;
+            p[2] = line ? 0 : x < w / 2 ? 20 : 220;
+        }
+    std::string jpeg;
+    stbi_write_jpg_to_func([](void* ctx, void* data, int n) { static_cast<std::string*>(ctx)->append(static_cast<char*>(data), size_t(n)); },
+                           &jpeg, w, h, 3, px.data(), 95);
+    const auto* bytes = reinterpret_cast<const unsigned char*>(jpeg.data());
+    std::string why;
+    const std::optional<gltf::Rgba8Image> img = gltf::decodeImage(bytes, jpeg.size(), 128, why);
+    ASSERT_TRUE(img) << why;
+    EXPECT_EQ(img->width, 75);
+    EXPECT_EQ(img->height, 50);
+    EXPECT_EQ(img->factor, 16);
+    auto at = [&](int x, int y, int c) { return int(img->pixels[(size_t(y) * img->width + x) * 4 + c]); };
+    // Each output texel averages a 16x16 cell: its one black row and column darken it by 31/256.
+    EXPECT_NEAR(at(10, 25, 0), 220 * 225 / 256, 12);
+    EXPECT_NEAR(at(10, 25, 2), 20 * 225 / 256, 12);
+    EXPECT_NEAR(at(60, 25, 2), 220 * 225 / 256, 12);
+    EXPECT_EQ(at(60, 25, 3), 255);
+    // Within the limit, the whole image at full size, as stb decodes it (to JPEG's rounding).
+    const std::optional<gltf::Rgba8Image> full = gltf::decodeImage(bytes, jpeg.size(), 8192, why);
+    ASSERT_TRUE(full) << why;
+    EXPECT_EQ(full->width, w);
+    EXPECT_EQ(full->height, h);
+    int sw = 0, sh = 0, sc = 0;
+    unsigned char* ref = stbi_load_from_memory(bytes, int(jpeg.size()), &sw, &sh, &sc, 4);
+    ASSERT_NE(ref, nullptr);
+    int worst = 0;
+    for (size_t i = 0; i < size_t(w) * h * 4; ++i) worst = std::max(worst, std::abs(int(ref[i]) - int(full->pixels[i])));
+    stbi_image_free(ref);
+    EXPECT_LE(worst, 8) << "libjpeg-turbo and stb disagree beyond IDCT rounding";
+    // A truncated JPEG is refused with libjpeg's reason, not a crash.
+    const std::optional<gltf::Rgba8Image> cut = gltf::decodeImage(bytes, 200, 128, why);
+    EXPECT_FALSE(cut);
+    EXPECT_FALSE(why.empty());
+}
+
+TEST(GltfImages, HugeBmpsAndGifsAreRefusedFromTheirHeader) {
+    // stb decodes BMP whole: one that declares 9000x9000 is refused before any decoding.
+    std::string bmp = "BM";
+    put<uint32_t>(bmp, {uint32_t(54), 0u, 54u, 40u, 9000u, 9000u});
+    put<uint16_t>(bmp, {1, 24});
+    put<uint32_t>(bmp, {0u, 0u, 0u, 0u, 0u, 0u});
+    std::string why;
+    EXPECT_FALSE(gltf::decodeImage(reinterpret_cast<const unsigned char*>(bmp.data()), bmp.size(), 8192, why));
+    EXPECT_NE(why.find("BMP of 9000x9000 is decoded whole and is too large"), std::string::npos) << why;
 }

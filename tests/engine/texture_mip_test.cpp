@@ -27,8 +27,9 @@ Scene checkerFloor(float repeat, bool mips) {
     TriangleMesh m = test::gridMesh(4, 1.f, 0);
     for (const Vec3& p : m.positions) m.uvs.emplace_back(repeat * (p.x + 1.f) / 2.f, repeat * (p.z + 1.f) / 2.f);
     s.meshes.push_back(m);
-    s.textures.push_back(checker(8));
-    if (!mips) s.textures[0].mips.clear();
+    Texture t = checker(8);
+    if (!mips) t.mips.clear();
+    s.textures.push_back(std::move(t));
     Material& mat = s.materials[0] = test::matte(Color(1.f), 1.f, 0.f);
     mat.baseColorTexture = 0;
     s.ambientLight = Color(1.f);
@@ -117,6 +118,21 @@ TEST(TextureMips, ANearCheckerStaysSharp) {
         }
     EXPECT_LT(lo, 0.1f);
     EXPECT_GT(hi, 0.9f);
+}
+
+TEST(TextureSet, CopiesOfASceneShareTheirTexturesUntilOneAddsAnother) {
+    // The auto-exposure probe copies the scene: the texels must not be copied with it.
+    Scene a = test::emptyScene();
+    a.textures.push_back(checker(8));
+    const Scene b = a;
+    EXPECT_TRUE(a.textures.sharedWith(b.textures));
+    EXPECT_EQ(&a.textures[0], &b.textures[0]);
+    // Adding to one copy leaves the other as it was.
+    a.textures.push_back(checker(4));
+    EXPECT_FALSE(a.textures.sharedWith(b.textures));
+    EXPECT_EQ(a.textures.size(), 2u);
+    EXPECT_EQ(b.textures.size(), 1u);
+    EXPECT_EQ(b.textures[0].width, 8);
 }
 
 }  // namespace rf

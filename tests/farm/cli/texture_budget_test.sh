@@ -1,9 +1,8 @@
 #!/usr/bin/env bash
 # Issue 29: the texture budget, end to end. A small PNG that declares 16384x16384 (grey, all
 # zero: about a quarter of a megabyte) on BoxTextured renders with it downsampled to 8192 (a note
-# says so) within 2 GB of peak memory (/usr/bin/time's maximum resident set) at --exposure 0 (auto
-# exposure meters on a copy of the scene, textures included: that costs the texels twice, see
-# docs/cli.md#texture-memory); --max-texture-size
+# says so) within 2 GB of peak memory (/usr/bin/time's maximum resident set), at the default
+# --exposure auto as well (the meter's copy of the scene shares its textures); --max-texture-size
 # shrinks it further; report --reference refuses such an image from its header, in one line.
 # Prints the figures. Usage: texture_budget_test.sh RAYFARM WORK_DIR
 set -euo pipefail
@@ -27,6 +26,14 @@ read -r kb secs <time.txt
 grep -q 'images\[0\] "bomb.png": 16384x16384 downsampled to 8192x8192 on load' err.txt || fail "no downsampling note: $(cat err.txt)"
 [ "$kb" -lt 2000000 ] || fail "peak memory $kb KB, over 2 GB"
 echo "texture_budget: ${bytes}-byte PNG declaring 16384x16384: still in ${secs} s, peak ${kb} KB (limit 2000000)"
+
+# 1b. The same at the default --exposure auto: the meter's probe scene shares the textures.
+/usr/bin/time -f '%M %e' -o time.txt "$RAYFARM" still bomb.gltf -o bomb_auto.png --size 64x48 --spp 1 2>err.txt \
+    || fail "still (auto exposure) failed: $(cat err.txt)"
+read -r kba secsa <time.txt
+grep -q 'auto exposure' err.txt || fail "no auto exposure line: $(cat err.txt)"
+[ "$kba" -lt 2000000 ] || fail "peak memory at --exposure auto $kba KB, over 2 GB"
+echo "texture_budget: the same at --exposure auto: ${secsa} s, peak ${kba} KB (limit 2000000)"
 
 # 2. --max-texture-size 1024: a smaller texture, a smaller peak.
 /usr/bin/time -f '%M %e' -o time.txt "$RAYFARM" still bomb.gltf -o small.png --size 64x48 --spp 1 --exposure 0 --max-texture-size 1024 2>err.txt \
