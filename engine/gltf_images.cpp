@@ -47,8 +47,13 @@ public:
         acc_.assign(size_t(out_.width) * 4, 0);
     }
     void addRow(int y, const uint8_t* row) {
-        for (int x = 0; x < w_; ++x)
-            for (int c = 0; c < 4; ++c) acc_[size_t(x / k_) * 4 + c] += row[size_t(x) * 4 + c];
+        // Column block by column block: no division per sample (a 16384² image is a billion).
+        for (int ox = 0, x = 0; ox < out_.width; ++ox) {
+            uint32_t sum[4] = {0, 0, 0, 0};
+            for (const int end = std::min(w_, x + k_); x < end; ++x)
+                for (int c = 0; c < 4; ++c) sum[c] += row[size_t(x) * 4 + c];
+            for (int c = 0; c < 4; ++c) acc_[size_t(ox) * 4 + c] += sum[c];
+        }
         if ((y + 1) % k_ != 0 && y != h_ - 1) return;
         const uint32_t rows = uint32_t(y % k_ + 1);
         uint8_t* dst = out_.pixels.data() + size_t(y / k_) * out_.width * 4;

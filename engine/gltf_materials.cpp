@@ -386,14 +386,17 @@ std::optional<Texture> MaterialBuilder::decodeImage(int image, bool srgb, const 
     Texture t;
     t.width = px->width;
     t.height = px->height;
-    t.texels.resize(size_t(t.width) * t.height);
     // Base colour is sRGB-encoded; normal maps are linear data. Alpha is always linear.
     float lut[256];
     for (int i = 0; i < 256; ++i) lut[i] = srgb ? srgbDecode(i / 255.f) : i / 255.f;
     const uint8_t* p = px->pixels.data();
-    for (size_t i = 0; i < t.texels.size(); ++i) {
+    // Appended, not resized and overwritten: zeroing an 8192² float texture first cost more
+    // than decoding the image.
+    const size_t n = size_t(t.width) * t.height;
+    t.texels.reserve(n);
+    for (size_t i = 0; i < n; ++i) {
         if (i % (1 << 20) == 0) pollLoadCancel();
-        t.texels[i] = Vec4(lut[p[4 * i]], lut[p[4 * i + 1]], lut[p[4 * i + 2]], p[4 * i + 3] / 255.f);
+        t.texels.emplace_back(lut[p[4 * i]], lut[p[4 * i + 1]], lut[p[4 * i + 2]], p[4 * i + 3] / 255.f);
     }
     return t;
 }

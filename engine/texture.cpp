@@ -44,7 +44,7 @@ TextureLevel halve(const Vec4* src, int w, int h) {
     TextureLevel out;
     out.width = std::max(1, (w + 1) / 2);
     out.height = std::max(1, (h + 1) / 2);
-    out.texels.resize(size_t(out.width) * out.height);
+    out.texels.reserve(size_t(out.width) * out.height);  // appended in order: no zeroing first
     for (int y = 0; y < out.height; ++y) {
         if (y % 256 == 0) pollLoadCancel();  // only loads make mip-maps
         for (int x = 0; x < out.width; ++x) {
@@ -57,7 +57,7 @@ TextureLevel halve(const Vec4* src, int w, int h) {
                     sum += src[size_t(sy) * w + sx];
                     ++n;
                 }
-            out.texels[size_t(y) * out.width + x] = sum / float(n);
+            out.texels.push_back(sum / float(n));
         }
     }
     return out;
