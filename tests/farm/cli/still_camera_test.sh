@@ -6,6 +6,7 @@ set -u
 rayfarm=$1 out=$2
 model=/usr/share/assimp/models/glTF2/cameras/Cameras.gltf
 mkdir -p "$out"
+rm -f "$out"/*.png  # a previous run's pictures must not pass for this one's
 fail() { echo "FAIL: $*"; exit 1; }
 [ -f "$model" ] || fail "$model missing (package assimp-testmodels)"
 
