@@ -105,8 +105,12 @@ double errorQuantileRgb8(const std::vector<uint8_t>& a, const std::vector<uint8_
     return 1.0;
 }
 
-double ssimRgb8(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b, int width, int height) {
-    checkSizes(a, b, width, height);
+namespace {
+
+/// The SSIM of every window that fits inside the image ("valid"), row by row: (w − k + 1) ×
+/// (h − k + 1) values for the window side k; the window at (x, y) is centred on pixel
+/// (x + k/2, y + k/2).
+std::vector<double> ssimMap(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b, int width, int height, int& k) {
     const size_t n = size_t(width) * height;
     const std::vector<double> x = luma(a, n), y = luma(b, n);
     std::vector<double> xx(n), yy(n), xy(n);
@@ -115,19 +119,47 @@ double ssimRgb8(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b, in
         yy[i] = y[i] * y[i];
         xy[i] = x[i] * y[i];
     }
-    const int k = std::min({11, width, height});
+    k = std::min({11, width, height});
     const std::vector<double> taps = gaussianTaps(k, 1.5);
     const std::vector<double> mx = filterValid(x, width, height, taps), my = filterValid(y, width, height, taps);
     const std::vector<double> sxx = filterValid(xx, width, height, taps), syy = filterValid(yy, width, height, taps);
     const std::vector<double> sxy = filterValid(xy, width, height, taps);
     const double c1 = (0.01 * 1.0) * (0.01 * 1.0), c2 = (0.03 * 1.0) * (0.03 * 1.0);
-    double sum = 0.0;
+    std::vector<double> out(mx.size());
     for (size_t i = 0; i < mx.size(); ++i) {
         const double vx = sxx[i] - mx[i] * mx[i], vy = syy[i] - my[i] * my[i], cxy = sxy[i] - mx[i] * my[i];
-        sum += ((2.0 * mx[i] * my[i] + c1) * (2.0 * cxy + c2)) /
-               ((mx[i] * mx[i] + my[i] * my[i] + c1) * (vx + vy + c2));
+        out[i] = ((2.0 * mx[i] * my[i] + c1) * (2.0 * cxy + c2)) / ((mx[i] * mx[i] + my[i] * my[i] + c1) * (vx + vy + c2));
     }
-    return sum / double(mx.size());
+    return out;
+}
+
+}  // namespace
+
+double ssimRgb8(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b, int width, int height) {
+    checkSizes(a, b, width, height);
+    int k = 0;
+    const std::vector<double> map = ssimMap(a, b, width, height, k);
+    double sum = 0.0;
+    for (double v : map) sum += v;
+    return sum / double(map.size());
+}
+
+double ssimRgb8Masked(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b, int width, int height,
+                      const std::vector<uint8_t>& mask) {
+    checkSizes(a, b, width, height);
+    if (mask.size() != size_t(width) * height) throw std::invalid_argument("ssimRgb8Masked: mask size does not match");
+    int k = 0;
+    const std::vector<double> map = ssimMap(a, b, width, height, k);
+    const int mw = width - k + 1, mh = height - k + 1;
+    double sum = 0.0;
+    size_t used = 0;
+    for (int y = 0; y < mh; ++y)
+        for (int x = 0; x < mw; ++x)
+            if (mask[size_t(y + k / 2) * width + size_t(x + k / 2)]) {
+                sum += map[size_t(y) * mw + x];
+                ++used;
+            }
+    return used ? sum / double(used) : std::nan("");
 }
 
 ImageErrorMetrics compareRgb8(const std::vector<uint8_t>& test, const std::vector<uint8_t>& reference, int width,

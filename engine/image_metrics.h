@@ -38,6 +38,12 @@ double errorQuantileRgb8(const std::vector<uint8_t>& a, const std::vector<uint8_
 /// window as large as the smaller side.
 double ssimRgb8(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b, int width, int height);
 
+/// ssimRgb8's windows averaged over those centred on a pixel where mask (one byte a pixel) is
+/// non-zero: SSIM on the pixels a model covers, not on a background that would hide it. NaN when
+/// no window qualifies.
+double ssimRgb8Masked(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b, int width, int height,
+                      const std::vector<uint8_t>& mask);
+
 /// Every metric above at once. Throws std::invalid_argument if the sizes do not match.
 ImageErrorMetrics compareRgb8(const std::vector<uint8_t>& test, const std::vector<uint8_t>& reference, int width,
                               int height);

@@ -169,5 +169,26 @@ TEST(ImageMetrics, FalseColorMarksOnlyDifferingPixels) {
     }
 }
 
+TEST(ImageMetrics, MaskedSsimScoresOnlyTheMaskedWindows) {
+    // 40×40: a gradient in the left half; the right half differs between the two images.
+    const int w = 40, h = 40;
+    std::vector<uint8_t> a(3 * w * h), b;
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            for (int c = 0; c < 3; ++c) a[3 * (y * w + x) + c] = uint8_t(4 * x + 2 * y);
+    b = a;
+    for (int y = 0; y < h; ++y)
+        for (int x = 25; x < w; ++x) b[3 * (y * w + x)] = uint8_t((x * 37 + y * 91) % 256);
+    std::vector<uint8_t> left(w * h, 0), right(w * h, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) (x < 15 ? left : right)[y * w + x] = x < 15 || x >= 30;
+    // Windows centred left of x = 15 reach at most to x = 19: they see identical pixels.
+    EXPECT_DOUBLE_EQ(ssimRgb8Masked(a, b, w, h, left), 1.0);
+    EXPECT_LT(ssimRgb8Masked(a, b, w, h, right), 0.9);
+    EXPECT_LT(ssimRgb8(a, b, w, h), 1.0);
+    EXPECT_TRUE(std::isnan(ssimRgb8Masked(a, b, w, h, std::vector<uint8_t>(w * h, 0))));
+    EXPECT_THROW(ssimRgb8Masked(a, b, w, h, std::vector<uint8_t>(3, 1)), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace rf

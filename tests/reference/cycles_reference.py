@@ -14,7 +14,8 @@
 #   mapped as Blender maps an equirectangular image (the orientation rayfarm follows);
 # - Standard view transform (sRGB, clamped, no look, exposure 0), Cycles on the CPU at a fixed
 #   number of samples (no adaptive sampling, no denoising, fixed seed), --bounces total bounces;
-# - an 8-bit RGB PNG at --size.
+# - an 8-bit RGB PNG at --size (RGBA with --transparent: alpha is coverage);
+# - --time T: the file's first animation posed at T seconds (skinned characters).
 import argparse
 import json
 import math
@@ -48,6 +49,9 @@ def parse_args():
     p.add_argument("--bounces", type=int, default=8, help="maximum total bounces (default 8)")
     p.add_argument("--threads", type=int, default=0, help="render threads (default: all)")
     p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--time", type=float, help="pose the file's first animation at T seconds (default: as imported)")
+    p.add_argument("--transparent", action="store_true",
+                   help="transparent background: an RGBA PNG whose alpha is the model's coverage")
     a = p.parse_args(argv)
     try:
         w, h = (int(v) for v in a.size.lower().split("x"))
@@ -252,7 +256,7 @@ def set_render(scene, a):
     scene.render.resolution_x = a.width
     scene.render.resolution_y = a.height
     scene.render.resolution_percentage = 100
-    scene.render.film_transparent = False
+    scene.render.film_transparent = a.transparent
     if a.threads > 0:
         scene.render.threads_mode = "FIXED"
         scene.render.threads = a.threads
@@ -264,9 +268,35 @@ def set_render(scene, a):
     vs.gamma = 1.0
     img = scene.render.image_settings
     img.file_format = "PNG"
-    img.color_mode = "RGB"
+    img.color_mode = "RGBA" if a.transparent else "RGB"
     img.color_depth = "8"
     scene.render.filepath = a.out
+
+
+def gltf_times(doc):
+    """The first and last key time of the file's first animation (its samplers' inputs)."""
+    anim = doc["animations"][0]
+    acc = doc["accessors"]
+    lo = min(acc[s["input"]]["min"][0] for s in anim["samplers"])
+    hi = max(acc[s["input"]]["max"][0] for s in anim["samplers"])
+    return lo, hi
+
+
+def pose_at(scene, doc, t):
+    """Sets the scene to glTF time t: the importer puts the first animation's keys on frames, so
+    the frame is read back from where it put the first and last key (no assumption about its
+    frame rate or offset), and set with its fraction as a subframe."""
+    if not doc.get("animations"):
+        raise SystemExit("--time: the file has no animations")
+    actions = [o.animation_data.action for o in scene.objects if o.animation_data and o.animation_data.action]
+    if not actions:
+        raise SystemExit("--time: the importer made no action")
+    f0 = min(a.frame_range[0] for a in actions)
+    f1 = max(a.frame_range[1] for a in actions)
+    t0, t1 = gltf_times(doc)
+    f = f0 + (t - t0) * (f1 - f0) / (t1 - t0) if t1 > t0 else f0
+    scene.frame_set(int(f // 1), subframe=f % 1)
+    print("cycles_reference: glTF time %.4f s is frame %.4f (keys %.3f..%.3f s on frames %.3f..%.3f)" % (t, f, t0, t1, f0, f1))
 
 
 def main():
@@ -279,6 +309,8 @@ def main():
     match_gltf_layers(doc)
     scene.camera = pick_camera(doc, a.camera)
     set_world(scene, a.environment, a.environment_strength)
+    if a.time is not None:
+        pose_at(scene, doc, a.time)
     set_render(scene, a)
     t0 = time.monotonic()
     bpy.ops.render.render(write_still=True)
