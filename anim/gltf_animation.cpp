@@ -85,7 +85,7 @@ std::vector<DMat4> modelFromNode(const SceneGraph& g, const std::vector<DMat4>& 
 
 GltfAnimationPlayer::GltfAnimationPlayer(const SceneGraph& g, int model, int animation, bool loop, double speed,
                                          double offset)
-    : model_(model), loop_(loop), speed_(speed), offset_(offset) {
+    : model_(model), animation_(animation), loop_(loop), speed_(speed), offset_(offset) {
     if (animation < 0 || animation >= static_cast<int>(g.animations.size()))
         throw InputError(g.source, "no animation " + std::to_string(animation) + " (the model has " +
                                        std::to_string(g.animations.size()) + ")");

@@ -43,6 +43,7 @@ public:
                         double offset = 0.0);
 
     int model() const { return model_; }
+    int animation() const { return animation_; }
     double duration() const { return duration_; }
     /// Seconds of timeline time one play of the clip takes (duration / |speed|; 0: no motion).
     double period() const { return speed_ != 0.0 ? duration_ / std::abs(speed_) : 0.0; }
@@ -73,6 +74,7 @@ private:
         KeyTrack track;
     };
     int model_ = 0;
+    int animation_ = 0;
     bool loop_ = true;
     double speed_ = 1.0, offset_ = 0.0;
     double duration_ = 0.0;

@@ -88,6 +88,13 @@ Timeline Timeline::fromScene(const Scene& scene, double fps) {
 
 double Timeline::frameTime(int frame) const { return anim::frameTime(t0_, fps_, frame); }
 
+std::vector<Timeline::Clip> Timeline::clips() const {
+    std::vector<Clip> out;
+    if (spec_)
+        for (const GltfAnimationPlayer& p : spec_->players) out.push_back({p.model(), p.animation(), p.period()});
+    return out;
+}
+
 bool Timeline::animatesGeometry() const { return spec_ && !spec_->players.empty(); }
 
 void Timeline::apply(Scene& scene, double t) const {

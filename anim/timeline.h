@@ -3,6 +3,7 @@
 /// a pure function of the index. Any rank can render any frame with no state carried over.
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "scene.h"
 
@@ -29,6 +30,12 @@ public:
 
     /// True when some model animation plays (meshes move and the BVH is refit per frame).
     bool animatesGeometry() const;
+    /// A model animation the film plays: which, and seconds of film one play of it takes.
+    struct Clip {
+        int model = 0, animation = 0;
+        double period = 0.0;
+    };
+    std::vector<Clip> clips() const;
     /// True when nothing changes from frame to frame.
     bool isStill() const { return !spec_; }
 

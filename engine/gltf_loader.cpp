@@ -12,11 +12,11 @@
 #include "env_lighting.h"
 #include "errors.h"
 #include "gltf_accessors.h"
-#include "gltf_compression.h"
 #include "gltf_geometry.h"
 #include "gltf_lights_cameras.h"
 #include "load_control.h"
 #include "gltf_materials.h"
+#include "gltf_parse.h"
 #include "gltf_safety.h"
 #include "gltf_variants.h"
 #include "render_origin.h"
@@ -27,13 +27,6 @@ namespace rf {
 namespace {
 
 using namespace gltf;
-
-std::string firstLine(const std::string& s) {
-    size_t b = s.find_first_not_of(" \n\r\t");
-    if (b == std::string::npos) return "tinygltf could not parse the file";
-    const size_t e = s.find('\n', b);
-    return s.substr(b, e == std::string::npos ? std::string::npos : e - b);
-}
 
 bool finiteMat(const DMat4& m) {
     for (int c = 0; c < 4; ++c)
@@ -47,40 +40,9 @@ bool finiteMat(const DMat4& m) {
 class GltfModel {
 public:
     GltfModel(const std::string& path, FileSource& fs, const AssetOptions& assets) : path_(path), assets_(assets) {
-        LoadStep parsing("parsing the glTF");
-        const std::string bytes = fs.read(path, Limits::kMaxFileBytes);
-        const PreflightResult pf = preflight(path, bytes);
-        std::string folder = std::filesystem::path(path).parent_path().string();
-        ConfinedFs cfs(fs, folder.empty() ? "." : folder, assetRootFor(path, assets.root));
-        const std::string patched = pf.patchedJson.empty() ? std::string() : pf.patchedFile(bytes);
-        const std::string& input = pf.patchedJson.empty() ? bytes : patched;
-        tinygltf::TinyGLTF loader;
-        loader.SetFsCallbacks(cfs.callbacks());
-        loader.SetImageLoader(&keepEncodedImage, nullptr);
-        std::string err, warn;
-        bool ok = false;
-        try {
-            ok = pf.binary ? loader.LoadBinaryFromMemory(&model_, &err, &warn, reinterpret_cast<const unsigned char*>(input.data()),
-                                                         static_cast<unsigned>(input.size()), cfs.folder())
-                           : loader.LoadASCIIFromString(&model_, &err, &warn, input.data(), static_cast<unsigned>(input.size()),
-                                                        cfs.folder());
-        } catch (const std::exception& e) {
-            throw InputError(path, std::string("glTF parse error: ") + e.what());
-        }
-        if (!cfs.violation().empty())
-            throw InputError(path, "URI \"" + cfs.violation() + "\": " + cfs.violationReason() + "; refused");
-        if (!ok) {
-            // tinygltf says "File not found : NAME"; say which kind of file is missing, and where.
-            std::string msg = firstLine(err);
-            const std::string nf = "File not found : ";
-            if (msg.rfind(nf, 0) == 0) msg = "cannot find \"" + msg.substr(nf.size()) + "\" in the model's folder";
-            throw InputError(path, msg);
-        }
-        if (!warn.empty()) notes_.push_back(firstLine(warn));
-        for (const std::string& n : pf.notes) notes_.push_back(n);
+        model_ = parseGltf(path, fs, assets, notes_);
         pollLoadCancel();
         LoadStep resolving("resolving its node hierarchy");
-        decodeCompressedGeometry(model_, path_, &notes_);  // Draco and meshopt, before any accessor is read
         chooseMaterialVariant();
         resolveHierarchy();
         checkInstancedSize();

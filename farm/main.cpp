@@ -1,4 +1,4 @@
-// rayfarm: one executable, four commands (render, still, report, view).
+// rayfarm: one executable, five commands (render, still, report, view, info).
 #include <csignal>
 #include <cstdio>
 #include <exception>
@@ -28,6 +28,7 @@ const char* kUsage =
     "  still SCENE|MODEL -o out.png    render one frame to a PNG\n"
     "  report SCENE --out DIR          error against run time for the quality settings\n"
     "  view SCENE|MODEL                live window: orbit, key a camera path, save it\n"
+    "  info MODEL [--json]             what a glTF file holds and its default turntable\n"
     "\n"
     "Run 'rayfarm COMMAND --help' for a command's options.\n";
 
@@ -51,6 +52,7 @@ int main(int argc, char** argv) {
         if (cmd == "still") return rf::cli::runStill(args);
         if (cmd == "render") return rf::cli::runRender(args);
         if (cmd == "report") return rf::cli::runReport(args);
+        if (cmd == "info") return rf::cli::runInfo(args);
         if (cmd == "view") {
 #ifdef RAYFARM_HAVE_VIEW
             return rf::cli::runView(args);
@@ -59,7 +61,7 @@ int main(int argc, char** argv) {
             return 2;
 #endif
         }
-        rf::cli::printLine("error", "unknown command \"" + cmd + "\" (expected render, still, report or view)");
+        rf::cli::printLine("error", "unknown command \"" + cmd + "\" (expected render, still, report, view or info)");
         return 2;
     } catch (const rf::InputError& e) {
         rf::cli::printLine("error", e.what());

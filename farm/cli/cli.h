@@ -53,5 +53,7 @@ SceneOptions sceneOptions(const ArgParser& p);
 
 int runStill(const std::vector<std::string>& args);
 int runRender(const std::vector<std::string>& args);
+/// rayfarm info MODEL [--json]: what the file holds and its default turntable.
+int runInfo(const std::vector<std::string>& args);
 
 }  // namespace rf::cli

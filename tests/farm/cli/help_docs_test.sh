@@ -7,7 +7,7 @@ rayfarm=$1 src=$2
 doc=$src/docs/cli.md
 [ -s "$doc" ] || { echo "FAIL: $doc is missing"; exit 1; }
 missing=0 total=0
-for cmd in render still view report; do
+for cmd in render still view report info; do
     help=$(QT_QPA_PLATFORM=offscreen "$rayfarm" "$cmd" --help 2>&1) || { echo "FAIL: rayfarm $cmd --help exited $?"; exit 1; }
     opts=$(grep -oE '(^|[^A-Za-z0-9-])--[a-z][a-z0-9-]*' <<<"$help" | grep -oE -- '--[a-z][a-z0-9-]*' | sort -u)
     [ -n "$opts" ] || { echo "FAIL: rayfarm $cmd --help names no options"; exit 1; }
@@ -21,4 +21,4 @@ for cmd in render still view report; do
     done
 done
 [ "$missing" -eq 0 ] || exit 1
-echo "help_docs: $total options of 4 commands, all in docs/cli.md"
+echo "help_docs: $total options of 5 commands, all in docs/cli.md"
