@@ -123,7 +123,11 @@ double GltfAnimationPlayer::localTime(double t) const {
 
 void GltfAnimationPlayer::pose(const SceneGraph& g, double t, std::vector<DMat4>& renderFromNode,
                                std::vector<std::vector<double>>& weights) const {
-    const double at = localTime(t);
+    poseLocal(g, localTime(t), renderFromNode, weights);
+}
+
+void GltfAnimationPlayer::poseLocal(const SceneGraph& g, double at, std::vector<DMat4>& renderFromNode,
+                                    std::vector<std::vector<double>>& weights) const {
     std::vector<SceneNode> nodes = g.nodes;  // defaults, overridden by channels
     weights.assign(nodes.size(), {});
     for (size_t i = 0; i < nodes.size(); ++i) weights[i] = nodes[i].weights;
@@ -150,7 +154,21 @@ void GltfAnimationPlayer::apply(Scene& scene, double t) const {
     std::vector<DMat4> renderFromNode;
     std::vector<std::vector<double>> weights;
     pose(scene.models[model_], t, renderFromNode, weights);
-    scene.applyNodeTransforms(model_, renderFromNode, weights);
+    if (!loop_ || !(duration_ > 0.0)) {
+        scene.applyNodeTransforms(model_, renderFromNode, weights);
+        return;
+    }
+    // The nearest of kPoseAnchors poses spaced evenly over the looping clip: the one whose
+    // tree a deforming mesh refits (Scene::PoseAnchor). Chosen from the local time alone.
+    const double phase = localTime(t) / duration_;
+    Scene::PoseAnchor anchor;
+    anchor.clip = animation_;
+    anchor.index = int(std::floor(phase * kPoseAnchors + 0.5)) % kPoseAnchors;
+    const SceneGraph& g = scene.models[model_];
+    anchor.pose = [&, at = duration_ * anchor.index / kPoseAnchors](std::vector<DMat4>& n, std::vector<std::vector<double>>& w) {
+        poseLocal(g, at, n, w);
+    };
+    scene.applyNodeTransforms(model_, renderFromNode, weights, &anchor);
 }
 
 std::vector<MeshExtent> meshExtents(const Scene& scene, int model) {

@@ -53,8 +53,14 @@ public:
     /// Render-from-node matrices and morph weights of every node at timeline time t.
     void pose(const SceneGraph& graph, double t, std::vector<DMat4>& renderFromNode,
               std::vector<std::vector<double>>& weights) const;
-    /// Poses the model at t and moves its meshes (re-transform and BVH refit).
+    /// The same at animation-local time `at` (no looping or speed applied).
+    void poseLocal(const SceneGraph& graph, double at, std::vector<DMat4>& renderFromNode,
+                   std::vector<std::vector<double>>& weights) const;
+    /// Poses the model at t and moves its meshes (re-transform and BVH refit). A looping clip
+    /// names the nearest of kPoseAnchors poses spaced over it, whose tree a deforming mesh's
+    /// is refitted from (Scene::PoseAnchor).
     void apply(Scene& scene, double t) const;
+    static constexpr int kPoseAnchors = 8;
     /// Grows b (render space) by the model's animated meshes as posed at t, leaving the scene
     /// untouched: for framing a film on where the model goes, not only where it rests. Meshes
     /// above kExactBoundsVertices are bounded by their transformed object-space box (looser,

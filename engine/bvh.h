@@ -44,6 +44,9 @@ public:
     double sahCost() const;
 
     bool empty() const { return nodes_.empty(); }
+    /// Frees the 4-wide copy (refit() makes it again): for a tree kept only as the topology a
+    /// later refit starts from.
+    void dropWideNodes() { std::vector<Bvh4Node>().swap(nodes4_); }
     const std::vector<BvhNode>& nodes() const { return nodes_; }
     const std::vector<uint32_t>& primIndex() const { return primIndex_; }
     const std::vector<Bvh4Node>& nodes4() const { return nodes4_; }

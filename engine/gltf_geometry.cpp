@@ -102,6 +102,15 @@ std::vector<Vec3> morphedPositions(const TriangleMesh& m, const std::vector<doub
     return p;
 }
 
+std::vector<Vec4> morphedTangents(const TriangleMesh& m, const std::vector<double>& w) {
+    std::vector<Vec4> t = m.tangents;
+    for (size_t k = 0; k < m.morphTangents.size() && k < w.size(); ++k) {
+        if (w[k] == 0.0 || m.morphTangents[k].size() != t.size()) continue;
+        for (size_t i = 0; i < t.size(); ++i) t[i] += Vec4(float(w[k]) * m.morphTangents[k][i], 0.f);
+    }
+    return t;
+}
+
 std::vector<Vec3> morphedNormals(const TriangleMesh& m, const std::vector<double>& w) {
     std::vector<Vec3> n = m.objectNormals.empty() ? m.normals : m.objectNormals;
     for (size_t k = 0; k < m.morphNormals.size() && k < w.size(); ++k) {
@@ -288,14 +297,18 @@ struct PrimitiveReader {
 
     void morphTargets(TriangleMesh& m) const {
         for (const auto& target : p.targets) {
-            std::vector<Vec3> dp, dn;
+            std::vector<Vec3> dp, dn, dt;
             if (auto it = target.find("POSITION"); it != target.end())
                 dp = toVectors<Vec3>(read(it->second, TINYGLTF_TYPE_VEC3, "a morph target POSITION"));
             if (auto it = target.find("NORMAL"); it != target.end())
                 dn = toVectors<Vec3>(read(it->second, TINYGLTF_TYPE_VEC3, "a morph target NORMAL"));
+            // Tangent deltas are xyz only (glTF 2.0 §3.7.2.2): the handedness w does not morph.
+            if (auto it = target.find("TANGENT"); it != target.end())
+                dt = toVectors<Vec3>(read(it->second, TINYGLTF_TYPE_VEC3, "a morph target TANGENT"));
             if (dp.empty()) dp.assign(nv, Vec3(0.f));
             m.morphPositions.push_back(std::move(dp));
             m.morphNormals.push_back(std::move(dn));
+            m.morphTangents.push_back(std::move(dt));
         }
     }
 };
@@ -356,7 +369,7 @@ bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int primIndex, 
     return true;
 }
 
-bool placePrimitive(TriangleMesh& m, const DMat4& renderFromNode, const std::vector<double>& weights) {
+bool placePrimitive(TriangleMesh& m, const DMat4& renderFromNode, const std::vector<double>& weights, bool flipWinding) {
     const glm::dmat3 l(renderFromNode);
     const double det = glm::determinant(l);
     if (!(std::abs(det) > 0.0) || !std::isfinite(det)) return false;  // zero scale: nothing visible
@@ -374,14 +387,16 @@ bool placePrimitive(TriangleMesh& m, const DMat4& renderFromNode, const std::vec
         const double len = glm::length(n);
         m.normals[i] = len > 0.0 && std::isfinite(len) ? Vec3(n / len) : Vec3(0.f);
     }
+    m.tangents = morphedTangents(m, weights);
     for (Vec4& t : m.tangents) {
         const glm::dvec3 v = l * glm::dvec3(Vec3(t));
         const double len = glm::length(v);
         t = Vec4(len > 0.0 && std::isfinite(len) ? Vec3(v / len) : Vec3(0.f), det < 0.0 ? -t.w : t.w);
     }
     // A mirroring transform turns counter-clockwise triangles clockwise: swap two corners so the
-    // front face stays where glTF put it.
-    if (det < 0.0)
+    // front face stays where glTF put it (a moving mesh keeps its order and says so instead).
+    m.mirrored = !flipWinding && det < 0.0;
+    if (det < 0.0 && flipWinding)
         for (size_t t = 0; t + 2 < m.indices.size(); t += 3) std::swap(m.indices[t + 1], m.indices[t + 2]);
     return !m.indices.empty();
 }

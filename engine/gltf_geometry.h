@@ -43,6 +43,8 @@ bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int prim, const
 
 /// Positions with the morph targets applied at `weights` (missing weights count as 0).
 std::vector<Vec3> morphedPositions(const TriangleMesh& mesh, const std::vector<double>& weights);
+/// Tangents with the morph targets' TANGENT deltas applied at `weights` (w kept, not renormalized).
+std::vector<Vec4> morphedTangents(const TriangleMesh& mesh, const std::vector<double>& weights);
 /// Normals with the morph targets applied at `weights` (not renormalized).
 std::vector<Vec3> morphedNormals(const TriangleMesh& mesh, const std::vector<double>& weights);
 
@@ -50,9 +52,10 @@ std::vector<Vec3> morphedNormals(const TriangleMesh& mesh, const std::vector<dou
 std::vector<Vec3> generateNormals(const std::vector<Vec3>& positions, const std::vector<uint32_t>& indices);
 
 /// Moves a primitive's triangles into render space by renderFromNode (morph weights applied,
-/// normals by the inverse transpose, winding flipped under a mirroring transform). Returns
-/// false if nothing drawable is left (zero or non-finite scale).
-bool placePrimitive(TriangleMesh& mesh, const DMat4& renderFromNode, const std::vector<double>& weights);
+/// normals by the inverse transpose, winding flipped under a mirroring transform, or, with
+/// flipWinding false (a moving mesh, whose indices must keep the file's order), mesh.mirrored
+/// set instead). Returns false if nothing drawable is left (zero or non-finite scale).
+bool placePrimitive(TriangleMesh& mesh, const DMat4& renderFromNode, const std::vector<double>& weights, bool flipWinding = true);
 
 /// Per-vertex tangents (xyz, handedness w) from UV gradients, orthogonal to the normals; zero
 /// where the UVs give no direction.

@@ -507,14 +507,16 @@ void GltfModel::addNodeMeshes(Scene& scene, int node, const DMat4& renderFromNod
             m.objectPositions = m.positions;
             m.objectNormals = m.normals;
             m.objectTangents = m.tangents;
+            m.renderFromObject = renderFromNode;
         }
-        if (!placePrimitive(m, renderFromNode, defaultWeights(node))) {
+        if (!placePrimitive(m, renderFromNode, defaultWeights(node), !dynamic)) {
             ++dropped.unplaced;
             continue;
         }
         if (!dynamic) {
             m.morphPositions.clear();
             m.morphNormals.clear();
+            m.morphTangents.clear();
         }
         if (materialOverride_ >= 0) {
             // One uniform material: the file's vertex colours and tangents have no part in it.

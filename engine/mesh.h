@@ -26,9 +26,21 @@ struct TriangleMesh {
     std::vector<Vec3> objectPositions;
     std::vector<Vec3> objectNormals;
     std::vector<Vec4> objectTangents;
-    /// Morph targets (position deltas per target) and default weights.
+    /// A rigid moving mesh (node ≥ 0, no skin, no morph targets): the node's matrix that took
+    /// object space to render space for the current positions. The scene's acceleration
+    /// structure keeps the mesh's own tree in object space and moves it by this matrix.
+    DMat4 renderFromObject{1.0};
+    /// Morph targets: position, normal and tangent (xyz) deltas per target, each empty or one
+    /// per vertex.
     std::vector<std::vector<Vec3>> morphPositions;
     std::vector<std::vector<Vec3>> morphNormals;
+    std::vector<std::vector<Vec3>> morphTangents;
+    /// A moving mesh whose pose mirrors (a matrix of negative determinant) turns the file's
+    /// counter-clockwise front faces clockwise; the indices keep the file's order and
+    /// Scene::interaction turns the facet normal round instead: the whole mesh (rigid), or per
+    /// vertex (skinned: its skin matrix; empty when no vertex is mirrored), by majority.
+    bool mirrored = false;
+    std::vector<uint8_t> mirroredVertices;
     /// Skinned meshes (skin ≥ 0, in Scene::models[model].skins): `influences` joint/weight
     /// pairs per vertex (4 per JOINTS_n/WEIGHTS_n set), joints indexing the skin's joint list
     /// and weights summing to 1. The node's own transform is then not used (glTF 2.0 §3.7.3.3).

@@ -1,35 +1,23 @@
 #include "scene.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <new>
 
 #include "load_control.h"
 #include "material_eval.h"
+#include "prim_bounds.h"
 #include "skinning.h"
 
 namespace rf {
-
-namespace {
-Aabb triangleBox(const Vec3& a, const Vec3& b, const Vec3& c) {
-    Aabb box;
-    box.grow(a);
-    box.grow(b);
-    box.grow(c);
-    return box;
-}
-Aabb sphereBox(const Sphere& s) {
-    Aabb box;
-    box.lo = s.center - Vec3(s.radius);
-    box.hi = s.center + Vec3(s.radius);
-    return box;
-}
-}  // namespace
 
 void Scene::build() {
     LoadStep step("building the BVH");
     triVerts_.clear();
     triMesh_.clear();
     triLocal_.clear();
+    meshPrimBegin_.assign(meshes.size(), 0);
     meshMasked_.assign(meshes.size(), 0);
     anyMasked_ = false;
     for (size_t m = 0; m < meshes.size(); ++m) {
@@ -39,6 +27,7 @@ void Scene::build() {
             meshMasked_[m] = 1;
             anyMasked_ = true;
         }
+        meshPrimBegin_[m] = static_cast<uint32_t>(triMesh_.size());
         for (size_t t = 0; t < mesh.triangleCount(); ++t) {
             if (t % 65536 == 0) pollLoadCancel();
             for (int k = 0; k < 3; ++k) triVerts_.push_back(mesh.positions[mesh.indices[3 * t + k]]);
@@ -50,36 +39,30 @@ void Scene::build() {
     nSph_ = static_cast<uint32_t>(spheres.size());
     const size_t nPrims = triMesh_.size() + spheres.size();
     useBvh_ = nPrims >= kBvhThreshold;
+    instances_.clear();
+    top_ = Bvh{};
+    twoLevel_ = false;
+    lastRebuilt_ = false;
     if (useBvh_) {
-        std::vector<Aabb> boxes;
-        boxes.reserve(nPrims);
-        for (size_t t = 0; t < triMesh_.size(); ++t)
-            boxes.push_back(triangleBox(triVerts_[3 * t], triVerts_[3 * t + 1], triVerts_[3 * t + 2]));
-        for (const Sphere& s : spheres) boxes.push_back(sphereBox(s));
-        bvh_.build(boxes, 4, true);
-        slotPrim_ = bvh_.primIndex();
-        builtBvh_ = bvh_;
-        builtCost_ = bvh_.sahCost();
-        lastRebuilt_ = false;
+        buildInstances();
         LoadStep overlaps("checking which spheres overlap");
         findAloneSpheres();
-    } else {
-        bvh_ = Bvh{};
-        slotPrim_.resize(nPrims);
-        for (uint32_t i = 0; i < nPrims; ++i) slotPrim_[i] = i;
-        // Spare lanes get a negative reach: they never pass the pre-test.
-        for (size_t i = 0; i < kBvhThreshold; ++i) {
-            const bool used = i < spheres.size();
-            const Sphere s = used ? spheres[i] : Sphere{};
-            sphX_[i] = s.center.x;
-            sphY_[i] = s.center.y;
-            sphZ_[i] = s.center.z;
-            const float err = 32.f * kMachineEps * (maxComponent(absComponents(s.center)) + s.radius);
-            sphReach_[i] = used ? s.radius + err : -kInf;
-            sphInner_[i] = used ? s.radius - err : -kInf;
-        }
-        findAloneSpheres();
+        return;
     }
+    slotPrim_.resize(nPrims);
+    for (uint32_t i = 0; i < nPrims; ++i) slotPrim_[i] = i;
+    // Spare lanes get a negative reach: they never pass the pre-test.
+    for (size_t i = 0; i < kBvhThreshold; ++i) {
+        const bool used = i < spheres.size();
+        const Sphere s = used ? spheres[i] : Sphere{};
+        sphX_[i] = s.center.x;
+        sphY_[i] = s.center.y;
+        sphZ_[i] = s.center.z;
+        const float err = 32.f * kMachineEps * (maxComponent(absComponents(s.center)) + s.radius);
+        sphReach_[i] = used ? s.radius + err : -kInf;
+        sphInner_[i] = used ? s.radius - err : -kInf;
+    }
+    findAloneSpheres();
     fillSlotData();
 }
 
@@ -114,8 +97,9 @@ void Scene::findAloneSpheres() {
     float scale = 0.f;
     for (const Sphere& s : spheres) scale = std::max(scale, maxComponent(absComponents(s.center)) + s.radius);
     const float widen = 8.f * kMachineEps * scale;
-    const std::vector<BvhNode>& nodes = bvh_.nodes();
-    const std::vector<uint32_t>& prims = bvh_.primIndex();
+    // Spheres with no triangles: the one static instance, its primitives the spheres in order.
+    const std::vector<BvhNode>& nodes = instances_[0].bvh.nodes();
+    const std::vector<uint32_t>& prims = instances_[0].bvh.primIndex();
     std::vector<uint32_t> stack;
     for (size_t i = 0; i < spheres.size(); ++i) {
         if (i % 4096 == 0) pollLoadCancel();
@@ -144,6 +128,7 @@ void Scene::findAloneSpheres() {
 }
 
 void Scene::fillSlotData() {
+    // Without a BVH the slots are the primitives in order.
     const uint32_t nTri = static_cast<uint32_t>(triMesh_.size());
     slotVerts_.assign(3 * slotPrim_.size(), Vec3(0.f));
     for (size_t i = 0; i < slotPrim_.size(); ++i) {
@@ -151,13 +136,13 @@ void Scene::fillSlotData() {
         if (p >= nTri) continue;
         for (int k = 0; k < 3; ++k) slotVerts_[3 * i + k] = triVerts_[3 * p + k];
     }
-    leafTris_.build(bvh_, slotVerts_, [&](uint32_t slot) { return slotPrim_[slot] < nTri; });
 }
 
-bool Scene::intersectLeaf(uint32_t first, uint32_t count, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit,
-                          uint32_t skip, bool anyHit) const {
+bool Scene::intersectLeaf(const SceneInstance& in, uint32_t first, uint32_t count, const Ray& r, const WatertightRay& wr,
+                          float& tMax, Hit& hit, uint32_t skip, bool anyHit) const {
     bool found = false;
-    uint32_t b = leafTris_.firstBlock(first);
+    uint32_t b = in.leafTris.firstBlock(first);
+    first += in.slotBase;
     if (b == LeafTriangles::kNone) {
         for (uint32_t s = first; s < first + count; ++s)
             if (slotPrim_[s] != skip && intersectSlot(s, r, wr, tMax, hit, skip)) {
@@ -169,7 +154,7 @@ bool Scene::intersectLeaf(uint32_t first, uint32_t count, const Ray& r, const Wa
     // Triangles only: the four-wide pre-test rules most of them out; the rest go through the
     // scalar test in slot order, as above.
     for (uint32_t s = first; s < first + count; s += 4, ++b) {
-        uint32_t m = watertightCandidates4(wr, leafTris_.block(b));
+        uint32_t m = watertightCandidates4(wr, in.leafTris.block(b));
         if (first + count - s < 4) m &= (1u << (first + count - s)) - 1u;
         for (; m; m &= m - 1) {
             const uint32_t slot = s + static_cast<uint32_t>(__builtin_ctz(m));
@@ -182,34 +167,35 @@ bool Scene::intersectLeaf(uint32_t first, uint32_t count, const Ray& r, const Wa
     return found;
 }
 
+void Scene::gatherTriangles(uint32_t m) {
+    const TriangleMesh& mesh = meshes[m];
+    Vec3* out = triVerts_.data() + 3 * size_t(meshPrimBegin_[m]);
+    for (size_t i = 0; i < mesh.indices.size(); ++i) out[i] = mesh.positions[mesh.indices[i]];
+}
+
 void Scene::refit() {
-    size_t t = 0;
-    for (const TriangleMesh& mesh : meshes)
-        for (size_t i = 0; i < mesh.indices.size(); ++i) triVerts_[t++] = mesh.positions[mesh.indices[i]];
+    for (uint32_t m = 0; m < meshes.size(); ++m) gatherTriangles(m);
+    lastRebuilt_ = false;
     if (!useBvh_) {
         fillSlotData();
         return;
     }
-    std::vector<Aabb> boxes;
-    boxes.reserve(triMesh_.size() + spheres.size());
-    for (size_t k = 0; k < triMesh_.size(); ++k) boxes.push_back(triangleBox(triVerts_[3 * k], triVerts_[3 * k + 1], triVerts_[3 * k + 2]));
-    for (const Sphere& s : spheres) boxes.push_back(sphereBox(s));
-    if (lastRebuilt_) bvh_ = builtBvh_;  // start from build()'s tree, not from an earlier pose's
-    bvh_.refit(boxes);
-    lastRebuilt_ = builtCost_ > 0.0 && bvh_.sahCost() > kRebuildGrowth * builtCost_;
-    if (lastRebuilt_) bvh_.build(boxes);
-    slotPrim_ = bvh_.primIndex();
-    fillSlotData();
+    for (SceneInstance& in : instances_) {
+        if (in.kind == SceneInstance::Kind::Rigid) placeRigid(in);
+        else refitInstance(in);
+        lastRebuilt_ |= in.lastRebuilt;
+    }
+    buildTopLevel();
 }
 
-void Scene::applyNodeTransforms(int model, const std::vector<DMat4>& renderFromNode,
-                                const std::vector<std::vector<double>>& morphWeights) {
-    bool changed = false;
+void Scene::poseModel(int model, const std::vector<DMat4>& renderFromNode, const std::vector<std::vector<double>>& morphWeights,
+                      const SceneInstance* only, std::vector<uint8_t>* moved) {
     // Joint matrices once per skin, from the same node matrices as the rigid meshes.
     std::vector<std::vector<DMat4>> joints;
     const std::vector<Skin>* skins = model >= 0 && size_t(model) < models.size() ? &models[size_t(model)].skins : nullptr;
-    for (TriangleMesh& mesh : meshes) {
-        if (mesh.model != model || mesh.node < 0 || mesh.node >= static_cast<int>(renderFromNode.size())) continue;
+    auto poseOne = [&](uint32_t mi) {
+        TriangleMesh& mesh = meshes[mi];
+        if (mesh.model != model || mesh.node < 0 || mesh.node >= static_cast<int>(renderFromNode.size())) return;
         const std::vector<DMat4>* jm = nullptr;
         if (mesh.skin >= 0 && skins && size_t(mesh.skin) < skins->size()) {
             if (joints.empty()) joints.resize(skins->size());
@@ -219,9 +205,74 @@ void Scene::applyNodeTransforms(int model, const std::vector<DMat4>& renderFromN
         }
         const std::vector<double>* w = (mesh.node < static_cast<int>(morphWeights.size())) ? &morphWeights[mesh.node] : nullptr;
         poseMesh(mesh, renderFromNode[size_t(mesh.node)], jm, w);
-        changed = true;
+        gatherTriangles(mi);
+        if (moved) (*moved)[mi] = 1;
+    };
+    if (only)
+        for (uint32_t mi : only->meshes) poseOne(mi);
+    else
+        for (uint32_t mi = 0; mi < meshes.size(); ++mi) poseOne(mi);
+}
+
+const SceneInstance::AnchorTree& Scene::anchorTree(SceneInstance& in, const PoseAnchor& anchor, std::vector<DMat4>& anchorNodes,
+                                                   std::vector<std::vector<double>>& anchorWeights) {
+    const auto key = std::make_pair(anchor.clip, anchor.index);
+    auto it = in.anchors.find(key);
+    if (it != in.anchors.end()) return it->second;
+    if (anchorNodes.empty()) anchor.pose(anchorNodes, anchorWeights);
+    // The instance's meshes at the anchor's pose (the frame's own pose overwrites them next).
+    poseModel(in.model, anchorNodes, anchorWeights, &in, nullptr);
+    std::vector<Aabb>& boxes = scratchBoxes_;
+    boxes.clear();
+    for (uint32_t p : in.prims)
+        boxes.push_back(triangleBox(triVerts_[3 * size_t(p)], triVerts_[3 * size_t(p) + 1], triVerts_[3 * size_t(p) + 2]));
+    SceneInstance::AnchorTree t;
+    t.tree.build(boxes);
+    t.cost = t.tree.sahCost();
+    t.tree.dropWideNodes();
+    return in.anchors.emplace(key, std::move(t)).first->second;
+}
+
+void Scene::applyNodeTransforms(int model, const std::vector<DMat4>& renderFromNode,
+                                const std::vector<std::vector<double>>& morphWeights, const PoseAnchor* anchor) {
+    using Clock = std::chrono::steady_clock;
+    const Clock::time_point t0 = Clock::now();
+    lastCost_ = UpdateCost{};
+    // Anchor trees first (once per anchor and instance): they pose the meshes at the anchor.
+    std::vector<const SceneInstance::AnchorTree*> base(instances_.size(), nullptr);
+    if (anchor && anchor->pose && useBvh_) {
+        std::vector<DMat4> anchorNodes;
+        std::vector<std::vector<double>> anchorWeights;
+        for (size_t i = 0; i < instances_.size(); ++i)
+            if (instances_[i].kind == SceneInstance::Kind::Deforming && instances_[i].model == model) {
+                const size_t had = instances_[i].anchors.size();
+                base[i] = &anchorTree(instances_[i], *anchor, anchorNodes, anchorWeights);
+                lastCost_.anchorsBuilt += int(instances_[i].anchors.size() - had);
+            }
     }
-    if (changed) refit();
+    const Clock::time_point t1 = Clock::now();
+    std::vector<uint8_t> moved(meshes.size(), 0);
+    poseModel(model, renderFromNode, morphWeights, nullptr, &moved);
+    const Clock::time_point t2 = Clock::now();
+    lastCost_.poseS = std::chrono::duration<double>(t2 - t1).count();
+    if (std::find(moved.begin(), moved.end(), 1) == moved.end()) return;
+    lastRebuilt_ = false;
+    if (!useBvh_) {
+        fillSlotData();
+        return;
+    }
+    // Only the instances of the meshes that moved: a static tree is never touched again.
+    for (size_t i = 0; i < instances_.size(); ++i) {
+        SceneInstance& in = instances_[i];
+        if (in.kind == SceneInstance::Kind::Static || in.meshes.empty() || !moved[in.meshes[0]]) continue;
+        if (in.kind == SceneInstance::Kind::Rigid) placeRigid(in);
+        else if (base[i]) refitInstance(in, &base[i]->tree, base[i]->cost);
+        else refitInstance(in);
+        lastRebuilt_ |= in.lastRebuilt;
+        if (in.kind == SceneInstance::Kind::Deforming) lastCost_.sahRatio = std::max(lastCost_.sahRatio, in.lastSahRatio);
+    }
+    buildTopLevel();
+    lastCost_.treeS = std::chrono::duration<double>((t1 - t0) + (Clock::now() - t2)).count();
 }
 
 bool Scene::triangleAlphaPasses(uint32_t tri, const TriangleHit& h) const {
@@ -319,6 +370,35 @@ uint32_t Scene::sphereCandidates(const Ray& r, float tMax, uint32_t* sure) const
     return mask;
 }
 
+template <typename LeafFn>
+bool Scene::walk(const Ray& r, float tMax, bool anyHit, LeafFn&& leaf) const {
+    if (!twoLevel_) {
+        const SceneInstance& in = instances_[0];
+        return in.bvh.traverseLeaves(r, tMax, anyHit, [&](uint32_t first, uint32_t count, float& tm) {
+            return leaf(in, r, first, count, tm);
+        });
+    }
+    const std::vector<uint32_t>& order = top_.primIndex();
+    return top_.traverseLeaves(r, tMax, anyHit, [&](uint32_t first, uint32_t count, float& tm) {
+        bool hit = false;
+        for (uint32_t k = first; k < first + count; ++k) {
+            const SceneInstance& in = instances_[topInstance_[order[k]]];
+            const Ray ri = in.transformed ? in.toObject(r) : r;
+            // The instance's walk keeps its own limit; a hit lowers the top level's too.
+            const bool h = in.bvh.traverseLeaves(ri, tm, anyHit, [&](uint32_t a, uint32_t n, float& tIn) {
+                const bool got = leaf(in, ri, a, n, tIn);
+                if (got) tm = tIn;
+                return got;
+            });
+            if (h) {
+                hit = true;
+                if (anyHit) return true;
+            }
+        }
+        return hit;
+    });
+}
+
 // One function on purpose, though past 60 lines: it is every ray's first call, and the order it
 // tries things in (the inside-sphere exit, planes to bound tMax, then the BVH or the flat lists)
 // is the whole point of it; split, that order would hide across files.
@@ -352,11 +432,13 @@ bool Scene::intersect(const Ray& r, Hit& hit, uint32_t skip) const {
     if (useBvh_) {
         // The triangle test's set-up waits for the first leaf: most rays that miss the model
         // never reach one.
-        WatertightRay wr;
         bool wrReady = false;
-        found |= bvh_.traverseLeaves(r, tMax, false, [&](uint32_t first, uint32_t count, float& tm) {
-            if (!wrReady) wr = WatertightRay(r), wrReady = true;
-            return intersectLeaf(first, count, r, wr, tm, hit, skip, false);
+        WatertightRay wr;
+        const SceneInstance* wrFor = nullptr;  // whose space wr is in (rays of untransformed instances share r's)
+        found |= walk(r, tMax, false, [&](const SceneInstance& in, const Ray& ri, uint32_t first, uint32_t count, float& tm) {
+            const SceneInstance* space = in.transformed ? &in : nullptr;
+            if (wrFor != space || !wrReady) wr = WatertightRay(ri), wrFor = space, wrReady = true;
+            return intersectLeaf(in, first, count, ri, wr, tm, hit, skip, false);
         });
     } else {
         const WatertightRay wr = nTri ? WatertightRay(r) : WatertightRay();
@@ -392,7 +474,9 @@ bool Scene::intersect(const Ray& r, Hit& hit, uint32_t skip) const {
 }
 
 void Scene::intersectPacket(const Ray* rays, int n, Hit* hits, bool* met) const {
-    if (!useBvh_ || n > Bvh::kPacketMax) {
+    // Over several instances the packet walks each tree in turn, with no top level to cull
+    // them: worth it for a few (a static set and a character), not for many animated parts.
+    if (!useBvh_ || n > Bvh::kPacketMax || instances_.size() > kPacketInstances) {
         for (int i = 0; i < n; ++i) met[i] = intersect(rays[i], hits[i]);
         return;
     }
@@ -416,11 +500,30 @@ void Scene::intersectPacket(const Ray* rays, int n, Hit* hits, bool* met) const 
         }
         new (wr + i) WatertightRay(r);
     }
-    bvh_.traversePacket(rays, n, tMax, [&](int i, uint32_t first, uint32_t count, float& tm) {
-        const bool hit = intersectLeaf(first, count, rays[i], wr[i], tm, hits[i], kNoPrim, false);
-        met[i] |= hit;
-        return hit;
-    });
+    for (const SceneInstance& in : instances_) {
+        if (in.hidden) continue;
+        if (!in.transformed) {
+            in.bvh.traversePacket(rays, n, tMax, [&](int i, uint32_t first, uint32_t count, float& tm) {
+                const bool hit = intersectLeaf(in, first, count, rays[i], wr[i], tm, hits[i], kNoPrim, false);
+                met[i] |= hit;
+                return hit;
+            });
+            continue;
+        }
+        // One origin in, one origin out: every ray's is transformed by the same operations.
+        Ray ro[Bvh::kPacketMax];
+        alignas(WatertightRay) unsigned char objStorage[sizeof(WatertightRay) * Bvh::kPacketMax];
+        WatertightRay* wo = reinterpret_cast<WatertightRay*>(objStorage);
+        for (int i = 0; i < n; ++i) {
+            ro[i] = in.toObject(rays[i]);
+            new (wo + i) WatertightRay(ro[i]);
+        }
+        in.bvh.traversePacket(ro, n, tMax, [&](int i, uint32_t first, uint32_t count, float& tm) {
+            const bool hit = intersectLeaf(in, first, count, ro[i], wo[i], tm, hits[i], kNoPrim, false);
+            met[i] |= hit;
+            return hit;
+        });
+    }
 }
 
 bool Scene::walkWouldBlock(uint32_t prim, const Ray& r, const WatertightRay& wr, float tMax) const {
@@ -447,10 +550,17 @@ bool Scene::occluded(const Ray& r, float tMax, uint32_t skip, uint32_t* lastBloc
     const WatertightRay wr = nTri ? WatertightRay(r) : WatertightRay();
     Hit scratch;
     if (useBvh_) {
-        if (lastBlocker && *lastBlocker < nTri && *lastBlocker != skip && walkWouldBlock(*lastBlocker, r, wr, tMax))
+        // The guess only for triangles of render-space trees: a rigid instance's walk tests
+        // object-space copies, which the render-space triangle need not match bit for bit.
+        if (lastBlocker && *lastBlocker < nTri && *lastBlocker != skip && !instances_[primInstance_[*lastBlocker]].transformed &&
+            walkWouldBlock(*lastBlocker, r, wr, tMax))
             return true;
-        const bool blocked = bvh_.traverseLeaves(r, tMax, true, [&](uint32_t first, uint32_t count, float& tm) {
-            return intersectLeaf(first, count, r, wr, tm, scratch, skip, true);
+        WatertightRay wo;
+        const SceneInstance* woFor = nullptr;
+        const bool blocked = walk(r, tMax, true, [&](const SceneInstance& in, const Ray& ri, uint32_t first, uint32_t count, float& tm) {
+            if (!in.transformed) return intersectLeaf(in, first, count, r, wr, tm, scratch, skip, true);
+            if (woFor != &in) wo = WatertightRay(ri), woFor = &in;
+            return intersectLeaf(in, first, count, ri, wo, tm, scratch, skip, true);
         });
         // A lit point forgets the blocker: its neighbours are likely lit too, and need no guess.
         if (lastBlocker) *lastBlocker = blocked ? scratch.prim : kNoPrim;
@@ -513,12 +623,22 @@ SurfaceInteraction Scene::interaction(const Ray& r, const Hit& hit) const {
         const Vec3& p1 = triVerts_[3 * hit.prim + 1];
         const Vec3& p2 = triVerts_[3 * hit.prim + 2];
         si.p = triangleHitPoint(p0, p1, p2, hit.tri, si.pError);
+        // A rigid instance's hit was found on its object-space triangle with the ray taken
+        // there; the render-space triangle is that one moved and rounded. Rays spawned here go
+        // back through the same transform: the offset also covers both roundings (a few ulps of
+        // the point).
+        if (useBvh_ && instances_[primInstance_[hit.prim]].transformed) si.pError += gamma(4) * absComponents(si.p);
         const Vec3 n = glm::cross(p1 - p0, p2 - p0);
         const float len = glm::length(n);
         si.ng = len > 0.f ? n / len : -r.d;
         const TriangleMesh& mesh = meshes[triMesh_[hit.prim]];
         const uint32_t* idx = &mesh.indices[3 * triLocal_[hit.prim]];
         const float b0 = hit.tri.b0, b1 = hit.tri.b1, b2 = hit.tri.b2;
+        // A mirroring pose turned the file's front faces clockwise (mesh.h): the facet normal
+        // turns with them, so that it points out of the surface the file meant.
+        if (mesh.mirrored || (!mesh.mirroredVertices.empty() &&
+                              mesh.mirroredVertices[idx[0]] + mesh.mirroredVertices[idx[1]] + mesh.mirroredVertices[idx[2]] >= 2))
+            si.ng = -si.ng;
         si.ns = si.ng;
         if (!mesh.normals.empty()) {
             const Vec3 ns = b0 * mesh.normals[idx[0]] + b1 * mesh.normals[idx[1]] + b2 * mesh.normals[idx[2]];

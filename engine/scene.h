@@ -2,6 +2,7 @@
 /// The scene in render space: geometry, materials, lights, camera and the acceleration
 /// structure over them. World position = render position + renderOrigin (kept in double, so a
 /// model far from the world origin keeps its float precision).
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -17,6 +18,7 @@
 #include "material_eval.h"
 #include "mesh.h"
 #include "scene_graph.h"
+#include "scene_instance.h"
 #include "scene_options.h"
 #include "settings.h"
 #include "shapes.h"
@@ -79,19 +81,48 @@ public:
     /// plays, over the scene file's "animation"; anim::Timeline resolves it.
     std::optional<std::string> animation;
 
-    /// Builds the acceleration structure; call after loading or after geometry changed.
+    /// Builds the acceleration structure; call after loading or after geometry changed. Two
+    /// levels (scene_instance.h): the meshes that never move and the spheres in one tree, each
+    /// skinned or morphed mesh in its own, each animated node's rigid meshes in one tree of
+    /// their object space, and a top level over them; a scene with nothing that moves is the
+    /// one tree alone.
     void build();
-    /// Updates the BVH after mesh positions moved (topology unchanged): the tree build() made,
-    /// refitted to the new boxes, or built afresh over them when the refit's SAH cost has grown
-    /// past kRebuildGrowth × the built tree's. Either way a function of the positions alone
-    /// (never of earlier poses), so every rank and frame order gets the same tree.
+    /// Updates every tree after mesh positions moved (topology unchanged): each render-space
+    /// tree refitted from the one build() made, or built afresh over the new boxes when the
+    /// refit's SAH cost has grown past kRebuildGrowth × the built tree's; rigid instances take
+    /// their meshes' renderFromObject. Either way a function of the positions alone (never of
+    /// earlier poses), so every rank and frame order gets the same trees.
     void refit();
     static constexpr double kRebuildGrowth = 1.5;
-    /// Whether the last refit() rebuilt the tree (for benchmarks and tests).
+    /// The rule's threshold this scene uses (kRebuildGrowth; benchmarks vary it to measure it).
+    double rebuildGrowth = kRebuildGrowth;
+    /// Whether the last refit() or applyNodeTransforms() rebuilt a tree (benchmarks, tests).
     bool lastRefitRebuilt() const { return lastRebuilt_; }
-    /// Rewrites the positions of meshes on nodes from world matrices (render space), then refits.
+    /// What the last applyNodeTransforms() cost, for benchmarks: posing (morph, skin, the
+    /// meshes' render-space triangles) and the trees (anchor trees built, refits, rebuilds, the
+    /// top level), in seconds; anchor trees it built; the largest SAH ratio of a refit.
+    struct UpdateCost {
+        double poseS = 0.0, treeS = 0.0;
+        int anchorsBuilt = 0;
+        double sahRatio = 0.0;
+    };
+    const UpdateCost& lastUpdateCost() const { return lastCost_; }
+    /// One of a few fixed poses of a looping clip (anim/ spaces them evenly over it), nearest the
+    /// frame's pose: a deforming mesh's tree is that pose's tree refitted, rather than the rest
+    /// pose's, so it stays good over the whole clip. Built the first time a frame needs it and
+    /// kept; a function of the clip and index alone, so the frame's tree still depends on the
+    /// frame alone, whatever order frames come in.
+    struct PoseAnchor {
+        int clip = 0;   ///< which clip the anchors belong to (its animation index)
+        int index = 0;  ///< which anchor
+        /// The anchor's node matrices and morph weights, as applyNodeTransforms takes them.
+        std::function<void(std::vector<DMat4>&, std::vector<std::vector<double>>&)> pose;
+    };
+    /// Rewrites the positions of meshes on nodes from world matrices (render space), and updates
+    /// only what they move: their deforming trees (refitted from anchor's tree when given), their
+    /// rigid instances' matrices, the top level.
     void applyNodeTransforms(int model, const std::vector<DMat4>& renderFromNode,
-                             const std::vector<std::vector<double>>& morphWeights = {});
+                             const std::vector<std::vector<double>>& morphWeights = {}, const PoseAnchor* anchor = nullptr);
 
     /// Closest hit in (0, r.tMax). skip (see skipFor): a convex primitive (sphere, plane) the
     /// ray leaves on its outer side, which it cannot meet again and so is not tested; or
@@ -119,13 +150,19 @@ public:
     SceneFeatures features() const;
     size_t triangleCount() const { return triVerts_.size() / 3; }
     bool usesBvh() const { return useBvh_; }
-    const Bvh& bvh() const { return bvh_; }
+    /// The first instance's tree: the whole scene's when nothing moves (an empty tree without a BVH).
+    const Bvh& bvh() const { return instances_.empty() ? emptyBvh_ : instances_[0].bvh; }
+    const std::vector<SceneInstance>& instances() const { return instances_; }
+    /// Whether rays walk a top level over several instances (false: one tree, or none).
+    bool twoLevel() const { return twoLevel_; }
     /// After build(): nothing else reaches into sphere i (no other sphere overlaps it, no plane
     /// cuts it; touching is fine), so a ray starting inside meets only its exit.
     bool sphereAlone(size_t i) const { return i < sphereAlone_.size() && sphereAlone_[i]; }
 
     /// Below this many bounded primitives, brute force beats building a BVH.
     static constexpr size_t kBvhThreshold = 8;
+    /// Up to this many instances a camera packet walks each instance's tree (intersectPacket).
+    static constexpr size_t kPacketInstances = 4;
     static constexpr uint32_t kNoPrim = ~0u;
     static constexpr uint32_t kFromInside = 1u << 31;
 
@@ -134,9 +171,14 @@ private:
     /// Whether triangle prim blocks the ray before tMax as the BVH walk would find it: the
     /// leaves' test (intersectSlot's for a triangle), and its box passing the walk's box test.
     bool walkWouldBlock(uint32_t prim, const Ray& r, const WatertightRay& wr, float tMax) const;
-    /// The slots of one BVH leaf in order (closest hit, or the first hit with anyHit).
-    bool intersectLeaf(uint32_t first, uint32_t count, const Ray& r, const WatertightRay& wr, float& tMax, Hit& hit,
-                       uint32_t skip, bool anyHit) const;
+    /// The slots of one leaf of instance in (first: its local slot) in order (closest hit, or
+    /// the first hit with anyHit); r and wr in the instance's space.
+    bool intersectLeaf(const SceneInstance& in, uint32_t first, uint32_t count, const Ray& r, const WatertightRay& wr,
+                       float& tMax, Hit& hit, uint32_t skip, bool anyHit) const;
+    /// Walks the top level and the instances' trees (or the one tree) front to back:
+    /// leaf(instance, r in its space, first local slot, count, tMax) tests one leaf.
+    template <typename LeafFn>
+    bool walk(const Ray& r, float tMax, bool anyHit, LeafFn&& leaf) const;
     /// The sphere (scene-wide prim id) a ray marked kFromInside starts in, or kNoPrim.
     static uint32_t insidePrim(uint32_t skip) { return (skip != kNoPrim && (skip & kFromInside)) ? skip & ~kFromInside : kNoPrim; }
     bool triangleAlphaPasses(uint32_t tri, const TriangleHit& h) const;
@@ -145,21 +187,44 @@ private:
     /// which a shadow ray can accept without the exact root.
     uint32_t sphereCandidates(const Ray& r, float tMax, uint32_t* sure = nullptr) const;
     void fillSlotData();
+    /// scene_accel.cpp: the instances and the top level (build), one instance's tree refitted
+    /// or rebuilt and its slots filled, a rigid instance moved, the top level over the boxes.
+    void buildInstances();
+    /// base: the tree to refit (null: the one build() made) and its SAH cost.
+    void refitInstance(SceneInstance& in, const Bvh* base = nullptr, double baseCost = 0.0);
+    /// Poses model's moving meshes (all, or those of instance only) from node matrices; marks
+    /// each in moved (if given) and gathers its triangles.
+    void poseModel(int model, const std::vector<DMat4>& renderFromNode, const std::vector<std::vector<double>>& morphWeights,
+                   const SceneInstance* only, std::vector<uint8_t>* moved);
+    /// The anchor's tree for a deforming instance, built (posing its meshes at the anchor) when
+    /// missing; anchorPose caches the anchor's matrices between instances.
+    const SceneInstance::AnchorTree& anchorTree(SceneInstance& in, const PoseAnchor& anchor, std::vector<DMat4>& anchorNodes,
+                                                std::vector<std::vector<double>>& anchorWeights);
+    void fillInstanceSlots(SceneInstance& in);
+    void placeRigid(SceneInstance& in);
+    void buildTopLevel();
+    /// triVerts_ of mesh m from its positions.
+    void gatherTriangles(uint32_t m);
     /// Fills sphereAlone_ (after the BVH, which it queries when there is one).
     void findAloneSpheres();
 
-    Bvh bvh_;
     bool useBvh_ = false;
-    /// The tree build() made and its SAH cost: refit() starts from it whenever it rebuilt.
-    Bvh builtBvh_;
-    double builtCost_ = 0.0;
+    std::vector<SceneInstance> instances_;
+    Bvh top_;                 ///< over the boxes of the instances not hidden; empty unless twoLevel_
+    std::vector<uint32_t> topInstance_;  ///< top_'s primitives: those instances
+    bool twoLevel_ = false;
     bool lastRebuilt_ = false;
+    UpdateCost lastCost_;
+    Bvh emptyBvh_;
+    std::vector<Aabb> scratchBoxes_;  ///< refits' primitive boxes, kept to spare the allocation
     /// Triangles and spheres as build() counted them: the hot paths' primitive-id ranges
     /// (triangles first, then spheres, then planes), read once instead of from the vectors.
     uint32_t nTri_ = 0, nSph_ = 0;
     std::vector<Vec3> triVerts_;     ///< three per triangle, in BVH-independent order
     std::vector<uint32_t> triMesh_;  ///< mesh of each triangle
     std::vector<uint32_t> triLocal_; ///< triangle index within its mesh
+    std::vector<uint32_t> meshPrimBegin_;  ///< first triangle of each mesh (its triangles are consecutive)
+    std::vector<uint32_t> primInstance_;   ///< instance of each triangle and sphere (with a BVH)
     std::vector<uint8_t> meshMasked_; ///< mesh needs an alpha test during traversal
     /// Per sphere: no other primitive reaches into it (touching is fine), so a ray starting
     /// inside meets nothing before the sphere's own exit. Always 0 in scenes with triangles.
@@ -168,8 +233,7 @@ private:
     /// Primitive data in BVH leaf order (identity order without a BVH), so traversal reads
     /// leaves contiguously: the primitive id and, for triangles, the three vertices.
     std::vector<uint32_t> slotPrim_;
-    std::vector<Vec3> slotVerts_;
-    LeafTriangles leafTris_;  ///< the same triangles, four per block, for the leaf pre-test
+    std::vector<Vec3> slotVerts_;  ///< in the instance's space (object space for a rigid one)
     /// Brute-force sphere pre-test, structure of arrays padded to kBvhThreshold lanes.
     float sphX_[kBvhThreshold] = {}, sphY_[kBvhThreshold] = {}, sphZ_[kBvhThreshold] = {};
     float sphReach_[kBvhThreshold] = {};  ///< radius plus its centre's share of the float error

@@ -45,16 +45,27 @@ void morphed(const TriangleMesh& mesh, size_t i, const std::vector<double>* w, g
     }
 }
 
+/// Morphed object-space tangent direction of vertex i (glTF morph targets move xyz; w stays).
+glm::dvec3 morphedTangent(const TriangleMesh& mesh, size_t i, const std::vector<double>* w) {
+    glm::dvec3 t(Vec3(mesh.objectTangents[i]));
+    if (!w) return t;
+    for (size_t k = 0; k < w->size() && k < mesh.morphTangents.size(); ++k)
+        if (!mesh.morphTangents[k].empty()) t += (*w)[k] * glm::dvec3(mesh.morphTangents[k][i]);
+    return t;
+}
+
 void poseRigid(TriangleMesh& mesh, const DMat4& m, const std::vector<double>* w) {
+    mesh.renderFromObject = m;
     const glm::dmat3 nm = glm::transpose(glm::inverse(glm::dmat3(m)));
     // Tangents follow the surface (the linear part itself, not its inverse transpose); a
     // mirroring transform flips the bitangent's sign, as glTF's loader-side rule does.
     const glm::dmat3 lin(m);
-    const double tangentSign = glm::determinant(lin) < 0.0 ? -1.0 : 1.0;
-    for (size_t i = 0; i < mesh.objectTangents.size() && i < mesh.tangents.size(); ++i) {
-        const Vec4& t = mesh.objectTangents[i];
-        mesh.tangents[i] = Vec4(unitOrZero(lin * glm::dvec3(Vec3(t))), float(tangentSign * t.w));
-    }
+    const bool mirror = glm::determinant(lin) < 0.0;
+    mesh.mirrored = mirror;
+    mesh.mirroredVertices.clear();
+    const double tangentSign = mirror ? -1.0 : 1.0;
+    for (size_t i = 0; i < mesh.objectTangents.size() && i < mesh.tangents.size(); ++i)
+        mesh.tangents[i] = Vec4(unitOrZero(lin * morphedTangent(mesh, i, w)), float(tangentSign * mesh.objectTangents[i].w));
     for (size_t i = 0; i < mesh.objectPositions.size(); ++i) {
         glm::dvec3 p, n;
         morphed(mesh, i, w, p, n);
@@ -69,24 +80,32 @@ void poseRigid(TriangleMesh& mesh, const DMat4& m, const std::vector<double>* w)
 
 void poseSkinned(TriangleMesh& mesh, const std::vector<DMat4>& joints, const std::vector<double>* w) {
     const bool tangents = !mesh.objectTangents.empty() && mesh.tangents.size() == mesh.objectTangents.size();
+    mesh.mirrored = false;
+    bool anyMirrored = false;
+    mesh.mirroredVertices.assign(mesh.objectPositions.size(), 0);
     for (size_t i = 0; i < mesh.objectPositions.size(); ++i) {
         const DMat4 s = skinMatrix(mesh, i, joints);
         glm::dvec3 p, n;
         morphed(mesh, i, w, p, n);
         mesh.positions[i] = Vec3(glm::dvec3(s * glm::dvec4(p, 1.0)));
         const glm::dmat3 lin(s);
+        // A mirroring skin matrix (a joint scaled by −1, a mirrored rig) turns the vertex's
+        // faces round and its tangent frame's handedness, as a mirroring node matrix does.
+        const bool mirror = glm::determinant(lin) < 0.0;
+        mesh.mirroredVertices[i] = mirror;
+        anyMirrored |= mirror;
         if (!mesh.objectNormals.empty()) {
             // The inverse transpose up to a positive factor: the cofactor matrix (columns
             // c1×c2, c2×c0, c0×c1) times the sign of the determinant. Normalizing drops the rest.
             const glm::dmat3 cof(glm::cross(lin[1], lin[2]), glm::cross(lin[2], lin[0]), glm::cross(lin[0], lin[1]));
-            const double sign = glm::determinant(lin) < 0.0 ? -1.0 : 1.0;
-            mesh.normals[i] = unitOrZero(sign * (cof * n));
+            mesh.normals[i] = unitOrZero((mirror ? -1.0 : 1.0) * (cof * n));
         }
         if (tangents) {
-            const Vec4& t = mesh.objectTangents[i];
-            mesh.tangents[i] = Vec4(unitOrZero(lin * glm::dvec3(Vec3(t))), t.w);
+            const float tw = mesh.objectTangents[i].w;
+            mesh.tangents[i] = Vec4(unitOrZero(lin * morphedTangent(mesh, i, w)), mirror ? -tw : tw);
         }
     }
+    if (!anyMirrored) mesh.mirroredVertices.clear();
 }
 
 }  // namespace

@@ -19,10 +19,11 @@ std::vector<DMat4> jointMatrices(const Skin& skin, const std::vector<DMat4>& ren
 DMat4 skinMatrix(const TriangleMesh& mesh, size_t vertex, const std::vector<DMat4>& joints);
 
 /// Rewrites a moving mesh's positions, normals and tangents from its object-space copies:
-/// morph targets at `weights` first (null: none), then the skin's joint matrices when
-/// mesh.skin ≥ 0 (`joints`), else `renderFromNode`. Normals go by the inverse transpose and
-/// are unit length; tangents by the linear part, unit length, their w kept for a skin (and
-/// flipped by a mirroring node matrix, as the loader does for baked meshes).
+/// morph targets at `weights` first (null: none; POSITION, NORMAL and TANGENT deltas), then the
+/// skin's joint matrices when mesh.skin ≥ 0 (`joints`), else `renderFromNode`. Normals go by
+/// the inverse transpose and are unit length; tangents by the linear part, unit length, their
+/// w flipped where the matrix mirrors (as the loader does for baked meshes). Where it mirrors,
+/// mesh.mirrored (rigid) or mesh.mirroredVertices (skinned) say so: the faces turn round.
 void poseMesh(TriangleMesh& mesh, const DMat4& renderFromNode, const std::vector<DMat4>* joints,
               const std::vector<double>* weights);
 

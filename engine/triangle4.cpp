@@ -31,7 +31,7 @@ uint32_t watertightCandidates4(const WatertightRay& wr, const Triangle4& t) {
     return laneMask(~(neg & pos) | onEdge);
 }
 
-void LeafTriangles::build(const Bvh& bvh, const std::vector<Vec3>& slotVerts,
+void LeafTriangles::build(const Bvh& bvh, const Vec3* slotVerts,
                           const std::function<bool(uint32_t)>& packable) {
     first_.assign(bvh.primIndex().size(), kNone);
     blocks_.clear();

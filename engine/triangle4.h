@@ -27,7 +27,10 @@ public:
 
     /// slotVerts: three vertices per slot (primIndex() order). packable(slot): the slot holds a
     /// triangle; a leaf with any other primitive gets no blocks.
-    void build(const Bvh& bvh, const std::vector<Vec3>& slotVerts, const std::function<bool(uint32_t)>& packable);
+    void build(const Bvh& bvh, const Vec3* slotVerts, const std::function<bool(uint32_t)>& packable);
+    void build(const Bvh& bvh, const std::vector<Vec3>& slotVerts, const std::function<bool(uint32_t)>& packable) {
+        build(bvh, slotVerts.data(), packable);
+    }
     /// First block of the leaf that starts at slot, or kNone (test its slots one by one).
     uint32_t firstBlock(uint32_t slot) const { return slot < first_.size() ? first_[slot] : kNone; }
     const Triangle4& block(uint32_t i) const { return blocks_[i]; }

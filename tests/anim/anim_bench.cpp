@@ -2,6 +2,9 @@
 // Timeline::apply, and what Timeline::fromScene costs to set up. Prints figures; not a test.
 //   anim_bench [--grid N]   (an N×N vertex grid hangs on the animated node; default 512)
 //   anim_bench --model FILE...   (each model's own timeline: pose, skin and refit per frame)
+//   anim_bench --rule FILE [--frames N] [--size WxH]   (the rebuild rule measured: for N frames
+//       spread over the film, render time with the refitted tree against a fresh build, beside
+//       the refit's SAH ratio; also the ratios refitting from the rest pose would give)
 #include <chrono>
 #include <cstdio>
 #include <cstring>
@@ -11,6 +14,8 @@
 
 #include "file_source.h"
 #include "scene_loader.h"
+#include "gltf_animation.h"
+#include "render.h"
 #include "timeline.h"
 
 using namespace rf;
@@ -62,11 +67,87 @@ void measure(const char* what, Scene s, size_t vertices) {
     const anim::Timeline tl = anim::Timeline::fromScene(s);
     const double setup = now() - t0;
     const int frames = std::min(tl.frameCount(), 120);
+    double pose = 0.0, tree = 0.0, ratio = 0.0;
+    int rebuilt = 0, anchors = 0;
     const double t1 = now();
-    for (int f = 0; f < frames; ++f) tl.applyFrame(s, f);
+    for (int f = 0; f < frames; ++f) {
+        tl.applyFrame(s, f);
+        const Scene::UpdateCost& c = s.lastUpdateCost();
+        pose += c.poseS;
+        tree += c.treeS;
+        anchors += c.anchorsBuilt;
+        ratio = std::max(ratio, c.sahRatio);
+        rebuilt += s.lastRefitRebuilt();
+    }
     const double per = (now() - t1) / frames;
     std::printf("%-34s %9zu vertices  fromScene %8.3f ms  apply %9.4f ms/frame  (%d frames timed, %s)\n", what, vertices,
                 1e3 * setup, 1e3 * per, frames, tl.animatesGeometry() ? "geometry moves" : "no geometry work");
+    if (tl.animatesGeometry())
+        std::printf("%-34s   of which pose (morph, skin) %.3f ms/frame, trees %.3f ms/frame (%d anchor trees built, "
+                    "%d of %d frames rebuilt, largest refit SAH ratio %.3f, rebuild above %.2f)\n",
+                    "", 1e3 * pose / frames, 1e3 * tree / frames, anchors, rebuilt, frames, ratio, Scene::kRebuildGrowth);
+}
+
+
+/// One frame's render time on one thread at the scene's settings (seconds, best of 2).
+double renderSeconds(const Scene& s, int w, int h) {
+    RenderSettings st = s.settings;
+    st.width = w;
+    st.height = h;
+    st.autoExposure = false;
+    double best = 1e30;
+    for (int k = 0; k < 2; ++k) {
+        RayStats rays;
+        const double t0 = now();
+        (void)renderFrame(s, s.camera, st, 0, 1, rays);
+        best = std::min(best, now() - t0);
+    }
+    return best;
+}
+
+/// The rebuild rule measured on a model's film: at each sampled frame, the tree the anchors give
+/// refitted (rebuildGrowth infinite) against the same pose built afresh (rebuildGrowth 0): their
+/// SAH ratio and render times; and the ratio a refit of the rest pose's tree would have had.
+void measureRule(const std::string& file, int samples, int w, int h) {
+    DiskFileSource fs;
+    const Scene loaded = loadScene(file, fs);
+    const anim::Timeline tl = anim::Timeline::fromScene(loaded);
+    std::printf("%s: %d frames, %dx%d, %d spp, one thread; per sampled frame: SAH ratio of the refit (anchor | rest pose), "
+                "render ms refit vs fresh build, pose/refit/rebuild ms\n",
+                file.c_str(), tl.frameCount(), w, h, loaded.settings.spp);
+    double sumRefit = 0.0, sumFresh = 0.0;
+    for (int i = 0; i < samples; ++i) {
+        const int f = int((long long)i * tl.frameCount() / samples);
+        Scene refit = loaded, fresh = loaded, rest = loaded;
+        refit.rebuildGrowth = 1e30;
+        fresh.rebuildGrowth = 0.0;
+        rest.rebuildGrowth = 1e30;
+        tl.applyFrame(refit, f);  // builds the anchor's tree first: timed apart below
+        tl.applyFrame(refit, f);
+        const Scene::UpdateCost c = refit.lastUpdateCost();
+        tl.applyFrame(fresh, f);
+        tl.applyFrame(fresh, f);
+        const Scene::UpdateCost cf = fresh.lastUpdateCost();
+        // The rest pose's tree refitted: the frame's pose without an anchor.
+        tl.applyFrame(rest, f);
+        double restRatio = 0.0;
+        for (size_t m = 0; m < rest.models.size(); ++m) {
+            if (rest.models[m].animations.empty()) continue;
+            const anim::GltfAnimationPlayer p(rest.models[m], int(m), 0, true);
+            std::vector<DMat4> nodes;
+            std::vector<std::vector<double>> weights;
+            p.pose(rest.models[m], tl.frameTime(f), nodes, weights);
+            rest.applyNodeTransforms(int(m), nodes, weights);
+            restRatio = std::max(restRatio, rest.lastUpdateCost().sahRatio);
+        }
+        const double tr = renderSeconds(refit, w, h), tf = renderSeconds(fresh, w, h);
+        sumRefit += tr;
+        sumFresh += tf;
+        std::printf("  frame %4d: SAH ratio %.3f (rest pose %.3f)  render %.1f vs %.1f ms (%+.1f%%)  pose %.1f, refit %.1f, rebuild %.1f ms\n",
+                    f, c.sahRatio, restRatio, 1e3 * tr, 1e3 * tf, 100.0 * (tr / tf - 1.0), 1e3 * c.poseS, 1e3 * c.treeS, 1e3 * cf.treeS);
+    }
+    std::printf("  over the sampled frames: refitted trees render in %.1f ms a frame, fresh ones in %.1f (%+.1f%%)\n",
+                1e3 * sumRefit / samples, 1e3 * sumFresh / samples, 100.0 * (sumRefit / sumFresh - 1.0));
 }
 
 }  // namespace
@@ -75,6 +156,16 @@ int main(int argc, char** argv) {
     int n = 512;
     for (int i = 1; i + 1 < argc; ++i)
         if (!std::strcmp(argv[i], "--grid")) n = std::max(2, std::atoi(argv[i + 1]));
+    for (int i = 1; i + 1 < argc; ++i)
+        if (!std::strcmp(argv[i], "--rule")) {
+            int samples = 12, w = 640, h = 360;
+            for (int k = 1; k + 1 < argc; ++k) {
+                if (!std::strcmp(argv[k], "--frames")) samples = std::max(1, std::atoi(argv[k + 1]));
+                if (!std::strcmp(argv[k], "--size")) std::sscanf(argv[k + 1], "%dx%d", &w, &h);
+            }
+            measureRule(argv[i + 1], samples, w, h);
+            return 0;
+        }
     DiskFileSource fs;
     // --model FILE...: each file's own timeline, posed frame by frame (pose + skin + refit).
     bool models = false;
