@@ -19,6 +19,10 @@
 #                restores still's picture exactly; F twice from the same camera gives the same
 #                picture; Right shows frame 1 exactly as still --frame 1; Space plays (the picture
 #                keeps changing) and pauses; Home shows frame 0 again
+#   scrub SCENE  (a scene whose camera is fixed and whose model is skinned) a mouse drag on the
+#                timeline slider changes the picture to exactly one of the film's other frames
+#                as `render` writes them (so the window shows the posed model of that frame),
+#                whose pose differs from frame 0's; Home shows frame 0 again
 #   preview SCENE  render --preview opens a window on the frames as they complete; closing it
 #                mid-render leaves the render to finish (status 0, every frame); a window on the
 #                finished frames directory (view --watch) shows the last frame exactly
@@ -446,6 +450,41 @@ killed-rank)
         alive "$pid" && fail "process $pid of the session left behind: $(ps -o pid=,stat=,args= -p "$pid")"
     done
     echo "ok: $(grep 'stopped answering' view.log); closed with status $STATUS"
+    ;;
+scrub)
+    # The film's frames as render writes them (the same pixels still and the window give).
+    rm -rf film.frames film.mp4
+    "$RAYFARM" render "$scene" --size $SIZE --spp 4 -o film.mp4 --frames-dir film.frames --overwrite 2>render.log ||
+        fail "render: $(tail -2 render.log)"
+    frames=(film.frames/frame_*.png)
+    [ ${#frames[@]} -ge 8 ] || fail "the film has ${#frames[@]} frames"
+    [ "$(differing "${frames[0]}" "${frames[$((${#frames[@]} / 2))]}")" != 0 ] || fail "frames 0 and the middle one look alike: no pose to scrub"
+    start_view "$scene" --size $SIZE --spp 4
+    wait_equal "${frames[0]}" 60 start
+    # The slider runs along the window's foot, after the Play button: press on its handle (at
+    # its left end, frame 0) and drag it right, as a user scrubs. The row is found by trying a
+    # few heights above the status line (elsewhere the press lands on empty window).
+    geo=$(xdotool getwindowgeometry --shell "$WID")
+    eval "$geo"
+    for y in $((HEIGHT - 32)) $((HEIGHT - 28)) $((HEIGHT - 36)) $((HEIGHT - 24)) $((HEIGHT - 40)); do
+        xdotool mousemove --window "$WID" 93 $y mousedown 1
+        for i in $(seq 10); do xdotool mousemove --window "$WID" $((93 + i * (WIDTH - 200) / 20)) $y; sleep 0.05; done
+        xdotool mouseup 1
+        sleep 1
+        grab probe.png
+        [ "$(differing probe.png "${frames[0]}")" != 0 ] && break
+    done
+    settle scrubbed
+    match=
+    for f in "${frames[@]}"; do
+        [ "$(differing scrubbed.png "$f")" = 0 ] && { match=$f; break; }
+    done
+    [ -n "$match" ] || fail "after the scrub the window shows none of the film's frames (see $WORK/scrubbed.png)"
+    [ "$match" != "${frames[0]}" ] || fail "the scrub left the window on frame 0"
+    xdotool windowfocus --sync "$WID" key Home; wait_equal "${frames[0]}" 30 home
+    close_view 5 view
+    [ $STATUS -eq 0 ] || fail "view exited with status $STATUS: $(cat view.log)"
+    echo "ok: scrubbing the timeline showed $(basename "$match") exactly, a pose other than frame 0's"
     ;;
 interact)
     "$RAYFARM" still "$scene" --size $SIZE --spp 4 -o still.png 2>/dev/null || fail "still"
