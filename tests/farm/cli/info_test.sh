@@ -56,7 +56,7 @@ for want in "8 triangles drawn" "skins (1):" "0 (no name): 2 joints" "5.5 s, 1 c
 done
 "$rayfarm" info "$data/variants.gltf" > "$out/variants.txt" 2>&1 || bad "variants text form exited $?"
 grep -qF '2 "matte black"' "$out/variants.txt" || bad "text form lacks the variant names"
-grep -qF 'KHR_materials_sheen: not supported' "$out/variants.txt" || bad "text form does not say sheen is unsupported"
+grep -qF 'KHR_materials_anisotropy: not supported' "$out/variants.txt" || bad "text form does not say anisotropy is unsupported"
 
 # --animation picks the turntable's clip; one the file lacks is refused, listing what it has.
 "$rayfarm" info --json --animation 0 "$assimp/simple_skin/simple_skin.gltf" > /dev/null 2>&1 || bad "--animation 0 refused"
@@ -82,10 +82,10 @@ refused "an unknown option" "--frobnicate" --frobnicate "$data/variants.gltf"
 refused "no model" "expected one MODEL"
 python3 - "$data/variants.gltf" "$out/required.gltf" <<'PY'
 import json, sys
-d = json.load(open(sys.argv[1])); d["extensionsRequired"] = ["KHR_materials_sheen"]
+d = json.load(open(sys.argv[1])); d["extensionsRequired"] = ["KHR_materials_anisotropy"]
 json.dump(d, open(sys.argv[2], "w"))
 PY
-refused "a required extension rayfarm lacks" "KHR_materials_sheen" "$out/required.gltf"
+refused "a required extension rayfarm lacks" "KHR_materials_anisotropy" "$out/required.gltf"
 
 [ "$fail" -eq 0 ] && echo "info: all passed"
 exit "$fail"
