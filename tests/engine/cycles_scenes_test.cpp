@@ -112,7 +112,9 @@ TEST(CyclesScenes, ClearcoatSheenAndVolumeMatchCyclesOnEachSphere) {
     // courtyard and a sun. Scored on each sphere's own pixels (the box of the pixels its
     // material covers), so neither the floor nor the sky can hide a wrong material.
     SceneOptions options;
-    options.environment = EnvironmentSpec{std::string(RAYFARM_SOURCE_DIR) + "/scenes/environments/courtyard.exr", 0.f, 1.f};
+    std::string courtyard = RAYFARM_SOURCE_DIR;  // appended: GCC 12's operator+ warns falsely under LTO
+    courtyard += "/scenes/environments/courtyard.exr";
+    options.environment = EnvironmentSpec{courtyard, 0.f, 1.f};
     DiskFileSource fs;
     Scene scene = loadScene(kDir + "coat_sheen_volume.gltf", fs, options);
     useGltfCamera(scene, 0);
