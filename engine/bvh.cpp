@@ -36,10 +36,27 @@ void Bvh::build(const std::vector<Aabb>& primBounds, int maxLeafSize, bool pollC
 
 void Bvh::collapse() {
     nodes4_.clear();
+    wideFrom_.clear();
     if (nodes_.empty()) return;
     nodes4_.reserve(nodes_.size() / 2 + 1);
+    wideFrom_.reserve(4 * (nodes_.size() / 2 + 1));
     collapseNode(0);
 }
+
+namespace {
+/// A binary node's box as a lane of a 4-wide node. Traversal reads the near slab by the ray's
+/// sign, so each lane needs lo ≤ hi: an inverted box is stored as the box the old per-box swap
+/// tested, a NaN as all space.
+inline void setWideLane(Bvh4Node& out, int i, const Aabb& box) {
+    for (int a = 0; a < 3; ++a) {
+        float lo = box.lo[a], hi = box.hi[a];
+        if (lo > hi) std::swap(lo, hi);
+        else if (!(lo <= hi)) lo = -kInf, hi = kInf;
+        out.lo[a][i] = lo;
+        out.hi[a][i] = hi;
+    }
+}
+}  // namespace
 
 uint32_t Bvh::collapseNode(uint32_t node2) {
     // Gather up to four binary descendants: open the interior child with the largest area
@@ -69,6 +86,7 @@ uint32_t Bvh::collapseNode(uint32_t node2) {
     }
     const uint32_t me = static_cast<uint32_t>(nodes4_.size());
     nodes4_.emplace_back();
+    wideFrom_.insert(wideFrom_.end(), {kids[0], n > 1 ? kids[1] : ~0u, n > 2 ? kids[2] : ~0u, n > 3 ? kids[3] : ~0u});
     Bvh4Node out{};
     for (int a = 0; a < 3; ++a)
         for (int c = 0; c < 4; ++c) {
@@ -78,15 +96,7 @@ uint32_t Bvh::collapseNode(uint32_t node2) {
     out.valid = 0;
     for (int i = 0; i < n; ++i) {
         const BvhNode& c = nodes_[kids[i]];
-        for (int a = 0; a < 3; ++a) {
-            // Traversal reads the near slab by the ray's sign, so each lane needs lo ≤ hi: an
-            // inverted box is stored as the box the old per-box swap tested, a NaN as all space.
-            float lo = c.box.lo[a], hi = c.box.hi[a];
-            if (lo > hi) std::swap(lo, hi);
-            else if (!(lo <= hi)) lo = -kInf, hi = kInf;
-            out.lo[a][i] = lo;
-            out.hi[a][i] = hi;
-        }
+        setWideLane(out, i, c.box);
         out.valid |= 1u << i;
         if (c.count > 0) {
             out.child[i] = c.offset;
@@ -100,20 +110,44 @@ uint32_t Bvh::collapseNode(uint32_t node2) {
     return me;
 }
 
-void Bvh::refit(const std::vector<Aabb>& primBounds) {
+template <typename LeafBox>
+void Bvh::refitWith(LeafBox&& leafBox, bool keepShape) {
+    if (keepShape && nodes4_.empty()) collapse();  // the shape of the boxes it has now
     // Children always sit after their parent, so a reverse sweep sees children first.
     for (size_t i = nodes_.size(); i-- > 0;) {
         BvhNode& n = nodes_[i];
         Aabb b;
         if (n.count > 0) {
-            for (uint32_t k = 0; k < n.count; ++k) b.grow(primBounds[primIndex_[n.offset + k]]);
+            b = leafBox(n.offset, n.count);
         } else {
             b.grow(nodes_[i + 1].box);
             b.grow(nodes_[n.offset].box);
         }
         n.box = b;
     }
-    collapse();
+    if (!keepShape) {
+        collapse();
+        return;
+    }
+    for (size_t w = 0; w < nodes4_.size(); ++w)
+        for (int i = 0; i < 4; ++i)
+            if (wideFrom_[4 * w + size_t(i)] != ~0u) setWideLane(nodes4_[w], i, nodes_[wideFrom_[4 * w + size_t(i)]].box);
+}
+
+void Bvh::refit(const std::vector<Aabb>& primBounds) {
+    refitWith([&](uint32_t first, uint32_t count) {
+        Aabb b;
+        for (uint32_t k = 0; k < count; ++k) b.grow(primBounds[primIndex_[first + k]]);
+        return b;
+    }, false);
+}
+
+void Bvh::refitBySlotKeepShape(const std::vector<Aabb>& slotBounds) {
+    refitWith([&](uint32_t first, uint32_t count) {
+        Aabb b;
+        for (uint32_t k = 0; k < count; ++k) b.grow(slotBounds[first + k]);
+        return b;
+    }, true);
 }
 
 double Bvh::sahCost() const {

@@ -37,6 +37,13 @@ public:
 
     /// Recomputes node boxes from moved primitives; the tree's topology stays.
     void refit(const std::vector<Aabb>& primBounds);
+    /// As refit(), from the boxes in slot order (slotBounds[s] the box of primitive
+    /// primIndex()[s]), so a caller that keeps its primitives in leaf order reads them
+    /// contiguously; and the 4-wide tree keeps the shape it had (collapsed from the boxes the
+    /// tree was built or last refitted with) and only takes the new boxes: no new collapse.
+    /// A tree without its 4-wide copy (dropWideNodes) collapses its current boxes first, so
+    /// the shape is always that of the tree it was copied from.
+    void refitBySlotKeepShape(const std::vector<Aabb>& slotBounds);
 
     /// The tree's surface area heuristic cost relative to its root box: Σ over interior nodes of
     /// area / root area, plus Σ over leaves of area / root area × primitives. A refitted tree
@@ -46,7 +53,10 @@ public:
     bool empty() const { return nodes_.empty(); }
     /// Frees the 4-wide copy (refit() makes it again): for a tree kept only as the topology a
     /// later refit starts from.
-    void dropWideNodes() { std::vector<Bvh4Node>().swap(nodes4_); }
+    void dropWideNodes() {
+        std::vector<Bvh4Node>().swap(nodes4_);
+        std::vector<uint32_t>().swap(wideFrom_);
+    }
     const std::vector<BvhNode>& nodes() const { return nodes_; }
     const std::vector<uint32_t>& primIndex() const { return primIndex_; }
     const std::vector<Bvh4Node>& nodes4() const { return nodes4_; }
@@ -110,10 +120,17 @@ private:
     /// Collapses the binary tree into nodes4_ (children of a binary node's grandchildren).
     void collapse();
     uint32_t collapseNode(uint32_t node2);
+    /// refit()'s sweep: leafBox(first slot, count) gives a leaf's box; keepShape: the 4-wide
+    /// nodes take the new boxes without a new collapse.
+    template <typename LeafBox>
+    void refitWith(LeafBox&& leafBox, bool keepShape);
 
     std::vector<BvhNode> nodes_;
     bool pollCancel_ = false;  ///< during build(): whether a load may stop it
     std::vector<Bvh4Node> nodes4_;
+    /// Per 4-wide node, the binary node of each of its four children (~0u: none), so a refit
+    /// can update the wide boxes without collapsing again.
+    std::vector<uint32_t> wideFrom_;
     std::vector<uint32_t> primIndex_;
 };
 

@@ -266,7 +266,7 @@ void Scene::applyNodeTransforms(int model, const std::vector<DMat4>& renderFromN
         SceneInstance& in = instances_[i];
         if (in.kind == SceneInstance::Kind::Static || in.meshes.empty() || !moved[in.meshes[0]]) continue;
         if (in.kind == SceneInstance::Kind::Rigid) placeRigid(in);
-        else if (base[i]) refitInstance(in, &base[i]->tree, base[i]->cost);
+        else if (base[i]) refitInstance(in, &base[i]->tree, base[i]->cost, {anchor->clip, anchor->index});
         else refitInstance(in);
         lastRebuilt_ |= in.lastRebuilt;
         if (in.kind == SceneInstance::Kind::Deforming) lastCost_.sahRatio = std::max(lastCost_.sahRatio, in.lastSahRatio);

@@ -190,8 +190,10 @@ private:
     /// scene_accel.cpp: the instances and the top level (build), one instance's tree refitted
     /// or rebuilt and its slots filled, a rigid instance moved, the top level over the boxes.
     void buildInstances();
-    /// base: the tree to refit (null: the one build() made) and its SAH cost.
-    void refitInstance(SceneInstance& in, const Bvh* base = nullptr, double baseCost = 0.0);
+    /// base: the tree to refit (null: the one build() made), its SAH cost and which it is
+    /// (SceneInstance::bvhFrom).
+    void refitInstance(SceneInstance& in, const Bvh* base = nullptr, double baseCost = 0.0,
+                       std::pair<int, int> baseKey = SceneInstance::kNoTree);
     /// Poses model's moving meshes (all, or those of instance only) from node matrices; marks
     /// each in moved (if given) and gathers its triangles.
     void poseModel(int model, const std::vector<DMat4>& renderFromNode, const std::vector<std::vector<double>>& morphWeights,
@@ -200,7 +202,12 @@ private:
     /// missing; anchorPose caches the anchor's matrices between instances.
     const SceneInstance::AnchorTree& anchorTree(SceneInstance& in, const PoseAnchor& anchor, std::vector<DMat4>& anchorNodes,
                                                 std::vector<std::vector<double>>& anchorWeights);
+    /// fillSlots, then buildLeafTriangles.
     void fillInstanceSlots(SceneInstance& in);
+    /// The instance's slotPrim_ and slotVerts_ in its tree's leaf order.
+    void fillSlots(SceneInstance& in);
+    /// Its leaves' triangles four at a time, from its slots.
+    void buildLeafTriangles(SceneInstance& in);
     void placeRigid(SceneInstance& in);
     void buildTopLevel();
     /// triVerts_ of mesh m from its positions.

@@ -98,6 +98,7 @@ void Scene::buildInstances() {
         }
         in.bvh.build(boxes);
         in.built = in.kind == SceneInstance::Kind::Rigid ? Bvh{} : in.bvh;
+        in.bvhFrom = SceneInstance::kNoTree;  // (a first refit copies built's 4-wide shape too)
         in.builtCost = in.bvh.sahCost();
         in.lastRebuilt = false;
         fillInstanceSlots(in);
@@ -112,6 +113,11 @@ void Scene::buildInstances() {
 }
 
 void Scene::fillInstanceSlots(SceneInstance& in) {
+    fillSlots(in);
+    buildLeafTriangles(in);
+}
+
+void Scene::fillSlots(SceneInstance& in) {
     const std::vector<uint32_t>& order = in.bvh.primIndex();
     Vec3* verts = slotVerts_.data() + 3 * size_t(in.slotBase);
     if (in.kind == SceneInstance::Kind::Rigid) {
@@ -131,25 +137,61 @@ void Scene::fillInstanceSlots(SceneInstance& in) {
                 for (int c = 0; c < 3; ++c) verts[3 * size_t(s) + c] = triVerts_[3 * size_t(p) + c];
         }
     }
+}
+
+void Scene::buildLeafTriangles(SceneInstance& in) {
+    const Vec3* verts = slotVerts_.data() + 3 * size_t(in.slotBase);
+    // Only the static instance holds spheres; the others' slots are all triangles.
+    if (in.kind != SceneInstance::Kind::Static || nSph_ == 0) {
+        in.leafTris.build(in.bvh, verts, {});
+        return;
+    }
     const uint32_t base = in.slotBase;
     in.leafTris.build(in.bvh, verts, [&](uint32_t s) { return slotPrim_[base + s] < nTri_; });
 }
 
-void Scene::refitInstance(SceneInstance& in, const Bvh* base, double baseCost) {
+void Scene::refitInstance(SceneInstance& in, const Bvh* base, double baseCost, std::pair<int, int> baseKey) {
     std::vector<Aabb>& boxes = scratchBoxes_;
-    boxes.clear();
-    for (uint32_t p : in.prims)
-        boxes.push_back(p < nTri_ ? triangleBox(triVerts_[3 * size_t(p)], triVerts_[3 * size_t(p) + 1], triVerts_[3 * size_t(p) + 2])
-                                  : sphereBox(spheres[p - nTri_]));
+    auto primBoxes = [&] {
+        boxes.clear();
+        for (uint32_t p : in.prims)
+            boxes.push_back(p < nTri_ ? triangleBox(triVerts_[3 * size_t(p)], triVerts_[3 * size_t(p) + 1], triVerts_[3 * size_t(p) + 2])
+                                      : sphereBox(spheres[p - nTri_]));
+    };
     // Always from a fixed tree (build()'s, or an anchor pose's), never from an earlier frame's:
     // the result is then a function of this frame's pose alone.
-    if (!base) base = &in.built, baseCost = in.builtCost;
-    in.bvh = *base;
-    in.bvh.refit(boxes);
+    if (!base) base = &in.built, baseCost = in.builtCost, baseKey = SceneInstance::kBuiltTree;
+    const bool triangles = in.kind == SceneInstance::Kind::Deforming;  // nothing but triangles
+    if (triangles) {
+        // The starting tree's topology (copied unless bvh already has it: a refit rewrites
+        // every box) and the 4-wide shape collapsed from its own boxes.
+        if (in.bvhFrom != baseKey || baseKey == SceneInstance::kNoTree) in.bvh = *base;
+        in.bvhFrom = baseKey;
+        // The slots first (the starting tree's leaf order, which a refit keeps), then the leaf
+        // boxes from their contiguous vertices: one scattered pass over the triangles, not two.
+        fillSlots(in);
+        const Vec3* v = slotVerts_.data() + 3 * size_t(in.slotBase);
+        boxes.resize(in.prims.size());
+        for (size_t k = 0; k < boxes.size(); ++k) boxes[k] = triangleBox(v[3 * k], v[3 * k + 1], v[3 * k + 2]);
+        in.bvh.refitBySlotKeepShape(boxes);
+    } else {
+        in.bvh = *base;
+        in.bvhFrom = SceneInstance::kNoTree;
+        primBoxes();
+        in.bvh.refit(boxes);
+    }
     in.lastSahRatio = baseCost > 0.0 ? in.bvh.sahCost() / baseCost : 0.0;
     in.lastRebuilt = baseCost > 0.0 && in.lastSahRatio > rebuildGrowth;
-    if (in.lastRebuilt) in.bvh.build(boxes);
-    fillInstanceSlots(in);
+    if (in.lastRebuilt) {
+        if (triangles) primBoxes();
+        in.bvh.build(boxes);
+        in.bvhFrom = SceneInstance::kNoTree;
+        fillInstanceSlots(in);
+    } else if (triangles) {
+        buildLeafTriangles(in);
+    } else {
+        fillInstanceSlots(in);
+    }
     in.box = in.bvh.bounds();
     in.hidden = in.bvh.empty();
 }

@@ -40,6 +40,11 @@ struct SceneInstance {
     };
     std::map<std::pair<int, int>, AnchorTree> anchors;
     double lastSahRatio = 0.0;     ///< the last refit's SAH cost over its starting tree's
+    /// Deforming: which starting tree bvh was last refitted from ((-1, -1): built; (clip,
+    /// anchor): that anchor's; kNoTree after a rebuild). A refit from the same one again
+    /// overwrites every box in place instead of copying the tree first: the same result.
+    static constexpr std::pair<int, int> kNoTree{-2, -2}, kBuiltTree{-1, -1};
+    std::pair<int, int> bvhFrom = kNoTree;
     LeafTriangles leafTris;        ///< its leaves' triangles, four at a time (local slots)
     /// Rigid: rays reach the object-space tree through objectFromRender (double; applied to a
     /// ray in double and rounded once). Its inverse, renderFromObject, is the node's matrix.

@@ -40,7 +40,8 @@ void LeafTriangles::build(const Bvh& bvh, const Vec3* slotVerts,
             if (!((n.valid >> c) & 1u) || n.count[c] == 0) continue;
             const uint32_t begin = n.child[c], end = begin + n.count[c];
             bool all = true;
-            for (uint32_t s = begin; s < end && all; ++s) all = packable(s);
+            if (packable)
+                for (uint32_t s = begin; s < end && all; ++s) all = packable(s);
             if (!all) continue;
             first_[begin] = static_cast<uint32_t>(blocks_.size());
             for (uint32_t s = begin; s < end; s += 4) {

@@ -26,7 +26,8 @@ public:
     static constexpr uint32_t kNone = ~0u;
 
     /// slotVerts: three vertices per slot (primIndex() order). packable(slot): the slot holds a
-    /// triangle; a leaf with any other primitive gets no blocks.
+    /// triangle; a leaf with any other primitive gets no blocks. An empty packable: every slot
+    /// holds a triangle (spares a call per slot on a tree rebuilt or refitted every frame).
     void build(const Bvh& bvh, const Vec3* slotVerts, const std::function<bool(uint32_t)>& packable);
     void build(const Bvh& bvh, const std::vector<Vec3>& slotVerts, const std::function<bool(uint32_t)>& packable) {
         build(bvh, slotVerts.data(), packable);

@@ -238,6 +238,22 @@ TEST(SceneInstances, MorphTargetsMoveTangentsToo) {
     EXPECT_EQ(moving.tangents[1].w, -1.f);
 }
 
+/// Rays down onto the morphed grid (and what lies around it) hit as in the baked geometry.
+void expectHitsAsBaked(const Scene& posed, unsigned seed) {
+    const Scene ref = baked(posed);
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(-1.f, 1.f);
+    for (int i = 0; i < 2000; ++i) {
+        const Ray r{Vec3(u(rng), 3.f, -1.8f + u(rng)), glm::normalize(Vec3(0.1f * u(rng), -1.f, 0.1f * u(rng)))};
+        Hit h, hr;
+        const bool met = posed.intersect(r, h);
+        ASSERT_EQ(met, ref.intersect(r, hr)) << i;
+        if (met) {
+            EXPECT_NEAR(h.t, hr.t, 1e-4f) << i;
+        }
+    }
+}
+
 /// A deforming grid whose one morph target lifts the middle, anchored at weights k / 4.
 Scene::PoseAnchor anchorAt(int k) {
     Scene::PoseAnchor a;
@@ -269,14 +285,60 @@ TEST(SceneInstances, ADeformingTreeIsItsAnchorsRefittedWhateverCameBefore) {
     // A second frame near anchor 1 reuses its tree: nothing built, and it still hits right.
     direct.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.2}}, &a1);
     EXPECT_EQ(direct.lastUpdateCost().anchorsBuilt, 0);
-    const Scene ref = baked(direct);
-    std::mt19937 rng(3);
-    std::uniform_real_distribution<float> u(-1.f, 1.f);
-    for (int i = 0; i < 2000; ++i) {
-        const Ray r{Vec3(u(rng), 3.f, -1.8f + u(rng)), glm::normalize(Vec3(0.1f * u(rng), -1.f, 0.1f * u(rng)))};
-        Hit h, hr;
-        ASSERT_EQ(direct.intersect(r, h), ref.intersect(r, hr)) << i;
+    expectHitsAsBaked(direct, 3);
+}
+
+/// Two trees alike in every box, binary and 4-wide, and in their leaves' order.
+void expectSameTree(const Bvh& x, const Bvh& y) {
+    EXPECT_EQ(x.primIndex(), y.primIndex());
+    ASSERT_EQ(x.nodes().size(), y.nodes().size());
+    for (size_t i = 0; i < x.nodes().size(); ++i) {
+        EXPECT_EQ(x.nodes()[i].box.lo, y.nodes()[i].box.lo) << i;
+        EXPECT_EQ(x.nodes()[i].box.hi, y.nodes()[i].box.hi) << i;
     }
+    ASSERT_EQ(x.nodes4().size(), y.nodes4().size());
+    for (size_t i = 0; i < x.nodes4().size(); ++i) {
+        const Bvh4Node &a = x.nodes4()[i], &b = y.nodes4()[i];
+        EXPECT_EQ(a.valid, b.valid) << i;
+        for (int c = 0; c < 4; ++c) {
+            EXPECT_EQ(a.child[c], b.child[c]) << i;
+            EXPECT_EQ(a.count[c], b.count[c]) << i;
+            for (int ax = 0; ax < 3; ++ax) {
+                EXPECT_EQ(a.lo[ax][c], b.lo[ax][c]) << i;
+                EXPECT_EQ(a.hi[ax][c], b.hi[ax][c]) << i;
+            }
+        }
+    }
+}
+
+TEST(SceneInstances, ARefitInPlaceGivesTheTreeOfAFreshCopy) {
+    // Frames refitted from the same starting tree one after another rewrite the boxes in place
+    // (no copy); the tree must be the one a scene going straight to the frame gets, 4-wide
+    // shape included (collapsed from the starting tree's boxes, never the frame's).
+    const Scene::PoseAnchor a1 = anchorAt(1), a3 = anchorAt(3);
+    Scene chain = mixedScene(), direct = mixedScene(), back = mixedScene();
+    chain.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.9}}, &a1);
+    chain.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.2}}, &a1);  // in place
+    direct.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.2}}, &a1);
+    expectSameTree(chain.instances()[3].bvh, direct.instances()[3].bvh);
+    // Through another anchor and back: copied again, the same tree.
+    back.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.9}}, &a1);
+    back.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.7}}, &a3);
+    back.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.2}}, &a1);
+    expectSameTree(back.instances()[3].bvh, direct.instances()[3].bvh);
+    // (Anchor 1's topology is not build()'s nor anchor 3's, so a tree left uncopied would show.)
+    const SceneInstance& in = back.instances()[3];
+    ASSERT_NE(in.anchors.at({0, 1}).tree.primIndex(), in.built.primIndex());
+    ASSERT_NE(in.anchors.at({0, 1}).tree.primIndex(), in.anchors.at({0, 3}).tree.primIndex());
+    EXPECT_EQ(in.bvh.primIndex(), in.anchors.at({0, 1}).tree.primIndex());
+    // Without anchors: build()'s tree refitted, in place the second time.
+    Scene chainRest = mixedScene(), directRest = mixedScene();
+    chainRest.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {1.0}});
+    chainRest.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.4}});
+    directRest.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.4}});
+    expectSameTree(chainRest.instances()[3].bvh, directRest.instances()[3].bvh);
+    // And the rays agree with the baked mesh.
+    expectHitsAsBaked(chain, 5);
 }
 
 }  // namespace
