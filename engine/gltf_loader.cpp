@@ -618,12 +618,15 @@ Scene loadGltfScene(const std::string& path, FileSource& fs, const SceneOptions&
     const float radius = float(0.5 * glm::length(hi - lo));
     const float aspect = float(s.settings.width) / float(s.settings.height);
     s.camera = frameBoundingSphere(Vec3(center - s.renderOrigin), radius > 0.f ? radius : 1.f, aspect);
-    // A bare model (no lights of its own) stands in the built-in studio with one key light for
-    // crisp shadows; a model with its own lights gets a black world, as Blender gives it.
+    // A bare model (no lights of its own, no environment asked for) stands in the built-in
+    // studio with one key light for crisp shadows; a model with its own lights gets a black
+    // world, as Blender gives it. An environment given for a model without lights is its whole
+    // light, as in Blender: a key light on top would light what the environment leaves in shade
+    // (a backdrop facing away from the sky came out near white).
     SceneOptions opts = options;
-    if (s.lights.empty()) {
+    if (s.lights.empty() && !opts.environment) {
         addDefaultKeyLight(s, s.camera);
-        if (!opts.environment) opts.environment = EnvironmentSpec{};
+        opts.environment = EnvironmentSpec{};
     }
     s.background = Color(0.f);
     // glTF's light units are photometric and its models carry no exposure: meter one for the
