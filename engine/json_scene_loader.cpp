@@ -70,7 +70,7 @@ void readCamera(const Reader& rd, const json& j, Camera& cam, DVec3& eye, DVec3&
 
 void readRender(const Reader& rd, const json& j, RenderSettings& s) {
     const std::string w = "render";
-    rd.allowKeys(j, w, {"width", "height", "spp", "max_depth", "min_weight", "tonemap", "shading", "tile_size", "indirect"});
+    rd.allowKeys(j, w, {"width", "height", "spp", "max_depth", "min_weight", "tonemap", "shading", "tile_size", "indirect", "bounce"});
     s.width = rd.integer(j, "width", w, s.width, 1, 16384);
     s.height = rd.integer(j, "height", w, s.height, 1, 16384);
     s.spp = rd.integer(j, "spp", w, s.spp, 1, 4096);
@@ -88,6 +88,7 @@ void readRender(const Reader& rd, const json& j, RenderSettings& s) {
     else rd.fail("render.shading", "expected \"phong\" or \"blinn-phong\"");
     s.tileSize = rd.integer(j, "tile_size", w, s.tileSize, 1, 4096);
     s.indirectSamples = rd.integer(j, "indirect", w, s.indirectSamples, 0, kMaxIndirectSamples);
+    s.bounce = rd.integer(j, "bounce", w, s.bounce, 0, kMaxBounce);
 }
 
 /// "exposure": an EV (radiance × 2^EV before tone mapping) or "auto" (metered once per film).

@@ -147,6 +147,9 @@ void renderRect(const Scene& scene, const Camera& camera, const RenderSettings& 
     std::vector<TileRect> subs = makeTiles(rect.width(), rect.height(), subTile);
     for (TileRect& t : subs) t = {t.x0 + rect.x0, t.y0 + rect.y0, t.x1 + rect.x0, t.y1 + rect.y0};
     if (threads <= 0) threads = hardwareThreads();
+    // The bounce cache, built here on every thread if the geometry or lights moved since the
+    // last rectangle; each tile's integrator then finds it ready.
+    const std::shared_ptr<const BounceCache> bounce = bounceCache(scene, settings, threads);
     std::vector<RayStats> perThread(size_t(std::max(1, threads)));
     const size_t stride = size_t(rect.width());
     parallelFor(static_cast<int>(subs.size()), threads, [&](int i, int thread) {

@@ -1,6 +1,7 @@
 #include "scene.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cstring>
 #include <new>
@@ -12,8 +13,16 @@
 
 namespace rf {
 
+namespace {
+uint64_t nextGeometryVersion() {
+    static std::atomic<uint64_t> counter{0};
+    return ++counter;
+}
+}  // namespace
+
 void Scene::build() {
     LoadStep step("building the BVH");
+    geometryVersion_ = nextGeometryVersion();
     triVerts_.clear();
     triMesh_.clear();
     triLocal_.clear();
@@ -174,6 +183,7 @@ void Scene::gatherTriangles(uint32_t m) {
 }
 
 void Scene::refit() {
+    geometryVersion_ = nextGeometryVersion();
     for (uint32_t m = 0; m < meshes.size(); ++m) gatherTriangles(m);
     lastRebuilt_ = false;
     if (!useBvh_) {
@@ -256,6 +266,7 @@ void Scene::applyNodeTransforms(int model, const std::vector<DMat4>& renderFromN
     const Clock::time_point t2 = Clock::now();
     lastCost_.poseS = std::chrono::duration<double>(t2 - t1).count();
     if (std::find(moved.begin(), moved.end(), 1) == moved.end()) return;
+    geometryVersion_ = nextGeometryVersion();
     lastRebuilt_ = false;
     if (!useBvh_) {
         fillSlotData();

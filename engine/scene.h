@@ -10,6 +10,7 @@
 #include <nlohmann/json_fwd.hpp>
 #include <vector>
 
+#include "bounce_cache.h"
 #include "bvh.h"
 #include "camera.h"
 #include "interaction.h"
@@ -81,12 +82,18 @@ public:
     /// plays, over the scene file's "animation"; anim::Timeline resolves it.
     std::optional<std::string> animation;
 
+    /// Where the bounce cache (bounce_cache.h) is kept between frames; copies share it.
+    std::shared_ptr<BounceSlot> bounceSlot = newBounceSlot();
+
     /// Builds the acceleration structure; call after loading or after geometry changed. Two
     /// levels (scene_instance.h): the meshes that never move and the spheres in one tree, each
     /// skinned or morphed mesh in its own, each animated node's rigid meshes in one tree of
     /// their object space, and a top level over them; a scene with nothing that moves is the
     /// one tree alone.
     void build();
+    /// A number no other build(), refit() or moving applyNodeTransforms() of any scene in this
+    /// process has given: what the bounce cache keys its geometry by.
+    uint64_t geometryVersion() const { return geometryVersion_; }
     /// Updates every tree after mesh positions moved (topology unchanged): each render-space
     /// tree refitted from the one build() made, or built afresh over the new boxes when the
     /// refit's SAH cost has grown past kRebuildGrowth × the built tree's; rigid instances take
@@ -224,6 +231,7 @@ private:
     Bvh top_;                 ///< over the boxes of the instances not hidden; empty unless twoLevel_
     std::vector<uint32_t> topInstance_;  ///< top_'s primitives: those instances
     bool twoLevel_ = false;
+    uint64_t geometryVersion_ = 0;
     bool lastRebuilt_ = false;
     UpdateCost lastCost_;
     Bvh emptyBvh_;

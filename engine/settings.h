@@ -12,6 +12,10 @@ enum class ShadingModel { Phong, BlinnPhong };
 /// Which Integrator (engine/integrator.h) turns rays into radiance.
 enum class IntegratorKind { Whitted };
 
+/// RenderSettings::bounce's default and the most it accepts.
+constexpr int kDefaultBounce = 2;
+constexpr int kMaxBounce = 1000;
+
 struct RenderSettings {
     int width = 640;
     int height = 360;
@@ -29,6 +33,10 @@ struct RenderSettings {
     /// against the scene: the environment where they escape (occlusion) and the shaded surface
     /// where they hit (one bounce), converging towards a path tracer as N grows.
     int indirectSamples = 0;
+    /// Bounce light of glTF materials with indirectSamples 0 (bounce_cache.h): the punctual
+    /// lights' and emission's diffuse bounce, cached on this many thousand surface points per
+    /// film (rebuilt only when geometry or lights move). 0: none.
+    int bounce = kDefaultBounce;
     IntegratorKind integrator = IntegratorKind::Whitted;
     /// Speed-ups that must never change a pixel, switchable so tests can show they do not:
     /// camera rays traced in packets of neighbouring pixels (render.cpp, Scene::intersectPacket),

@@ -21,6 +21,7 @@ WhittedTracer::WhittedTracer(const Scene& scene, const RenderSettings& settings)
     displayScale_ = exposureScale(settings.exposure);
     for (const Material& m : scene.materials) seeThroughShadows_ |= m.gltfPbr && m.transmission > 0.f;
     if (scene.shadowCatcherHeight) catcher_.emplace(scene);
+    bounce_ = bounceCache(scene, settings, 1);  // renderRect built it on all its threads already
 }
 
 std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const RenderSettings& settings) {

@@ -5,6 +5,7 @@
 #include <optional>
 #include <vector>
 
+#include "bounce_cache.h"
 #include "brdf_gltf.h"
 #include "integrator.h"
 #include "light_eval.h"
@@ -89,6 +90,7 @@ private:
     float displayScale_ = 1.f;
     bool seeThroughShadows_ = false;  ///< some material transmits: shadow rays filter through it
     std::optional<ShadowCatcher> catcher_;  ///< --ground shadow
+    std::shared_ptr<const BounceCache> bounce_;  ///< the default look's bounce light (null: none)
     /// An integrator serves one thread (renderTile makes one per tile), so its shading points
     /// share this cache of each light's last blocker without a lock.
     mutable ShadowBlockers blockers_;

@@ -116,6 +116,10 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
     if (sampled) {
         const bool diffuse = (1.f - s.metallic) * (1.f - s.transmission) > 0.f;
         ind = sampleIndirect(si, frame, s, V, glossy, diffuse, ind, depth, weight, stats, seed);
+    } else if (bounce_ && si.mesh >= 0) {
+        // The lights' bounce off the scene's surfaces, cached per film (bounce_cache.h); the
+        // environment's split sum above stays as it was, unshadowed.
+        ind.diffuse += bounce_->at(scene_, si, frame.side);
     }
     specular += glossy * ind.specular;
     if (coated || sheen) {

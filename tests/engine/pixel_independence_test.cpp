@@ -2,7 +2,8 @@
 // pixel to pixel (the cache of each light's last blocker, the camera-ray packets, the tile it
 // was handed) may make a result faster, never different: the same frame rendered with tile
 // sizes 1, 7, 16, 32 and 128, packets on and off, the blocker cache on and off, on 1 and 2
-// threads, is the same to the bit (linear floats and encoded bytes).
+// threads, is the same to the bit (linear floats and encoded bytes). The bounce cache
+// (bounce_cache.h) is a function of the scene alone: built on one thread or two, the same.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -42,7 +43,14 @@ void expectIdenticalAcrossVariants(const std::string& name, const Scene& scene, 
         s.packets = v.packets;
         s.blockerCache = v.blockerCache;
         RayStats rays;
-        const Image img = renderFrame(scene, scene.camera, s, 3, v.threads, rays);
+        // On one thread the scene's bounce cache is built afresh, on that thread alone (the
+        // other variants share the one the first built on two).
+        Scene fresh;
+        if (v.threads == 1) {
+            fresh = scene;
+            fresh.bounceSlot = newBounceSlot();
+        }
+        const Image img = renderFrame(v.threads == 1 ? fresh : scene, scene.camera, s, 3, v.threads, rays);
         const std::vector<float> px(img.data(), img.data() + size_t(img.width()) * img.height() * 3);
         const std::vector<uint8_t> bytes = toRgb8(img, s);
         if (first.empty()) {
@@ -118,4 +126,16 @@ TEST(PixelIndependence, WhittedAndSampledIndirectAreTheSameAtEveryTilingPacketAn
     RenderSettings s = small(grid, 1);
     s.indirectSamples = 2;
     expectIdenticalAcrossVariants("pbr_grid --indirect 2", grid, s);
+}
+
+// The default look's bounce light, cached per film: the lights' bounce off the floor and the
+// spheres, the same at every tiling and whichever thread count built the cache.
+TEST(PixelIndependence, BounceLightIsTheSameAtEveryTilingPacketAndCache) {
+    DiskFileSource fs;
+    Scene grid = loadScene(std::string(RAYFARM_SOURCE_DIR) + "/scenes/pbr_grid/pbr_grid.gltf", fs);
+    useGltfCamera(grid, 0);
+    const RenderSettings s = small(grid, 1);
+    ASSERT_GT(s.bounce, 0);
+    ASSERT_TRUE(bounceCache(grid, s, 2));
+    expectIdenticalAcrossVariants("pbr_grid bounce", grid, s);
 }
