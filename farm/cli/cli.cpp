@@ -105,6 +105,7 @@ void applyQualityOptions(const ArgParser& p, RenderSettings& s) {
     if (w < 0.0) throw UsageError("--min-weight: expected a number ≥ 0");
     s.minWeight = static_cast<float>(w);
     s.indirectSamples = p.intValue("--indirect", s.indirectSamples, 0, kMaxIndirectSamples);
+    s.bounce = p.intValue("--bounce", s.bounce, 0, kMaxBounce);
     if (auto t = p.value("--tonemap")) {
         if (*t == "clamp") s.toneMap = ToneMap::Clamp;
         else if (*t == "reinhard") s.toneMap = ToneMap::Reinhard;

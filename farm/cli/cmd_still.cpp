@@ -36,6 +36,8 @@ const char* kStillHelp =
     "  --indirect N      glTF materials: N traced samples per lobe of environment and bounce\n"
     "                    light (occlusion, one bounce) instead of the unshadowed split sum\n"
     "                    (0, the default: noise-free); converges to a path tracer as N grows\n"
+    "  --bounce N        glTF materials with --indirect 0: the lights' diffuse bounce, cached on\n"
+    "                    N thousand surface points (default 8; 0: no bounce light)\n"
     "  --tonemap T       clamp, reinhard or pbr-neutral (default: clamp for scene files,\n"
     "                    pbr-neutral for glTF models)\n"
     "  --exposure EV     scale radiance by 2^EV before tone mapping; 0 shows glTF's photometric\n"
@@ -105,7 +107,7 @@ void writeStillStats(const std::string& path, const Scene& scene, const RenderSe
 
 int runStill(const std::vector<std::string>& args) {
     ArgParser p("still");
-    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--indirect", "--tonemap", "--threads", "--stats", "--frame", "--time", "--camera", "--background", "--exposure"}) p.option(o);
+    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--indirect", "--bounce", "--tonemap", "--threads", "--stats", "--frame", "--time", "--camera", "--background", "--exposure"}) p.option(o);
     declareSceneOptions(p);
     p.flag("--help");
     p.flag("-h");

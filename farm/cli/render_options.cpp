@@ -40,6 +40,7 @@ const char* kRenderHelp =
     "  --depth N         maximum ray depth; --min-weight W, --tonemap clamp|reinhard|pbr-neutral,\n"
     "                    --exposure EV|auto as for still (auto: one EV metered for the whole film)\n"
     "  --indirect N      glTF materials: N traced samples of indirect light (as for still)\n"
+    "  --bounce N        glTF materials: cached bounce light on N thousand points (as for still)\n"
     "  --frames-dir DIR  keep a PNG per frame here as frames complete (default: OUT.frames next\n"
     "                    to the output, e.g. out.frames/ for out.mp4)\n"
     "  --no-frames       keep no PNG frames (then nothing can be resumed)\n"
@@ -79,7 +80,7 @@ const char* kRenderHelp =
     "renders with the cores it is bound to (mpirun --bind-to none: the node's cores shared).\n";
 
 void declareRenderOptions(ArgParser& p) {
-    for (const char* o : {"-o", "--mode", "--frames", "--fps", "--size", "--spp", "--depth", "--min-weight", "--indirect", "--tonemap",
+    for (const char* o : {"-o", "--mode", "--frames", "--fps", "--size", "--spp", "--depth", "--min-weight", "--indirect", "--bounce", "--tonemap",
                           "--exposure", "--frames-dir", "--crf", "--preset", "--stats", "--threads", "--timeout", "--codec",
                           "--background", "--frames-format", "--contact-sheet", "--poster", "--poster-frame", "--chunk-frames"})
         p.option(o);

@@ -30,6 +30,8 @@ std::string RenderJob::identity() const {
     if (background.kind == BackgroundChoice::Colour) j["background"] = {background.r, background.g, background.b};
     if (exrFrames) j["frames_format"] = "exr";
     if (settings.indirectSamples > 0) j["indirect"] = settings.indirectSamples;
+    // Frames kept before bounce light were rendered without it: they do not resume into a film with it.
+    j["bounce"] = settings.bounce;
     return j.dump();
 }
 

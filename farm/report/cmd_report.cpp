@@ -46,7 +46,7 @@ const char* kReportHelpHead =
     "  --size WxH              image size (default: the scene's)\n"
     "  --target-psnr DB        the error the summary answers for (default 30)\n"
     "  --threads N             worker threads (default: all cores)\n"
-    "  --spp N, --depth N, --min-weight W, --indirect N, --tonemap T, --exposure EV|auto\n"
+    "  --spp N, --depth N, --min-weight W, --indirect N, --bounce N, --tonemap T, --exposure EV|auto\n"
     "                          the default setting the sweep is centred on (default: the scene's)\n"
     "  --environment F, --environment-rotation DEG, --environment-intensity K, --ground G, --background B,\n"
     "  --animation A\n"
@@ -266,7 +266,7 @@ RenderSettings baseSettings(const ArgParser& p, const Scene& scene, const anim::
 int runReport(const std::vector<std::string>& args) {
     ArgParser p("report");
     for (const char* o : {"--out", "--frame", "--size", "--target-psnr", "--threads", "--spp", "--depth",
-                          "--min-weight", "--indirect", "--tonemap", "--exposure", "--grid", "--ref-spp", "--ref-depth",
+                          "--min-weight", "--indirect", "--bounce", "--tonemap", "--exposure", "--grid", "--ref-spp", "--ref-depth",
                           "--reference", "--camera", "--background", "--video-frames", "--video-crf",
                           "--video-preset"})
         p.option(o);

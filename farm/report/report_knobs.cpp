@@ -52,6 +52,8 @@ const std::vector<QualityKnob>& qualityKnobs() {
                                          KnobValues::Fraction, 0, 1, {0, 1e-3, 1e-2, 0.1}),
         knob<&RenderSettings::indirectSamples>("indirect", "indirect_samples", "indirect %g", "i%g", "indirect samples",
                                                KnobValues::Integer, 0, kMaxIndirectSamples, {0, 1, 4, 16}),
+        knob<&RenderSettings::bounce>("bounce", "bounce_kpoints", "bounce %g", "b%g", "bounce cache points (thousands)",
+                                      KnobValues::Integer, 0, kMaxBounce, {0, 1, 4, 16}),
     };
     return knobs;
 }

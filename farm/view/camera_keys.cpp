@@ -142,6 +142,7 @@ json sceneDocument(const Scene& scene, const RenderSettings& s, const json& time
     r["max_depth"] = s.maxDepth;
     r["min_weight"] = double(s.minWeight);
     if (s.indirectSamples > 0) r["indirect"] = s.indirectSamples;
+    if (s.bounce != kDefaultBounce) r["bounce"] = s.bounce;
     r["tonemap"] = toneMapName(s.toneMap);
     doc["exposure"] = s.autoExposure ? json("auto") : json(double(s.exposure));
     // The environment as lit (--environment may have replaced the file's, or the bare model's

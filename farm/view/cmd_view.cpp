@@ -48,6 +48,7 @@ const char* kViewHelp =
     "  --depth N         maximum ray depth; the primary ray counts as 1\n"
     "  --min-weight W    do not trace secondary rays weighing less than W (0: never prune)\n"
     "  --indirect N      glTF materials: N traced samples of indirect light (as for still)\n"
+    "  --bounce N        glTF materials: cached bounce light on N thousand points (as for still)\n"
     "  --tonemap T       clamp, reinhard or pbr-neutral (as still)\n"
     "  --exposure EV     scale radiance by 2^EV before tone mapping, or auto (metered once)\n"
     "  --background B    #RRGGBB or R,G,B (linear); transparent shows coverage over black\n"
@@ -238,7 +239,7 @@ int runView(const std::vector<std::string>& args) {
 namespace {
 int runViewParsed(const std::vector<std::string>& args) {
     ArgParser p("view");
-    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--indirect", "--tonemap", "--threads", "--stats", "--frame", "--camera", "--background", "--exposure", "--watch", "--total", "--stopped", "--picture"}) p.option(o);
+    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--indirect", "--bounce", "--tonemap", "--threads", "--stats", "--frame", "--camera", "--background", "--exposure", "--watch", "--total", "--stopped", "--picture"}) p.option(o);
     declareSceneOptions(p);
     p.flag("--help");
     p.flag("-h");
