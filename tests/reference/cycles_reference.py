@@ -12,7 +12,7 @@
 #   cameras in the order of a depth-first walk of the scene's nodes;
 # - a black world, or --environment FILE.exr|.hdr as the world at --environment-strength,
 #   mapped as Blender maps an equirectangular image (the orientation rayfarm follows);
-# - Standard view transform (sRGB, clamped, no look, exposure 0), Cycles on the CPU at a fixed
+# - Standard view transform (sRGB, clamped, no look, exposure --exposure EV: rayfarm's --exposure EV), Cycles on the CPU at a fixed
 #   number of samples (no adaptive sampling, no denoising, fixed seed), --bounces total bounces;
 # - an 8-bit RGB PNG at --size (RGBA with --transparent: alpha is coverage);
 # - --time T: the file's first animation posed at T seconds (skinned characters).
@@ -52,6 +52,7 @@ def parse_args():
     p.add_argument("--time", type=float, help="pose the file's first animation at T seconds (default: as imported)")
     p.add_argument("--transparent", action="store_true",
                    help="transparent background: an RGBA PNG whose alpha is the model's coverage")
+    p.add_argument("--exposure", type=float, default=0.0, help="view exposure in EV (default 0), as rayfarm's --exposure")
     a = p.parse_args(argv)
     try:
         w, h = (int(v) for v in a.size.lower().split("x"))
@@ -264,7 +265,7 @@ def set_render(scene, a):
     scene.display_settings.display_device = "sRGB"
     vs.view_transform = "Standard"
     vs.look = "None"
-    vs.exposure = 0.0
+    vs.exposure = a.exposure
     vs.gamma = 1.0
     img = scene.render.image_settings
     img.file_format = "PNG"
