@@ -13,7 +13,7 @@ enum class ShadingModel { Phong, BlinnPhong };
 enum class IntegratorKind { Whitted };
 
 /// RenderSettings::bounce's default and the most it accepts.
-constexpr int kDefaultBounce = 2;
+constexpr int kDefaultBounce = 3;
 constexpr int kMaxBounce = 1000;
 
 struct RenderSettings {

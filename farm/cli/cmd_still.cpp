@@ -37,7 +37,7 @@ const char* kStillHelp =
     "                    light (occlusion, one bounce) instead of the unshadowed split sum\n"
     "                    (0, the default: noise-free); converges to a path tracer as N grows\n"
     "  --bounce N        glTF materials with --indirect 0: the lights' diffuse bounce, cached on\n"
-    "                    N thousand surface points (default 8; 0: no bounce light)\n"
+    "                    N thousand surface points (default 3; 0: no bounce light)\n"
     "  --tonemap T       clamp, reinhard or pbr-neutral (default: clamp for scene files,\n"
     "                    pbr-neutral for glTF models)\n"
     "  --exposure EV     scale radiance by 2^EV before tone mapping; 0 shows glTF's photometric\n"
