@@ -6,11 +6,11 @@
 #include <mutex>
 
 #include "bounce_points.h"
-#include "indirect_light.h"
+#include "hemisphere.h"
 #include "light_eval.h"
 #include "material_eval.h"
 #include "material_gltf.h"
-#include "render.h"
+#include "parallel.h"
 #include "sampler.h"
 #include "scene.h"
 
@@ -129,10 +129,11 @@ struct BounceGeometry {
     Sparse<float> nodeWeights;  ///< node <- points
     std::vector<MeshNodes> meshes;
     std::vector<TriGrid> grids;
+    uint64_t rays = 0;  ///< traced to build it (placing the points, their gathers)
 };
 
+/// What bounceCache keeps in a scene's slot (Scene::bounceSlot).
 struct BounceSlot {
-    std::mutex mutex;
     uint64_t geometryVersion = 0;
     uint32_t points = 0;
     std::shared_ptr<const BounceGeometry> geometry;
@@ -141,15 +142,13 @@ struct BounceSlot {
     std::shared_ptr<const BounceCache> cache;
 };
 
-std::shared_ptr<BounceSlot> newBounceSlot() { return std::make_shared<BounceSlot>(); }
-
 uint32_t bouncePoints(const RenderSettings& settings) { return uint32_t(std::max(0, settings.bounce)) * 1000u; }
 
 namespace {
 
 /// The gather of point i: kGatherRays cosine-distributed rays from its side, through glass,
 /// to the first opaque surface. backFaces: how many met a surface from behind.
-std::vector<GatherHit> gatherPoint(const Scene& scene, const BouncePoint& bp, uint32_t i, int& backFaces) {
+std::vector<GatherHit> gatherPoint(const Scene& scene, const BouncePoint& bp, uint32_t i, int& backFaces, uint64_t& rays) {
     std::vector<GatherHit> hits;
     hits.reserve(kGatherRays);
     backFaces = 0;
@@ -170,6 +169,7 @@ std::vector<GatherHit> gatherPoint(const Scene& scene, const BouncePoint& bp, ui
         GatherHit g;
         for (int crossing = 0; crossing <= kGlassCrossings; ++crossing) {
             Hit hit;
+            ++rays;
             if (!scene.intersect(r, hit, skip)) break;
             const SurfaceInteraction hs = scene.interaction(r, hit);
             const Material& m = scene.materials[size_t(hs.material)];
@@ -201,17 +201,21 @@ std::shared_ptr<const BounceGeometry> buildBounceGeometry(const Scene& scene, ui
     if (n == 0) return nullptr;
     std::vector<std::vector<GatherHit>> hits(n);
     std::vector<uint8_t> outside(n, 0);
+    std::vector<uint64_t> rays(n, 0);
     parallelFor(int(n), threads, [&](int i, int) {
         int back = 0;
-        hits[size_t(i)] = gatherPoint(scene, placed.points[size_t(i)], uint32_t(i), back);
+        hits[size_t(i)] = gatherPoint(scene, placed.points[size_t(i)], uint32_t(i), back, rays[size_t(i)]);
         outside[size_t(i)] = !(float(back) > kInsideShare * float(kGatherRays));
     });
+    uint64_t traced = placed.rays;
+    for (uint64_t r : rays) traced += r;
     std::vector<std::vector<GatherHit>> kept;
     for (size_t i = 0; i < n; ++i)
         if (outside[i]) kept.push_back(std::move(hits[i]));
     placed.keep(outside);
     if (placed.points.empty()) return nullptr;
     auto geo = std::make_shared<BounceGeometry>();
+    geo->rays = traced;
     geo->points = std::move(placed.points);
     geo->footprint = std::move(placed.footprint);
     geo->footprintStart = std::move(placed.footprintStart);
@@ -373,6 +377,7 @@ void BounceCache::light(const Scene& scene, int threads) {
         return bp.emission + bp.albedo * (1.f / kPi) * e;
     };
     const int chunks = int((n + 255) / 256);
+    std::vector<uint64_t> chunkRays(size_t(chunks), 0);
     parallelFor(chunks, threads, [&](int c, int) {
         RayStats stats;
         // Footprint places of one point lie close together: the blocker of one is the likely
@@ -383,7 +388,10 @@ void BounceCache::light(const Scene& scene, int threads) {
             for (uint32_t k = g.footprintStart[i]; k < g.footprintStart[i + 1]; ++k) sum += leavingAt(g.footprint[k], stats, blockers);
             direct[i] = sum / float(g.footprintStart[i + 1] - g.footprintStart[i]);
         }
+        chunkRays[size_t(c)] = stats.total();
     });
+    rays_ = 0;
+    for (uint64_t r : chunkRays) rays_ += r;
     // What leaves a point is read as the mean over its kernel: a point stands for the surface
     // around it, and a shadow smaller than the points' spacing must dim it by its share, not
     // switch it off or on as the light turns (that would make a turntable flicker).
@@ -428,12 +436,34 @@ Color BounceCache::at(const Scene& scene, const SurfaceInteraction& si, float si
     return b0 * node[idx[0]] + b1 * node[idx[1]] + b2 * node[idx[2]];
 }
 
-std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderSettings& settings, int threads) {
+namespace {
+bool geometryMoves(const Scene& scene) {
+    for (const TriangleMesh& m : scene.meshes)
+        if (m.node >= 0) return true;
+    return false;
+}
+}  // namespace
+
+bool bounceApplies(const Scene& scene) {
+    bool surface = false, glowing = false;
+    for (size_t m = 0; m < scene.meshes.size() && !surface; ++m) surface = bounceSurface(scene, int(m));
+    for (const Material& mat : scene.materials) glowing |= mat.gltfPbr && mat.emission != Color(0.f);
+    return surface && (!scene.lights.empty() || glowing);
+}
+
+bool bounceLeftOutForMotion(const Scene& scene, const RenderSettings& settings) {
+    return settings.bounce > 0 && settings.indirectSamples == 0 && !settings.bounceMoving && !scene.lights.empty() &&
+           geometryMoves(scene);
+}
+
+std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderSettings& settings, int threads, RayStats* spent) {
     if (settings.bounce <= 0 || settings.indirectSamples > 0 || !scene.bounceSlot) return nullptr;
-    BounceSlot& slot = *scene.bounceSlot;
+    if (!settings.bounceMoving && geometryMoves(scene)) return nullptr;
     const uint32_t points = bouncePoints(settings);
     const uint64_t lights = lightsKey(scene);
-    std::lock_guard<std::mutex> lock(slot.mutex);
+    std::lock_guard<std::mutex> lock(scene.bounceSlot->mutex);
+    if (!scene.bounceSlot->state) scene.bounceSlot->state = std::make_shared<BounceSlot>();
+    BounceSlot& slot = *std::static_pointer_cast<BounceSlot>(scene.bounceSlot->state);
     const bool sameGeometry = slot.geometryVersion == scene.geometryVersion() && slot.points == points;
     if (sameGeometry && slot.lights == lights) return slot.cache;
     const bool lit = !scene.lights.empty();
@@ -442,6 +472,7 @@ std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderS
         bool glowing = false;
         for (const Material& m : scene.materials) glowing |= m.gltfPbr && m.emission != Color(0.f);
         slot.geometry = lit || glowing ? buildBounceGeometry(scene, points, threads) : nullptr;
+        if (spent && slot.geometry) spent->bounce += slot.geometry->rays;
         slot.geometryVersion = scene.geometryVersion();
         slot.points = points;
         slot.triedLit = lit;
@@ -453,6 +484,7 @@ std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderS
     }
     auto cache = std::make_shared<BounceCache>(slot.geometry);
     cache->light(scene, threads);
+    if (spent) spent->bounce += cache->rays();
     slot.cache = cache;
     return cache;
 }

@@ -22,6 +22,7 @@
 
 #include "interaction.h"
 #include "settings.h"
+#include "stats.h"
 
 namespace rf {
 
@@ -41,11 +42,14 @@ public:
 
     /// Lights the cache's geometry with the scene's lights (on `threads` threads).
     void light(const Scene& scene, int threads);
+    /// The shadow rays the last light() traced.
+    uint64_t rays() const { return rays_; }
 
 private:
     std::shared_ptr<const BounceGeometry> geometry_;
     std::vector<Color> pointBounce_;  ///< bounce arriving at each point
     std::vector<Color> nodeBounce_;   ///< bounce arriving at each node
+    uint64_t rays_ = 0;
 };
 
 /// Builds the geometric half of the cache: about `points` surface points, their gather and the
@@ -56,15 +60,20 @@ std::shared_ptr<const BounceGeometry> buildBounceGeometry(const Scene& scene, ui
 /// (settings.bounce 0, sampled indirect light, no glTF surface, neither lights nor emission).
 /// Built on `threads` threads when the scene's geometry or lights changed since the last call
 /// (the cache is kept with the scene, keyed by both), so a turntable that moves only the
-/// camera builds it once. Thread-safe.
-std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderSettings& settings, int threads);
+/// camera builds it once. Thread-safe. spent (if given) counts the rays this call traced to
+/// build or light it (RayStats::bounce).
+std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderSettings& settings, int threads,
+                                               RayStats* spent = nullptr);
+
+/// Whether the scene has what bounce light needs: a surface it lights (bounce_points.h's
+/// bounceSurface) and lights or emission to bounce.
+bool bounceApplies(const Scene& scene);
+
+/// Whether bounce light is left out of this film because its geometry moves
+/// (RenderSettings::bounceMoving): settings ask for it, the scene has lights and moving meshes.
+bool bounceLeftOutForMotion(const Scene& scene, const RenderSettings& settings);
 
 /// The number of surface points of settings.bounce (which counts thousands).
 uint32_t bouncePoints(const RenderSettings& settings);
-
-/// Where a scene keeps its cache between frames (Scene::bounceSlot); copies of a scene share it,
-/// safely, since the key names the geometry version (unique to one build or refit) and lights.
-struct BounceSlot;
-std::shared_ptr<BounceSlot> newBounceSlot();
 
 }  // namespace rf

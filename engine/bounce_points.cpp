@@ -2,10 +2,11 @@
 #include "bounce_points.h"
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 
 #include "material_gltf.h"
-#include "render.h"
+#include "parallel.h"
 #include "scene.h"
 
 namespace rf {
@@ -23,12 +24,70 @@ float radicalInverse2(uint32_t i) {
     return std::min(float(i) * 0x1p-32f, 0x1.fffffep-1f);
 }
 
-/// One triangle of a mesh side and the area before it on that side.
+/// One triangle of a mesh side and the area before it on that side. rot: which of its corners
+/// comes first (the lowest position), so a triangle's points do not depend on where its index
+/// list starts.
 struct AreaEntry {
     double before = 0.0;
     float area = 0.f;
     uint32_t tri = 0;
+    uint32_t rot = 0;
 };
+
+/// Bits of x spread to every third place (Morton order).
+uint64_t spread3(uint64_t x) {
+    x &= 0x1FFFFF;
+    x = (x | x << 32) & 0x1F00000000FFFFull;
+    x = (x | x << 16) & 0x1F0000FF0000FFull;
+    x = (x | x << 8) & 0x100F00F00F00F00Full;
+    x = (x | x << 4) & 0x10C30C30C30C30C3ull;
+    x = (x | x << 2) & 0x1249249249249249ull;
+    return x;
+}
+
+bool lowerPoint(const Vec3& a, const Vec3& b) {
+    return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.z < b.z;
+}
+
+/// A mesh's triangles of positive area, ordered along a Morton curve through their centroids
+/// (ties by the lowest corner, then the index), each starting at its lowest corner: points
+/// spread along this order's running area then depend on the surface, not on the order the
+/// file lists its triangles or their corners in (a vertex-cache-optimised copy gets the same).
+std::vector<AreaEntry> surfaceOrder(const TriangleMesh& mesh) {
+    struct Keyed {
+        uint64_t key;
+        Vec3 low;
+        AreaEntry e;
+    };
+    std::vector<Keyed> tris;
+    tris.reserve(mesh.triangleCount());
+    Vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (const Vec3& p : mesh.positions)
+        if (isFinite(p)) lo = glm::min(lo, p), hi = glm::max(hi, p);
+    const Vec3 extent = glm::max(hi - lo, Vec3(1e-30f));
+    for (uint32_t t = 0; t < mesh.triangleCount(); ++t) {
+        const Vec3 c[3] = {mesh.positions[mesh.indices[3 * t]], mesh.positions[mesh.indices[3 * t + 1]],
+                           mesh.positions[mesh.indices[3 * t + 2]]};
+        uint32_t rot = 0;
+        for (uint32_t k = 1; k < 3; ++k)
+            if (lowerPoint(c[k], c[rot])) rot = k;
+        const Vec3 &p0 = c[rot], &p1 = c[(rot + 1) % 3], &p2 = c[(rot + 2) % 3];
+        const float a = 0.5f * glm::length(glm::cross(p1 - p0, p2 - p0));
+        if (!(a > 0.f) || !std::isfinite(a)) continue;
+        const Vec3 u = glm::clamp(((p0 + p1 + p2) / 3.f - lo) / extent, Vec3(0.f), Vec3(1.f)) * float(0x1FFFFF);
+        const uint64_t key = spread3(uint64_t(u.x)) | spread3(uint64_t(u.y)) << 1 | spread3(uint64_t(u.z)) << 2;
+        tris.push_back({key, c[rot], {0.0, a, t, rot}});
+    }
+    std::sort(tris.begin(), tris.end(), [](const Keyed& a, const Keyed& b) {
+        if (a.key != b.key) return a.key < b.key;
+        if (a.low != b.low) return lowerPoint(a.low, b.low);
+        return a.e.tri < b.e.tri;
+    });
+    std::vector<AreaEntry> out;
+    out.reserve(tris.size());
+    for (const Keyed& k : tris) out.push_back(k.e);
+    return out;
+}
 
 /// One side of one bounce mesh: its triangles' running area, and its points.
 struct MeshSide {
@@ -98,14 +157,10 @@ BouncePoints placeBouncePoints(const Scene& scene, uint32_t count, int threads) 
         const TriangleMesh& mesh = scene.meshes[m];
         MeshSide ms;
         ms.mesh = uint32_t(m);
-        for (uint32_t t = 0; t < mesh.triangleCount(); ++t) {
-            const Vec3& p0 = mesh.positions[mesh.indices[3 * t]];
-            const Vec3& p1 = mesh.positions[mesh.indices[3 * t + 1]];
-            const Vec3& p2 = mesh.positions[mesh.indices[3 * t + 2]];
-            const float a = 0.5f * glm::length(glm::cross(p1 - p0, p2 - p0));
-            if (!(a > 0.f) || !std::isfinite(a)) continue;
-            ms.entries.push_back({ms.area, a, t});
-            ms.area += a;
+        ms.entries = surfaceOrder(mesh);
+        for (AreaEntry& e : ms.entries) {
+            e.before = ms.area;
+            ms.area += e.area;
         }
         if (ms.entries.empty()) continue;
         sides.push_back(ms);
@@ -128,6 +183,7 @@ BouncePoints placeBouncePoints(const Scene& scene, uint32_t count, int threads) 
     constexpr uint32_t K = BouncePoints::kFootprint;
     std::vector<BouncePoint> placed(all), feet(size_t(all) * K);
     std::vector<uint8_t> ok(all, 0), footOk(size_t(all) * K, 0);
+    std::vector<uint32_t> casts(all, 0);
     parallelFor(int(all), threads, [&](int index, int) {
         const uint32_t i = uint32_t(index);
         const MeshSide& ms = *std::prev(std::upper_bound(sides.begin(), sides.end(), i,
@@ -140,9 +196,10 @@ BouncePoints placeBouncePoints(const Scene& scene, uint32_t count, int threads) 
         const float f = std::clamp(float((u - e.before) / double(e.area)), 0.f, 0x1.fffffep-1f);
         const float g = radicalInverse2(k);
         const TriangleMesh& mesh = scene.meshes[ms.mesh];
-        const Vec3& p0 = mesh.positions[mesh.indices[3 * e.tri]];
-        const Vec3& p1 = mesh.positions[mesh.indices[3 * e.tri + 1]];
-        const Vec3& p2 = mesh.positions[mesh.indices[3 * e.tri + 2]];
+        const uint32_t* corner = &mesh.indices[3 * size_t(e.tri)];
+        const Vec3& p0 = mesh.positions[corner[e.rot]];
+        const Vec3& p1 = mesh.positions[corner[(e.rot + 1) % 3]];
+        const Vec3& p2 = mesh.positions[corner[(e.rot + 2) % 3]];
         // Uniform over the triangle (the square-root map).
         const float s = std::sqrt(f);
         TriangleHit b;
@@ -151,11 +208,13 @@ BouncePoints placeBouncePoints(const Scene& scene, uint32_t count, int threads) 
         b.b0 = 1.f - b.b1 - b.b2;
         const Vec3 e1 = p1 - p0, e2 = p2 - p0, n = glm::cross(e1, e2);
         const Vec3 ng = ms.side * glm::normalize(n);
+        ++casts[i];
         if (!castOnto(scene, p0, p1, p2, b, ng, placed[i])) return;
         ok[i] = 1;
-        // The footprint: a Vogel spiral on a disc of half the side's spacing about the point,
-        // turned per point, kept where it stays on the triangle.
-        const float rho = 0.5f * float(std::sqrt(ms.area / double(ms.count)));
+        // The footprint: a Vogel spiral on a disc about the point as large as its share of the
+        // side's area (so the discs cover the surface as often as not: a shadow moving between
+        // points is seen by some footprint), turned per point, kept where it stays on the triangle.
+        const float rho = float(std::sqrt(ms.area / (double(kPi) * double(ms.count))));
         const Vec3 tu = glm::normalize(e1), tv = glm::normalize(glm::cross(n, e1));
         const Vec3 p = b.b0 * p0 + b.b1 * p1 + b.b2 * p2;
         const float d00 = glm::dot(e1, e1), d01 = glm::dot(e1, e2), d11 = glm::dot(e2, e2), den = d00 * d11 - d01 * d01;
@@ -168,10 +227,12 @@ BouncePoints placeBouncePoints(const Scene& scene, uint32_t count, int threads) 
             c.b2 = (d00 * glm::dot(q, e2) - d01 * glm::dot(q, e1)) / den;
             c.b0 = 1.f - c.b1 - c.b2;
             if (!(c.b0 >= 0.f && c.b1 >= 0.f && c.b2 >= 0.f)) continue;
+            ++casts[i];
             footOk[size_t(i) * K + j] = castOnto(scene, p0, p1, p2, c, ng, feet[size_t(i) * K + j]);
         }
     });
     for (uint32_t i = 0; i < all; ++i) {
+        out.rays += casts[i];
         if (!ok[i]) continue;
         out.points.push_back(placed[i]);
         out.footprint.push_back(placed[i]);

@@ -75,15 +75,16 @@ bool bounceSurface(const Scene& scene, int mesh);
 
 /// The cache's points, and for each the places on its surface around it where its direct light
 /// is measured (its footprint: the point itself first, then up to kFootprint − 1 more on a disc
-/// half the points' spacing wide, those that fall inside its triangle). A shadow smaller than
-/// the spacing then dims a point by about its share, instead of switching it off or on as the
-/// light turns.
+/// as large as the point's share of the area, those that fall inside its triangle). A shadow
+/// smaller than the spacing then dims a point by about its share, instead of switching it off
+/// or on as the light turns.
 struct BouncePoints {
     static constexpr uint32_t kFootprint = 16;
     std::vector<BouncePoint> points;
     std::vector<BouncePoint> footprint;
     std::vector<uint32_t> footprintStart{0};  ///< point i's footprint: [start[i], start[i + 1])
     double area = 0.0;  ///< the bounce surfaces' area, sides counted
+    uint64_t rays = 0;  ///< rays cast to place the points and their footprints
 
     /// Keeps the points (and their footprints) whose keep[i] is set, in order.
     void keep(const std::vector<uint8_t>& keep);

@@ -3,7 +3,7 @@
 #include "brdf_gltf.h"
 #include "errors.h"
 #include "load_control.h"
-#include "render.h"
+#include "parallel.h"
 #include "scene.h"
 
 namespace rf {

@@ -10,7 +10,7 @@
 
 #include "errors.h"
 #include "load_control.h"
-#include "render.h"
+#include "parallel.h"
 
 namespace rf {
 

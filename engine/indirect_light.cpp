@@ -5,37 +5,16 @@
 // environment light they found unblocked (a ratio estimator: exactly the default where nothing
 // is in the way, so open surfaces stay noise-free), and those that hit bring back the surface
 // they met, shaded as the default shades it (direct light, emission, split sum): one bounce.
-#include "indirect_light.h"
-
+// The tracer's half of RenderSettings::indirectSamples (WhittedTracer::sampleIndirect); the
+// sample points and directions are hemisphere.h's.
 #include "env_lighting.h"
 #include "exposure.h"
+#include "hemisphere.h"
 #include "light_eval.h"
 #include "sampler.h"
 #include "whitted.h"
 
 namespace rf {
-
-Vec2 stratifiedPoint(uint32_t i, uint32_t n, Vec2 rotation) {
-    Vec2 u = pbr::hammersley(i, n) + rotation;
-    u -= glm::floor(u);
-    return glm::min(u, Vec2(0x1.fffffep-1f));
-}
-
-Vec3 cosineHemisphere(Vec2 u) {
-    // Concentric map of the square onto the unit disc, then lifted onto the hemisphere.
-    const float a = 2.f * u.x - 1.f, b = 2.f * u.y - 1.f;
-    if (a == 0.f && b == 0.f) return Vec3(0.f, 0.f, 1.f);
-    float r, phi;
-    if (std::abs(a) > std::abs(b)) {
-        r = a;
-        phi = (kPi / 4.f) * (b / a);
-    } else {
-        r = b;
-        phi = (kPi / 2.f) - (kPi / 4.f) * (a / b);
-    }
-    const float x = r * std::cos(phi), y = r * std::sin(phi);
-    return Vec3(x, y, std::sqrt(std::max(0.f, 1.f - x * x - y * y)));
-}
 
 namespace {
 

@@ -89,6 +89,7 @@ void readRender(const Reader& rd, const json& j, RenderSettings& s) {
     s.tileSize = rd.integer(j, "tile_size", w, s.tileSize, 1, 4096);
     s.indirectSamples = rd.integer(j, "indirect", w, s.indirectSamples, 0, kMaxIndirectSamples);
     s.bounce = rd.integer(j, "bounce", w, s.bounce, 0, kMaxBounce);
+    if (j.contains("bounce")) s.bounceMoving = true;  // asked for: moving geometry too
 }
 
 /// "exposure": an EV (radiance × 2^EV before tone mapping) or "auto" (metered once per film).

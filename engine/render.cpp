@@ -2,12 +2,10 @@
 
 #include <atomic>
 #include <cstring>
-#include <exception>
-#include <mutex>
-#include <thread>
 
-#include "sampler.h"
+#include "bounce_cache.h"
 #include "integrator.h"
+#include "sampler.h"
 
 namespace rf {
 
@@ -109,39 +107,6 @@ std::vector<TileRect> makeTiles(int width, int height, int tileSize) {
     return tiles;
 }
 
-int hardwareThreads() { return std::max(1u, std::thread::hardware_concurrency()); }
-
-void parallelFor(int n, int threads, const std::function<void(int, int)>& job) {
-    if (threads <= 0) threads = hardwareThreads();
-    threads = std::max(1, std::min(threads, n));
-    std::atomic<int> next{0};
-    std::exception_ptr error;
-    std::mutex errorMutex;
-    auto worker = [&](int t) {
-        for (;;) {
-            const int i = next.fetch_add(1);
-            if (i >= n) return;
-            try {
-                job(i, t);
-            } catch (...) {
-                std::lock_guard<std::mutex> lock(errorMutex);
-                if (!error) error = std::current_exception();
-                next = n;
-                return;
-            }
-        }
-    };
-    if (threads == 1) {
-        worker(0);
-    } else {
-        std::vector<std::thread> pool;
-        for (int t = 1; t < threads; ++t) pool.emplace_back(worker, t);
-        worker(0);
-        for (auto& th : pool) th.join();
-    }
-    if (error) std::rethrow_exception(error);
-}
-
 void renderRect(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame, const TileRect& rect,
                 int threads, int subTile, const RectBuffers& out, RayStats& stats, const std::atomic<bool>* cancel) {
     std::vector<TileRect> subs = makeTiles(rect.width(), rect.height(), subTile);
@@ -149,7 +114,7 @@ void renderRect(const Scene& scene, const Camera& camera, const RenderSettings& 
     if (threads <= 0) threads = hardwareThreads();
     // The bounce cache, built here on every thread if the geometry or lights moved since the
     // last rectangle; each tile's integrator then finds it ready.
-    const std::shared_ptr<const BounceCache> bounce = bounceCache(scene, settings, threads);
+    const std::shared_ptr<const BounceCache> bounce = bounceCache(scene, settings, threads, &stats);
     std::vector<RayStats> perThread(size_t(std::max(1, threads)));
     const size_t stride = size_t(rect.width());
     parallelFor(static_cast<int>(subs.size()), threads, [&](int i, int thread) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "image.h"
+#include "parallel.h"
 #include "scene.h"
 #include "stats.h"
 
@@ -56,12 +57,5 @@ void renderRect(const Scene& scene, const Camera& camera, const RenderSettings& 
 /// has an alpha plane when the scene's background is transparent.
 Image renderFrame(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame, int threads,
                   RayStats& stats);
-
-/// Runs job(i) for i in [0, n) on `threads` threads (0: all cores), handing out indices
-/// dynamically. job must be thread-safe; exceptions are rethrown on the calling thread.
-void parallelFor(int n, int threads, const std::function<void(int index, int thread)>& job);
-
-/// Number of hardware threads (at least 1).
-int hardwareThreads();
 
 }  // namespace rf

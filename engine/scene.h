@@ -10,7 +10,6 @@
 #include <nlohmann/json_fwd.hpp>
 #include <vector>
 
-#include "bounce_cache.h"
 #include "bvh.h"
 #include "camera.h"
 #include "interaction.h"
@@ -18,6 +17,7 @@
 #include "material.h"
 #include "material_eval.h"
 #include "mesh.h"
+#include "scene_cache.h"
 #include "scene_graph.h"
 #include "scene_instance.h"
 #include "scene_options.h"
@@ -83,7 +83,7 @@ public:
     std::optional<std::string> animation;
 
     /// Where the bounce cache (bounce_cache.h) is kept between frames; copies share it.
-    std::shared_ptr<BounceSlot> bounceSlot = newBounceSlot();
+    std::shared_ptr<SceneCacheSlot> bounceSlot = std::make_shared<SceneCacheSlot>();
 
     /// Builds the acceleration structure; call after loading or after geometry changed. Two
     /// levels (scene_instance.h): the meshes that never move and the spheres in one tree, each

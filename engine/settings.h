@@ -37,6 +37,11 @@ struct RenderSettings {
     /// lights' and emission's diffuse bounce, cached on this many thousand surface points per
     /// film (rebuilt only when geometry or lights move). 0: none.
     int bounce = kDefaultBounce;
+    /// Whether the bounce cache is made for films whose geometry moves too (skinned, morphed or
+    /// animated meshes), built again for every frame that moves it: about 200,000 rays a frame
+    /// at 3000 points, several times a small frame's own cost. Off by default; --bounce N or the
+    /// scene file's render.bounce turns it on, and a still, which poses once, always has it.
+    bool bounceMoving = false;
     IntegratorKind integrator = IntegratorKind::Whitted;
     /// Speed-ups that must never change a pixel, switchable so tests can show they do not:
     /// camera rays traced in packets of neighbouring pixels (render.cpp, Scene::intersectPacket),

@@ -12,6 +12,10 @@ struct RayStats {
     uint64_t refraction = 0;
     uint64_t indirect = 0;   ///< sampled indirect light (RenderSettings::indirectSamples)
     uint64_t nonFinite = 0;  ///< samples whose radiance was NaN/Inf, replaced by black
+    /// Rays that built and lit the bounce cache (bounce_cache.h), counted by the process that
+    /// built it: not in total(), since each rank builds its own and how often depends on how
+    /// the frames were spread over the ranks.
+    uint64_t bounce = 0;
 
     uint64_t total() const { return primary + shadow + reflection + refraction + indirect; }
     RayStats& operator+=(const RayStats& o);
@@ -26,13 +30,14 @@ struct RayCounter {
 /// Every counter, once. Summing, the stats file and the tests walk this list (the farm's wire
 /// format copies the whole struct), so a counter added to RayStats needs one line here, and the
 /// static_assert below refuses to build until it has it.
-inline constexpr std::array<RayCounter, 6> kRayCounters{{
+inline constexpr std::array<RayCounter, 7> kRayCounters{{
     {"primary", &RayStats::primary},
     {"shadow", &RayStats::shadow},
     {"reflection", &RayStats::reflection},
     {"refraction", &RayStats::refraction},
     {"indirect", &RayStats::indirect},
     {"non_finite_samples", &RayStats::nonFinite},
+    {"bounce_cache", &RayStats::bounce},
 }};
 static_assert(sizeof(RayStats) == kRayCounters.size() * sizeof(uint64_t),
               "a RayStats counter is missing from kRayCounters (or a member is not a uint64_t counter)");

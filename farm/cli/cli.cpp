@@ -106,6 +106,7 @@ void applyQualityOptions(const ArgParser& p, RenderSettings& s) {
     s.minWeight = static_cast<float>(w);
     s.indirectSamples = p.intValue("--indirect", s.indirectSamples, 0, kMaxIndirectSamples);
     s.bounce = p.intValue("--bounce", s.bounce, 0, kMaxBounce);
+    if (p.value("--bounce")) s.bounceMoving = true;  // asked for: moving geometry too
     if (auto t = p.value("--tonemap")) {
         if (*t == "clamp") s.toneMap = ToneMap::Clamp;
         else if (*t == "reinhard") s.toneMap = ToneMap::Reinhard;

@@ -9,6 +9,7 @@
 #include <sched.h>
 
 #include "background_option.h"
+#include "bounce_cache.h"
 #include "cli.h"
 #include "errors.h"
 #include "exposure_meter.h"
@@ -268,6 +269,9 @@ int reportOutcome(int ranks, const RenderJob& job, const FarmOutcome& o, const s
 int runRank0(MpiTransport& t, const RenderJob& job, SharedScene& shared, const std::vector<std::string>& args,
              Clock::time_point wallStart, const std::string& progressLabel) {
     for (const std::string& note : shared.scene.notes) printLine("note", note);  // one write() a line: mpirun interleaves ranks by write
+    if (bounceLeftOutForMotion(shared.scene, job.settings))
+        printLine("note", "bounce light left out: the model's geometry moves over the film, and its bounce cache would be "
+                          "built again for every frame (--bounce N keeps it, at that cost)");
     FarmOptions opts;
     opts.threads = threadsForRank(job, t);
     opts.liveProgress = stderrIsTerminal();

@@ -163,6 +163,7 @@ int runStill(const std::vector<std::string>& args) {
     if (p.has("--camera")) useGltfCamera(scene, p.intValue("--camera", 0, 0, 1 << 20));
     RenderSettings settings = scene.settings;
     applyQualityOptions(p, settings);
+    settings.bounceMoving = true;  // a still poses its model once: the cache is built once either way
     if (settings.autoExposure) {
         resolveAutoExposure(scene, timeline, settings, threads, [&](Scene& s) {
             if (p.has("--camera")) useGltfCamera(s, p.intValue("--camera", 0, 0, 1 << 20));

@@ -32,6 +32,7 @@ std::string RenderJob::identity() const {
     if (settings.indirectSamples > 0) j["indirect"] = settings.indirectSamples;
     // Frames kept before bounce light were rendered without it: they do not resume into a film with it.
     j["bounce"] = settings.bounce;
+    if (settings.bounceMoving) j["bounce_moving"] = true;
     return j.dump();
 }
 

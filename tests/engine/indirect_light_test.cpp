@@ -6,7 +6,7 @@
 
 #include "engine_test_util.h"
 #include "env_lighting.h"
-#include "indirect_light.h"
+#include "hemisphere.h"
 
 namespace rf {
 namespace {
@@ -55,9 +55,10 @@ void writeOnFailure(const Image& plain, const Image& sampled, const std::string&
     writePng(std::string(RAYFARM_TEST_OUT) + "/" + name + "_indirect.png", 64, 48, toRgb8(sampled, ToneMap::Clamp));
 }
 
-Image renderWith(const Scene& s, int indirect, int threads = 1, int tile = 32) {
+Image renderWith(const Scene& s, int indirect, int threads = 1, int tile = 32, int bounce = 0) {
     RenderSettings rs = test::smallSettings(64, 48);
     rs.indirectSamples = indirect;
+    rs.bounce = bounce;  // the bounce cache (bounce_cache_test.cpp) off unless asked for
     rs.tileSize = tile;
     return test::render(s, rs, nullptr, threads);
 }
@@ -91,17 +92,21 @@ TEST(IndirectLight, AnOpenSurfaceKeepsTheDefaultExactly) {
             for (int c = 0; c < 3; ++c) ASSERT_EQ(a.pixel(x, y)[c], b.pixel(x, y)[c]) << x << "," << y;
 }
 
-TEST(IndirectLight, TheFloorsBounceLightsTheUndersideOfASphereTheDefaultLeavesBlack) {
+TEST(IndirectLight, TheFloorsBounceLightsTheUndersideOfASphereDirectLightLeavesBlack) {
     // pbr_grid's lights-only case: a sphere above a sunlit floor, no environment. Its underside
-    // faces away from the sun: black by default; sampled, the lit floor below lights it.
+    // faces away from the sun: black with direct light alone (--bounce 0); sampled, the lit
+    // floor below lights it, and so does the default look's bounce cache.
     const Scene s = floorScene(0.5f, true, false);
     const Image plain = renderWith(s, 0), sampled = renderWith(s, 16);
+    const Image cached = renderWith(s, 0, 1, 32, kDefaultBounce);
     for (int y = 21; y < 24; ++y)
         for (int x = 30; x < 35; ++x) {
             EXPECT_EQ(plain.pixel(x, y)[0], 0.f) << x << "," << y;
             EXPECT_GT(sampled.pixel(x, y)[0], 0.02f) << x << "," << y;
+            EXPECT_GT(cached.pixel(x, y)[0], 0.02f) << x << "," << y;
         }
     writeOnFailure(plain, sampled, "indirect_bounce");
+    writeOnFailure(plain, cached, "indirect_bounce_cached");
 }
 
 TEST(IndirectLight, ASphereOccludesTheEnvironmentOnTheFloorBesideIt) {

@@ -8,6 +8,7 @@
 
 #include <cstring>
 
+#include "bounce_cache.h"
 #include "engine_test_util.h"
 #include "file_source.h"
 #include "gltf_loader.h"
@@ -48,7 +49,7 @@ void expectIdenticalAcrossVariants(const std::string& name, const Scene& scene, 
         Scene fresh;
         if (v.threads == 1) {
             fresh = scene;
-            fresh.bounceSlot = newBounceSlot();
+            fresh.bounceSlot = std::make_shared<SceneCacheSlot>();
         }
         const Image img = renderFrame(v.threads == 1 ? fresh : scene, scene.camera, s, 3, v.threads, rays);
         const std::vector<float> px(img.data(), img.data() + size_t(img.width()) * img.height() * 3);

@@ -1,7 +1,6 @@
 #pragma once
-/// Sampled indirect light, the quality setting of glTF shading (RenderSettings::indirectSamples):
-/// the sample points and directions. The tracer's half (WhittedTracer::sampleIndirect, which
-/// traces them against the scene) is in indirect_light.cpp.
+/// Well-spread directions over a hemisphere: what the sampled indirect light
+/// (indirect_light.cpp) and the bounce cache's gathers (bounce_cache.cpp) trace.
 #include <cstdint>
 
 #include "vec_math.h"
