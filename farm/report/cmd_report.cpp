@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "background_option.h"
+#include "bounce_cache.h"
 #include "cli.h"
 #include "cmd_report.h"
 #include "errors.h"
@@ -297,6 +298,10 @@ int runReport(const std::vector<std::string>& args) {
     Scene scene = sceneAtFrame(p, scenePath, timeline, o.frame);
     const RenderSettings settings = baseSettings(p, scene, timeline, o, threads);
     o.sweep.base = report::qualityOf(settings);
+    // Bounce light lights only glTF materials of a scene with lights or emission: elsewhere its
+    // line would render the same picture four times over. Leave it out unless asked for.
+    if (!p.value(report::sweepOption(report::qualityKnobs()[report::knobIndex("bounce")])) && !bounceApplies(scene))
+        o.sweep.list("bounce") = {double(settings.bounce)};
     const bool video = !p.has("--no-video");
     if (video) checkVideoPresets(vo, settings);
 

@@ -58,6 +58,7 @@ QualityReportOptions tinyOptions(const std::string& dir) {
     o.sweep.list("depth") = {1, 2, 5};
     o.sweep.list("min_weight") = {0.f, 0.1f};
     o.sweep.list("indirect") = {0};
+    o.sweep.list("bounce") = {kDefaultBounce};  // bounce light lights no material of this scene
     o.sweep.base = {1, 5, 1e-3f};
     o.reference = {64, 8, 0.f};
     o.targetPsnr = 20.0;
@@ -111,6 +112,7 @@ TEST(ReportRun, SceneWithGlassAndLightsUsesEveryRayKind) {
     o.sweep.list("depth") = {5};
     o.sweep.list("min_weight") = {1e-3f};
     o.sweep.list("indirect") = {0};
+    o.sweep.list("bounce") = {kDefaultBounce};  // bounce light lights no material of this scene
     const QualityReport rep = runQualityReport(sc, sc.settings, o);
     EXPECT_TRUE(rep.rayNotes.empty());
     EXPECT_GT(rep.reference.rays.refraction, 0u);
@@ -133,6 +135,7 @@ TEST(ReportRun, AnExternalReferenceEqualToOneRenderScoresThatSettingExactly) {
     o.sweep.list("depth") = {5};
     o.sweep.list("min_weight") = {1e-3f};
     o.sweep.list("indirect") = {0};
+    o.sweep.list("bounce") = {kDefaultBounce};  // bounce light lights no material of this scene
     const QualitySetting match{4, 5, 1e-3f};
     o.external = readExternalReference(writeRender(sc, match, dir + "/external.png"));
     const QualityReport rep = runQualityReport(sc, sc.settings, o);

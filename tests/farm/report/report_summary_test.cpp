@@ -70,7 +70,7 @@ TEST(ReportSummary, MarkdownNamesTheAnswerOrSaysNoneReachesTheTarget) {
     info.sceneName = "x.json";
     info.targetPsnr = 30;
     const std::string md = summaryMarkdown(info, rows);
-    EXPECT_NE(md.find("**spp 4, depth 5, min weight 0.001, indirect 0**"), std::string::npos) << md;
+    EXPECT_NE(md.find("**spp 4, depth 5, min weight 0.001, indirect 0, bounce 3**"), std::string::npos) << md;
     EXPECT_NE(md.find("## The default setting"), std::string::npos);
     info.targetPsnr = 50;
     const std::string none = summaryMarkdown(info, rows);

@@ -14,15 +14,16 @@ TEST(ReportSweep, OneFactorAtATimeHasEachValueOnceAroundTheBase) {
     SweepSpec spec;  // spp 1,4,16,64; depth 1..8; min weight 0,1e-3,1e-2,0.1
     spec.base = {1, 5, 1e-3f};
     const auto pts = makeSweep(spec);
-    // The base lies on all four lines, so it is shared: 4 + 8 + 4 + 4 − 3.
-    EXPECT_EQ(pts.size(), 17u);
+    // The base lies on four lines, so it is shared: 4 + 8 + 4 + 4 − 3; its bounce (3 thousand
+    // points) is not on that line's list (0, 1, 4, 16): four more.
+    EXPECT_EQ(pts.size(), 17u + 4u);
     EXPECT_EQ(pts[0].q, spec.base);
     for (size_t i = 0; i < pts.size(); ++i)
         for (size_t j = i + 1; j < pts.size(); ++j) EXPECT_FALSE(pts[i].q == pts[j].q) << i << " " << j;
     // Every non-base point differs from the base in exactly one knob.
     for (const SweepPoint& p : pts) {
         const int diff = (p.q.value("spp") != 1) + (p.q.value("depth") != 5) + (p.q.value("min_weight") != 1e-3f) +
-                         (p.q.value("indirect") != 0);
+                         (p.q.value("indirect") != 0) + (p.q.value("bounce") != kDefaultBounce);
         EXPECT_LE(diff, 1) << describe(p.q);
     }
 }
@@ -30,15 +31,16 @@ TEST(ReportSweep, OneFactorAtATimeHasEachValueOnceAroundTheBase) {
 TEST(ReportSweep, BaseOutsideTheListsIsAddedOnce) {
     SweepSpec spec;
     spec.base = {9, 12, 0.5f};
-    // Its indirect samples (0, the default) are on that list: that point is the base itself.
-    EXPECT_EQ(makeSweep(spec).size(), 1u + 4 + 8 + 4 + 3);
+    // Its indirect samples (0, the default) are on that list: that point is the base itself; its
+    // bounce (3, the default) is not on that one.
+    EXPECT_EQ(makeSweep(spec).size(), 1u + 4 + 8 + 4 + 3 + 4);
 }
 
 TEST(ReportSweep, FullGridHasEveryCombination) {
     SweepSpec spec;
     spec.kind = SweepKind::FullGrid;
-    spec.base = {1, 5, 1e-3f};
-    EXPECT_EQ(makeSweep(spec).size(), 4u * 8 * 4 * 4);
+    spec.base = {1, 5, 1e-3f, 0, 4};  // on every list
+    EXPECT_EQ(makeSweep(spec).size(), 4u * 8 * 4 * 4 * 4);
 }
 
 SweepRow row(double s, double rmse) {
@@ -71,6 +73,7 @@ TEST(ReportSweep, ErrorShrinksAsSamplesGrowOnASceneWithEdges) {
     spec.list("depth") = {8};
     spec.list("min_weight") = {0.f};
     spec.list("indirect") = {0};
+    spec.list("bounce") = {kDefaultBounce};  // bounce light lights no material of these scenes
     spec.base = {1, 8, 0.f};
     const auto rows = runSweep(sc, s, spec, ref8, 0, 2);
     ASSERT_EQ(rows.size(), 4u);
@@ -92,6 +95,7 @@ TEST(ReportSweep, TheReferenceSettingScoresInfinitePsnrAgainstTheReference) {
     spec.list("depth") = {8};
     spec.list("min_weight") = {0.f};
     spec.list("indirect") = {0};
+    spec.list("bounce") = {kDefaultBounce};  // bounce light lights no material of these scenes
     spec.base = refQ;
     const auto rows = runSweep(sc, s, spec, toRgb8(ref.image, s.toneMap), 0, 2);
     ASSERT_EQ(rows.size(), 1u);
@@ -107,6 +111,7 @@ TEST(ReportSweep, RepeatsStopAtTheTimingBudgetOrTheRepeatLimit) {
     spec.list("depth") = {2};
     spec.list("min_weight") = {0.f};
     spec.list("indirect") = {0};
+    spec.list("bounce") = {kDefaultBounce};  // bounce light lights no material of these scenes
     spec.base = {1, 2, 0.f};
     spec.maxRepeats = 4;
     spec.minTimingSeconds = 1e9;  // never reached: the limit decides
