@@ -138,8 +138,10 @@ struct BounceSlot {
     uint32_t points = 0;
     std::shared_ptr<const BounceGeometry> geometry;
     bool triedLit = false;  ///< the geometry was looked at with lights in the scene
-    uint64_t lights = 0;
-    std::shared_ptr<const BounceCache> cache;
+    /// The geometry lit under the last few sets of lights (keyed by lightsKey), most recent
+    /// first: a rank handed tiles of two frames in turn (pixel mode) lights each frame once.
+    std::vector<std::pair<uint64_t, std::shared_ptr<const BounceCache>>> lit;
+    static constexpr size_t kLitKept = 4;
 };
 
 uint32_t bouncePoints(const RenderSettings& settings) { return uint32_t(std::max(0, settings.bounce)) * 1000u; }
@@ -465,7 +467,12 @@ std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderS
     if (!scene.bounceSlot->state) scene.bounceSlot->state = std::make_shared<BounceSlot>();
     BounceSlot& slot = *std::static_pointer_cast<BounceSlot>(scene.bounceSlot->state);
     const bool sameGeometry = slot.geometryVersion == scene.geometryVersion() && slot.points == points;
-    if (sameGeometry && slot.lights == lights) return slot.cache;
+    if (sameGeometry)
+        for (size_t i = 0; i < slot.lit.size(); ++i)
+            if (slot.lit[i].first == lights) {
+                std::rotate(slot.lit.begin(), slot.lit.begin() + std::ptrdiff_t(i), slot.lit.begin() + std::ptrdiff_t(i) + 1);
+                return slot.lit.front().second;
+            }
     const bool lit = !scene.lights.empty();
     if (!sameGeometry || (!slot.geometry && lit && !slot.triedLit)) {
         // Without lights only emission can bounce; without either there is nothing to build.
@@ -476,16 +483,14 @@ std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderS
         slot.geometryVersion = scene.geometryVersion();
         slot.points = points;
         slot.triedLit = lit;
+        slot.lit.clear();
     }
-    slot.lights = lights;
-    if (!slot.geometry) {
-        slot.cache = nullptr;
-        return nullptr;
-    }
+    if (!slot.geometry) return nullptr;
     auto cache = std::make_shared<BounceCache>(slot.geometry);
     cache->light(scene, threads);
     if (spent) spent->bounce += cache->rays();
-    slot.cache = cache;
+    slot.lit.insert(slot.lit.begin(), {lights, cache});
+    if (slot.lit.size() > BounceSlot::kLitKept) slot.lit.pop_back();
     return cache;
 }
 

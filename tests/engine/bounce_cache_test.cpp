@@ -252,3 +252,26 @@ TEST(BounceCache, AFilmWhoseGeometryMovesHasItOnlyWhenAskedFor) {
     none.bounce = 0;
     EXPECT_FALSE(bounceLeftOutForMotion(s, none));
 }
+
+TEST(BounceCache, TwoFramesHandedOutInTurnAreEachLitOnce) {
+    // Pixel mode can hand a rank tiles of frames f and f + 1 in turn; each light set is lit once
+    // and then found again, not lit afresh at every switch.
+    Scene s = floorScene(10.f, 0.3f, false);
+    const RenderSettings rs = smallSettings(48, 27);
+    RayStats spent;
+    std::shared_ptr<const BounceCache> first[2];
+    for (int round = 0; round < 3; ++round)
+        for (int frame = 0; frame < 2; ++frame) {
+            s.lights[0].direction = sunDirection(0.3f * float(frame));
+            const uint64_t before = spent.bounce;
+            const auto c = bounceCache(s, rs, 2, &spent);
+            ASSERT_TRUE(c);
+            if (round == 0) {
+                EXPECT_GT(spent.bounce, before) << "frame " << frame << " was not lit";
+                first[frame] = c;
+            } else {
+                EXPECT_EQ(spent.bounce, before) << "frame " << frame << " lit again in round " << round;
+                EXPECT_EQ(c, first[frame]);
+            }
+        }
+}
