@@ -476,9 +476,7 @@ std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderS
     const bool lit = !scene.lights.empty();
     if (!sameGeometry || (!slot.geometry && lit && !slot.triedLit)) {
         // Without lights only emission can bounce; without either there is nothing to build.
-        bool glowing = false;
-        for (const Material& m : scene.materials) glowing |= m.gltfPbr && m.emission != Color(0.f);
-        slot.geometry = lit || glowing ? buildBounceGeometry(scene, points, threads) : nullptr;
+        slot.geometry = bounceApplies(scene) ? buildBounceGeometry(scene, points, threads) : nullptr;
         if (spent && slot.geometry) spent->bounce += slot.geometry->rays;
         slot.geometryVersion = scene.geometryVersion();
         slot.points = points;

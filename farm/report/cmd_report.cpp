@@ -300,7 +300,7 @@ int runReport(const std::vector<std::string>& args) {
     o.sweep.base = report::qualityOf(settings);
     // Bounce light lights only glTF materials of a scene with lights or emission: elsewhere its
     // line would render the same picture four times over. Leave it out unless asked for.
-    if (!p.value(report::sweepOption(report::qualityKnobs()[report::knobIndex("bounce")])) && !bounceApplies(scene))
+    if (!p.value("--sweep-bounce") && !bounceApplies(scene))
         o.sweep.list("bounce") = {double(settings.bounce)};
     const bool video = !p.has("--no-video");
     if (video) checkVideoPresets(vo, settings);
