@@ -6,7 +6,7 @@
 #   [REPEAT=3] bash examples/bench_farm.sh [BUILD_DIR]       (default: build)
 # mpirun binds each rank to one core when it starts two or fewer, so "1 rank" is one core and
 # "2 ranks" two. Runs use --no-frames (the MP4 only); one extra run shows the cost of keeping
-# PNG frames (the default). Targets: >= 30 fps for the engine turntable at --spp 1, speed-up
+# PNG frames (the default), one the default --mode auto. Targets: >= 30 fps for the engine turntable at --spp 1, speed-up
 # >= 1.8. The engine turntable (default studio environment, glTF materials) runs at --spp 1; one
 # more run gives its default anti-aliased quality (4 spp for a bare glTF).
 # Ranks go from 1 to the machine's cores; speedup.png (gnuplot; SPEEDUP_PNG, default
@@ -48,6 +48,7 @@ for ((round = 1; round <= repeat; round++)); do
       for ((np = 1; np <= cores; np++)); do run "${scene}_${mode}_${np}.r$round" "$np" "$mode" "${args[@]}" --no-frames; done
     done
   done
+  run "engine_auto_2.r$round" 2 auto "$engine" --spp 1 --no-frames
   run "engine_frame_2_png.r$round" 2 frame "$engine" --spp 1
   run "engine_frame_2_default.r$round" 2 frame "$engine" --no-frames
   echo "bench_farm: round $round of $repeat done, load $(cut -d' ' -f1-3 /proc/loadavg)"
@@ -70,6 +71,9 @@ for scene in ("whitted", "engine"):
     for mode in ("pixel", "frame"):
         ups = [r(f"{scene}_{mode}_2", k)["sustained_fps"] / r(f"{scene}_{mode}_1", k)["sustained_fps"] for k in range(1, repeat + 1)]
         print(f"{scene} {mode} mode, 1 -> 2 ranks within each round: " + ", ".join(f"{u:.2f}" for u in ups))
+a = s("engine_auto_2")
+chosen = next((l.split("(auto:")[0].split()[-1] for l in open(os.path.join(d, "engine_auto_2.r1.log")) if "(auto:" in l), "?")
+print(f"engine at the default --mode auto ({chosen} mode chosen), 2 ranks: {a['sustained_fps']:.2f} fps")
 p = s("engine_frame_2_png")
 print(f"engine frame mode, 2 ranks, keeping PNG frames (the default): {p['sustained_fps']:.2f} fps "
       f"(PNG writer busy {p['png_s']:.2f} s of {p['render_s']:.2f} s)")

@@ -167,7 +167,8 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
     job.last = job.timelineFrames - 1;
     if (auto f = p.value("--frames")) parseFrameRange(*f, job.timelineFrames, job.first, job.last);
     job.mp4.fps = tl.isStill() && job.fpsOption > 0.0 ? job.fpsOption : tl.fps();
-    job.mp4.chunkFrames = job.chunkFramesOption > 0 ? job.chunkFramesOption : defaultChunkFrames(job.mp4.fps);
+    job.mp4.chunkFrames =
+        job.chunkFramesOption > 0 ? job.chunkFramesOption : defaultChunkFrames(job.mp4.fps, job.last - job.first + 1);
     decideOutputs(job, scene);
     // Metering renders: only once every option has been checked.
     resolveAutoExposure(scene, tl, job.settings, job.threads);

@@ -1,5 +1,6 @@
 #include "video_chunk.h"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -67,6 +68,10 @@ EncodedChunk parseChunk(const std::string& bytes) {
     return c;
 }
 
-int defaultChunkFrames(double fps) { return std::max(kMinChunkFrames, int(std::lround(2.0 * fps))); }
+int defaultChunkFrames(double fps, int filmFrames) {
+    const int twoSeconds = int(std::lround(2.0 * fps));
+    const int eighth = (std::max(filmFrames, 1) + kDefaultChunksPerFilm - 1) / kDefaultChunksPerFilm;
+    return std::max(kMinChunkFrames, std::min(twoSeconds, eighth));
+}
 
 }  // namespace rf::farm

@@ -55,10 +55,15 @@ struct ChunkPlan {
     int framesIn(int chunk) const { return lastFrame(chunk) - firstFrame(chunk) + 1; }
 };
 
-/// The default chunk length: about two seconds of film (at least 2 frames; see
-/// kMinChunkFrames), so a player can seek to any two-second mark and a chunk is long enough
-/// that its key frame costs little.
-int defaultChunkFrames(double fps);
+/// The default chunk length for a film of `filmFrames` frames: about two seconds of film, so a
+/// player can seek to any two-second mark and a chunk is long enough that its key frame costs
+/// little, but no more than an eighth of the film, so that a short film still has enough
+/// chunks to spread over ranks in frame mode (at least 2 frames; see kMinChunkFrames). It
+/// depends on the film alone, never on the ranks, so the file is the same for any rank count.
+int defaultChunkFrames(double fps, int filmFrames);
+
+/// Chunks a film is cut into by default, at most: short films get chunks of filmFrames / this.
+inline constexpr int kDefaultChunksPerFilm = 8;
 
 /// A chunk of one frame would make consecutive H.264 IDR pictures with the same idr_pic_id
 /// (every fresh x264 starts at 0), which the standard forbids; two frames never can.

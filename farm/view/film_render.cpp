@@ -27,7 +27,7 @@ farm::RenderJob filmJob(const FilmRequest& r, int ranks, std::string& note) {
     job.first = 0;
     job.last = job.timelineFrames - 1;
     job.mp4.fps = tl.fps();
-    job.mp4.chunkFrames = farm::defaultChunkFrames(job.mp4.fps);
+    job.mp4.chunkFrames = farm::defaultChunkFrames(job.mp4.fps, job.timelineFrames);
     note = farm::checkMp4Options(job.settings.width, job.settings.height, job.mp4);
     const int renderers = ranks <= 2 ? ranks : ranks - 1;
     job.mode = farm::chooseMode(job.timelineFrames, renderers, job.settings.width, job.settings.height, job.modeWhy);

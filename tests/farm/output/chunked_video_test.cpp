@@ -185,7 +185,12 @@ TEST(ChunkedVideo, PlanCutsTheFilmIntoChunksOfK) {
     EXPECT_EQ(p.lastFrame(2), 20);
     EXPECT_EQ(p.framesIn(2), 3);
     EXPECT_EQ(p.chunkOf(17), 1);
-    EXPECT_EQ(defaultChunkFrames(30.0), 60);
-    EXPECT_EQ(defaultChunkFrames(0.5), 2);
-    EXPECT_EQ(defaultChunkFrames(23.976), 48);
+    EXPECT_EQ(defaultChunkFrames(30.0, 3000), 60) << "two seconds of a long film";
+    EXPECT_EQ(defaultChunkFrames(23.976, 3000), 48);
+    EXPECT_EQ(defaultChunkFrames(0.5, 3000), 2) << "never under 2 frames";
+    EXPECT_EQ(defaultChunkFrames(30.0, 120), 15) << "a 4 s film: an eighth of it";
+    EXPECT_EQ(defaultChunkFrames(120.0, 120), 15) << "the same frames at another rate";
+    EXPECT_EQ(defaultChunkFrames(30.0, 121), 16) << "rounded up: 8 chunks at most";
+    EXPECT_EQ(defaultChunkFrames(30.0, 5), 2);
+    EXPECT_EQ(defaultChunkFrames(30.0, 1), 2);
 }
