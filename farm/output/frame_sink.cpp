@@ -81,8 +81,9 @@ void AsyncSink::writePng(int frame, const std::string& png, const std::string& s
 
 void AsyncSink::push(Item item) {
     std::unique_lock<std::mutex> lock(mutex_);
-    cv_.wait(lock, [&] { return int(queue_.size()) < capacity_ || error_ || closing_; });
+    cv_.wait(lock, [&] { return int(queue_.size()) < capacity_ || stopped_ || closing_; });
     rethrowIfFailed();
+    if (stopped_) std::rethrow_exception(stopped_);
     if (closing_) return;
     queue_.push_back(std::move(item));
     cv_.notify_all();
@@ -119,7 +120,7 @@ void AsyncSink::loop() {
             else inner_->write(item.frame, item.rgb);
         } catch (...) {
             std::lock_guard<std::mutex> lock(mutex_);
-            error_ = std::current_exception();
+            error_ = stopped_ = std::current_exception();
             queue_.clear();
             cv_.notify_all();
             break;

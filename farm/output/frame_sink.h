@@ -55,7 +55,9 @@ private:
 };
 
 /// Runs a sink on its own thread. write() returns at once unless `capacity` frames are already
-/// waiting; an error on the thread is rethrown by the next write() or by close().
+/// waiting; an error on the thread is rethrown by the next write() or by close(). Once the
+/// thread has stopped on an error, every later write() throws that error again: nothing would
+/// ever take the frames off the queue.
 class AsyncSink : public FrameSink {
 public:
     AsyncSink(std::unique_ptr<FrameSink> inner, int capacity);
@@ -94,7 +96,8 @@ private:
     std::condition_variable cv_;
     std::deque<Item> queue_;
     bool closing_ = false, closed_ = false;
-    std::exception_ptr error_;
+    std::exception_ptr error_;    ///< not yet rethrown
+    std::exception_ptr stopped_;  ///< the error the thread stopped on, kept
     double busy_ = 0.0;
     int done_ = 0;
     std::chrono::steady_clock::time_point lastDone_{};

@@ -104,6 +104,32 @@ TEST(AsyncSink, ErrorsOnTheSinkThreadReachTheCaller) {
     EXPECT_TRUE(thrown);
 }
 
+// A caller that has caught the sink's error and writes again (frame mode writing the frames
+// after the last whole chunk once the run has failed) must get the error again: the stopped
+// thread takes nothing off the queue, so a write that waited for room would wait for ever.
+TEST(AsyncSink, WritesAfterTheThreadStoppedOnAnErrorThrowItAgain) {
+    struct Failing : FrameSink {
+        void write(int, const std::vector<uint8_t>&) override { throw std::runtime_error("File too large"); }
+        void close() override {}
+    };
+    AsyncSink sink(std::make_unique<Failing>(), 2);
+    auto writesUntilThrown = [&] {
+        for (int i = 0; i < 100; ++i) {
+            try {
+                sink.write(i, {1, 2, 3});
+            } catch (const std::runtime_error& e) {
+                return std::string(e.what());
+            }
+        }
+        return std::string("no error in 100 writes");
+    };
+    EXPECT_EQ(writesUntilThrown(), "File too large");
+    // Far more writes than the queue holds: each throws at once.
+    for (int round = 0; round < 10; ++round) EXPECT_EQ(writesUntilThrown(), "File too large");
+    // The error reached the caller already; closing reports it no second time.
+    EXPECT_NO_THROW(sink.close());
+}
+
 // Issue 30 #2: kept frames are found from one pass over the directory, so a selection of 10⁹
 // frames costs no look-up per frame; only names this rayfarm writes count.
 TEST(PngSink, KeptFramesOfABillionFrameSelectionComeFromTheListing) {
