@@ -62,7 +62,7 @@ struct ChunkPlan {
 /// depends on the film alone, never on the ranks, so the file is the same for any rank count.
 int defaultChunkFrames(double fps, int filmFrames);
 
-/// Chunks a film is cut into by default, at most: short films get chunks of filmFrames / this.
+/// A film shorter than this many two-second chunks is cut into this many chunks by default.
 inline constexpr int kDefaultChunksPerFilm = 8;
 
 /// A chunk of one frame would make consecutive H.264 IDR pictures with the same idr_pic_id
