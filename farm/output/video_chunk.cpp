@@ -69,9 +69,9 @@ EncodedChunk parseChunk(const std::string& bytes) {
 }
 
 int defaultChunkFrames(double fps, int filmFrames) {
-    const int twoSeconds = int(std::lround(2.0 * fps));
-    const int eighth = (std::max(filmFrames, 1) + kDefaultChunksPerFilm - 1) / kDefaultChunksPerFilm;
-    return std::max(kMinChunkFrames, std::min(twoSeconds, eighth));
+    const long long twoSeconds = std::lround(2.0 * fps);
+    const long long eighth = (std::max(filmFrames, 1) + (kDefaultChunksPerFilm - 1LL)) / kDefaultChunksPerFilm;  // no overflow near INT_MAX
+    return int(std::max<long long>(kMinChunkFrames, std::min(twoSeconds, eighth)));
 }
 
 }  // namespace rf::farm

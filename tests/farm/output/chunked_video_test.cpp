@@ -193,4 +193,5 @@ TEST(ChunkedVideo, PlanCutsTheFilmIntoChunksOfK) {
     EXPECT_EQ(defaultChunkFrames(30.0, 121), 16) << "rounded up: 8 chunks at most";
     EXPECT_EQ(defaultChunkFrames(30.0, 5), 2);
     EXPECT_EQ(defaultChunkFrames(30.0, 1), 2);
+    EXPECT_EQ(defaultChunkFrames(30.0, 2147483647), 60) << "the largest film: no overflow";
 }
