@@ -66,7 +66,9 @@ std::vector<std::string> writeThreeWays(const std::string& ext, const Mp4Options
     const ChunkPlan plan{0, kFrames - 1, o.chunkFrames};
     std::vector<std::string> paths;
     for (int way = 0; way < 3; ++way) {
-        const std::string path = outDir() + "/way" + std::to_string(way) + "." + ext;
+        // Named by the test too: CTest runs the tests of one format side by side.
+        const std::string path = outDir() + "/" + ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_way" +
+                                 std::to_string(way) + "." + ext;
         std::filesystem::remove(path);
         Mp4Sink sink(path, kW, kH, o);
         for (int c = 0; c < plan.count(); ++c) {
