@@ -150,8 +150,9 @@ void claimOutputs(const RenderJob& job, const ArgParser& p, std::vector<OutputLo
 std::string videoChunksNote(const RenderJob& job) {
     if (containerFor(job.output) == Container::Gif) return "the GIF made on rank 0 from the whole film";
     const std::string k = std::to_string(job.mp4.chunkFrames);
-    return job.chunkedFrames ? "video in chunks of " + k + " frames, each rendered and encoded by one rank"
-                             : "video in chunks of " + k + " frames encoded on rank 0";
+    if (!job.chunkedFrames) return "video in chunks of " + k + " frames encoded on rank 0";
+    return job.mode == Mode::Frame ? "video in chunks of " + k + " frames, each rendered and encoded by one rank"
+                                   : "video in chunks of " + k + " frames, each assembled from the tiles and encoded by one rank";
 }
 
 /// Rank 0's part of makeJob: everything decided from the options and the loaded scene, checked
@@ -179,11 +180,9 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
     const int frames = job.last - job.first + 1;
     const int renderers = ranks <= 2 ? ranks : ranks - 1;
     if (job.modeOption == "auto") {
-        // Frame mode's items are chunks when the rendering ranks can encode them (not a GIF, nor
-        // EXR frames, which rank 0 writes from every frame's pixels).
-        RenderJob asFrames = job;
-        asFrames.mode = Mode::Frame;
-        const int chunkFrames = chunksOnRenderers(asFrames) ? job.mp4.chunkFrames : 1;
+        // Chunks are encoded on the rendering ranks unless rank 0 needs every frame's pixels (a
+        // GIF, EXR frames).
+        const int chunkFrames = chunksOnRenderers(job) ? job.mp4.chunkFrames : 1;
         job.mode = chooseMode(frames, renderers, job.settings.width, job.settings.height, job.modeWhy, chunkFrames);
         job.modeWhy = "auto: " + job.modeWhy;
     } else {

@@ -68,8 +68,8 @@ struct ChunkWorkshop::EncoderState {
     EncodedChunk chunk;
 };
 
-ChunkWorkshop::ChunkWorkshop(RenderEngine& engine, ChunkVideoSpec spec)
-    : engine_(engine), spec_(std::move(spec)), enc_(std::make_unique<EncoderState>()) {
+ChunkWorkshop::ChunkWorkshop(RenderEngine& engine, ChunkVideoSpec spec, int rank)
+    : engine_(engine), spec_(std::move(spec)), enc_(std::make_unique<EncoderState>()), rank_(rank) {
     thread_ = std::thread([this] { encoderLoop(); });
 }
 
@@ -83,17 +83,61 @@ ChunkWorkshop::~ChunkWorkshop() {
     thread_.join();
 }
 
-void ChunkWorkshop::submit(ChunkOrder order) {
+void ChunkWorkshop::submit(ChunkOrder order) { queueChunk(std::move(order), false); }
+
+void ChunkWorkshop::submitAssembly(ChunkOrder order) {
+    queueChunk(std::move(order), true);
+    std::vector<TileResult> early = std::exchange(early_, {});
+    for (TileResult& t : early)
+        if (!placeTile(t)) early_.push_back(std::move(t));
+}
+
+void ChunkWorkshop::queueChunk(ChunkOrder order, bool assemble) {
     auto sp = std::make_shared<const ChunkOrder>(std::move(order));
     const WorkItem& c = sp->item;
     for (int f = c.frame; f < c.frame + c.frames; ++f) {
-        Pending p{sp, f, nullptr, false};
+        Pending p;
+        p.order = sp;
+        p.frame = f;
         for (const auto& [frame, png] : sp->kept)
             if (frame == f) p.keptPng = &png;
-        pending_.push_back(p);
+        p.assembled = assemble && !p.keptPng;
+        if (p.assembled) p.pixelsLeft = int64_t(spec_.width) * spec_.height;
+        pending_.push_back(std::move(p));
     }
     ++chunksOut_;
     feedEngine();
+}
+
+bool ChunkWorkshop::placeTile(const TileResult& tile) {
+    const auto it = std::find_if(pending_.begin(), pending_.end(),
+                                 [&](const Pending& p) { return p.assembled && p.frame == tile.item.frame; });
+    if (it == pending_.end()) return false;
+    const int w = spec_.width, h = spec_.height, ch = spec_.options.channels;
+    const TileRect& r = tile.item.rect;
+    const std::string bad = "a tile of frame " + std::to_string(tile.item.frame) + " ";
+    if (r.x0 < 0 || r.y0 < 0 || r.x1 > w || r.y1 > h || r.x0 >= r.x1 || r.y0 >= r.y1 || tile.layout.channels != ch ||
+        tile.rgb.size() != size_t(r.pixels()) * size_t(ch))
+        throw std::runtime_error(bad + "does not fit the frame");
+    if (it->pixels.empty()) {
+        it->pixels.resize(size_t(w) * size_t(h) * size_t(ch));
+        it->covered.resize(size_t(w) * size_t(h));
+    }
+    for (int y = r.y0; y < r.y1; ++y)
+        for (int x = r.x0; x < r.x1; ++x)
+            if (it->covered[size_t(y) * size_t(w) + size_t(x)]) throw std::runtime_error(bad + "came twice");
+    const size_t row = size_t(r.width()) * size_t(ch);
+    for (int y = r.y0; y < r.y1; ++y) {
+        std::copy_n(tile.rgb.data() + size_t(y - r.y0) * row, row, it->pixels.data() + (size_t(y) * size_t(w) + size_t(r.x0)) * size_t(ch));
+        std::fill_n(it->covered.begin() + long(size_t(y) * size_t(w) + size_t(r.x0)), r.width(), true);
+    }
+    it->pixelsLeft -= r.pixels();
+    return true;
+}
+
+void ChunkWorkshop::addTile(TileResult tile) {
+    if (!placeTile(tile)) early_.push_back(std::move(tile));
+    queueReady();
 }
 
 void ChunkWorkshop::feedEngine() {
@@ -105,7 +149,7 @@ void ChunkWorkshop::feedEngine() {
     backlog += size_t(inEngine_) + rendered_.size();
     for (Pending& p : pending_) {
         if (backlog >= size_t(kFramesAhead)) return;
-        if (p.keptPng || p.submitted) continue;
+        if (p.keptPng || p.submitted || p.assembled) continue;
         WorkItem item = p.order->item;
         item.frame = p.frame;
         item.frames = 1;  // the engine renders one frame of the chunk
@@ -125,6 +169,10 @@ void ChunkWorkshop::queueReady() {
         Task t;
         if (p.keptPng) {
             t.keptPng = p.keptPng;
+        } else if (p.assembled) {
+            if (p.pixelsLeft > 0) break;
+            t.result.rgb = std::move(p.pixels);
+            p.covered = {};
         } else if (p.submitted && !rendered_.empty() && rendered_.front().item.frame == p.frame) {
             t.result = std::move(rendered_.front());
             rendered_.pop_front();
@@ -146,11 +194,18 @@ void ChunkWorkshop::queueReady() {
     cv_.notify_all();
 }
 
-std::vector<std::pair<int, std::string>> ChunkWorkshop::poll(double waitSeconds) {
-    std::vector<std::pair<int, std::string>> out;
+std::vector<ChunkWorkshop::Outgoing> ChunkWorkshop::poll(double waitSeconds) {
+    std::vector<Outgoing> out;
     for (auto r = engine_.takeResult(waitSeconds); r; r = engine_.takeResult()) {
+        if (r->item.assembler >= 0) {
+            // A tile of an assembled frame: its pixels to the assembling rank, word of it to rank 0.
+            out.push_back({0, kTagTileDone, encodeTileDone(*r)});
+            if (r->item.assembler == rank_) addTile(std::move(*r));
+            else out.push_back({r->item.assembler, kTagTile, encodeTileResult(*r)});
+            continue;
+        }
         if (r->item.chunk < 0) {
-            out.emplace_back(kTagResult, encodeTileResult(*r));  // a single item: as runWorker sends it
+            out.push_back({0, kTagResult, encodeTileResult(*r)});  // a single item: as runWorker sends it
             continue;
         }
         --inEngine_;
@@ -158,13 +213,13 @@ std::vector<std::pair<int, std::string>> ChunkWorkshop::poll(double waitSeconds)
     }
     queueReady();
     feedEngine();
-    std::vector<std::pair<int, std::string>> posted;
+    std::vector<Outgoing> posted;
     {
         std::lock_guard<std::mutex> lock(mutex_);
         posted.swap(outbox_);
     }
-    for (auto& m : posted) {
-        if (m.first == kTagChunkDone) --chunksOut_;
+    for (Outgoing& m : posted) {
+        if (m.tag == kTagChunkDone) --chunksOut_;
         out.push_back(std::move(m));
     }
     return out;
@@ -180,6 +235,7 @@ std::string ChunkWorkshop::error() const {
 void ChunkWorkshop::cancel() {
     pending_.clear();
     rendered_.clear();
+    early_.clear();
     inEngine_ = 0;
     chunksOut_ = 0;
     std::lock_guard<std::mutex> lock(mutex_);
@@ -188,7 +244,7 @@ void ChunkWorkshop::cancel() {
 
 void ChunkWorkshop::post(int tag, std::string bytes) {
     std::lock_guard<std::mutex> lock(mutex_);
-    outbox_.emplace_back(tag, std::move(bytes));
+    outbox_.push_back({0, tag, std::move(bytes)});
 }
 
 void ChunkWorkshop::encoderLoop() {

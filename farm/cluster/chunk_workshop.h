@@ -5,6 +5,11 @@
 /// (chunk_encoder.h). What goes back to rank 0 is one small message a frame (its PNG, if kept)
 /// and the encoded chunk, never the raw pixels. Workers and rank 0 (when it renders) use it
 /// alike; the rank's main thread stays free for messages.
+///
+/// In pixel mode with chunked encoding a rank also assembles chunks (submitAssembly): the
+/// chunk's frames are not rendered here but put together from the tiles every rendering rank
+/// sends (addTile), then compressed and encoded the same way. The engine's results for tiles of
+/// such frames (WorkItem::assembler) go to their assembling rank, and a note of them to rank 0.
 #include <condition_variable>
 #include <deque>
 #include <memory>
@@ -33,18 +38,34 @@ ChunkVideoSpec decodeChunkVideoSpec(const std::string& bytes);
 
 class ChunkWorkshop {
 public:
-    ChunkWorkshop(RenderEngine& engine, ChunkVideoSpec spec);
+    /// A message for another rank: rank 0 (dest 0), or a tile's assembling rank.
+    struct Outgoing {
+        int dest = 0;
+        int tag = 0;
+        std::string bytes;
+    };
+
+    /// rank: this rank's number (a tile it assembles itself is not sent to itself).
+    ChunkWorkshop(RenderEngine& engine, ChunkVideoSpec spec, int rank = 0);
     ~ChunkWorkshop();
     ChunkWorkshop(const ChunkWorkshop&) = delete;
     ChunkWorkshop& operator=(const ChunkWorkshop&) = delete;
 
-    /// Queues a chunk behind those already here.
+    /// Queues a chunk behind those already here, to render and encode.
     void submit(ChunkOrder order);
-    /// Moves work along and returns the messages for rank 0 ready since the last call, as
-    /// (tag, payload): the engine's results are taken (waiting up to waitSeconds for one), frames
-    /// of the chunks go to the engine a few at a time (so at most a few frames wait in memory
-    /// for the encoder), and results of single items (not chunks) pass through as kTagResult.
-    std::vector<std::pair<int, std::string>> poll(double waitSeconds);
+    /// Queues a chunk to assemble from tiles (addTile) and encode; its kept frames are not
+    /// rendered anywhere.
+    void submitAssembly(ChunkOrder order);
+    /// A tile of a frame this rank assembles (its chunk's order may still be on its way: the
+    /// tile waits for it). Throws std::runtime_error on a tile that does not fit the frame.
+    void addTile(TileResult tile);
+    /// Moves work along and returns the messages ready since the last call: the engine's
+    /// results are taken (waiting up to waitSeconds for one), frames of the chunks go to the
+    /// engine a few at a time (so at most a few frames wait in memory for the encoder), results
+    /// of single items (not chunks) pass through to rank 0 as kTagResult, and tiles of assembled
+    /// frames go to their assembling rank (kTagTile; kept here when that is this rank) with a
+    /// kTagTileDone to rank 0.
+    std::vector<Outgoing> poll(double waitSeconds);
     /// Chunks submitted and not yet sent back.
     int outstanding() const;
     /// The error that stopped the encoding thread, or the engine's; "" while all is well.
@@ -66,7 +87,14 @@ private:
         int frame = 0;
         const std::string* keptPng = nullptr;
         bool submitted = false;  ///< to the engine (rendered frames)
+        bool assembled = false;  ///< put together from tiles (submitAssembly), not rendered here
+        std::vector<uint8_t> pixels;  ///< an assembled frame's plane, allocated at its first tile
+        std::vector<bool> covered;    ///< its pixels a tile brought (a tile twice is an error)
+        int64_t pixelsLeft = 0;       ///< of an assembled frame, still to come
     };
+    void queueChunk(ChunkOrder order, bool assemble);
+    /// Copies tile into its frame; false if no frame here takes it (yet).
+    bool placeTile(const TileResult& tile);
     void feedEngine();
     void queueReady();
     void encoderLoop();
@@ -82,6 +110,9 @@ private:
     // for their turn.
     std::deque<Pending> pending_;
     std::deque<TileResult> rendered_;
+    /// Tiles that came before their chunk's order (from a rank that heard of the chunk first).
+    std::vector<TileResult> early_;
+    int rank_ = 0;
     int inEngine_ = 0;  ///< frames submitted to the engine and not yet taken back
     int chunksOut_ = 0;
 
@@ -89,7 +120,7 @@ private:
     mutable std::mutex mutex_;
     std::condition_variable cv_;
     std::deque<Task> tasks_;
-    std::vector<std::pair<int, std::string>> outbox_;
+    std::vector<Outgoing> outbox_;
     bool working_ = false;  ///< the encoder thread has a frame in hand
     bool stop_ = false;
     std::string error_;

@@ -32,6 +32,7 @@ std::string Master::who(int rank) const {
 
 std::string Master::describeBusy(const WorkerState& w) const {
     if (w.building) return "while building its scene";
+    if (w.outstanding.empty() && !w.assembling.empty()) return "while assembling chunk " + std::to_string(w.assembling.front().chunk);
     if (w.outstanding.empty()) return "while idle";
     if (w.outstanding.front().chunk >= 0) {
         // A chunk: the frame its heartbeat named (rank 0's own: its engine's), and the chunk.
@@ -61,6 +62,11 @@ std::string Master::describeBusy(const WorkerState& w) const {
 
 void Master::accept(int rank, const TileResult& r) {
     if (r.item.epoch != epoch_) return;  // work of a view since replaced
+    if (!tileReturned(rank, r)) return;
+    if (asm_->add(r) && onComplete_) onComplete_(r.item.frame, *asm_->completed(r.item.frame));
+}
+
+bool Master::tileReturned(int rank, const TileResult& r) {
     WorkerState& w = workers_[size_t(rank)];
     auto it = std::find_if(w.outstanding.begin(), w.outstanding.end(), [&](const WorkItem& i) {
         return i.frame == r.item.frame && i.rect.x0 == r.item.rect.x0 && i.rect.y0 == r.item.rect.y0 &&
@@ -69,16 +75,35 @@ void Master::accept(int rank, const TileResult& r) {
     if (it == w.outstanding.end()) {
         failure_ = "rank " + std::to_string(rank) + " returned frame " + std::to_string(r.item.frame) +
                    " work it was not given";
-        return;
+        return false;
     }
     w.outstanding.erase(it);
-    if (asm_->add(r) && onComplete_) onComplete_(r.item.frame, *asm_->completed(r.item.frame));
     if (onTile_) onTile_(rank, r.item);
     out_.rays += r.rays;
     RankStats& st = out_.perRank[size_t(rank)];
     st.busySeconds += r.busySeconds;
     if (sched_->mode() == Mode::Frame) ++st.frames;
     else ++st.tiles;
+    return true;
+}
+
+void Master::openAssembly(const WorkItem& chunk) {
+    // The rendering rank assembling fewest chunks, taking ranks in turn on a tie.
+    const int n = int(workers_.size());
+    int best = -1;
+    for (int step = 1; step <= n; ++step) {
+        const int r = (lastAssembler_ + step) % n;
+        if (r == 0 && !local_) continue;
+        if (best < 0 || workers_[size_t(r)].assembling.size() < workers_[size_t(best)].assembling.size()) best = r;
+    }
+    lastAssembler_ = best;
+    if (assemblerOf_.size() <= size_t(chunk.chunk)) assemblerOf_.resize(size_t(chunk.chunk) + 1, -1);
+    assemblerOf_[size_t(chunk.chunk)] = best;
+    WorkerState& w = workers_[size_t(best)];
+    w.assembling.push_back(chunk);
+    ChunkOrder order = chunks_.orderFor(chunk);
+    if (best == 0) chunks_.local->submitAssembly(std::move(order));
+    else t_.send(best, kTagChunkAssemble, encodeChunkOrder(order));
 }
 
 void Master::handle(const Message& m) {
@@ -94,6 +119,15 @@ void Master::dispatch(int rank, int tag, const std::string& bytes) {
     switch (tag) {
     case kTagResult:
         accept(rank, decodeTileResult(bytes));
+        break;
+    case kTagTileDone: {
+        const TileResult r = decodeTileDone(bytes);
+        if (r.item.epoch == epoch_) tileReturned(rank, r);
+        break;
+    }
+    case kTagTile:  // a tile of a chunk rank 0 assembles itself
+        if (!chunks_.local) throw std::runtime_error(who(rank) + " sent a tile to rank 0, which assembles no chunk");
+        chunks_.local->addTile(decodeTileResult(bytes));
         break;
     case kTagChunkFrame:
         acceptChunkFrame(rank, decodeChunkFrame(bytes));
@@ -121,10 +155,15 @@ void Master::dispatch(int rank, int tag, const std::string& bytes) {
 void Master::acceptChunkFrame(int rank, const ChunkFrame& f) {
     if (f.item.epoch != epoch_) return;
     WorkerState& w = workers_[size_t(rank)];
-    const auto it = std::find_if(w.outstanding.begin(), w.outstanding.end(), [&](const WorkItem& i) { return i.chunk == f.item.chunk; });
-    if (!chunks_.collector || it == w.outstanding.end() || f.frame < it->frame || f.frame >= it->frame + it->frames) {
+    std::vector<WorkItem>& chunks = chunksOf(w);
+    const auto it = std::find_if(chunks.begin(), chunks.end(), [&](const WorkItem& i) { return i.chunk == f.item.chunk; });
+    if (!chunks_.collector || it == chunks.end() || f.frame < it->frame || f.frame >= it->frame + it->frames) {
         failure_ = "rank " + std::to_string(rank) + " returned frame " + std::to_string(f.frame) + " of chunk " +
                    std::to_string(f.item.chunk) + ", work it was not given";
+        return;
+    }
+    if (assembles()) {  // its tiles were counted as they came (kTagTileDone)
+        if (chunks_.onFrame) chunks_.onFrame(f);
         return;
     }
     if (f.frame == it->frame + it->frames - 1) w.chunksRendered.push_back(it->chunk);
@@ -140,12 +179,13 @@ void Master::acceptChunkFrame(int rank, const ChunkFrame& f) {
 void Master::acceptChunkDone(int rank, const WorkItem& item, std::string bytes) {
     if (item.epoch != epoch_) return;
     WorkerState& w = workers_[size_t(rank)];
-    const auto it = std::find_if(w.outstanding.begin(), w.outstanding.end(), [&](const WorkItem& i) { return i.chunk == item.chunk; });
-    if (!chunks_.collector || it == w.outstanding.end()) {
+    std::vector<WorkItem>& chunks = chunksOf(w);
+    const auto it = std::find_if(chunks.begin(), chunks.end(), [&](const WorkItem& i) { return i.chunk == item.chunk; });
+    if (!chunks_.collector || it == chunks.end()) {
         failure_ = "rank " + std::to_string(rank) + " returned chunk " + std::to_string(item.chunk) + ", work it was not given";
         return;
     }
-    w.outstanding.erase(it);
+    chunks.erase(it);
     std::erase(w.chunksRendered, item.chunk);
     chunks_.collector->add(item.chunk, std::move(bytes));
 }
@@ -161,19 +201,24 @@ bool Master::handOut() {
             if (w.rank == 0 && !local_) continue;
             if (rendering(w) >= cfg_.credits) continue;
             std::optional<WorkItem> item = sched_->next();
+            for (; item && assembles() && item->chunk >= 0; item = sched_->next()) {
+                item->epoch = epoch_;
+                openAssembly(*item);  // a chunk's marker: its tiles follow
+            }
             if (!item) return any;
             item->epoch = epoch_;
+            if (assembles()) item->assembler = assemblerOf_.at(size_t(chunks_.collector->plan().chunkOf(item->frame)));
             if (!dispatched_) {
                 dispatched_ = true;
                 out_.firstDispatch = Clock::now();
             }
             w.outstanding.push_back(*item);
-            if (item->chunk >= 0) {
+            if (item->chunk >= 0 && !assembles()) {
                 ChunkOrder order = chunks_.orderFor(*item);
                 if (w.rank == 0) chunks_.local->submit(std::move(order));
                 else t_.send(w.rank, kTagChunkWork, encodeChunkOrder(order));
             } else if (w.rank == 0) {
-                local_->submit(*item);
+                local_->submit(*item);  // with a workshop, its poll routes the result
             } else {
                 t_.send(w.rank, kTagWork, encodeWorkItem(*item));
             }
@@ -217,8 +262,9 @@ bool Master::gather() {
 bool Master::gatherLocal(double waitSeconds) {
     bool any = false;
     if (chunks_.local) {
-        for (auto& [tag, bytes] : chunks_.local->poll(waitSeconds)) {
-            dispatch(0, tag, bytes);
+        for (ChunkWorkshop::Outgoing& o : chunks_.local->poll(waitSeconds)) {
+            if (o.dest == 0) dispatch(0, o.tag, o.bytes);
+            else t_.send(o.dest, o.tag, std::move(o.bytes));  // a tile for the rank assembling its frame
             any = true;
         }
         if (const std::string err = chunks_.local->error(); !err.empty()) failure_ = "rank 0: " + err;

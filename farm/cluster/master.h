@@ -87,9 +87,12 @@ public:
     /// Called for each result accepted into the assembler, with the rank that rendered it.
     void onTile(std::function<void(int rank, const WorkItem&)> f) { onTile_ = std::move(f); }
 
-    /// Frame mode with chunked encoding: the scheduler hands out chunks (makeChunkScheduler),
-    /// each rendered and encoded by one rank; local (rank 0's own workshop over its engine, or
-    /// nullptr) takes rank 0's. orderFor makes a chunk's order (kept frames, pictures wanted);
+    /// Chunked encoding. Frame mode: the scheduler hands out chunks (makeChunkScheduler), each
+    /// rendered and encoded by one rank. Pixel mode (makeChunkTileScheduler): each chunk goes to
+    /// a rank that assembles it from every rank's tiles and encodes it; the master picks that
+    /// rank (the one assembling fewest) and stamps it on the chunk's tiles, which then never
+    /// pass through rank 0. local (rank 0's own workshop over its engine, or nullptr) takes
+    /// rank 0's part. orderFor makes a chunk's order (kept frames, pictures wanted);
     /// onFrame hears of each frame done (its PNG); emitChunk receives every encoded chunk in film
     /// order from collector. The frame assembler and emit are not used.
     struct ChunkHooks {
@@ -126,11 +129,20 @@ private:
         bool building = false;  ///< its last heartbeat said it is still building its scene
         bool answeredAfterInterrupt = false;
         std::vector<int> chunksRendered;  ///< chunks in `outstanding` whose frames are all rendered
+        std::vector<WorkItem> assembling;  ///< pixel mode: chunks it assembles from tiles
     };
     void handle(const Message& m);
     /// A message from a rank (rank 0: its own workshop's).
     void dispatch(int rank, int tag, const std::string& bytes);
     void accept(int rank, const TileResult& r);
+    /// Takes r's item off the rank's outstanding work and counts it; false (failure_ set) if the
+    /// rank was not given it.
+    bool tileReturned(int rank, const TileResult& r);
+    /// Pixel mode with chunked encoding: picks the rank to assemble the chunk and sends it there.
+    void openAssembly(const WorkItem& chunk);
+    /// Where acceptChunkFrame and acceptChunkDone look for a rank's chunks.
+    std::vector<WorkItem>& chunksOf(WorkerState& w) { return assembles() ? w.assembling : w.outstanding; }
+    bool assembles() const { return chunks_.collector && sched_->mode() == Mode::Pixel; }
     void acceptChunkFrame(int rank, const ChunkFrame& f);
     void acceptChunkDone(int rank, const WorkItem& item, std::string bytes);
     /// Items a rank holds that still take its renderer (a chunk whose frames are all rendered
@@ -162,6 +174,8 @@ private:
     std::function<void(int, const std::vector<uint8_t>&)> onComplete_;
     std::function<void(int, const WorkItem&)> onTile_;
     ChunkHooks chunks_;
+    std::vector<int> assemblerOf_;  ///< pixel mode with chunks: by chunk, the rank assembling it
+    int lastAssembler_ = 0;
     uint64_t epoch_ = 0;
     MasterConfig cfg_;
     std::vector<WorkerState> workers_;  ///< index = rank; rank 0 is the local engine if any

@@ -18,6 +18,7 @@ struct ResultHeader {
     int32_t frame, x0, y0, x1, y1;
     int32_t layout = 0;  ///< channels | linear << 8
     int32_t chunk, frames;
+    int32_t assembler, unused = 0;
     uint64_t epoch;
     double busySeconds;
     RayStats rays;
@@ -42,17 +43,42 @@ T fromBytes(const std::string& b, const char* what) {
 struct WireRect {
     int32_t frame, x0, y0, x1, y1;
     int32_t chunk, frames;
-    int32_t zero = 0;  ///< spelled out, so the struct has no padding: every byte is a field's
+    int32_t assembler;  ///< also keeps the struct free of padding: every byte is a field's
     uint64_t epoch;
 };
 // No padding: a decoded item encodes back to the very bytes it came from (the fuzz harness
 // checks it), which unspecified padding bytes would break.
 static_assert(std::has_unique_object_representations_v<WireRect>);
 
-WireRect wireOf(const WorkItem& w) { return {w.frame, w.rect.x0, w.rect.y0, w.rect.x1, w.rect.y1, w.chunk, w.frames, 0, w.epoch}; }
+WireRect wireOf(const WorkItem& w) {
+    return {w.frame, w.rect.x0, w.rect.y0, w.rect.x1, w.rect.y1, w.chunk, w.frames, w.assembler, w.epoch};
+}
 WorkItem itemOf(const WireRect& r) {
-    if (r.zero != 0) throw std::runtime_error("malformed work message");
-    return {r.frame, {r.x0, r.y0, r.x1, r.y1}, r.epoch, r.chunk, r.frames};
+    if (r.assembler < -1) throw std::runtime_error("malformed work message");
+    return {r.frame, {r.x0, r.y0, r.x1, r.y1}, r.epoch, r.chunk, r.frames, r.assembler};
+}
+
+ResultHeader headerOf(const TileResult& r) {
+    return {r.item.frame, r.item.rect.x0, r.item.rect.y0, r.item.rect.x1, r.item.rect.y1,
+            r.layout.channels | int32_t(r.layout.linear) << 8, r.item.chunk, r.item.frames, r.item.assembler, 0,
+            r.item.epoch, r.busySeconds, r.rays};
+}
+
+/// The result a header describes, its pixels not yet read; throws on a malformed one.
+TileResult resultOf(const ResultHeader& h) {
+    TileResult r;
+    r.item = {h.frame, {h.x0, h.y0, h.x1, h.y1}, h.epoch, h.chunk, h.frames, h.assembler};
+    r.layout.channels = h.layout & 0xff;
+    r.layout.linear = (h.layout >> 8) & 1;
+    if ((r.layout.channels != 3 && r.layout.channels != 4) || (h.layout >> 9) != 0 || h.assembler < -1)
+        throw std::runtime_error("malformed result message: unknown pixel layout");
+    // In 64 bits: a corrupt rectangle must not overflow int (TileRect::pixels) on the way.
+    const int64_t w = int64_t(h.x1) - h.x0, hgt = int64_t(h.y1) - h.y0;
+    if (w <= 0 || hgt <= 0 || w > (1 << 20) || hgt > (1 << 20))
+        throw std::runtime_error("malformed result message: empty or huge rectangle");
+    r.busySeconds = h.busySeconds;
+    r.rays = h.rays;
+    return r;
 }
 
 }  // namespace
@@ -136,9 +162,7 @@ WorkItem decodeChunkDone(const std::string& bytes, std::string& chunkBytes) {
 }
 
 std::string encodeTileResult(const TileResult& r) {
-    ResultHeader h{r.item.frame, r.item.rect.x0, r.item.rect.y0, r.item.rect.x1, r.item.rect.y1,
-                   r.layout.channels | int32_t(r.layout.linear) << 8, r.item.chunk, r.item.frames, r.item.epoch, r.busySeconds, r.rays};
-    std::string out = bytesOf(h);
+    std::string out = bytesOf(headerOf(r));
     out.append(reinterpret_cast<const char*>(r.rgb.data()), r.rgb.size());
     return out;
 }
@@ -147,22 +171,16 @@ TileResult decodeTileResult(const std::string& bytes) {
     if (bytes.size() < sizeof(ResultHeader)) throw std::runtime_error("malformed result message");
     ResultHeader h;
     std::memcpy(&h, bytes.data(), sizeof h);
-    TileResult r;
-    r.item = {h.frame, {h.x0, h.y0, h.x1, h.y1}, h.epoch, h.chunk, h.frames};
-    r.layout.channels = h.layout & 0xff;
-    r.layout.linear = (h.layout >> 8) & 1;
-    if ((r.layout.channels != 3 && r.layout.channels != 4) || (h.layout >> 9) != 0)
-        throw std::runtime_error("malformed result message: unknown pixel layout");
-    // In 64 bits: a corrupt rectangle must not overflow int (TileRect::pixels) on the way.
-    const int64_t w = int64_t(h.x1) - h.x0, hgt = int64_t(h.y1) - h.y0;
-    if (w <= 0 || hgt <= 0 || w > (1 << 20) || hgt > (1 << 20) ||
-        uint64_t(bytes.size() - sizeof h) != uint64_t(r.layout.bytes(size_t(w * hgt))))
+    TileResult r = resultOf(h);
+    if (uint64_t(bytes.size() - sizeof h) != uint64_t(r.layout.bytes(size_t(r.item.rect.pixels()))))
         throw std::runtime_error("malformed result message: pixel count does not match its rectangle");
-    r.busySeconds = h.busySeconds;
-    r.rays = h.rays;
     r.rgb.assign(bytes.begin() + sizeof h, bytes.end());
     return r;
 }
+
+std::string encodeTileDone(const TileResult& r) { return bytesOf(headerOf(r)); }
+
+TileResult decodeTileDone(const std::string& bytes) { return resultOf(fromBytes<ResultHeader>(bytes, "tile done")); }
 
 uint64_t newEpoch() {
     static std::atomic<uint64_t> next{1};

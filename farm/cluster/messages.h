@@ -14,7 +14,8 @@
 
 namespace rf::farm {
 
-/// MPI tags. Workers only ever talk to rank 0.
+/// MPI tags. Workers talk to rank 0, and in pixel mode with chunked encoding also send their
+/// tiles to the rank that assembles the tile's chunk (kTagTile).
 enum Tag : int {
     kTagWork = 11,       ///< master → worker: WorkItem
     kTagResult = 12,     ///< worker → master: TileResult (header, then RGB8 pixels)
@@ -36,6 +37,15 @@ enum Tag : int {
     /// rayfarm view, window → rank: the timeline JSON to pose the scene as loaded with from now
     /// on (the window's camera keys changed); "" for none
     kTagViewTimeline = 23,
+    /// master → the rank that assembles a chunk (pixel mode with chunked encoding): ChunkOrder;
+    /// the chunk's tiles come from every rendering rank (kTagTile), and the rank encodes the
+    /// chunk as frame mode's would
+    kTagChunkAssemble = 21,
+    /// rendering rank → assembling rank: TileResult, a tile of a frame the receiver assembles
+    kTagTile = 22,
+    /// rendering rank → master: the TileResult's header alone (no pixels): the tile went to its
+    /// assembling rank; frees the credit and carries the stats
+    kTagTileDone = 24,
 };
 
 /// How often a worker says it is alive, even while its threads render a long frame.
@@ -55,6 +65,9 @@ struct WorkItem {
     /// frames from `frame` on. -1: a single item (a frame, or a tile of one).
     int32_t chunk = -1;
     int32_t frames = 1;
+    /// A tile of pixel mode with chunked encoding: the rank that assembles its frame and encodes
+    /// its chunk, where the tile's pixels go (kTagTile) instead of to rank 0. -1: to rank 0.
+    int32_t assembler = -1;
 };
 
 /// An interactive epoch: every work item stamped with it renders `frame` through `camera` (or
@@ -125,6 +138,9 @@ WorkItem decodeWorkItem(const std::string& bytes);
 std::string encodeTileResult(const TileResult& r);
 /// Throws std::runtime_error on a malformed payload (wrong pixel count).
 TileResult decodeTileResult(const std::string& bytes);
+/// kTagTileDone: a TileResult without its pixels (rgb is not sent and comes back empty).
+std::string encodeTileDone(const TileResult& r);
+TileResult decodeTileDone(const std::string& bytes);
 
 /// A fresh epoch: unique for the life of the process (never 0), so work of an earlier run on
 /// the same workers (a cancelled film, a view session) is never taken for a later one's.

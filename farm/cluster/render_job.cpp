@@ -45,9 +45,7 @@ ChunkVideoSpec chunkVideoSpec(const RenderJob& j) {
     return v;
 }
 
-bool chunksOnRenderers(const RenderJob& j) {
-    return j.mode == Mode::Frame && containerFor(j.output) != Container::Gif && !j.exrFrames;
-}
+bool chunksOnRenderers(const RenderJob& j) { return containerFor(j.output) != Container::Gif && !j.exrFrames; }
 
 std::string encodeWorkerJob(const RenderJob& j) {
     // Settings as a byte copy: every rank runs the same executable, and a field added to

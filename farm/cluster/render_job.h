@@ -38,9 +38,9 @@ struct RenderJob {
     double workerTimeout = 10.0;
     int tileSize = 128;
     int chunkFramesOption = 0;   ///< --chunk-frames, 0 if not given (mp4.chunkFrames is decided)
-    /// Frame mode with chunked encoding on the rendering ranks (chunksOnRenderers): decided by
-    /// `render` before the job goes to the workers, which then encode too.
-    bool chunkedFrames = false;          ///< pixel mode's work-item size (split again into 16x16 on the rank)
+    /// Chunked encoding on the rendering ranks (chunksOnRenderers): decided by `render` before
+    /// the job goes to the workers, which then encode too.
+    bool chunkedFrames = false;
 
     /// The frames selected (--frames), as one range.
     anim::FrameRanges frames() const { return anim::FrameRanges::span(first, last); }
@@ -56,9 +56,10 @@ struct WorkerOutputs {
     BackgroundChoice background;
     int32_t linear = 0;
 };
-/// Whether this job's chunks are rendered and encoded by one rank each (frame mode whose video
-/// is joined from chunks: MP4, WebM, MOV; not a GIF, whose palette needs the whole film on rank
-/// 0, nor EXR frames, whose linear pixels rank 0 writes).
+/// Whether this job's chunks are encoded by one rank each, which renders them (frame mode) or
+/// assembles them from every rank's tiles (pixel mode): a video joined from chunks (MP4, WebM,
+/// MOV); not a GIF, whose palette needs the whole film on rank 0, nor EXR frames, whose linear
+/// pixels rank 0 writes.
 bool chunksOnRenderers(const RenderJob& j);
 
 /// How the job's chunks are encoded, for the ranks that encode them.

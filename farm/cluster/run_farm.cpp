@@ -67,14 +67,20 @@ FramePlan planFrames(const RenderJob& job, const std::function<void(const std::s
     return p;
 }
 
+/// Pixel mode's tile size: big tiles mean fewer messages; small frames still get enough tiles
+/// to keep every rank's hands full.
+int pixelTile(const RenderJob& job, int renderers, int credits) {
+    const int width = job.settings.width, height = job.settings.height;
+    int tile = job.tileSize;
+    while (tile > 16 && int(makeTiles(width, height, tile).size()) < 2 * renderers * credits) tile /= 2;
+    return tile;
+}
+
 /// Pixel or frame scheduler, sized so every renderer's credits can be filled.
 std::unique_ptr<Scheduler> makeScheduler(const RenderJob& job, anim::FrameRanges toRender, int renderers, int credits) {
     const int width = job.settings.width, height = job.settings.height;
     if (job.mode != Mode::Pixel) return makeFrameScheduler(std::move(toRender), width, height, renderers * credits + 2);
-    // Big tiles mean fewer messages; small frames still get enough tiles to keep every rank's
-    // hands full.
-    int tile = job.tileSize;
-    while (tile > 16 && int(makeTiles(width, height, tile).size()) < 2 * renderers * credits) tile /= 2;
+    const int tile = pixelTile(job, renderers, credits);
     const int tilesPerFrame = int(makeTiles(width, height, tile).size());
     const int window = 2 + (renderers * credits + tilesPerFrame - 1) / tilesPerFrame;
     return makePixelScheduler(std::move(toRender), width, height, tile, window);
@@ -146,7 +152,8 @@ private:
     bool rank0Renders_ = false;
     std::atomic<int> framesPassed_{0};
     int encodedKept_ = 0;
-    /// Frame mode with chunked encoding: each chunk rendered and encoded by one rank.
+    /// Chunked encoding on the rendering ranks: each chunk encoded by one rank, which renders it
+    /// (frame mode) or assembles it from every rank's tiles (pixel mode).
     bool chunked_ = false;
     ChunkPlan plan_;
     anim::FrameRanges kept_;
@@ -368,11 +375,17 @@ FarmOutcome FarmRun::run(SharedScene& shared) {
     chunked_ = job_.chunkedFrames;
     plan_ = ChunkPlan{job_.first, job_.last, std::max(kMinChunkFrames, job_.mp4.chunkFrames)};
     kept_ = plan.kept;
-    // A rank holds one chunk while it renders it; the next goes out once its frames are all
-    // rendered (Master::rendering), while its encoder finishes.
-    if (chunked_) cfg.credits = 1;
-    std::unique_ptr<Scheduler> sched = chunked_ ? makeChunkScheduler(plan_, job_.settings.width, job_.settings.height, renderers + 2)
-                                                : makeScheduler(job_, plan.toRender, renderers, cfg.credits);
+    // Frame mode: a rank holds one chunk while it renders it; the next goes out once its frames
+    // are all rendered (Master::rendering), while its encoder finishes.
+    if (chunked_ && job_.mode == Mode::Frame) cfg.credits = 1;
+    const int width = job_.settings.width, height = job_.settings.height;
+    std::unique_ptr<Scheduler> sched;
+    if (!chunked_)
+        sched = makeScheduler(job_, plan.toRender, renderers, cfg.credits);
+    else if (job_.mode == Mode::Frame)
+        sched = makeChunkScheduler(plan_, width, height, renderers + 2);
+    else  // a chunk open per renderer and one more: as many encoders at work as ranks
+        sched = makeChunkTileScheduler(plan_, plan.kept, width, height, pixelTile(job_, renderers, cfg.credits), renderers + 1);
     FrameAssembler assembler(job_.settings.width, job_.settings.height, plan.order, plan.kept, job_.layout());
     anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, job_.fpsOption);
     std::unique_ptr<RenderEngine> local;
@@ -380,7 +393,7 @@ FarmOutcome FarmRun::run(SharedScene& shared) {
         local = std::make_unique<RenderEngine>(std::move(shared.scene), timeline, job_.settings, opts_.threads, job_.exrFrames,
                                                benchFreeWorkRenderer(job_.exrFrames));
     std::unique_ptr<ChunkWorkshop> localShop;
-    if (chunked_ && local) localShop = std::make_unique<ChunkWorkshop>(*local, chunkVideoSpec(job_));
+    if (chunked_ && local) localShop = std::make_unique<ChunkWorkshop>(*local, chunkVideoSpec(job_), 0);
 
     const int total = int(plan.order.count());
     Master master(t_, *sched, assembler, local.get(), [&](ReadyFrame& rf) { emit(rf, total); }, cfg);
@@ -484,7 +497,7 @@ RunStats FarmRun::stats(const MasterOutcome& o, Clock::time_point end, const Sha
     s.extra["scene_bytes"] = double(shared.bundleBytes);
     s.extraText["mode_reason"] = job_.modeWhy;
     s.extraText["rank0_renders"] = rank0Renders_ ? "yes" : "no";
-    s.extraText["chunks_encoded_by"] = chunked_ ? "the rendering ranks" : "rank 0";
+    s.extraText["chunks_encoded_by"] = !chunked_ ? "rank 0" : job_.mode == Mode::Frame ? "the rendering ranks" : "the assembling ranks";
     s.extraText["encoder"] = videoFormatOf(job_.output, job_.mp4).describe;
     return s;
 }
@@ -559,8 +572,9 @@ int runFarmWorker(Transport& t, SharedScene& shared, double fpsOption, int threa
         RenderEngine engine(std::move(shared.scene), timeline, settings, threads, outputs.linear != 0,
                             benchFreeWorkRenderer(outputs.linear != 0));
         if (chunkVideo.empty()) return runWorker(t, engine, masterTimeout);
-        // This rank renders whole chunks and encodes them itself, as rank 0 would.
-        ChunkWorkshop shop(engine, decodeChunkVideoSpec(chunkVideo));
+        // This rank encodes chunks itself, as rank 0 would: chunks it renders whole (frame
+        // mode), or assembles from every rank's tiles (pixel mode).
+        ChunkWorkshop shop(engine, decodeChunkVideoSpec(chunkVideo), t.rank());
         return runWorker(t, engine, masterTimeout, nullptr, &shop);
     } catch (const std::exception& e) {
         reportWorkerError(t, e.what());

@@ -67,6 +67,13 @@ std::unique_ptr<Scheduler> makeFrameScheduler(anim::FrameRanges frames, int widt
 /// image), rendered and encoded by one rank. The window counts chunks.
 std::unique_ptr<Scheduler> makeChunkScheduler(const ChunkPlan& plan, int width, int height, int window);
 
+/// Pixel mode with chunked encoding: each chunk assembled and encoded by one rank from the
+/// tiles of every rank. Opening a chunk hands out its marker (WorkItem::chunk set, an empty
+/// rect: the master sends the chunk to the rank it picks to assemble it), then the tiles of its
+/// frames not in `kept`, the open chunks taking turns frame by frame. The window counts chunks.
+std::unique_ptr<Scheduler> makeChunkTileScheduler(const ChunkPlan& plan, anim::FrameRanges kept, int width, int height,
+                                                  int tileSize, int window);
+
 /// mode "auto": pixel mode when frame mode's items are few compared with the rendering ranks
 /// (it would leave ranks idle); frame mode otherwise (fewer, bigger messages). chunkFrames > 1:
 /// frame mode's items are chunks of that many frames, rendered and encoded where they are

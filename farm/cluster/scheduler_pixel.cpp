@@ -31,7 +31,75 @@ private:
     int frame_ = -1;
 };
 
+/// Pixel mode with chunked encoding. The scheduler's "frames" are chunk numbers, as in frame
+/// mode's ChunkScheduler: the window counts chunks open. Opening a chunk yields its marker (the
+/// chunk's WorkItem, an empty rectangle), on which the master picks the rank that assembles it;
+/// then the frames of the open chunks go out tile by tile, taking the chunks in turn a frame at
+/// a time, so every open chunk's assembler receives frames at once and the encoders run side
+/// by side. Kept frames (--resume) are not handed out: their chunk's assembler reads them.
+class ChunkTileScheduler : public Scheduler {
+public:
+    ChunkTileScheduler(const ChunkPlan& plan, anim::FrameRanges kept, int width, int height, int tileSize, int window)
+        : Scheduler(anim::FrameRanges::span(0, plan.count() - 1), window), plan_(plan), kept_(std::move(kept)),
+          tiles_(makeTiles(width, height, tileSize)) {}
+
+    std::optional<WorkItem> next() override {
+        if (tile_ < tiles_.size()) return WorkItem{frame_, tiles_[tile_++]};
+        if (const std::optional<int> c = openNextFrame()) {
+            WorkItem marker{plan_.firstFrame(*c), TileRect{}};
+            marker.chunk = *c;
+            marker.frames = plan_.framesIn(*c);
+            open_.push_back({plan_.firstFrame(*c), plan_.lastFrame(*c)});
+            return marker;
+        }
+        // The next frame to render of the open chunks, in turn; a chunk with none left closes.
+        while (!open_.empty()) {
+            const size_t i = turn_ % open_.size();
+            OpenChunk& c = open_[i];
+            while (c.next <= c.last && kept_.contains(c.next)) ++c.next;
+            if (c.next > c.last) {
+                open_.erase(open_.begin() + long(i));
+                turn_ = i;  // the chunk after it has its turn
+                continue;
+            }
+            turn_ = i + 1;
+            frame_ = c.next++;
+            tile_ = 0;
+            return WorkItem{frame_, tiles_[tile_++]};
+        }
+        return std::nullopt;
+    }
+    int itemsPerFrame() const override { return int(tiles_.size()); }
+    Mode mode() const override { return Mode::Pixel; }
+
+protected:
+    bool midFrame() const override {
+        if (tile_ < tiles_.size()) return true;
+        for (const OpenChunk& c : open_)
+            for (int f = c.next; f <= c.last; ++f)
+                if (!kept_.contains(f)) return true;
+        return false;
+    }
+
+private:
+    struct OpenChunk {
+        int next, last;  ///< the next frame to hand out, and the chunk's last
+    };
+    ChunkPlan plan_;
+    anim::FrameRanges kept_;
+    std::vector<TileRect> tiles_;
+    std::vector<OpenChunk> open_;
+    size_t turn_ = 0;
+    size_t tile_ = SIZE_MAX;
+    int frame_ = -1;
+};
+
 }  // namespace
+
+std::unique_ptr<Scheduler> makeChunkTileScheduler(const ChunkPlan& plan, anim::FrameRanges kept, int width, int height,
+                                                  int tileSize, int window) {
+    return std::make_unique<ChunkTileScheduler>(plan, std::move(kept), width, height, tileSize, window);
+}
 
 std::unique_ptr<Scheduler> makePixelScheduler(anim::FrameRanges frames, int width, int height, int tileSize,
                                               int window) {

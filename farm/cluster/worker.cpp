@@ -93,6 +93,10 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
                 ChunkOrder order = decodeChunkOrder(m.bytes);
                 lastItemPixels = order.item.rect.pixels();
                 shop->submit(std::move(order));
+            } else if (m.tag == kTagChunkAssemble && shop) {
+                if (!signalled) shop->submitAssembly(decodeChunkOrder(m.bytes));
+            } else if (m.tag == kTagTile && shop) {
+                if (!signalled) shop->addTile(decodeTileResult(m.bytes));  // from the rank that rendered it
             } else if (m.tag == kTagView) {
                 engine.setView(decodeViewSpec(m.bytes));
                 viewing = true;
@@ -115,8 +119,8 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
         // work in hand within a millisecond, so while viewing it looks every millisecond.
         const double wait = viewing ? 0.001 : lastItemPixels >= 100000 ? 0.004 : 0.002;
         if (shop) {
-            for (auto& [tag, bytes] : shop->poll(wait))
-                if (!signalled) t.send(0, tag, std::move(bytes));
+            for (ChunkWorkshop::Outgoing& o : shop->poll(wait))
+                if (!signalled) t.send(o.dest, o.tag, std::move(o.bytes));
         } else if (auto r = engine.takeResult(wait)) {
             if (!signalled) t.send(0, kTagResult, encodeTileResult(*r));
             while ((r = engine.takeResult()))

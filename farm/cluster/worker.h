@@ -1,6 +1,7 @@
 #pragma once
 /// The worker loop (ranks 1…N−1): take work items from rank 0, render them on the rank's
-/// threads, send pixels back, and say it is alive every kHeartbeatSeconds meanwhile.
+/// threads, send pixels back (pixel mode with chunked encoding: to the rank that assembles
+/// their frame, which may be this one), and say it is alive every kHeartbeatSeconds meanwhile.
 #include <functional>
 
 #include "chunk_workshop.h"
@@ -19,7 +20,8 @@ inline constexpr int kMasterSilentExit = 3;
 /// returns kMasterSilentExit).
 /// kTagView sets the engine's interactive epoch (RenderEngine::setView); other tags runWorker
 /// does not know go to `other` when given (a viewer's own messages). shop: the rank's
-/// ChunkWorkshop over engine when the job encodes chunks where they are rendered (kTagChunkWork).
+/// ChunkWorkshop over engine when the job encodes chunks on the rendering ranks (kTagChunkWork,
+/// kTagChunkAssemble, kTagTile).
 int runWorker(Transport& t, RenderEngine& engine, double masterTimeout = 20.0,
               const std::function<void(const Message&)>& other = nullptr, ChunkWorkshop* shop = nullptr);
 

@@ -250,12 +250,13 @@ struct ChunkedRun {
     int rawFrameWrites = 0;            ///< frames that reached the PNG sink as pixels
 };
 
-/// ranks loopback ranks render the test scene to a real MP4 in chunks of 2 frames, in `mode`
-/// (frame mode: chunked on the ranks that render them).
-ChunkedRun runChunkedFarm(int ranks, Mode mode) {
+/// ranks loopback ranks render the test scene to a real MP4 in chunks of 2 frames, in `mode`,
+/// the chunks encoded on the rendering ranks (onRanks: frame mode's rank renders its chunk,
+/// pixel mode's assembles it from tiles) or all on rank 0.
+ChunkedRun runChunkedFarm(int ranks, Mode mode, bool onRanks = true) {
     const std::string path = writeSceneFile();
     const std::string out = std::string(RAYFARM_TEST_OUT) + "/run_farm/chunked_" + std::to_string(::getpid()) + "_" +
-                            std::to_string(ranks) + (mode == Mode::Frame ? "f" : "p") + ".mp4";
+                            std::to_string(ranks) + (mode == Mode::Frame ? "f" : "p") + (onRanks ? "" : "0") + ".mp4";
     LoopbackHub hub(ranks);
     std::vector<std::thread> workers;
     for (int r = 1; r < ranks; ++r)
@@ -270,7 +271,7 @@ ChunkedRun runChunkedFarm(int ranks, Mode mode) {
         job = jobFor(scene, mode);
         job.output = out;
         job.mp4.chunkFrames = 2;
-        job.chunkedFrames = chunksOnRenderers(job);
+        job.chunkedFrames = onRanks && chunksOnRenderers(job);
         return encodeWorkerJob(job);
     });
     ChunkedRun run;
@@ -288,21 +289,26 @@ ChunkedRun runChunkedFarm(int ranks, Mode mode) {
 
 }  // namespace
 
-// Issue 32: in frame mode each rank renders and encodes whole chunks, and sends rank 0 PNGs and
-// the encoded chunk, never pixels; the file is byte for byte the one pixel mode gives (rank 0
-// encoding every chunk itself) and the one a single renderer gives.
-TEST(RunFarm, ChunkedFrameModeGivesTheSameFileAtAnyRankCount) {
-    const ChunkedRun ref = runChunkedFarm(2, Mode::Pixel);
+// Issue 32: chunks are encoded on the ranks, never on rank 0. In frame mode each rank renders
+// and encodes whole chunks; in pixel mode a rank assembles each chunk from every rank's tiles
+// (which go to it, not to rank 0) and encodes it. Either way rank 0 receives PNGs and encoded
+// chunks, never pixels, and the file is byte for byte the one rank 0 makes encoding every chunk
+// itself from every frame's pixels, at any rank count.
+TEST(RunFarm, ChunksEncodedOnTheRanksGiveTheSameFileAtAnyRankCount) {
+    const ChunkedRun ref = runChunkedFarm(2, Mode::Pixel, false);
     ASSERT_EQ(ref.outcome.end, FarmEnd::Done) << ref.outcome.error;
     ASSERT_GT(ref.video.size(), 100u);
     EXPECT_EQ(ref.outcome.stats.extraText.at("chunks_encoded_by"), "rank 0");
     EXPECT_EQ(ref.rawFrameWrites, 6);
     const auto frames = rf::testing::referenceFarmFrames();
+    for (Mode mode : {Mode::Frame, Mode::Pixel})
     for (int ranks : {1, 2, 3}) {
-        const ChunkedRun run = runChunkedFarm(ranks, Mode::Frame);
+        SCOPED_TRACE(std::string(mode == Mode::Frame ? "frame" : "pixel") + " mode");
+        const ChunkedRun run = runChunkedFarm(ranks, mode);
         ASSERT_EQ(run.outcome.end, FarmEnd::Done) << run.outcome.error;
-        EXPECT_TRUE(run.video == ref.video) << ranks << " ranks, chunked frame mode: another file than pixel mode's";
-        EXPECT_EQ(run.outcome.stats.extraText.at("chunks_encoded_by"), "the rendering ranks");
+        EXPECT_TRUE(run.video == ref.video) << ranks << " ranks, chunks on the ranks: another file than rank 0's";
+        EXPECT_EQ(run.outcome.stats.extraText.at("chunks_encoded_by"),
+                  mode == Mode::Frame ? "the rendering ranks" : "the assembling ranks");
         EXPECT_EQ(run.outcome.stats.extra.at("chunks_from_ranks"), 3.0) << "6 frames in chunks of 2";
         EXPECT_EQ(run.outcome.stats.frames, 6);
         EXPECT_EQ(run.rawFrameWrites, 0) << "pixels reached rank 0's PNG sink";
@@ -312,6 +318,7 @@ TEST(RunFarm, ChunkedFrameModeGivesTheSameFileAtAnyRankCount) {
             EXPECT_TRUE(px == frames.at(f)) << ranks << " ranks: PNG of frame " << f << " is not the frame";
         }
         EXPECT_EQ(run.outcome.videoHolds, "the video " + std::string(RAYFARM_TEST_OUT) + "/run_farm/chunked_" +
-                                              std::to_string(::getpid()) + "_" + std::to_string(ranks) + "f.mp4 holds frames 0–5 of 0–5");
+                                              std::to_string(::getpid()) + "_" + std::to_string(ranks) +
+                                              (mode == Mode::Frame ? "f" : "p") + ".mp4 holds frames 0–5 of 0–5");
     }
 }

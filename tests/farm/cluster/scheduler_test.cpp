@@ -133,6 +133,45 @@ TEST(Scheduler, ChunkSchedulerHandsOutWholeChunksInOrderWithinItsWindow) {
     EXPECT_TRUE(s->exhausted());
 }
 
+// Pixel mode with chunked encoding: a marker per chunk as it opens (the master picks its
+// assembler there), then whole frames' tiles, the open chunks taking turns frame by frame, kept
+// frames skipped; the window counts chunks.
+TEST(Scheduler, ChunkTileSchedulerOpensChunksThenTakesTheirFramesInTurn) {
+    const ChunkPlan plan{10, 20, 4};  // chunks 10-13, 14-17, 18-20
+    anim::FrameRanges kept;
+    for (int f : {11, 14, 15, 16, 17}) kept.insert(f);
+    auto s = makeChunkTileScheduler(plan, kept, 64, 32, 32, 2);  // 2 tiles a frame
+    std::vector<std::string> seen;
+    auto take = [&] {
+        std::optional<WorkItem> i = s->next();
+        if (!i) return false;
+        seen.push_back(i->rect.pixels() == 0 ? "c" + std::to_string(i->chunk) + ":" + std::to_string(i->frame) + "+" +
+                                                   std::to_string(i->frames)
+                                             : std::to_string(i->frame) + "@" + std::to_string(i->rect.x0));
+        return true;
+    };
+    while (take()) {}
+    // Chunk 1 is kept whole: it opens (its assembler encodes the kept frames) but hands out no tile.
+    EXPECT_EQ(seen, (std::vector<std::string>{"c0:10+4", "c1:14+4", "10@0", "10@32", "12@0", "12@32", "13@0", "13@32"}));
+    EXPECT_FALSE(s->exhausted());
+    EXPECT_EQ(s->itemsPerFrame(), 2);
+    EXPECT_EQ(s->mode(), Mode::Pixel);
+    s->frameReleased();
+    seen.clear();
+    while (take()) {}
+    EXPECT_EQ(seen, (std::vector<std::string>{"c2:18+3", "18@0", "18@32", "19@0", "19@32", "20@0", "20@32"}));
+    EXPECT_TRUE(s->exhausted());
+}
+
+TEST(Scheduler, ChunkTileSchedulerAlternatesBetweenOpenChunks) {
+    auto s = makeChunkTileScheduler(ChunkPlan{0, 5, 3}, {}, 16, 16, 16, 2);  // 1 tile a frame
+    std::vector<int> frames;
+    for (auto i = s->next(); i; i = s->next())
+        if (i->rect.pixels() > 0) frames.push_back(i->frame);
+    EXPECT_EQ(frames, (std::vector<int>{0, 3, 1, 4, 2, 5}));
+    EXPECT_TRUE(s->exhausted());
+}
+
 TEST(Scheduler, ChunkCollectorPassesChunksOnInFilmOrder) {
     ChunkCollector c(ChunkPlan{0, 9, 4});  // 3 chunks
     int index = -1;

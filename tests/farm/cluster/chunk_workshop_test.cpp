@@ -1,0 +1,155 @@
+// A rank's ChunkWorkshop in pixel mode with chunked encoding (issue 32): it assembles a chunk's
+// frames from tiles that come in any order (some before the chunk's order itself), encodes the
+// chunk exactly as a rank that rendered the frames whole would, refuses a tile that does not
+// fit, and routes its own engine's tiles to the rank that assembles their frame.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+
+#include "chunk_workshop.h"
+#include "farm_test_scene.h"
+#include "png_encoder.h"
+#include "video_chunk.h"
+
+using namespace rf;
+using namespace rf::farm;
+
+namespace {
+
+ChunkVideoSpec testSpec() {
+    ChunkVideoSpec spec;
+    spec.path = "assembled.mp4";
+    spec.width = 40;
+    spec.height = 30;
+    spec.options.chunkFrames = 2;
+    return spec;
+}
+
+RenderEngine testEngine() {
+    Scene scene = rf::testing::loadFarmScene();
+    anim::Timeline tl = anim::Timeline::fromScene(scene);
+    const RenderSettings s = scene.settings;
+    return RenderEngine(std::move(scene), std::move(tl), s, 1);
+}
+
+/// Chunk 0 (frames 0 and 1), PNGs asked for.
+ChunkOrder chunkZero() {
+    ChunkOrder o;
+    o.item = WorkItem{0, {0, 0, 40, 30}};
+    o.item.chunk = 0;
+    o.item.frames = 2;
+    o.sendPngs = 1;
+    return o;
+}
+
+/// Polls until the chunk comes back: its frames' PNGs by frame, and the chunk without its timing.
+std::string drain(ChunkWorkshop& shop, std::map<int, std::string>& pngs) {
+    for (int i = 0; i < 20000; ++i) {
+        for (ChunkWorkshop::Outgoing& o : shop.poll(0.001)) {
+            EXPECT_EQ(o.dest, 0);
+            if (o.tag == kTagChunkFrame) {
+                const ChunkFrame f = decodeChunkFrame(o.bytes);
+                pngs[f.frame] = f.png;
+            } else if (o.tag == kTagChunkDone) {
+                std::string bytes;
+                decodeChunkDone(o.bytes, bytes);
+                EncodedChunk c = parseChunk(bytes);
+                c.encodeSeconds = 0.0;
+                return serializeChunk(c);
+            }
+        }
+        EXPECT_EQ(shop.error(), "");
+    }
+    ADD_FAILURE() << "the chunk never came back";
+    return "";
+}
+
+}  // namespace
+
+TEST(ChunkWorkshop, AssemblesAChunkFromTilesInAnyOrderAsItsRenderedFramesWouldEncode) {
+    const auto frames = rf::testing::referenceFarmFrames();
+    // Rendered whole on this rank, frame mode's way.
+    RenderEngine wholeEngine = testEngine();
+    ChunkWorkshop whole(wholeEngine, testSpec(), 1);
+    whole.submit(chunkZero());
+    std::map<int, std::string> wholePngs;
+    const std::string expected = drain(whole, wholePngs);
+    ASSERT_FALSE(expected.empty());
+
+    // The same chunk from 16x16 tiles of frames 0 and 1, shuffled; one arrives before the order.
+    Scene scene = rf::testing::loadFarmScene();
+    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    std::vector<TileResult> tiles;
+    int applied = -1;
+    for (int f : {0, 1})
+        for (const TileRect& r : makeTiles(40, 30, 16)) {
+            WorkItem item{f, r};
+            item.assembler = 1;
+            tiles.push_back(RenderEngine::render(scene, tl, scene.settings, 1, item, applied));
+        }
+    std::shuffle(tiles.begin(), tiles.end(), std::mt19937(7));
+    RenderEngine idle = testEngine();
+    ChunkWorkshop shop(idle, testSpec(), 1);
+    shop.addTile(tiles[0]);
+    shop.submitAssembly(chunkZero());
+    for (size_t i = 1; i < tiles.size(); ++i) shop.addTile(tiles[i]);
+    std::map<int, std::string> pngs;
+    EXPECT_TRUE(drain(shop, pngs) == expected) << "the assembled chunk encodes differently";
+    ASSERT_EQ(pngs.size(), 2u);
+    for (const auto& [f, png] : pngs)
+        EXPECT_TRUE(decodePngFrame(png, "frame", 40, 30, 3) == frames.at(f)) << "frame " << f << " assembled wrong";
+    EXPECT_EQ(idle.outstanding(), 0) << "an assembled frame was rendered here as well";
+}
+
+TEST(ChunkWorkshop, RefusesATileThatDoesNotFitItsFrame) {
+    RenderEngine idle = testEngine();
+    ChunkWorkshop shop(idle, testSpec(), 1);
+    shop.submitAssembly(chunkZero());
+    Scene scene = rf::testing::loadFarmScene();
+    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    int applied = -1;
+    const TileResult tile = RenderEngine::render(scene, tl, scene.settings, 1, WorkItem{0, {0, 0, 16, 16}}, applied);
+    shop.addTile(tile);
+    EXPECT_THROW(shop.addTile(tile), std::runtime_error) << "the same tile twice overfills the frame";
+    TileResult outside = tile;
+    outside.item.rect = {32, 0, 48, 16};  // past the frame's right edge
+    EXPECT_THROW(shop.addTile(outside), std::runtime_error);
+    TileResult shortTile = tile;
+    shortTile.item.rect = {16, 0, 32, 16};
+    shortTile.rgb.resize(10);
+    EXPECT_THROW(shop.addTile(shortTile), std::runtime_error);
+}
+
+TEST(ChunkWorkshop, SendsItsEnginesTilesToTheirAssemblerAndTellsRankZero) {
+    RenderEngine engine = testEngine();
+    ChunkWorkshop shop(engine, testSpec(), 1);
+    WorkItem elsewhere{3, {0, 0, 16, 16}};
+    elsewhere.assembler = 2;
+    engine.submit(elsewhere);
+    std::vector<ChunkWorkshop::Outgoing> out;
+    for (int i = 0; i < 5000 && out.size() < 2; ++i)
+        for (auto& o : shop.poll(0.001)) out.push_back(std::move(o));
+    ASSERT_EQ(out.size(), 2u);
+    EXPECT_EQ(out[0].dest, 0);
+    EXPECT_EQ(out[0].tag, kTagTileDone);
+    const TileResult note = decodeTileDone(out[0].bytes);
+    EXPECT_EQ(note.item.frame, 3);
+    EXPECT_EQ(note.item.assembler, 2);
+    EXPECT_TRUE(note.rgb.empty()) << "rank 0's note carries no pixels";
+    EXPECT_EQ(out[1].dest, 2);
+    EXPECT_EQ(out[1].tag, kTagTile);
+    EXPECT_EQ(decodeTileResult(out[1].bytes).rgb.size(), 16u * 16u * 3u);
+
+    // A tile this rank assembles stays here: only the note goes out.
+    shop.submitAssembly(chunkZero());
+    WorkItem here{0, {0, 0, 16, 16}};
+    here.assembler = 1;
+    engine.submit(here);
+    out.clear();
+    for (int i = 0; i < 5000 && out.empty(); ++i)
+        for (auto& o : shop.poll(0.001)) out.push_back(std::move(o));
+    ASSERT_EQ(out.size(), 1u);
+    EXPECT_EQ(out[0].tag, kTagTileDone);
+    EXPECT_EQ(out[0].dest, 0);
+}
