@@ -109,20 +109,42 @@ std::vector<TileRect> makeTiles(int width, int height, int tileSize) {
 
 void renderRect(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame, const TileRect& rect,
                 int threads, int subTile, const RectBuffers& out, RayStats& stats, const std::atomic<bool>* cancel) {
-    std::vector<TileRect> subs = makeTiles(rect.width(), rect.height(), subTile);
-    for (TileRect& t : subs) t = {t.x0 + rect.x0, t.y0 + rect.y0, t.x1 + rect.x0, t.y1 + rect.y0};
+    renderRects(scene, camera, settings, frame, {RectJob{rect, out, &stats}}, threads, subTile, cancel);
+}
+
+void renderRects(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame,
+                 const std::vector<RectJob>& jobs, int threads, int subTile, const std::atomic<bool>* cancel) {
+    struct Sub {
+        TileRect t;
+        size_t job;
+    };
+    std::vector<Sub> subs;
+    for (size_t j = 0; j < jobs.size(); ++j) {
+        const TileRect& rect = jobs[j].rect;
+        for (const TileRect& t : makeTiles(rect.width(), rect.height(), subTile))
+            subs.push_back({{t.x0 + rect.x0, t.y0 + rect.y0, t.x1 + rect.x0, t.y1 + rect.y0}, j});
+    }
     if (threads <= 0) threads = hardwareThreads();
     // The bounce cache, built here on every thread if the geometry or lights moved since the
-    // last rectangle; each tile's integrator then finds it ready.
-    const std::shared_ptr<const BounceCache> bounce = bounceCache(scene, settings, threads, &stats);
-    std::vector<RayStats> perThread(size_t(std::max(1, threads)));
-    const size_t stride = size_t(rect.width());
+    // last rectangle; each tile's integrator then finds it ready (its counts go to the first's).
+    RayStats cacheStats;
+    const std::shared_ptr<const BounceCache> bounce = bounceCache(scene, settings, threads, &cacheStats);
+    // Per job and thread, added at the end: threads bumping one shared count would bounce its
+    // cache line between cores.
+    const size_t nt = size_t(std::max(1, threads));
+    std::vector<RayStats> perThread(jobs.size() * nt);
+    const float scale = exposureScale(settings.exposure);
     parallelFor(static_cast<int>(subs.size()), threads, [&](int i, int thread) {
         if (cancel && cancel->load(std::memory_order_relaxed)) return;
-        const TileRect& t = subs[size_t(i)];
+        const TileRect& t = subs[size_t(i)].t;
+        const RectJob& job = jobs[subs[size_t(i)].job];
+        const RectBuffers& out = job.out;
+        const TileRect& rect = job.rect;
+        const size_t stride = size_t(rect.width());
         const bool wantAlpha = out.alpha || out.rgba8;
         std::vector<float> rgb(size_t(t.pixels()) * 3), alpha(wantAlpha ? size_t(t.pixels()) : 0);
-        renderTile(scene, camera, t, settings, frame, rgb.data(), perThread[size_t(thread)], wantAlpha ? alpha.data() : nullptr);
+        renderTile(scene, camera, t, settings, frame, rgb.data(), perThread[subs[size_t(i)].job * nt + size_t(thread)],
+                   wantAlpha ? alpha.data() : nullptr);
         const size_t w = size_t(t.width());
         for (int y = 0; y < t.height(); ++y) {
             const size_t at = size_t(t.y0 - rect.y0 + y) * stride + size_t(t.x0 - rect.x0);
@@ -131,13 +153,16 @@ void renderRect(const Scene& scene, const Camera& camera, const RenderSettings& 
             if (out.alpha) std::memcpy(out.alpha + at, alpha.data() + size_t(y) * w, sizeof(float) * w);
             // Encoded here, on the rendering thread: sRGB's pow per channel is a sizeable share
             // of a cheap frame, and would otherwise run on one core after the render.
-            const float scale = exposureScale(settings.exposure);
             if (out.rgb8) encodeRgb8(src, 3 * w, settings.toneMap, out.rgb8 + 3 * at, scale);
             for (size_t x = 0; out.rgba8 && x < w; ++x)
                 toRgba8Pixel(src + 3 * x, alpha[size_t(y) * w + x], settings.toneMap, out.rgba8 + 4 * (at + x), scale);
         }
     });
-    for (const RayStats& r : perThread) stats += r;
+    for (size_t j = 0; j < jobs.size(); ++j) {
+        if (!jobs[j].stats) continue;
+        if (j == 0) *jobs[j].stats += cacheStats;
+        for (size_t k = 0; k < nt; ++k) *jobs[j].stats += perThread[j * nt + k];
+    }
 }
 
 Image renderFrame(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame, int threads,

@@ -53,6 +53,19 @@ void renderRect(const Scene& scene, const Camera& camera, const RenderSettings& 
                 int threads, int subTile, const RectBuffers& out, RayStats& stats,
                 const std::atomic<bool>* cancel = nullptr);
 
+/// One rectangle of renderRects: where its pixels go, and its own ray counts.
+struct RectJob {
+    TileRect rect;
+    RectBuffers out;
+    RayStats* stats = nullptr;
+};
+
+/// renderRect for several rectangles of the same frame at once: the threads pull sub-tiles of
+/// all of them, so rectangles smaller than the threads' share of work (a farm rank's small
+/// tiles) still keep every thread busy. Each rectangle's pixels are those renderRect gives.
+void renderRects(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame,
+                 const std::vector<RectJob>& jobs, int threads, int subTile, const std::atomic<bool>* cancel = nullptr);
+
 /// Renders a whole frame with `threads` worker threads (0: all cores) pulling tiles. The image
 /// has an alpha plane when the scene's background is transparent.
 Image renderFrame(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame, int threads,

@@ -1,8 +1,10 @@
 #include "render_engine.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <stdexcept>
 
 #include "image.h"
 #include "render.h"
@@ -46,6 +48,15 @@ void RenderEngine::submit(const WorkItem& item) {
         std::lock_guard<std::mutex> lock(mutex_);
         queue_.push_back(item);
         ++outstanding_;
+    }
+    workCv_.notify_one();
+}
+
+void RenderEngine::submitAll(const std::vector<WorkItem>& items) {
+    {
+        std::lock_guard<std::mutex> lock(mutex_);
+        queue_.insert(queue_.end(), items.begin(), items.end());
+        outstanding_ += int(items.size());
     }
     workCv_.notify_one();
 }
@@ -97,17 +108,45 @@ void RenderEngine::setScene(Scene scene, anim::Timeline timeline) {
     nextScene_.emplace(std::move(scene), std::move(timeline));
 }
 
-bool RenderEngine::next(WorkItem& item, std::optional<ViewSpec>& view) {
+namespace {
+
+/// Items no larger than this are split into 16x16 sub-tiles (pixel mode's tiles), and may be
+/// rendered together with the next ones of their frame.
+constexpr int kSmallItemPixels = 128 * 128;
+/// A batch of small items grows until it has this many sub-tiles a render thread.
+constexpr int kSubTilesPerThread = 4;
+
+int subTileFor(const TileRect& rect, const RenderSettings& s) { return rect.pixels() <= kSmallItemPixels ? 16 : std::max(8, s.tileSize); }
+
+int subTilesIn(const TileRect& rect, int sub) { return ((rect.width() + sub - 1) / sub) * ((rect.height() + sub - 1) / sub); }
+
+}  // namespace
+
+bool RenderEngine::next(std::vector<WorkItem>& items, std::optional<ViewSpec>& view) {
     std::unique_lock<std::mutex> lock(mutex_);
     workCv_.wait(lock, [&] { return stop_ || !queue_.empty(); });
     if (stop_) return false;
-    item = queue_.front();
+    items.assign(1, queue_.front());
     queue_.pop_front();
-    current_ = item.frame;
-    currentEpoch_ = item.epoch;
+    const WorkItem first = items[0];  // a copy: items grows below
+    // Small items of the same frame and epoch go along, up to a few sub-tiles a thread (a
+    // benchmark's stand-in renderer takes them one by one anyway).
+    if (!itemRenderer_ && first.rect.pixels() <= kSmallItemPixels) {
+        int subTiles = subTilesIn(first.rect, 16);
+        while (!queue_.empty() && subTiles < kSubTilesPerThread * threads_) {
+            const WorkItem& i = queue_.front();
+            if (i.frame != first.frame || i.epoch != first.epoch || i.rect.pixels() > kSmallItemPixels) break;
+            subTiles += subTilesIn(i.rect, 16);
+            items.push_back(i);
+            queue_.pop_front();
+        }
+    }
+    largestBatch_ = std::max(largestBatch_, int(items.size()));
+    current_ = first.frame;
+    currentEpoch_ = first.epoch;
     cancelCurrent_ = false;
     view.reset();
-    if (item.epoch != 0 && view_ && view_->epoch == item.epoch) view = view_;
+    if (first.epoch != 0 && view_ && view_->epoch == first.epoch) view = view_;
     if (nextScene_) {
         scene_ = std::move(nextScene_->first);
         timeline_ = std::move(nextScene_->second);
@@ -117,24 +156,36 @@ bool RenderEngine::next(WorkItem& item, std::optional<ViewSpec>& view) {
     return true;
 }
 
+int RenderEngine::largestBatch() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return largestBatch_;
+}
+
 void RenderEngine::loop() {
-    WorkItem item;
+    std::vector<WorkItem> items;
     std::optional<ViewSpec> view;
-    while (next(item, view)) {
+    while (next(items, view)) {
         try {
-            TileResult r = itemRenderer_ && !view ? itemRenderer_(item, scene_.transparentBackground ? 4 : 3)
-                                                  : render(scene_, timeline_, settings_, threads_, item, appliedFrame_, linear_,
-                                                           view ? &*view : nullptr, &cancelCurrent_);
+            std::vector<TileResult> done;
+            if (itemRenderer_ && !view) {
+                for (const WorkItem& item : items) done.push_back(itemRenderer_(item, scene_.transparentBackground ? 4 : 3));
+            } else if (items.size() == 1) {
+                done.push_back(render(scene_, timeline_, settings_, threads_, items[0], appliedFrame_, linear_, view ? &*view : nullptr,
+                                      &cancelCurrent_));
+            } else {
+                done = renderTogether(scene_, timeline_, settings_, threads_, items, appliedFrame_, linear_, view ? &*view : nullptr,
+                                      &cancelCurrent_);
+            }
             std::lock_guard<std::mutex> lock(mutex_);
             current_ = -1;
             if (cancelCurrent_) {
-                --outstanding_;  // a newer view replaced it: no result
+                outstanding_ -= int(items.size());  // a newer view replaced them: no result
                 continue;
             }
-            results_.push_back(std::move(r));
+            for (TileResult& r : done) results_.push_back(std::move(r));
         } catch (const std::exception& e) {
             std::lock_guard<std::mutex> lock(mutex_);
-            error_ = "frame " + std::to_string(item.frame) + ": " + e.what();
+            error_ = "frame " + std::to_string(items[0].frame) + ": " + e.what();
             current_ = -1;
             resultCv_.notify_all();
             return;
@@ -146,31 +197,57 @@ void RenderEngine::loop() {
 TileResult RenderEngine::render(Scene& scene, const anim::Timeline& tl, const RenderSettings& job, int threads,
                                 const WorkItem& item, int& appliedFrame, bool linear, const ViewSpec* view,
                                 const std::atomic<bool>* cancel) {
+    return std::move(renderTogether(scene, tl, job, threads, {item}, appliedFrame, linear, view, cancel)[0]);
+}
+
+std::vector<TileResult> RenderEngine::renderTogether(Scene& scene, const anim::Timeline& tl, const RenderSettings& job,
+                                                     int threads, const std::vector<WorkItem>& items, int& appliedFrame,
+                                                     bool linear, const ViewSpec* view, const std::atomic<bool>* cancel) {
     RenderSettings s = job;
     if (view) s.spp = view->spp, s.width = view->width, s.height = view->height;
     const auto t0 = std::chrono::steady_clock::now();
-    if (appliedFrame != item.frame) {
+    const int frame = items.at(0).frame;
+    if (appliedFrame != frame) {
         // The timeline overwrites absolute state, so frames may come in any order.
-        tl.applyFrame(scene, item.frame);
-        appliedFrame = item.frame;
+        tl.applyFrame(scene, frame);
+        appliedFrame = frame;
     }
-    const TileRect& rect = item.rect;
+    std::vector<TileResult> out(items.size());
+    std::vector<std::vector<float>> rgbLinear(items.size()), alpha(items.size());
+    std::vector<RectJob> jobs(items.size());
+    int64_t totalPixels = 0;
+    for (size_t i = 0; i < items.size(); ++i) {
+        if (items[i].frame != frame) throw std::logic_error("renderTogether: items of several frames");
+        TileResult& r = out[i];
+        r.item = items[i];
+        r.layout.channels = scene.transparentBackground ? 4 : 3;
+        r.layout.linear = linear;
+        const size_t pixels = size_t(items[i].rect.pixels());
+        totalPixels += int64_t(pixels);
+        r.rgb.resize(r.layout.bytes(pixels));
+        RectJob& j = jobs[i];
+        j.rect = items[i].rect;
+        j.stats = &r.rays;
+        (r.layout.channels == 4 ? j.out.rgba8 : j.out.rgb8) = r.rgb.data();
+        if (linear) {
+            rgbLinear[i].resize(3 * pixels);
+            alpha[i].resize(pixels);
+            j.out.linear = rgbLinear[i].data();
+            j.out.alpha = alpha[i].data();
+        }
+    }
     // Small rectangles (pixel mode) are split finer so every thread gets several pieces.
-    const int sub = rect.pixels() <= 128 * 128 ? 16 : std::max(8, s.tileSize);
-    TileResult out;
-    out.item = item;
-    out.layout.channels = scene.transparentBackground ? 4 : 3;
-    out.layout.linear = linear;
-    const size_t pixels = size_t(rect.pixels());
-    out.rgb.resize(out.layout.bytes(pixels));
-    RectBuffers buffers;
-    (out.layout.channels == 4 ? buffers.rgba8 : buffers.rgb8) = out.rgb.data();
-    std::vector<float> rgbLinear(linear ? 3 * pixels : 0), alpha(linear ? pixels : 0);
-    if (linear) buffers.linear = rgbLinear.data(), buffers.alpha = alpha.data();
+    const int sub = subTileFor(items[0].rect, s);
     const Camera& camera = view && !view->followTimeline ? view->camera : scene.camera;
-    renderRect(scene, camera, s, item.frame, rect, threads, sub, buffers, out.rays, cancel);
-    if (linear) appendLinearPlane(rgbLinear, alpha, scene.transparentBackground, out.rgb.data() + out.layout.linearOffset(pixels));
-    out.busySeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    renderRects(scene, camera, s, frame, jobs, threads, sub, cancel);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    for (size_t i = 0; i < items.size(); ++i) {
+        TileResult& r = out[i];
+        const size_t pixels = size_t(items[i].rect.pixels());
+        if (linear)
+            appendLinearPlane(rgbLinear[i], alpha[i], scene.transparentBackground, r.rgb.data() + r.layout.linearOffset(pixels));
+        r.busySeconds = seconds * double(pixels) / double(std::max<int64_t>(1, totalPixels));
+    }
     return out;
 }
 

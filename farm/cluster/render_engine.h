@@ -1,7 +1,9 @@
 #pragma once
 /// One rank's renderer: a thread that takes work items in order, sets the scene to the item's
 /// frame through the timeline, and renders the item's rectangle with all the rank's threads
-/// (the rectangle split into sub-tiles). The rank's main thread stays free for messages.
+/// (the rectangle split into sub-tiles). Small items of one frame waiting in its queue are
+/// rendered together, so tiles smaller than the threads' share still keep every thread busy.
+/// The rank's main thread stays free for messages.
 /// Items of the epoch the engine's ViewSpec names (WorkItem::epoch) render as it says; a new
 /// ViewSpec drops the work of every other epoch, the item being rendered included.
 #include <atomic>
@@ -12,6 +14,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "messages.h"
 #include "scene.h"
@@ -34,6 +37,8 @@ public:
     RenderEngine& operator=(const RenderEngine&) = delete;
 
     void submit(const WorkItem& item);
+    /// Queues several items at once (small ones of one frame may then render together).
+    void submitAll(const std::vector<WorkItem>& items);
     /// A finished item, if any; waits up to waitSeconds for one.
     std::optional<TileResult> takeResult(double waitSeconds = 0.0);
     /// Items submitted and not yet taken back.
@@ -59,11 +64,22 @@ public:
     static TileResult render(Scene& scene, const anim::Timeline& tl, const RenderSettings& s, int threads,
                              const WorkItem& item, int& appliedFrame, bool linear = false, const ViewSpec* view = nullptr,
                              const std::atomic<bool>* cancel = nullptr);
+    /// render() for items of one frame and epoch at once, their sub-tiles shared among the
+    /// threads; each result is the one render() gives (busySeconds: its share of the wall time,
+    /// by pixels).
+    static std::vector<TileResult> renderTogether(Scene& scene, const anim::Timeline& tl, const RenderSettings& s, int threads,
+                                                  const std::vector<WorkItem>& items, int& appliedFrame, bool linear = false,
+                                                  const ViewSpec* view = nullptr, const std::atomic<bool>* cancel = nullptr);
+
+    /// The largest number of items rendered together so far (for tests).
+    int largestBatch() const;
 
 private:
     void loop();
-    /// The next item and how to render it; false when the engine stops.
-    bool next(WorkItem& item, std::optional<ViewSpec>& view);
+    /// The next items and how to render them: the queue's first, and the small items of the
+    /// same frame and epoch behind it while together they have fewer sub-tiles than a few per
+    /// thread; false when the engine stops.
+    bool next(std::vector<WorkItem>& items, std::optional<ViewSpec>& view);
 
     Scene scene_;
     anim::Timeline timeline_;
@@ -79,6 +95,7 @@ private:
     std::deque<TileResult> results_;
     int outstanding_ = 0;
     int current_ = -1;
+    int largestBatch_ = 0;
     uint64_t currentEpoch_ = 0;
     std::optional<ViewSpec> view_;
     std::optional<std::pair<Scene, anim::Timeline>> nextScene_;

@@ -3,6 +3,8 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <utility>
+#include <vector>
 
 #include <unistd.h>
 
@@ -78,17 +80,26 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
         if (signalled && now - signalledAt > std::chrono::seconds(3)) return 130;
 
         Message m;
+        // Work items that came together go to the engine together, so that small tiles of one
+        // frame can be rendered at once (RenderEngine); any other message goes after them.
+        std::vector<WorkItem> arrived;
+        auto submitArrived = [&] {
+            if (!arrived.empty()) engine.submitAll(std::exchange(arrived, {}));
+        };
         while (t.poll(m)) {
             if (m.source == 0) {
                 lastFromMaster = Clock::now();
                 heardMaster = true;
             }
             if (m.tag == kTagStop) return 0;
-            if (m.tag == kTagWork && !signalled) {
-                const WorkItem item = decodeWorkItem(m.bytes);
-                lastItemPixels = item.rect.pixels();
-                engine.submit(item);
-            } else if (m.tag == kTagChunkWork && shop) {
+            if (m.tag == kTagWork) {
+                if (signalled) continue;
+                arrived.push_back(decodeWorkItem(m.bytes));
+                lastItemPixels = arrived.back().rect.pixels();
+                continue;
+            }
+            submitArrived();
+            if (m.tag == kTagChunkWork && shop) {
                 if (signalled) continue;
                 ChunkOrder order = decodeChunkOrder(m.bytes);
                 lastItemPixels = order.item.rect.pixels();
@@ -101,8 +112,9 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
                 engine.setView(decodeViewSpec(m.bytes));
                 viewing = true;
             }
-            else if (m.tag != kTagWork && m.tag != kTagChunkWork && m.tag != kTagAlive && other) other(m);
+            else if (m.tag != kTagChunkWork && m.tag != kTagAlive && other) other(m);
         }
+        submitArrived();
         if (const std::string err = shop ? shop->error() : engine.error(); !err.empty()) {
             reportWorkerError(t, err);
             return 1;
