@@ -142,6 +142,7 @@ void Master::dispatch(int rank, int tag, const std::string& bytes) {
         const Heartbeat h = decodeHeartbeat(bytes);
         w.reportedFrame = h.currentFrame;
         w.building = h.building != 0;
+        if (h.threads > 0) w.threads = h.threads;
         break;
     }
     case kTagError:
@@ -192,6 +193,13 @@ void Master::acceptChunkDone(int rank, const WorkItem& item, std::string bytes) 
 
 int Master::rendering(const WorkerState& w) const { return int(w.outstanding.size() - w.chunksRendered.size()); }
 
+int Master::creditsOf(const WorkerState& w) const {
+    const int threads = w.rank == 0 && local_ ? local_->threads() : w.threads;
+    if (cfg_.subTilesPerItem <= 0 || threads <= 0) return cfg_.credits;
+    const int perBatch = threads * RenderEngine::kSubTilesPerThread;
+    return std::max(cfg_.credits, 2 * ((perBatch + cfg_.subTilesPerItem - 1) / cfg_.subTilesPerItem));
+}
+
 bool Master::handOut() {
     bool any = false;
     // Round-robin by rank, one item per pass, so credits fill evenly.
@@ -199,7 +207,7 @@ bool Master::handOut() {
         more = false;
         for (WorkerState& w : workers_) {
             if (w.rank == 0 && !local_) continue;
-            if (rendering(w) >= cfg_.credits) continue;
+            if (rendering(w) >= creditsOf(w)) continue;
             std::optional<WorkItem> item = sched_->next();
             for (; item && assembles() && item->chunk >= 0; item = sched_->next()) {
                 item->epoch = epoch_;

@@ -23,6 +23,11 @@ namespace rf::farm {
 struct MasterConfig {
     double workerTimeout = 10.0;  ///< seconds without a word from a busy worker before it counts as lost
     int credits = 2;              ///< items a worker holds at once: one rendering, one waiting
+    /// Pixel mode: sub-tiles an item is split into on a rank (RenderEngine::subTilesOf); a rank
+    /// that says it has T render threads then holds enough items for T ×
+    /// RenderEngine::kSubTilesPerThread sub-tiles, twice over, if that is more than `credits`.
+    /// 0: `credits` for every rank.
+    int subTilesPerItem = 0;
     bool liveProgress = false;
     bool quiet = false;           ///< no progress lines (tests)
     int totalFrames = 0;          ///< frames in the output, for progress
@@ -127,6 +132,7 @@ private:
         std::chrono::steady_clock::time_point lastHeard{};
         int reportedFrame = -1;
         bool building = false;  ///< its last heartbeat said it is still building its scene
+        int threads = 0;        ///< render threads, as its heartbeat said (0: not yet)
         bool answeredAfterInterrupt = false;
         std::vector<int> chunksRendered;  ///< chunks in `outstanding` whose frames are all rendered
         std::vector<WorkItem> assembling;  ///< pixel mode: chunks it assembles from tiles
@@ -148,6 +154,8 @@ private:
     /// Items a rank holds that still take its renderer (a chunk whose frames are all rendered
     /// only waits for its encoder: the next chunk may go out).
     int rendering(const WorkerState& w) const;
+    /// Items the rank may hold (MasterConfig::credits, more for small items on many threads).
+    int creditsOf(const WorkerState& w) const;
     /// Passes on what is ready, in order; true if anything was.
     bool passOn();
     /// rank 0's own results (engine or workshop); waits up to waitSeconds for one.

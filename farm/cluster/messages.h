@@ -97,6 +97,7 @@ struct Heartbeat {
     int32_t currentFrame = -1;  ///< frame being rendered, -1 when idle
     int32_t signalled = 0;
     int32_t building = 0;
+    int32_t threads = 0;  ///< the rank's render threads (0: not said): rank 0 sizes its credits by them
 };
 
 /// A chunk to render (the frames not already kept) and encode, whole, on one rank.

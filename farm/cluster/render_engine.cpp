@@ -111,10 +111,9 @@ void RenderEngine::setScene(Scene scene, anim::Timeline timeline) {
 namespace {
 
 /// Items no larger than this are split into 16x16 sub-tiles (pixel mode's tiles), and may be
-/// rendered together with the next ones of their frame.
+/// rendered together with the next ones of their frame, until the batch has
+/// kSubTilesPerThread sub-tiles a render thread.
 constexpr int kSmallItemPixels = 128 * 128;
-/// A batch of small items grows until it has this many sub-tiles a render thread.
-constexpr int kSubTilesPerThread = 4;
 
 int subTileFor(const TileRect& rect, const RenderSettings& s) { return rect.pixels() <= kSmallItemPixels ? 16 : std::max(8, s.tileSize); }
 
@@ -155,6 +154,8 @@ bool RenderEngine::next(std::vector<WorkItem>& items, std::optional<ViewSpec>& v
     }
     return true;
 }
+
+int RenderEngine::subTilesOf(const TileRect& rect, const RenderSettings& s) { return subTilesIn(rect, subTileFor(rect, s)); }
 
 int RenderEngine::largestBatch() const {
     std::lock_guard<std::mutex> lock(mutex_);

@@ -73,6 +73,13 @@ public:
 
     /// The largest number of items rendered together so far (for tests).
     int largestBatch() const;
+    int threads() const { return threads_; }
+
+    /// A small item's sub-tiles (how many pieces its render is split into for the threads), and
+    /// how many a batch of small items gathers a render thread: the master gives each rank
+    /// enough small items to fill its threads (Master's credits).
+    static int subTilesOf(const TileRect& rect, const RenderSettings& s);
+    static constexpr int kSubTilesPerThread = 4;
 
 private:
     void loop();

@@ -379,6 +379,12 @@ FarmOutcome FarmRun::run(SharedScene& shared) {
     // are all rendered (Master::rendering), while its encoder finishes.
     if (chunked_ && job_.mode == Mode::Frame) cfg.credits = 1;
     const int width = job_.settings.width, height = job_.settings.height;
+    if (job_.mode == Mode::Pixel) {
+        // A rank with many threads holds more small tiles, so that rendered together they fill
+        // its threads (RenderEngine).
+        const int tile = pixelTile(job_, renderers, cfg.credits);
+        cfg.subTilesPerItem = RenderEngine::subTilesOf(TileRect{0, 0, tile, tile}, job_.settings);
+    }
     std::unique_ptr<Scheduler> sched;
     if (!chunked_)
         sched = makeScheduler(job_, plan.toRender, renderers, cfg.credits);

@@ -120,7 +120,7 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
             return 1;
         }
         if (now - lastBeat >= std::chrono::duration<double>(kHeartbeatSeconds)) {
-            t.send(0, kTagHeartbeat, encodeHeartbeat({engine.currentFrame(), signalled ? 1 : 0}));
+            t.send(0, kTagHeartbeat, encodeHeartbeat({engine.currentFrame(), signalled ? 1 : 0, 0, engine.threads()}));
             lastBeat = now;
         }
         // Wait briefly for a result: short enough to answer messages promptly, long enough not

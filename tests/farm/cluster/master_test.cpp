@@ -372,3 +372,41 @@ TEST(SceneBroadcast, AFailureAfterTheFilesWentOutStopsTheWorkers) {
     worker.join();
     EXPECT_EQ(workerCode, 2);
 }
+
+// Issue 32: small tiles fill a rank's threads only if the rank holds enough of them. A rank
+// whose heartbeat says it has T render threads is given 2 × T × 4 sub-tiles' worth of items
+// (RenderEngine renders them together); one that has not said holds the configured credits.
+TEST(Master, ARankWithMoreThreadsHoldsMoreSmallTiles) {
+    for (int threads : {0, 2, 3}) {
+        LoopbackHub hub(2);
+        std::atomic<int> received{0};
+        std::atomic<bool> done{false};
+        std::thread worker([&] {
+            LoopbackTransport t(hub, 1);
+            Heartbeat h;
+            h.threads = threads;
+            while (!done) {
+                t.send(0, kTagHeartbeat, encodeHeartbeat(h));  // alive, and never returns a tile
+                Message m;
+                while (t.poll(m))
+                    if (m.tag == kTagWork) ++received;
+                std::this_thread::sleep_for(std::chrono::milliseconds(5));
+            }
+        });
+        LoopbackTransport t(hub, 0);
+        auto sched = makePixelScheduler(anim::FrameRanges::span(0, 9), 40, 30, 16, 10);  // 60 tiles of one sub-tile
+        FrameAssembler assembler(40, 30, anim::FrameRanges::span(0, 9), {});
+        MasterConfig cfg;
+        cfg.quiet = true;
+        cfg.credits = 2;
+        cfg.subTilesPerItem = 1;
+        const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(400);
+        cfg.between = [&] { return std::chrono::steady_clock::now() > until; };
+        Master master(t, *sched, assembler, nullptr, [](ReadyFrame&) {}, cfg);
+        EXPECT_EQ(master.run().end, RunEnd::Yielded);
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+        done = true;
+        worker.join();
+        EXPECT_EQ(received.load(), threads == 0 ? 2 : 2 * threads * 4) << threads << " threads";
+    }
+}
