@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Benchmark (not a test): the ceiling of rank 0 (the coordinator) of `rayfarm render`, with
 # near-free work, so that what is measured is rank 0's own work per frame: dispatch, gather,
-# frame assembly, PNG frames and the video: since issue 32 pixel mode encodes chunks on rank 0,
-# frame mode has the rendering ranks encode their chunks and rank 0 only join them. Whole
-# `mpirun` processes of
+# frame assembly, PNG frames and the video. Since issue 32 the chunks are encoded on the other
+# ranks and rank 0 only joins them: in frame mode by the rank that rendered the chunk, in pixel
+# mode by the rank that assembled it from every rank's tiles (rank 0 then only schedules tiles
+# and reads a note per tile). MODES="frame pixel" as before; run the same script from a
+# checkout before the change for its "before" figures. Whole `mpirun` processes of
 # scenes/bench/all_miss.json (a camera looking away from a tiny sphere), with
 # RAYFARM_BENCH_FREE_WORK=1 in every rank's environment: a stand-in renderer plugged into the
 # ranks' engines (farm/cluster/bench_free_work.h) that fills each work item with a cheap pattern
@@ -18,7 +20,7 @@
 # (the table keeps each configuration's best run). Printed per run: frames/s and work items
 # (tiles)/s rank 0 sustained (first dispatch to last frame muxed), rank 0's CPU (getrusage of
 # its process, in cores over the sustained window and ms a frame), the busy shares of rank 0's
-# video thread (encoding in pixel mode, joining chunks in frame mode) and PNG writer from the
+# video thread (joining chunks; encoding, for a GIF or an older build) and PNG writer from the
 # --stats file, who encoded, and the load average at the start of the run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
