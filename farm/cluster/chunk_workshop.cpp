@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <map>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
@@ -17,8 +18,20 @@ namespace {
 
 /// Frames a rank holds between the engine and the encoder: enough that neither waits for the
 /// other, few enough that a 4K chunk never sits in memory whole (the engine renders far faster
-/// than x264 encodes when the work is near free: bench_coordinator.sh).
+/// than x264 encodes when the work is near free: bench_coordinator.sh). Assembled frames (pixel
+/// mode) are not held back here: rank 0 hands out their tiles with a chunk open per rendering
+/// rank and one more, so each assembler receives about its share of the frames, as fast as its
+/// tiles are rendered everywhere.
 constexpr int kFramesAhead = 3;
+
+/// Appends a message, its payload moved in. (Not push_back of a braced Outgoing: GCC 12's LTO
+/// warns of a string copy reading past a 16-byte buffer there, -Wstringop-overread.)
+void addOutgoing(std::vector<ChunkWorkshop::Outgoing>& out, int dest, int tag, std::string bytes) {
+    ChunkWorkshop::Outgoing& o = out.emplace_back();
+    o.dest = dest;
+    o.tag = tag;
+    o.bytes = std::move(bytes);
+}
 
 }  // namespace
 
@@ -61,11 +74,15 @@ ChunkVideoSpec decodeChunkVideoSpec(const std::string& bytes) {
     }
 }
 
-/// The encoder thread's own: made and used there only.
+/// The encoder thread's own: made and used there only. A chunk's encoder lives from its first
+/// frame to its last; several are open when frames of several chunks come in turn.
 struct ChunkWorkshop::EncoderState {
     std::unique_ptr<PngEncoder> png;
-    std::unique_ptr<ChunkEncoder> video;
-    EncodedChunk chunk;
+    struct Open {
+        std::unique_ptr<ChunkEncoder> video;
+        EncodedChunk chunk;
+    };
+    std::map<int, Open> open;  ///< by chunk
 };
 
 ChunkWorkshop::ChunkWorkshop(RenderEngine& engine, ChunkVideoSpec spec, int rank)
@@ -160,31 +177,52 @@ void ChunkWorkshop::feedEngine() {
     }
 }
 
-/// Hands the encoder thread every frame whose turn has come: kept frames at once, rendered ones
-/// once their result is here (the engine renders in the order given, so results come in order).
+/// Hands the encoder thread every frame whose turn in its chunk has come: kept frames at once,
+/// rendered ones once their result is here, assembled ones once their last tile is. Chunks do
+/// not wait for each other: a rank assembling two chunks whose frames come in turn encodes both
+/// as they come (each has its own encoder), rather than holding the later chunk's frames.
 void ChunkWorkshop::queueReady() {
     std::vector<Task> ready;
-    while (!pending_.empty()) {
-        Pending& p = pending_.front();
+    std::vector<int> waiting;  ///< chunks with an earlier frame not ready yet
+    for (auto it = pending_.begin(); it != pending_.end();) {
+        Pending& p = *it;
+        const int chunk = p.order->item.chunk;
+        if (std::find(waiting.begin(), waiting.end(), chunk) != waiting.end()) {
+            ++it;
+            continue;
+        }
         Task t;
+        bool here = false;
         if (p.keptPng) {
             t.keptPng = p.keptPng;
+            here = true;
         } else if (p.assembled) {
-            if (p.pixelsLeft > 0) break;
-            t.result.rgb = std::move(p.pixels);
-            p.covered = {};
-        } else if (p.submitted && !rendered_.empty() && rendered_.front().item.frame == p.frame) {
-            t.result = std::move(rendered_.front());
-            rendered_.pop_front();
-        } else {
-            break;
+            if (p.pixelsLeft == 0) {
+                t.result.rgb = std::move(p.pixels);
+                p.covered = {};
+                here = true;
+            }
+        } else if (p.submitted) {
+            const auto r = std::find_if(rendered_.begin(), rendered_.end(), [&](const TileResult& x) {
+                return x.item.frame == p.frame && x.item.chunk == chunk;
+            });
+            if (r != rendered_.end()) {
+                t.result = std::move(*r);
+                rendered_.erase(r);
+                here = true;
+            }
+        }
+        if (!here) {
+            waiting.push_back(chunk);
+            ++it;
+            continue;
         }
         t.order = p.order;
         t.frame = p.frame;
         t.first = p.frame == p.order->item.frame;
         t.last = p.frame == p.order->item.frame + p.order->item.frames - 1;
         ready.push_back(std::move(t));
-        pending_.pop_front();
+        it = pending_.erase(it);
     }
     if (ready.empty()) return;
     {
@@ -199,13 +237,13 @@ std::vector<ChunkWorkshop::Outgoing> ChunkWorkshop::poll(double waitSeconds) {
     for (auto r = engine_.takeResult(waitSeconds); r; r = engine_.takeResult()) {
         if (r->item.assembler >= 0) {
             // A tile of an assembled frame: its pixels to the assembling rank, word of it to rank 0.
-            out.push_back({0, kTagTileDone, encodeTileDone(*r)});
+            addOutgoing(out, 0, kTagTileDone, encodeTileDone(*r));
             if (r->item.assembler == rank_) addTile(std::move(*r));
-            else out.push_back({r->item.assembler, kTagTile, encodeTileResult(*r)});
+            else addOutgoing(out, r->item.assembler, kTagTile, encodeTileResult(*r));
             continue;
         }
         if (r->item.chunk < 0) {
-            out.push_back({0, kTagResult, encodeTileResult(*r)});  // a single item: as runWorker sends it
+            addOutgoing(out, 0, kTagResult, encodeTileResult(*r));  // a single item: as runWorker sends it
             continue;
         }
         --inEngine_;
@@ -244,7 +282,7 @@ void ChunkWorkshop::cancel() {
 
 void ChunkWorkshop::post(int tag, std::string bytes) {
     std::lock_guard<std::mutex> lock(mutex_);
-    outbox_.push_back({0, tag, std::move(bytes)});
+    addOutgoing(outbox_, 0, tag, std::move(bytes));
 }
 
 void ChunkWorkshop::encoderLoop() {
@@ -302,23 +340,26 @@ void ChunkWorkshop::encodeTask(Task& t) {
     post(kTagChunkFrame, encodeChunkFrame(cf));
 
     const auto t0 = std::chrono::steady_clock::now();
+    const int index = o.item.chunk;
     if (t.first) {
-        st.video = std::make_unique<ChunkEncoder>(spec_.path, w, h, spec_.options, spec_.options.chunkFrames);
-        st.chunk = EncodedChunk{};
-        st.chunk.index = o.item.chunk;
-        st.chunk.frames = o.item.frames;
+        EncoderState::Open& c = st.open[index];
+        c.video = std::make_unique<ChunkEncoder>(spec_.path, w, h, spec_.options, spec_.options.chunkFrames);
+        c.chunk = EncodedChunk{};
+        c.chunk.index = index;
+        c.chunk.frames = o.item.frames;
     }
-    if (!st.video) throw std::runtime_error("chunk " + std::to_string(o.item.chunk) + " began mid-chunk");
-    for (ChunkPacket& p : st.video->add(*pixels)) st.chunk.packets.push_back(std::move(p));
+    const auto it = st.open.find(index);
+    if (it == st.open.end()) throw std::runtime_error("chunk " + std::to_string(index) + " began mid-chunk");
+    EncoderState::Open& c = it->second;
+    for (ChunkPacket& p : c.video->add(*pixels)) c.chunk.packets.push_back(std::move(p));
     if (t.last) {
-        for (ChunkPacket& p : st.video->finish()) st.chunk.packets.push_back(std::move(p));
-        st.chunk.extradata = st.video->extradata();
+        for (ChunkPacket& p : c.video->finish()) c.chunk.packets.push_back(std::move(p));
+        c.chunk.extradata = c.video->extradata();
     }
-    st.chunk.encodeSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    c.chunk.encodeSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (t.last) {
-        post(kTagChunkDone, encodeChunkDone(o.item, serializeChunk(st.chunk)));
-        st.video.reset();
-        st.chunk = EncodedChunk{};
+        post(kTagChunkDone, encodeChunkDone(o.item, serializeChunk(c.chunk)));
+        st.open.erase(it);
     }
 }
 

@@ -106,8 +106,8 @@ private:
     ChunkVideoSpec spec_;
     std::unique_ptr<EncoderState> enc_;
 
-    // The main thread's: frames of the submitted chunks in order, and rendered results waiting
-    // for their turn.
+    // The main thread's: frames of the submitted chunks in order (each chunk's in its order;
+    // chunks go to the encoder independently), and rendered results waiting for their turn.
     std::deque<Pending> pending_;
     std::deque<TileResult> rendered_;
     /// Tiles that came before their chunk's order (from a rank that heard of the chunk first).

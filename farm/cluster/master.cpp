@@ -212,6 +212,7 @@ bool Master::handOut() {
             for (; item && assembles() && item->chunk >= 0; item = sched_->next()) {
                 item->epoch = epoch_;
                 openAssembly(*item);  // a chunk's marker: its tiles follow
+                any = true;
             }
             if (!item) return any;
             item->epoch = epoch_;
@@ -369,7 +370,10 @@ MasterOutcome Master::run() {
 
         progressed |= passOn();
         if (!failure_.empty()) return finish(RunEnd::Failed, failure_);
-        if (sched_->exhausted() && (chunks_.collector ? chunks_.collector->finished() : asm_->finished()))
+        // Assembled chunks: a tile's note to rank 0 comes from its renderer and the chunk from
+        // its assembler, in either order, so the last notes may follow the last chunk.
+        if (sched_->exhausted() && (chunks_.collector ? chunks_.collector->finished() : asm_->finished()) &&
+            (!assembles() || std::all_of(workers_.begin(), workers_.end(), [](const WorkerState& w) { return w.outstanding.empty(); })))
             return finish(RunEnd::Done, "");
 
         // Heartbeats are read above before this check, so time spent blocked in emit (a full

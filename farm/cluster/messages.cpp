@@ -70,7 +70,7 @@ TileResult resultOf(const ResultHeader& h) {
     r.item = {h.frame, {h.x0, h.y0, h.x1, h.y1}, h.epoch, h.chunk, h.frames, h.assembler};
     r.layout.channels = h.layout & 0xff;
     r.layout.linear = (h.layout >> 8) & 1;
-    if ((r.layout.channels != 3 && r.layout.channels != 4) || (h.layout >> 9) != 0 || h.assembler < -1)
+    if ((r.layout.channels != 3 && r.layout.channels != 4) || (h.layout >> 9) != 0 || h.assembler < -1 || h.unused != 0)
         throw std::runtime_error("malformed result message: unknown pixel layout");
     // In 64 bits: a corrupt rectangle must not overflow int (TileRect::pixels) on the way.
     const int64_t w = int64_t(h.x1) - h.x0, hgt = int64_t(h.y1) - h.y0;

@@ -242,10 +242,10 @@ void FarmRun::emitChunk(int chunk, std::string& bytes, int total) {
     }
 }
 
-/// Frame mode with chunked encoding, when the run stops early (a signal, a lost worker): the
-/// video holds the whole chunks joined so far; the frames after them whose PNGs reached rank 0
-/// go in too, encoded here into a chunk of their own, so that the video holds every frame
-/// finished in order, as in pixel mode. (A resume rewrites the video whole.)
+/// Chunked encoding on the ranks, when the run stops early (a signal, a lost worker): the video
+/// holds the whole chunks joined so far; the frames after them whose PNGs reached rank 0 go in
+/// too, encoded here into a chunk of their own, so that the video holds every frame finished in
+/// order, as when rank 0 encodes. (A resume rewrites the video whole.)
 void FarmRun::videoFromKeptFrames() {
     if (!chunked_ || job_.framesDir.empty()) return;
     const int width = job_.settings.width, height = job_.settings.height;

@@ -1,7 +1,8 @@
 // libFuzzer harness: what a worker or the master decodes from the wire. The first byte picks
 // the decoder; the rest is the payload. Every decoder must refuse a malformed payload with
 // std::runtime_error, and a decoded work item must encode back to the same bytes. Issue 32's
-// payloads too: a chunk order, a chunk's frame, a chunk done and the encoded chunk itself.
+// payloads too: a chunk order, a chunk's frame, a chunk done and the encoded chunk itself, and
+// a tile's header-only note.
 #include <cstdlib>
 
 #include "fuzz_input.h"
@@ -21,6 +22,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
             (void)r;
             break;
         }
+        case 2:
+            (void)rf::farm::decodeTileDone(payload);  // a tile's note to rank 0 (pixel mode's assembled chunks)
+            break;
         case 3:
             (void)rf::farm::decodeChunkOrder(payload);
             break;

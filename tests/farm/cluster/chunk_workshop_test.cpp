@@ -33,18 +33,35 @@ RenderEngine testEngine() {
     return RenderEngine(std::move(scene), std::move(tl), s, 1);
 }
 
-/// Chunk 0 (frames 0 and 1), PNGs asked for.
-ChunkOrder chunkZero() {
+/// Chunk c of 2 frames (frames 2c and 2c + 1), PNGs asked for.
+ChunkOrder chunkOf2(int c) {
     ChunkOrder o;
-    o.item = WorkItem{0, {0, 0, 40, 30}};
-    o.item.chunk = 0;
+    o.item = WorkItem{2 * c, {0, 0, 40, 30}};
+    o.item.chunk = c;
     o.item.frames = 2;
     o.sendPngs = 1;
     return o;
 }
 
-/// Polls until the chunk comes back: its frames' PNGs by frame, and the chunk without its timing.
-std::string drain(ChunkWorkshop& shop, std::map<int, std::string>& pngs) {
+ChunkOrder chunkZero() { return chunkOf2(0); }
+
+/// frame's tiles of 16x16, rendered alone, for assembling rank `assembler`.
+std::vector<TileResult> tilesOf(int frame, int assembler) {
+    Scene scene = rf::testing::loadFarmScene();
+    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    std::vector<TileResult> tiles;
+    int applied = -1;
+    for (const TileRect& r : makeTiles(40, 30, 16)) {
+        WorkItem item{frame, r};
+        item.assembler = assembler;
+        tiles.push_back(RenderEngine::render(scene, tl, scene.settings, 1, item, applied));
+    }
+    return tiles;
+}
+
+/// Polls until a chunk comes back: its frames' PNGs by frame, and the chunk without its timing
+/// (its index in *index when given).
+std::string drain(ChunkWorkshop& shop, std::map<int, std::string>& pngs, int* index = nullptr) {
     for (int i = 0; i < 20000; ++i) {
         for (ChunkWorkshop::Outgoing& o : shop.poll(0.001)) {
             EXPECT_EQ(o.dest, 0);
@@ -56,6 +73,7 @@ std::string drain(ChunkWorkshop& shop, std::map<int, std::string>& pngs) {
                 decodeChunkDone(o.bytes, bytes);
                 EncodedChunk c = parseChunk(bytes);
                 c.encodeSeconds = 0.0;
+                if (index) *index = c.index;
                 return serializeChunk(c);
             }
         }
@@ -152,4 +170,29 @@ TEST(ChunkWorkshop, SendsItsEnginesTilesToTheirAssemblerAndTellsRankZero) {
     ASSERT_EQ(out.size(), 1u);
     EXPECT_EQ(out[0].tag, kTagTileDone);
     EXPECT_EQ(out[0].dest, 0);
+}
+
+// A rank assembling two chunks whose frames come in turn: the later chunk, complete first, is
+// encoded and sent at once (each chunk has its own encoder), not held until the earlier one is.
+TEST(ChunkWorkshop, AChunkCompleteFirstIsNotHeldBehindAnEarlierOne) {
+    RenderEngine wholeEngine = testEngine();
+    ChunkWorkshop whole(wholeEngine, testSpec(), 1);
+    whole.submit(chunkOf2(1));
+    std::map<int, std::string> unused;
+    const std::string expected = drain(whole, unused);
+
+    RenderEngine idle = testEngine();
+    ChunkWorkshop shop(idle, testSpec(), 1);
+    shop.submitAssembly(chunkOf2(0));
+    shop.submitAssembly(chunkOf2(1));
+    for (const TileResult& t : tilesOf(0, 1)) shop.addTile(t);  // chunk 0 half done
+    for (int f : {2, 3})
+        for (const TileResult& t : tilesOf(f, 1)) shop.addTile(t);
+    std::map<int, std::string> pngs;
+    int index = -1;
+    EXPECT_TRUE(drain(shop, pngs, &index) == expected) << "chunk 1 encodes differently beside chunk 0";
+    EXPECT_EQ(index, 1);
+    EXPECT_EQ(pngs.count(0), 1u);
+    EXPECT_EQ(pngs.count(2) + pngs.count(3), 2u);
+    EXPECT_EQ(shop.outstanding(), 1) << "chunk 0 still open";
 }
