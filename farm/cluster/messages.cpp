@@ -172,7 +172,9 @@ TileResult decodeTileResult(const std::string& bytes) {
     ResultHeader h;
     std::memcpy(&h, bytes.data(), sizeof h);
     TileResult r = resultOf(h);
-    if (uint64_t(bytes.size() - sizeof h) != uint64_t(r.layout.bytes(size_t(r.item.rect.pixels()))))
+    // In 64 bits: sides up to 2^20 overflow int (TileRect::pixels) before the size check.
+    const int64_t pixels = int64_t(r.item.rect.width()) * int64_t(r.item.rect.height());
+    if (uint64_t(bytes.size() - sizeof h) != uint64_t(r.layout.bytes(size_t(pixels))))
         throw std::runtime_error("malformed result message: pixel count does not match its rectangle");
     r.rgb.assign(bytes.begin() + sizeof h, bytes.end());
     return r;
