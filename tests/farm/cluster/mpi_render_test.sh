@@ -275,6 +275,34 @@ killed-worker)
     read -r frames w h rate < <(probe kill.mp4)
     echo "killed-worker: stopped in $took s: $(grep 'rayfarm: error' kill.log); MP4 plays $frames frames"
     ;;
+killed-worker-pixel)
+    # Issue 32: pixel mode assembles each chunk on a rank. kill -9 of rank 1, which renders
+    # tiles and assembles chunks, stops the run naming it; the video plays; --resume at another
+    # rank count gives the file and PNGs of one process, byte for byte.
+    rm -rf kp.* kpone.*
+    small=(render "$FLIGHT" --size 160x90 --spp 9 --frames 0:23 --chunk-frames 6 --lossless)
+    "$RAYFARM" "${small[@]}" -o kpone.mp4 2> kpone.log || { cat kpone.log; fail "one-process reference failed"; }
+    mpirun --oversubscribe -np 3 "$RAYFARM" "${small[@]}" --mode pixel --timeout 3 -o kp.mp4 2> kp.log &
+    pid=$!
+    wait_for_pngs kp.frames 3 60
+    victim=$(rank_pid "$pid" 1)
+    rank0=$(rank_pid "$pid" 0)
+    [ -n "$victim" ] && [ -n "$rank0" ] || fail "rank 0 or 1 not found"
+    kill -9 "$victim"
+    set +e; wait "$pid"; rc=$?; set -e
+    [ "$rc" -ne 0 ] || fail "pixel run with a killed worker exited 0"
+    # mpirun can return while rank 0 still leaves (it holds the output's lock until then).
+    for _ in $(seq 100); do kill -0 "$rank0" 2> /dev/null || break; sleep 0.1; done
+    ! kill -0 "$rank0" 2> /dev/null || fail "rank 0 still runs 10 s after mpirun returned"
+    grep -q "each assembled from the tiles and encoded by one rank" kp.log || { cat kp.log; fail "pixel mode did not assemble chunks on the ranks"; }
+    grep -Eq "rayfarm: error: rank 1 on [^ ]+ .*frame" kp.log || { cat kp.log; fail "no message naming rank 1 and its frame"; }
+    read -r frames w h rate < <(probe kp.mp4)
+    kept=$(find kp.frames -name 'frame_*.png' | wc -l)
+    mpirun --oversubscribe -np 2 "$RAYFARM" "${small[@]}" --mode pixel -o kp.mp4 --resume 2> kpres.log || { cat kpres.log; fail "resume failed"; }
+    cmp -s kpone.mp4 kp.mp4 || fail "resumed pixel run: the MP4 differs from one process's"
+    cmp -s <(pngs_md5 kpone.frames) <(pngs_md5 kp.frames) || fail "resumed pixel run: PNGs differ from one process's"
+    echo "killed-worker-pixel: $(grep -Eo 'rank 1 on [^ ]+ .{0,70}' kp.log | head -1); MP4 played $frames frames, $kept PNGs kept; resumed at np 2: byte-identical to one process"
+    ;;
 stalled-worker)
     rm -rf stall.*
     mpirun --oversubscribe -np 3 "$RAYFARM" render "$FLIGHT" -o stall.mp4 --size 320x180 --spp 9 --timeout 2 2> stall.log &
