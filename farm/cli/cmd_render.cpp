@@ -151,7 +151,7 @@ std::string videoChunksNote(const RenderJob& job) {
     if (containerFor(job.output) == Container::Gif) return "the GIF made on rank 0 from the whole film";
     const std::string k = std::to_string(job.mp4.chunkFrames);
     if (!job.chunkedFrames) return "video in chunks of " + k + " frames encoded on rank 0";
-    return job.mode == Mode::Frame ? "video in chunks of " + k + " frames, each rendered and encoded by one rank"
+    return job.mode == Mode::Frame ? "video in chunks of " + k + " frames, each rendered and encoded by one rank (the last frames shared)"
                                    : "video in chunks of " + k + " frames, each assembled from the tiles and encoded by one rank";
 }
 

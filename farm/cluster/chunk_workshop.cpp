@@ -16,12 +16,10 @@ namespace rf::farm {
 
 namespace {
 
-/// Frames a rank holds between the engine and the encoder: enough that neither waits for the
-/// other, few enough that a 4K chunk never sits in memory whole (the engine renders far faster
-/// than x264 encodes when the work is near free: bench_coordinator.sh). Assembled frames (pixel
-/// mode) are not held back here: rank 0 hands out their tiles with a chunk open per rendering
-/// rank and one more, so each assembler receives about its share of the frames, as fast as its
-/// tiles are rendered everywhere.
+/// Complete frames a rank holds for its encoder before it holds back its own engine's results
+/// (and so the credit rank 0 gives back for them): enough that the encoder never waits, few
+/// enough that a 4K chunk never sits in memory whole when the engine renders far faster than
+/// x264 encodes (near-free work: bench_coordinator.sh).
 constexpr int kFramesAhead = 3;
 
 /// Appends a message, its payload moved in. (Not push_back of a braced Outgoing: GCC 12's LTO
@@ -100,16 +98,7 @@ ChunkWorkshop::~ChunkWorkshop() {
     thread_.join();
 }
 
-void ChunkWorkshop::submit(ChunkOrder order) { queueChunk(std::move(order), false); }
-
 void ChunkWorkshop::submitAssembly(ChunkOrder order) {
-    queueChunk(std::move(order), true);
-    std::vector<TileResult> early = std::exchange(early_, {});
-    for (TileResult& t : early)
-        if (!placeTile(t)) early_.push_back(std::move(t));
-}
-
-void ChunkWorkshop::queueChunk(ChunkOrder order, bool assemble) {
     auto sp = std::make_shared<const ChunkOrder>(std::move(order));
     const WorkItem& c = sp->item;
     for (int f = c.frame; f < c.frame + c.frames; ++f) {
@@ -118,17 +107,18 @@ void ChunkWorkshop::queueChunk(ChunkOrder order, bool assemble) {
         p.frame = f;
         for (const auto& [frame, png] : sp->kept)
             if (frame == f) p.keptPng = &png;
-        p.assembled = assemble && !p.keptPng;
-        if (p.assembled) p.pixelsLeft = int64_t(spec_.width) * spec_.height;
+        if (!p.keptPng) p.pixelsLeft = int64_t(spec_.width) * spec_.height;
         pending_.push_back(std::move(p));
     }
     ++chunksOut_;
-    feedEngine();
+    std::vector<TileResult> early = std::exchange(early_, {});
+    for (TileResult& t : early)
+        if (!placeTile(t)) early_.push_back(std::move(t));
 }
 
-bool ChunkWorkshop::placeTile(const TileResult& tile) {
+bool ChunkWorkshop::placeTile(TileResult& tile) {
     const auto it = std::find_if(pending_.begin(), pending_.end(),
-                                 [&](const Pending& p) { return p.assembled && p.frame == tile.item.frame; });
+                                 [&](const Pending& p) { return !p.keptPng && p.frame == tile.item.frame; });
     if (it == pending_.end()) return false;
     const int w = spec_.width, h = spec_.height, ch = spec_.options.channels;
     const TileRect& r = tile.item.rect;
@@ -136,17 +126,22 @@ bool ChunkWorkshop::placeTile(const TileResult& tile) {
     if (r.x0 < 0 || r.y0 < 0 || r.x1 > w || r.y1 > h || r.x0 >= r.x1 || r.y0 >= r.y1 || tile.layout.channels != ch ||
         tile.rgb.size() != size_t(r.pixels()) * size_t(ch))
         throw std::runtime_error(bad + "does not fit the frame");
+    if (it->pixelsLeft == r.pixels() && it->pixels.empty()) {  // the whole frame at once (frame mode): taken as it is
+        it->pixels = std::move(tile.rgb);
+        it->pixelsLeft = 0;
+        return true;
+    }
     if (it->pixels.empty()) {
         it->pixels.resize(size_t(w) * size_t(h) * size_t(ch));
         it->covered.resize(size_t(w) * size_t(h));
     }
+    const auto rowOf = [&](int y) { return it->covered.begin() + long(size_t(y) * size_t(w) + size_t(r.x0)); };
     for (int y = r.y0; y < r.y1; ++y)
-        for (int x = r.x0; x < r.x1; ++x)
-            if (it->covered[size_t(y) * size_t(w) + size_t(x)]) throw std::runtime_error(bad + "came twice");
+        if (std::find(rowOf(y), rowOf(y) + r.width(), uint8_t{1}) != rowOf(y) + r.width()) throw std::runtime_error(bad + "came twice");
     const size_t row = size_t(r.width()) * size_t(ch);
     for (int y = r.y0; y < r.y1; ++y) {
         std::copy_n(tile.rgb.data() + size_t(y - r.y0) * row, row, it->pixels.data() + (size_t(y) * size_t(w) + size_t(r.x0)) * size_t(ch));
-        std::fill_n(it->covered.begin() + long(size_t(y) * size_t(w) + size_t(r.x0)), r.width(), true);
+        std::fill_n(rowOf(y), r.width(), uint8_t{1});
     }
     it->pixelsLeft -= r.pixels();
     return true;
@@ -157,28 +152,13 @@ void ChunkWorkshop::addTile(TileResult tile) {
     queueReady();
 }
 
-void ChunkWorkshop::feedEngine() {
-    size_t backlog = 0;
-    {
-        std::lock_guard<std::mutex> lock(mutex_);
-        backlog = tasks_.size() + (working_ ? 1 : 0);
-    }
-    backlog += size_t(inEngine_) + rendered_.size();
-    for (Pending& p : pending_) {
-        if (backlog >= size_t(kFramesAhead)) return;
-        if (p.keptPng || p.submitted || p.assembled) continue;
-        WorkItem item = p.order->item;
-        item.frame = p.frame;
-        item.frames = 1;  // the engine renders one frame of the chunk
-        engine_.submit(item);
-        p.submitted = true;
-        ++inEngine_;
-        ++backlog;
-    }
+int ChunkWorkshop::encoderBacklog() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return int(tasks_.size()) + (working_ ? 1 : 0);
 }
 
 /// Hands the encoder thread every frame whose turn in its chunk has come: kept frames at once,
-/// rendered ones once their result is here, assembled ones once their last tile is. Chunks do
+/// the others once their last tile (or their whole frame) is here. Chunks do
 /// not wait for each other: a rank assembling two chunks whose frames come in turn encodes both
 /// as they come (each has its own encoder), rather than holding the later chunk's frames.
 void ChunkWorkshop::queueReady() {
@@ -196,21 +176,10 @@ void ChunkWorkshop::queueReady() {
         if (p.keptPng) {
             t.keptPng = p.keptPng;
             here = true;
-        } else if (p.assembled) {
-            if (p.pixelsLeft == 0) {
-                t.result.rgb = std::move(p.pixels);
-                p.covered = {};
-                here = true;
-            }
-        } else if (p.submitted) {
-            const auto r = std::find_if(rendered_.begin(), rendered_.end(), [&](const TileResult& x) {
-                return x.item.frame == p.frame && x.item.chunk == chunk;
-            });
-            if (r != rendered_.end()) {
-                t.result = std::move(*r);
-                rendered_.erase(r);
-                here = true;
-            }
+        } else if (p.pixelsLeft == 0) {
+            t.result.rgb = std::move(p.pixels);
+            p.covered = {};
+            here = true;
         }
         if (!here) {
             waiting.push_back(chunk);
@@ -235,22 +204,25 @@ void ChunkWorkshop::queueReady() {
 std::vector<ChunkWorkshop::Outgoing> ChunkWorkshop::poll(double waitSeconds) {
     std::vector<Outgoing> out;
     for (auto r = engine_.takeResult(waitSeconds); r; r = engine_.takeResult()) {
-        if (r->item.assembler >= 0) {
-            // A tile of an assembled frame: its pixels to the assembling rank, word of it to rank 0.
+        if (r->item.assembler == rank_) {
+            own_.push_back(std::move(*r));  // placed below
+        } else if (r->item.assembler >= 0) {
+            // A frame or tile another rank assembles: its pixels there, word of it to rank 0.
             addOutgoing(out, 0, kTagTileDone, encodeTileDone(*r));
-            if (r->item.assembler == rank_) addTile(std::move(*r));
-            else addOutgoing(out, r->item.assembler, kTagTile, encodeTileResult(*r));
-            continue;
-        }
-        if (r->item.chunk < 0) {
+            addOutgoing(out, r->item.assembler, kTagTile, encodeTileResult(*r));
+        } else {
             addOutgoing(out, 0, kTagResult, encodeTileResult(*r));  // a single item: as runWorker sends it
-            continue;
         }
-        --inEngine_;
-        rendered_.push_back(std::move(*r));
+    }
+    // Results this rank assembles itself are placed, and rank 0 told of them (which frees their
+    // credit for more work), while the encoder keeps up: it has fewer than kFramesAhead whole
+    // frames waiting.
+    while (!own_.empty() && encoderBacklog() < kFramesAhead) {
+        addOutgoing(out, 0, kTagTileDone, encodeTileDone(own_.front()));
+        addTile(std::move(own_.front()));
+        own_.pop_front();
     }
     queueReady();
-    feedEngine();
     std::vector<Outgoing> posted;
     {
         std::lock_guard<std::mutex> lock(mutex_);
@@ -272,9 +244,8 @@ std::string ChunkWorkshop::error() const {
 
 void ChunkWorkshop::cancel() {
     pending_.clear();
-    rendered_.clear();
+    own_.clear();
     early_.clear();
-    inEngine_ = 0;
     chunksOut_ = 0;
     std::lock_guard<std::mutex> lock(mutex_);
     tasks_.clear();
@@ -294,7 +265,7 @@ void ChunkWorkshop::encoderLoop() {
             if (stop_) return;
             t = std::move(tasks_.front());
             tasks_.pop_front();
-            working_ = true;  // counted by feedEngine as a frame waiting for the encoder
+            working_ = true;  // still a frame waiting for the encoder (encoderBacklog)
         }
         try {
             encodeTask(t);
@@ -327,8 +298,6 @@ void ChunkWorkshop::encodeTask(Task& t) {
         cf.wasKept = 1;
     } else {
         if (pixels->size() < planeBytes) throw std::runtime_error("rendered frame has the wrong size");
-        cf.busySeconds = t.result.busySeconds;
-        cf.rays = t.result.rays;
         if (o.sendPngs) {
             if (!st.png) st.png = std::make_unique<PngEncoder>(w, h, ch);
             cf.png = st.png->encode(*pixels);

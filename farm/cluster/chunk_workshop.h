@@ -1,15 +1,13 @@
 #pragma once
-/// A rank's side of frame mode with chunked encoding: it takes a chunk (ChunkOrder), renders
-/// the chunk's frames on the rank's RenderEngine, and on a thread of its own compresses each
-/// frame to PNG (when frames are kept) and encodes the chunk with a fresh encoder
-/// (chunk_encoder.h). What goes back to rank 0 is one small message a frame (its PNG, if kept)
-/// and the encoded chunk, never the raw pixels. Workers and rank 0 (when it renders) use it
-/// alike; the rank's main thread stays free for messages.
-///
-/// In pixel mode with chunked encoding a rank also assembles chunks (submitAssembly): the
-/// chunk's frames are not rendered here but put together from the tiles every rendering rank
-/// sends (addTile), then compressed and encoded the same way. The engine's results for tiles of
-/// such frames (WorkItem::assembler) go to their assembling rank, and a note of them to rank 0.
+/// A rank's side of chunked encoding. It assembles the chunks rank 0 gives it (submitAssembly,
+/// a ChunkOrder) from the items rendered for them: whole frames in frame mode, tiles in pixel
+/// mode, from its own engine or from other ranks (addTile). On a thread of its own it
+/// compresses each frame to PNG (when frames are kept) and encodes the chunk with a fresh
+/// encoder (chunk_encoder.h). What goes back to rank 0 is one small message a frame (its PNG,
+/// if kept) and the encoded chunk, never the raw pixels. The engine's results for frames other
+/// ranks assemble (WorkItem::assembler) go there, and a note of every result to rank 0 (its
+/// credit). Workers and rank 0 (when it renders) use it alike; the rank's main thread stays
+/// free for messages.
 #include <condition_variable>
 #include <deque>
 #include <memory>
@@ -51,20 +49,17 @@ public:
     ChunkWorkshop(const ChunkWorkshop&) = delete;
     ChunkWorkshop& operator=(const ChunkWorkshop&) = delete;
 
-    /// Queues a chunk behind those already here, to render and encode.
-    void submit(ChunkOrder order);
-    /// Queues a chunk to assemble from tiles (addTile) and encode; its kept frames are not
-    /// rendered anywhere.
+    /// Queues a chunk to assemble (addTile, and the engine's results for it) and encode; its
+    /// kept frames are not rendered anywhere.
     void submitAssembly(ChunkOrder order);
-    /// A tile of a frame this rank assembles (its chunk's order may still be on its way: the
-    /// tile waits for it). Throws std::runtime_error on a tile that does not fit the frame.
+    /// A frame, or a tile of one, this rank assembles (its chunk's order may still be on its
+    /// way: it waits for it). Throws std::runtime_error on one that does not fit the frame.
     void addTile(TileResult tile);
-    /// Moves work along and returns the messages ready since the last call: the engine's
-    /// results are taken (waiting up to waitSeconds for one), frames of the chunks go to the
-    /// engine a few at a time (so at most a few frames wait in memory for the encoder), results
-    /// of single items (not chunks) pass through to rank 0 as kTagResult, and tiles of assembled
-    /// frames go to their assembling rank (kTagTile; kept here when that is this rank) with a
-    /// kTagTileDone to rank 0.
+    /// Moves work along and returns the messages ready since the last call. The engine's
+    /// results are taken (waiting up to waitSeconds for one): those of single items (no chunk)
+    /// pass through to rank 0 as kTagResult; those another rank assembles go there (kTagTile)
+    /// with a kTagTileDone to rank 0; this rank's own are placed, with their kTagTileDone, while
+    /// its encoder keeps up (so a rank that renders faster than it encodes is given no more).
     std::vector<Outgoing> poll(double waitSeconds);
     /// Chunks submitted and not yet sent back.
     int outstanding() const;
@@ -85,17 +80,16 @@ private:
     struct Pending {
         std::shared_ptr<const ChunkOrder> order;
         int frame = 0;
-        const std::string* keptPng = nullptr;
-        bool submitted = false;  ///< to the engine (rendered frames)
-        bool assembled = false;  ///< put together from tiles (submitAssembly), not rendered here
-        std::vector<uint8_t> pixels;  ///< an assembled frame's plane, allocated at its first tile
-        std::vector<bool> covered;    ///< its pixels a tile brought (a tile twice is an error)
-        int64_t pixelsLeft = 0;       ///< of an assembled frame, still to come
+        const std::string* keptPng = nullptr;  ///< a kept frame: nothing to assemble
+        std::vector<uint8_t> pixels;  ///< the frame's plane, from its first tile on
+        std::vector<uint8_t> covered; ///< 1 for each pixel a tile brought (a tile twice is an error)
+        int64_t pixelsLeft = 0;       ///< still to come
     };
-    void queueChunk(ChunkOrder order, bool assemble);
-    /// Copies tile into its frame; false if no frame here takes it (yet).
-    bool placeTile(const TileResult& tile);
-    void feedEngine();
+    /// Puts tile into its frame (a whole frame's pixels are moved, not copied); false if no
+    /// frame here takes it (yet).
+    bool placeTile(TileResult& tile);
+    /// Whole frames queued for the encoder thread, the one in its hands included.
+    int encoderBacklog() const;
     void queueReady();
     void encoderLoop();
     void encodeTask(Task& t);
@@ -107,13 +101,13 @@ private:
     std::unique_ptr<EncoderState> enc_;
 
     // The main thread's: frames of the submitted chunks in order (each chunk's in its order;
-    // chunks go to the encoder independently), and rendered results waiting for their turn.
+    // chunks go to the encoder independently).
     std::deque<Pending> pending_;
-    std::deque<TileResult> rendered_;
+    /// The engine's results for frames assembled here, waiting for the encoder to keep up.
+    std::deque<TileResult> own_;
     /// Tiles that came before their chunk's order (from a rank that heard of the chunk first).
     std::vector<TileResult> early_;
     int rank_ = 0;
-    int inEngine_ = 0;  ///< frames submitted to the engine and not yet taken back
     int chunksOut_ = 0;
 
     // Shared with the encoder thread.

@@ -34,21 +34,17 @@ std::string Master::describeBusy(const WorkerState& w) const {
     if (w.building) return "while building its scene";
     if (w.outstanding.empty() && !w.assembling.empty()) return "while assembling chunk " + std::to_string(w.assembling.front().chunk);
     if (w.outstanding.empty()) return "while idle";
-    if (w.outstanding.front().chunk >= 0) {
-        // A chunk: the frame its heartbeat named (rank 0's own: its engine's), and the chunk.
-        const WorkItem& c = w.outstanding.front();
-        int frame = w.rank == 0 && chunks_.local ? local_->currentFrame() : w.reportedFrame;
-        if (frame < c.frame || frame >= c.frame + c.frames) frame = c.frame;
-        std::string s = "while rendering frame " + std::to_string(frame) + " of chunk " + std::to_string(c.chunk) + " (frames " +
-                        std::to_string(c.frame) + "–" + std::to_string(c.frame + c.frames - 1) + ")";
-        if (w.outstanding.size() > 1) s += " (queued: chunk " + std::to_string(w.outstanding[1].chunk) + ")";
-        return s;
-    }
     // Items run in the order given: the first is the one being rendered, the rest wait.
     std::vector<int> frames;
     for (const WorkItem& i : w.outstanding)
         if (std::find(frames.begin(), frames.end(), i.frame) == frames.end()) frames.push_back(i.frame);
     std::string s = "while rendering frame " + std::to_string(frames[0]);
+    if (chunks_.collector) {  // and the chunk it is for
+        const ChunkPlan& plan = chunks_.collector->plan();
+        const int c = plan.chunkOf(frames[0]);
+        s += " of chunk " + std::to_string(c) + " (frames " + std::to_string(plan.firstFrame(c)) + "–" +
+             std::to_string(plan.lastFrame(c)) + ")";
+    }
     if (frames.size() > 1) {
         s += " (queued: frame";
         for (size_t i = 1; i < frames.size(); ++i) {
@@ -88,10 +84,12 @@ bool Master::tileReturned(int rank, const TileResult& r) {
 }
 
 void Master::openAssembly(const WorkItem& chunk) {
-    // The rendering rank assembling fewest chunks, taking ranks in turn on a tie.
+    // The rank the scheduler named (frame mode: the one that will render the chunk's frames),
+    // else the rendering rank assembling fewest chunks, taking ranks in turn on a tie.
     const int n = int(workers_.size());
-    int best = -1;
-    for (int step = 1; step <= n; ++step) {
+    const bool named = chunk.assembler >= (local_ ? 0 : 1) && chunk.assembler < n;
+    int best = named ? chunk.assembler : -1;
+    for (int step = 1; step <= n && !named; ++step) {
         const int r = (lastAssembler_ + step) % n;
         if (r == 0 && !local_) continue;
         if (best < 0 || workers_[size_t(r)].assembling.size() < workers_[size_t(best)].assembling.size()) best = r;
@@ -155,43 +153,28 @@ void Master::dispatch(int rank, int tag, const std::string& bytes) {
 
 void Master::acceptChunkFrame(int rank, const ChunkFrame& f) {
     if (f.item.epoch != epoch_) return;
-    WorkerState& w = workers_[size_t(rank)];
-    std::vector<WorkItem>& chunks = chunksOf(w);
+    std::vector<WorkItem>& chunks = workers_[size_t(rank)].assembling;
     const auto it = std::find_if(chunks.begin(), chunks.end(), [&](const WorkItem& i) { return i.chunk == f.item.chunk; });
     if (!chunks_.collector || it == chunks.end() || f.frame < it->frame || f.frame >= it->frame + it->frames) {
         failure_ = "rank " + std::to_string(rank) + " returned frame " + std::to_string(f.frame) + " of chunk " +
                    std::to_string(f.item.chunk) + ", work it was not given";
         return;
     }
-    if (assembles()) {  // its tiles were counted as they came (kTagTileDone)
-        if (chunks_.onFrame) chunks_.onFrame(f);
-        return;
-    }
-    if (f.frame == it->frame + it->frames - 1) w.chunksRendered.push_back(it->chunk);
-    if (!f.wasKept) {
-        out_.rays += f.rays;
-        RankStats& st = out_.perRank[size_t(rank)];
-        st.busySeconds += f.busySeconds;
-        ++st.frames;
-    }
+    // The frame's items were counted as their notes came (kTagTileDone).
     if (chunks_.onFrame) chunks_.onFrame(f);
 }
 
 void Master::acceptChunkDone(int rank, const WorkItem& item, std::string bytes) {
     if (item.epoch != epoch_) return;
-    WorkerState& w = workers_[size_t(rank)];
-    std::vector<WorkItem>& chunks = chunksOf(w);
+    std::vector<WorkItem>& chunks = workers_[size_t(rank)].assembling;
     const auto it = std::find_if(chunks.begin(), chunks.end(), [&](const WorkItem& i) { return i.chunk == item.chunk; });
     if (!chunks_.collector || it == chunks.end()) {
         failure_ = "rank " + std::to_string(rank) + " returned chunk " + std::to_string(item.chunk) + ", work it was not given";
         return;
     }
     chunks.erase(it);
-    std::erase(w.chunksRendered, item.chunk);
     chunks_.collector->add(item.chunk, std::move(bytes));
 }
-
-int Master::rendering(const WorkerState& w) const { return int(w.outstanding.size() - w.chunksRendered.size()); }
 
 int Master::creditsOf(const WorkerState& w) const {
     const int threads = w.rank == 0 && local_ ? local_->threads() : w.threads;
@@ -207,26 +190,22 @@ bool Master::handOut() {
         more = false;
         for (WorkerState& w : workers_) {
             if (w.rank == 0 && !local_) continue;
-            if (rendering(w) >= creditsOf(w)) continue;
-            std::optional<WorkItem> item = sched_->next();
-            for (; item && assembles() && item->chunk >= 0; item = sched_->next()) {
+            if (int(w.outstanding.size()) >= creditsOf(w)) continue;
+            std::optional<WorkItem> item = sched_->nextFor(w.rank);
+            for (; item && chunks_.collector && item->chunk >= 0; item = sched_->nextFor(w.rank)) {
                 item->epoch = epoch_;
-                openAssembly(*item);  // a chunk's marker: its tiles follow
+                openAssembly(*item);  // a chunk's marker: its frames or tiles follow
                 any = true;
             }
             if (!item) return any;
             item->epoch = epoch_;
-            if (assembles()) item->assembler = assemblerOf_.at(size_t(chunks_.collector->plan().chunkOf(item->frame)));
+            if (chunks_.collector) item->assembler = assemblerOf_.at(size_t(chunks_.collector->plan().chunkOf(item->frame)));
             if (!dispatched_) {
                 dispatched_ = true;
                 out_.firstDispatch = Clock::now();
             }
             w.outstanding.push_back(*item);
-            if (item->chunk >= 0 && !assembles()) {
-                ChunkOrder order = chunks_.orderFor(*item);
-                if (w.rank == 0) chunks_.local->submit(std::move(order));
-                else t_.send(w.rank, kTagChunkWork, encodeChunkOrder(order));
-            } else if (w.rank == 0) {
+            if (w.rank == 0) {
                 local_->submit(*item);  // with a workshop, its poll routes the result
             } else {
                 t_.send(w.rank, kTagWork, encodeWorkItem(*item));
@@ -331,10 +310,7 @@ std::vector<int> Master::renderingFrames() const {
     std::vector<int> rankFrames(workers_.size(), -1);
     for (const WorkerState& w : workers_) {
         if (w.outstanding.empty()) continue;
-        const WorkItem& i = w.outstanding.front();
-        // A chunk: the frame its rank said it renders, while that lies in the chunk.
-        const int said = w.rank == 0 && local_ ? local_->currentFrame() : w.reportedFrame;
-        rankFrames[size_t(w.rank)] = i.chunk >= 0 && said >= i.frame && said < i.frame + i.frames ? said : i.frame;
+        rankFrames[size_t(w.rank)] = w.outstanding.front().frame;
     }
     if (!local_ && !rankFrames.empty()) rankFrames.erase(rankFrames.begin());
     return rankFrames;
@@ -370,10 +346,10 @@ MasterOutcome Master::run() {
 
         progressed |= passOn();
         if (!failure_.empty()) return finish(RunEnd::Failed, failure_);
-        // Assembled chunks: a tile's note to rank 0 comes from its renderer and the chunk from
-        // its assembler, in either order, so the last notes may follow the last chunk.
+        // Chunks: an item's note to rank 0 comes from its renderer and the chunk from its
+        // assembler, in either order, so the last notes may follow the last chunk.
         if (sched_->exhausted() && (chunks_.collector ? chunks_.collector->finished() : asm_->finished()) &&
-            (!assembles() || std::all_of(workers_.begin(), workers_.end(), [](const WorkerState& w) { return w.outstanding.empty(); })))
+            std::all_of(workers_.begin(), workers_.end(), [](const WorkerState& w) { return w.outstanding.empty(); }))
             return finish(RunEnd::Done, "");
 
         // Heartbeats are read above before this check, so time spent blocked in emit (a full

@@ -92,12 +92,13 @@ public:
     /// Called for each result accepted into the assembler, with the rank that rendered it.
     void onTile(std::function<void(int rank, const WorkItem&)> f) { onTile_ = std::move(f); }
 
-    /// Chunked encoding. Frame mode: the scheduler hands out chunks (makeChunkScheduler), each
-    /// rendered and encoded by one rank. Pixel mode (makeChunkTileScheduler): each chunk goes to
-    /// a rank that assembles it from every rank's tiles and encodes it; the master picks that
-    /// rank (the one assembling fewest) and stamps it on the chunk's tiles, which then never
-    /// pass through rank 0. local (rank 0's own workshop over its engine, or nullptr) takes
-    /// rank 0's part. orderFor makes a chunk's order (kept frames, pictures wanted);
+    /// Chunked encoding: each chunk goes to a rank that assembles it from the items rendered
+    /// for it and encodes it; the chunk's items are stamped with that rank (WorkItem::assembler)
+    /// and their pixels never pass through rank 0. The scheduler hands out a marker for each
+    /// chunk before its items. Frame mode (makeChunkFrameScheduler): whole frames, the marker
+    /// naming the rank that will render most of them. Pixel mode (makeChunkTileScheduler):
+    /// tiles, and the master picks the rank assembling fewest chunks. local (rank 0's own
+    /// workshop over its engine, or nullptr) takes rank 0's part. orderFor makes a chunk's order (kept frames, pictures wanted);
     /// onFrame hears of each frame done (its PNG); emitChunk receives every encoded chunk in film
     /// order from collector. The frame assembler and emit are not used.
     struct ChunkHooks {
@@ -134,8 +135,7 @@ private:
         bool building = false;  ///< its last heartbeat said it is still building its scene
         int threads = 0;        ///< render threads, as its heartbeat said (0: not yet)
         bool answeredAfterInterrupt = false;
-        std::vector<int> chunksRendered;  ///< chunks in `outstanding` whose frames are all rendered
-        std::vector<WorkItem> assembling;  ///< pixel mode: chunks it assembles from tiles
+        std::vector<WorkItem> assembling;  ///< chunked encoding: the chunks it assembles and encodes
     };
     void handle(const Message& m);
     /// A message from a rank (rank 0: its own workshop's).
@@ -144,16 +144,11 @@ private:
     /// Takes r's item off the rank's outstanding work and counts it; false (failure_ set) if the
     /// rank was not given it.
     bool tileReturned(int rank, const TileResult& r);
-    /// Pixel mode with chunked encoding: picks the rank to assemble the chunk and sends it there.
+    /// Chunked encoding: the rank to assemble the chunk (the marker's, or the one assembling
+    /// fewest), and the chunk's order sent there.
     void openAssembly(const WorkItem& chunk);
-    /// Where acceptChunkFrame and acceptChunkDone look for a rank's chunks.
-    std::vector<WorkItem>& chunksOf(WorkerState& w) { return assembles() ? w.assembling : w.outstanding; }
-    bool assembles() const { return chunks_.collector && sched_->mode() == Mode::Pixel; }
     void acceptChunkFrame(int rank, const ChunkFrame& f);
     void acceptChunkDone(int rank, const WorkItem& item, std::string bytes);
-    /// Items a rank holds that still take its renderer (a chunk whose frames are all rendered
-    /// only waits for its encoder: the next chunk may go out).
-    int rendering(const WorkerState& w) const;
     /// Items the rank may hold (MasterConfig::credits, more for small items on many threads).
     int creditsOf(const WorkerState& w) const;
     /// Passes on what is ready, in order; true if anything was.

@@ -123,8 +123,6 @@ std::string encodeChunkFrame(const ChunkFrame& f) {
     w.put(wireOf(f.item));
     w.put(f.frame);
     w.put(f.wasKept);
-    w.put(f.busySeconds);
-    w.put(f.rays);
     w.bytes(f.png);
     w.bytes(f.pngSha256);
     w.bytes(f.pixels.data(), f.pixels.size());
@@ -137,8 +135,6 @@ ChunkFrame decodeChunkFrame(const std::string& bytes) {
     f.item = itemOf(r.get<WireRect>());
     f.frame = r.get<int32_t>();
     f.wasKept = r.get<int32_t>();
-    f.busySeconds = r.get<double>();
-    f.rays = r.get<RayStats>();
     f.png = r.bytes();
     f.pngSha256 = r.bytes();
     const std::string px = r.bytes();

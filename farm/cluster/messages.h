@@ -27,9 +27,6 @@ enum Tag : int {
     /// session through runFarm): work of any other epoch is stale and dropped, the item being
     /// rendered included
     kTagView = 17,
-    /// master → worker: ChunkOrder, a chunk of whole frames to render, encode and send back
-    /// (frame mode with chunked encoding)
-    kTagChunkWork = 18,
     /// worker → master: ChunkFrame, one frame of a chunk done (its PNG when frames are kept)
     kTagChunkFrame = 19,
     /// worker → master: the chunk's WorkItem, then its EncodedChunk (video_chunk.h)
@@ -37,11 +34,11 @@ enum Tag : int {
     /// rayfarm view, window → rank: the timeline JSON to pose the scene as loaded with from now
     /// on (the window's camera keys changed); "" for none
     kTagViewTimeline = 23,
-    /// master → the rank that assembles a chunk (pixel mode with chunked encoding): ChunkOrder;
-    /// the chunk's tiles come from every rendering rank (kTagTile), and the rank encodes the
-    /// chunk as frame mode's would
+    /// master → the rank that assembles a chunk (chunked encoding): ChunkOrder; the chunk's
+    /// frames, or their tiles, come from the rendering ranks (kTagTile; its own stay with it),
+    /// and the rank encodes the chunk
     kTagChunkAssemble = 21,
-    /// rendering rank → assembling rank: TileResult, a tile of a frame the receiver assembles
+    /// rendering rank → assembling rank: TileResult, a frame or a tile of one the receiver assembles
     kTagTile = 22,
     /// rendering rank → master: the TileResult's header alone (no pixels): the tile went to its
     /// assembling rank; frees the credit and carries the stats
@@ -100,9 +97,10 @@ struct Heartbeat {
     int32_t threads = 0;  ///< the rank's render threads (0: not said): rank 0 sizes its credits by them
 };
 
-/// A chunk to render (the frames not already kept) and encode, whole, on one rank.
+/// A chunk for one rank to assemble from the frames rendered for it (all but the kept ones)
+/// and encode.
 struct ChunkOrder {
-    WorkItem item;                 ///< chunk, its first frame and frame count, the whole image
+    WorkItem item;                 ///< chunk, its first frame and frame count
     int32_t sendPngs = 0;          ///< 1: send each rendered frame back as PNG (frames are kept)
     /// Frames of the chunk kept from an earlier run (--resume): their PNG bytes, read back from
     /// rank 0's frames directory, so that only the missing frames are rendered.
@@ -111,14 +109,12 @@ struct ChunkOrder {
     std::vector<int32_t> rawWanted;
 };
 
-/// One frame of a chunk done on its rank: for progress and the stats, and its PNG (kept
+/// One frame of a chunk done on its rank: for progress, and its PNG (kept
 /// frames) or pixels (contact sheet) when asked for.
 struct ChunkFrame {
     WorkItem item;              ///< the chunk's
     int32_t frame = 0;
     int32_t wasKept = 0;        ///< 1: decoded from a kept PNG, not rendered
-    double busySeconds = 0.0;   ///< rendering it
-    RayStats rays;
     std::string png, pngSha256; ///< empty unless ChunkOrder::sendPngs
     std::vector<uint8_t> pixels;  ///< the 8-bit plane, only for ChunkOrder::rawWanted frames
 };

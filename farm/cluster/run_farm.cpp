@@ -375,9 +375,6 @@ FarmOutcome FarmRun::run(SharedScene& shared) {
     chunked_ = job_.chunkedFrames;
     plan_ = ChunkPlan{job_.first, job_.last, std::max(kMinChunkFrames, job_.mp4.chunkFrames)};
     kept_ = plan.kept;
-    // Frame mode: a rank holds one chunk while it renders it; the next goes out once its frames
-    // are all rendered (Master::rendering), while its encoder finishes.
-    if (chunked_ && job_.mode == Mode::Frame) cfg.credits = 1;
     const int width = job_.settings.width, height = job_.settings.height;
     if (job_.mode == Mode::Pixel) {
         // A rank with many threads holds more small tiles, so that rendered together they fill
@@ -388,8 +385,8 @@ FarmOutcome FarmRun::run(SharedScene& shared) {
     std::unique_ptr<Scheduler> sched;
     if (!chunked_)
         sched = makeScheduler(job_, plan.toRender, renderers, cfg.credits);
-    else if (job_.mode == Mode::Frame)
-        sched = makeChunkScheduler(plan_, width, height, renderers + 2);
+    else if (job_.mode == Mode::Frame)  // a chunk open per renderer, two more while their last frames finish
+        sched = makeChunkFrameScheduler(plan_, plan.kept, width, height, renderers + 2);
     else  // a chunk open per renderer and one more: as many encoders at work as ranks
         sched = makeChunkTileScheduler(plan_, plan.kept, width, height, pixelTile(job_, renderers, cfg.credits), renderers + 1);
     FrameAssembler assembler(job_.settings.width, job_.settings.height, plan.order, plan.kept, job_.layout());

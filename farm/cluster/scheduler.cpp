@@ -22,22 +22,19 @@ Mode chooseMode(int frames, int renderers, int width, int height, std::string& w
         return Mode::Frame;
     }
     if (chunkFrames > 1) {
-        // Whole chunks of equal cost go out in rounds of one a rank; the last round leaves ranks
-        // idle unless it is full. Measured (2CylinderEngine at 2 ranks, RelWithDebInfo): 2 chunks
-        // frame 28.5-28.8 fps, pixel 25.4-26.8; 3 chunks frame 21.8-24.5 (the 0.75 busy share
-        // predicts 21.5), pixel 26.6.
-        const long long chunks = (frames + chunkFrames - 1LL) / chunkFrames;
-        const long long rounds = (chunks + renderers - 1) / renderers;
-        const double busy = double(chunks) / double(rounds * renderers);
-        const std::string counted = std::to_string(frames) + " frame(s) in " + std::to_string(chunks) + " chunk(s) of " +
-                                    std::to_string(chunkFrames) + " for " + std::to_string(renderers) + " rendering ranks";
+        // Whole frames of about equal cost go out as ranks free up, the last ones shared among
+        // the ranks whatever chunk they belong to, so the last round of frames leaves ranks idle
+        // unless it is full.
+        const long long rounds = (frames + renderers - 1LL) / renderers;
+        const double busy = double(frames) / double(rounds * renderers);
+        const std::string counted = std::to_string(frames) + " frame(s) for " + std::to_string(renderers) + " rendering ranks";
         char share[64];
-        std::snprintf(share, sizeof share, "whole chunks keep the ranks %.0f%% busy", 100.0 * busy);
+        std::snprintf(share, sizeof share, "whole frames keep the ranks %.0f%% busy", 100.0 * busy);
         if (busy < kPixelModeShare) {
             why = counted + ": " + share + ", tiles about 93%; each chunk assembled on a rank";
             return Mode::Pixel;
         }
-        why = counted + ": " + share + "; each rank renders and encodes whole chunks, the least traffic";
+        why = counted + ": " + share + "; each chunk rendered and encoded on one rank, the least traffic";
         return Mode::Frame;
     }
     if (frames < 4 * renderers) {

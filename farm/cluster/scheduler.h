@@ -25,6 +25,12 @@ public:
     /// The next item to hand out, or nullopt if none may go out now: everything is handed out,
     /// or starting another frame would exceed the window.
     virtual std::optional<WorkItem> next() = 0;
+    /// The next item for `rank` (the rank whose credit is free). Schedulers that keep work
+    /// where it is assembled use it; the others hand out the same as next().
+    virtual std::optional<WorkItem> nextFor(int rank) {
+        (void)rank;
+        return next();
+    }
     /// Work items one frame is split into.
     virtual int itemsPerFrame() const = 0;
     virtual Mode mode() const = 0;
@@ -63,9 +69,15 @@ std::unique_ptr<Scheduler> makePixelScheduler(anim::FrameRanges frames, int widt
 /// Frame mode: whole frames, one per item.
 std::unique_ptr<Scheduler> makeFrameScheduler(anim::FrameRanges frames, int width, int height, int window);
 
-/// Frame mode with chunked encoding: one item a chunk of the film (WorkItem::chunk, the whole
-/// image), rendered and encoded by one rank. The window counts chunks.
-std::unique_ptr<Scheduler> makeChunkScheduler(const ChunkPlan& plan, int width, int height, int window);
+/// Frame mode with chunked encoding: whole frames, each chunk assembled and encoded by one
+/// rank, its owner, which renders the chunk's frames in order itself (nextFor: a rank's own
+/// open chunk first; with none, it opens the next chunk, its marker carrying the rank as
+/// WorkItem::assembler). Once every chunk is open, a rank with no frame of its own left
+/// renders the last frames of the open chunk with the most left, for its owner: the film's
+/// end is shared frame by frame instead of waiting for the slowest chunk. Kept frames
+/// (--resume) are not handed out. The window counts chunks.
+std::unique_ptr<Scheduler> makeChunkFrameScheduler(const ChunkPlan& plan, anim::FrameRanges kept, int width, int height,
+                                                   int window);
 
 /// Pixel mode with chunked encoding: each chunk assembled and encoded by one rank from the
 /// tiles of every rank. Opening a chunk hands out its marker (WorkItem::chunk set, an empty
@@ -76,11 +88,11 @@ std::unique_ptr<Scheduler> makeChunkTileScheduler(const ChunkPlan& plan, anim::F
 
 /// mode "auto": pixel mode when frame mode's items are few compared with the rendering ranks
 /// (it would leave ranks idle); frame mode otherwise (fewer, bigger messages). chunkFrames > 1:
-/// frame mode's items are chunks of that many frames, rendered and encoded where they are
-/// rendered, so rank 0 holds no frames whatever their size; frame mode is chosen when whole
-/// chunks, handed out in rounds, keep the ranks busy at least as much of the time as pixel
-/// mode's measured speed against frame mode's (93%). chunkFrames 1: whole frames go to rank 0
-/// (a GIF, EXR frames), and large frames get pixel mode to keep its window small.
+/// the video is encoded in chunks of that many frames on the ranks, so rank 0 holds no frames
+/// whatever their size; frame mode is chosen when whole frames, handed out in rounds, keep the
+/// ranks busy at least as much of the time as pixel mode's measured speed against frame
+/// mode's (93%). chunkFrames 1: whole frames go to rank 0 (a GIF, EXR frames), and large
+/// frames get pixel mode to keep its window small.
 /// why receives a one-line reason.
 Mode chooseMode(int frames, int renderers, int width, int height, std::string& why, int chunkFrames = 1);
 

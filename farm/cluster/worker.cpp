@@ -99,12 +99,7 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
                 continue;
             }
             submitArrived();
-            if (m.tag == kTagChunkWork && shop) {
-                if (signalled) continue;
-                ChunkOrder order = decodeChunkOrder(m.bytes);
-                lastItemPixels = order.item.rect.pixels();
-                shop->submit(std::move(order));
-            } else if (m.tag == kTagChunkAssemble && shop) {
+            if (m.tag == kTagChunkAssemble && shop) {
                 if (!signalled) shop->submitAssembly(decodeChunkOrder(m.bytes));
             } else if (m.tag == kTagTile && shop) {
                 if (!signalled) shop->addTile(decodeTileResult(m.bytes));  // from the rank that rendered it
@@ -112,7 +107,7 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
                 engine.setView(decodeViewSpec(m.bytes));
                 viewing = true;
             }
-            else if (m.tag != kTagChunkWork && m.tag != kTagAlive && other) other(m);
+            else if (m.tag != kTagAlive && other) other(m);
         }
         submitArrived();
         if (const std::string err = shop ? shop->error() : engine.error(); !err.empty()) {

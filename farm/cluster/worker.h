@@ -20,8 +20,8 @@ inline constexpr int kMasterSilentExit = 3;
 /// returns kMasterSilentExit).
 /// kTagView sets the engine's interactive epoch (RenderEngine::setView); other tags runWorker
 /// does not know go to `other` when given (a viewer's own messages). shop: the rank's
-/// ChunkWorkshop over engine when the job encodes chunks on the rendering ranks (kTagChunkWork,
-/// kTagChunkAssemble, kTagTile).
+/// ChunkWorkshop over engine when the job encodes chunks on the ranks (kTagChunkAssemble,
+/// kTagTile).
 int runWorker(Transport& t, RenderEngine& engine, double masterTimeout = 20.0,
               const std::function<void(const Message&)>& other = nullptr, ChunkWorkshop* shop = nullptr);
 

@@ -1,7 +1,7 @@
-// A rank's ChunkWorkshop in pixel mode with chunked encoding (issue 32): it assembles a chunk's
-// frames from tiles that come in any order (some before the chunk's order itself), encodes the
-// chunk exactly as a rank that rendered the frames whole would, refuses a tile that does not
-// fit, and routes its own engine's tiles to the rank that assembles their frame.
+// A rank's ChunkWorkshop with chunked encoding (issue 32): it assembles a chunk's frames from
+// tiles that come in any order (some before the chunk's order itself), encodes the chunk
+// exactly as from whole frames its own engine rendered (frame mode), refuses a tile that does
+// not fit, and routes its own engine's results to the rank that assembles their frame.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -59,6 +59,10 @@ std::vector<TileResult> tilesOf(int frame, int assembler) {
     return tiles;
 }
 
+/// The chunk's frames rendered whole by the shop's own engine (frame mode), this rank (1)
+/// assembling them: the chunk as it comes back.
+std::string renderedWhole(const ChunkOrder& order, std::map<int, std::string>& pngs);
+
 /// Polls until a chunk comes back: its frames' PNGs by frame, and the chunk without its timing
 /// (its index in *index when given).
 std::string drain(ChunkWorkshop& shop, std::map<int, std::string>& pngs, int* index = nullptr) {
@@ -83,17 +87,29 @@ std::string drain(ChunkWorkshop& shop, std::map<int, std::string>& pngs, int* in
     return "";
 }
 
+std::string renderedWhole(const ChunkOrder& order, std::map<int, std::string>& pngs) {
+    RenderEngine engine = testEngine();
+    ChunkWorkshop shop(engine, testSpec(), 1);
+    shop.submitAssembly(order);
+    for (int f = order.item.frame; f < order.item.frame + order.item.frames; ++f) {
+        WorkItem item{f, {0, 0, 40, 30}};
+        item.assembler = 1;
+        engine.submit(item);
+    }
+    return drain(shop, pngs);
+}
+
 }  // namespace
 
-TEST(ChunkWorkshop, AssemblesAChunkFromTilesInAnyOrderAsItsRenderedFramesWouldEncode) {
+TEST(ChunkWorkshop, AssemblesAChunkFromTilesInAnyOrderAsFromWholeFrames) {
     const auto frames = rf::testing::referenceFarmFrames();
     // Rendered whole on this rank, frame mode's way.
-    RenderEngine wholeEngine = testEngine();
-    ChunkWorkshop whole(wholeEngine, testSpec(), 1);
-    whole.submit(chunkZero());
     std::map<int, std::string> wholePngs;
-    const std::string expected = drain(whole, wholePngs);
+    const std::string expected = renderedWhole(chunkZero(), wholePngs);
     ASSERT_FALSE(expected.empty());
+    ASSERT_EQ(wholePngs.size(), 2u);
+    for (const auto& [f, png] : wholePngs)
+        EXPECT_TRUE(decodePngFrame(png, "frame", 40, 30, 3) == frames.at(f)) << "whole frame " << f << " assembled wrong";
 
     // The same chunk from 16x16 tiles of frames 0 and 1, shuffled; one arrives before the order.
     Scene scene = rf::testing::loadFarmScene();
@@ -175,11 +191,8 @@ TEST(ChunkWorkshop, SendsItsEnginesTilesToTheirAssemblerAndTellsRankZero) {
 // A rank assembling two chunks whose frames come in turn: the later chunk, complete first, is
 // encoded and sent at once (each chunk has its own encoder), not held until the earlier one is.
 TEST(ChunkWorkshop, AChunkCompleteFirstIsNotHeldBehindAnEarlierOne) {
-    RenderEngine wholeEngine = testEngine();
-    ChunkWorkshop whole(wholeEngine, testSpec(), 1);
-    whole.submit(chunkOf2(1));
     std::map<int, std::string> unused;
-    const std::string expected = drain(whole, unused);
+    const std::string expected = renderedWhole(chunkOf2(1), unused);
 
     RenderEngine idle = testEngine();
     ChunkWorkshop shop(idle, testSpec(), 1);

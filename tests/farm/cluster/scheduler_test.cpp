@@ -101,44 +101,95 @@ TEST(FrameScheduler, ABillionFramesStartAtOnce) {
     EXPECT_EQ(s->next()->frame, 5);
 }
 
-// Issue 32: with chunked encoding, frame mode's items are chunks, so auto counts chunks; frame
-// size no longer sends it to pixel mode (rank 0 holds no frames). Frame mode when whole chunks
-// handed out in rounds keep the ranks busy at least 93% of the time (pixel mode's measured speed
-// against frame mode's).
-TEST(Scheduler, AutoModeCountsChunksWhenRanksEncodeThem) {
+// Issue 32: with chunked encoding the chunks are encoded on the ranks, so frame size no longer
+// sends auto to pixel mode (rank 0 holds no frames); frame mode shares the film's last frames
+// among the ranks, so auto counts frames: frame mode when whole frames handed out in rounds
+// keep the ranks busy at least 93% of the time (pixel mode's measured speed against frame
+// mode's).
+TEST(Scheduler, AutoModeCountsFramesWhenRanksEncodeChunks) {
     std::string why;
-    EXPECT_EQ(chooseMode(120, 2, 640, 360, why, 60), Mode::Frame) << "2 chunks for 2 ranks: one round, full";
-    EXPECT_NE(why.find("120 frame(s) in 2 chunk(s) of 60 for 2 rendering ranks: whole chunks keep the ranks 100% busy"),
-              std::string::npos) << why;
-    EXPECT_EQ(chooseMode(120, 2, 640, 360, why, 40), Mode::Pixel) << "3 chunks for 2 ranks: 75% busy";
+    EXPECT_EQ(chooseMode(120, 2, 640, 360, why, 60), Mode::Frame) << "60 rounds, full";
+    EXPECT_NE(why.find("120 frame(s) for 2 rendering ranks: whole frames keep the ranks 100% busy"), std::string::npos) << why;
+    EXPECT_EQ(chooseMode(120, 2, 640, 360, why, 40), Mode::Frame) << "3 chunks for 2 ranks: their frames are shared";
+    EXPECT_EQ(chooseMode(3, 2, 640, 360, why, 2), Mode::Pixel) << "3 frames for 2 ranks: 75% busy";
     EXPECT_NE(why.find("75% busy"), std::string::npos) << why;
-    EXPECT_EQ(chooseMode(120, 16, 640, 360, why, 15), Mode::Pixel) << "8 chunks for 16 ranks";
-    EXPECT_EQ(chooseMode(29 * 60, 2, 640, 360, why, 60), Mode::Frame) << "29 chunks for 2 ranks: 97% busy";
-    EXPECT_EQ(chooseMode(11 * 60, 2, 640, 360, why, 60), Mode::Pixel) << "11 chunks for 2 ranks: 92% busy";
+    EXPECT_EQ(chooseMode(8, 16, 640, 360, why, 2), Mode::Pixel) << "8 frames for 16 ranks";
+    EXPECT_EQ(chooseMode(29, 2, 640, 360, why, 15), Mode::Frame) << "29 frames for 2 ranks: 97% busy";
+    EXPECT_EQ(chooseMode(11, 2, 640, 360, why, 15), Mode::Pixel) << "11 frames for 2 ranks: 92% busy";
     EXPECT_EQ(chooseMode(2000000000, 1000, 640, 360, why, 60), Mode::Frame) << "no overflow";
-    EXPECT_EQ(chooseMode(480, 2, 640, 360, why, 60), Mode::Frame) << "8 chunks for 2 ranks";
     EXPECT_EQ(chooseMode(480, 2, 3840, 2160, why, 60), Mode::Frame) << "4K in chunks: nothing held on rank 0";
     EXPECT_EQ(chooseMode(480, 2, 3840, 2160, why, 1), Mode::Pixel) << "4K frames to rank 0 (a GIF)";
     EXPECT_EQ(chooseMode(7, 1, 640, 360, why, 60), Mode::Frame) << "one renderer";
 }
 
-TEST(Scheduler, ChunkSchedulerHandsOutWholeChunksInOrderWithinItsWindow) {
-    const ChunkPlan plan{10, 20, 4};  // chunks 10-13, 14-17, 18-20
-    auto s = makeChunkScheduler(plan, 64, 48, 2);
-    auto a = s->next(), b = s->next();
-    ASSERT_TRUE(a && b);
-    EXPECT_FALSE(s->next()) << "window of 2 chunks";
-    EXPECT_EQ(a->chunk, 0);
-    EXPECT_EQ(a->frame, 10);
-    EXPECT_EQ(a->frames, 4);
-    EXPECT_EQ(a->rect.pixels(), 64 * 48);
-    EXPECT_EQ(b->chunk, 1);
+namespace {
+
+/// An item as text: a chunk's marker "cC>R" (C the chunk, R the rank named to assemble it), a
+/// frame "F", or "-" for none.
+std::string itemText(const std::optional<WorkItem>& i) {
+    if (!i) return "-";
+    if (i->chunk >= 0) return "c" + std::to_string(i->chunk) + ">" + std::to_string(i->assembler);
+    return std::to_string(i->frame);
+}
+
+}  // namespace
+
+// Frame mode with chunked encoding: a rank asking opens a chunk of its own (the marker names it
+// to assemble it) and renders that chunk's frames in order; with every chunk open, a rank with
+// none of its own left takes the last frames of the chunk with the most left.
+TEST(Scheduler, ChunkFrameSchedulerKeepsChunksOnTheirRanksAndSharesTheEnd) {
+    const ChunkPlan plan{10, 21, 4};  // chunks 10-13, 14-17, 18-21
+    auto s = makeChunkFrameScheduler(plan, {}, 64, 48, 3);
+    EXPECT_EQ(s->mode(), Mode::Frame);
+    EXPECT_EQ(s->itemsPerFrame(), 1);
+    std::vector<std::string> seen;
+    auto ask = [&](int rank) {
+        const std::optional<WorkItem> i = s->nextFor(rank);
+        if (i) {
+            EXPECT_EQ(i->chunk < 0 ? i->rect.pixels() : i->frames, i->chunk < 0 ? 64 * 48 : 4) << "a whole frame, or a chunk of 4";
+        }
+        seen.push_back(itemText(i));
+    };
+    for (int r : {1, 1, 2, 2, 1, 2, 1, 1, 1, 1}) ask(r);
+    EXPECT_EQ(seen, (std::vector<std::string>{"c0>1", "10", "c1>2", "14", "11", "15", "12", "13", "c2>1", "18"}));
+    // Every chunk open: rank 1 has 19-21 of its own; rank 2, out of frames, takes chunk 2's last.
+    seen.clear();
+    for (int r : {2, 2, 2, 1, 2, 2}) ask(r);
+    EXPECT_EQ(seen, (std::vector<std::string>{"16", "17", "21", "19", "20", "-"}));
+    EXPECT_TRUE(s->exhausted());
+}
+
+TEST(Scheduler, ChunkFrameSchedulerHelpsTheChunkWithMostLeftAndSkipsKeptFrames) {
+    const ChunkPlan plan{0, 11, 4};  // chunks 0-3, 4-7, 8-11
+    anim::FrameRanges kept;
+    for (int f : {3, 4, 5, 6, 7, 8}) kept.insert(f);  // chunk 1 kept whole
+    auto s = makeChunkFrameScheduler(plan, kept, 8, 8, 2);
+    std::vector<std::string> seen;
+    auto ask = [&](int rank) { seen.push_back(itemText(s->nextFor(rank))); };
+    for (int r : {1, 1, 2, 2}) ask(r);
+    // Chunk 1 opens for rank 2 (its assembler encodes the kept frames) but has no frame to hand
+    // out; the window of 2 is full, so rank 2 helps chunk 0, from its end (frame 3 is kept).
+    EXPECT_EQ(seen, (std::vector<std::string>{"c0>1", "0", "c1>2", "2"}));
+    seen.clear();
+    for (int r : {1, 1}) ask(r);
+    EXPECT_EQ(seen, (std::vector<std::string>{"1", "-"}));
+    EXPECT_FALSE(s->exhausted());
+    s->frameReleased();  // chunk 0 passed on
+    seen.clear();
+    for (int r : {2, 2, 1, 2, 1}) ask(r);
+    EXPECT_EQ(seen, (std::vector<std::string>{"c2>2", "9", "11", "10", "-"}));
+    EXPECT_TRUE(s->exhausted());
+}
+
+TEST(Scheduler, ChunkFrameSchedulerChunksOpenedForNoRankGoToAnyAsker) {
+    auto s = makeChunkFrameScheduler(ChunkPlan{0, 3, 2}, {}, 8, 8, 1);
+    std::vector<std::string> seen;
+    for (auto i = s->next(); i; i = s->next()) seen.push_back(itemText(i));
+    EXPECT_EQ(seen, (std::vector<std::string>{"c0>-1", "0", "1"}));
     s->frameReleased();
-    auto c = s->next();
-    ASSERT_TRUE(c);
-    EXPECT_EQ(c->chunk, 2);
-    EXPECT_EQ(c->frame, 18);
-    EXPECT_EQ(c->frames, 3);
+    seen.clear();
+    for (auto i = s->next(); i; i = s->next()) seen.push_back(itemText(i));
+    EXPECT_EQ(seen, (std::vector<std::string>{"c1>-1", "2", "3"}));
     EXPECT_TRUE(s->exhausted());
 }
 
