@@ -155,6 +155,29 @@ std::string videoChunksNote(const RenderJob& job) {
                                    : "video in chunks of " + k + " frames, each assembled from the tiles and encoded by one rank";
 }
 
+/// Builds the scene's bounce cache for these settings at `frame`, on a posed copy (posing leaves
+/// traces in a scene, as resolveAutoExposure says), so that the film's first frame on this rank
+/// finds it ready instead of building it inside the run (about 0.4 s on one core for
+/// 2CylinderEngine). Copies share the cache's slot; a cache for other settings or another pose
+/// is simply not used, and the render builds its own as before.
+void prebuildBounceCache(const Scene& scene, const anim::Timeline& tl, const RenderSettings& settings, int frame, int threads) {
+    if (settings.bounce <= 0 || !bounceApplies(scene)) return;
+    Scene posed = scene;
+    tl.applyFrame(posed, frame);
+    bounceCache(posed, settings, std::max(1, threads));
+}
+
+/// A worker's head start (shareScene) while rank 0 decides the job and meters its exposure: the
+/// bounce cache for the settings and first frame the same command line gives rank 0.
+void workerHeadStart(Scene& scene, const ArgParser& p, const RenderJob& job, int threads) {
+    RenderSettings settings = scene.settings;
+    applyQualityOptions(p, settings);
+    const anim::Timeline tl = anim::Timeline::fromScene(scene, job.fpsOption);
+    int first = 0, last = tl.frameCount() - 1;
+    if (auto f = p.value("--frames")) parseFrameRange(*f, tl.frameCount(), first, last);
+    prebuildBounceCache(scene, tl, settings, first, threads);
+}
+
 /// Rank 0's part of makeJob: everything decided from the options and the loaded scene, checked
 /// before any rendering.
 void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundle& inputs, int ranks, const std::string& threadsNote,
@@ -171,7 +194,9 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
     job.mp4.chunkFrames =
         job.chunkFramesOption > 0 ? job.chunkFramesOption : defaultChunkFrames(job.mp4.fps, job.last - job.first + 1);
     decideOutputs(job, scene);
-    // Metering renders: only once every option has been checked.
+    // Metering renders: only once every option has been checked. The bounce cache first, at the
+    // first frame, as the workers build theirs meanwhile (workerHeadStart); the meter uses it.
+    prebuildBounceCache(scene, tl, job.settings, job.first, job.threads);
     resolveAutoExposure(scene, tl, job.settings, job.threads);
     // A format without alpha lays the frames over the background colour, as the scene shows it.
     const float bg[3] = {scene.background.r, scene.background.g, scene.background.b};
@@ -326,7 +351,7 @@ int renderFilm(MpiTransport& t, const ArgParser& p, const std::vector<std::strin
                     decideJob(job, p, scene, inputs, t.size(), threadsNote, film != nullptr);
                     return encodeWorkerJob(job);
                 },
-                sceneOptions(p));
+                sceneOptions(p), [&](Scene& scene) { workerHeadStart(scene, p, job, threadsForRank(job, t)); });
         } catch (const LoadCancelled& c) {
             const int code = watch.interrupted(c);
             // A worker gets here only when rank 0 loaded and waits for it: say why it will not hear.

@@ -61,7 +61,8 @@ FileBundle filesSince(const FileBundle& all, const std::set<std::string>& sent) 
 }  // namespace
 
 SharedScene shareScene(Transport& t, const std::string& path, const std::function<void()>& preLoad,
-                       const std::function<std::string(Scene&, const FileBundle&)>& makeJob, const SceneOptions& options) {
+                       const std::function<std::string(Scene&, const FileBundle&)>& makeJob, const SceneOptions& options,
+                       const std::function<void(Scene&)>& headStart) {
     const auto t0 = std::chrono::steady_clock::now();
     SharedScene out;
     std::string payload;
@@ -120,6 +121,13 @@ SharedScene shareScene(Transport& t, const std::string& path, const std::functio
                 testBuildDelay();
             } catch (...) {
                 failed = std::current_exception();
+            }
+            if (!failed && headStart) {
+                try {
+                    headStart(out.scene);
+                } catch (...) {
+                    // Only a head start: the job, when it comes, decides.
+                }
             }
         }
         receive();

@@ -37,9 +37,11 @@ struct SharedScene {
 /// with exit code 2 for input errors, 1 otherwise) and rank 0 rethrows. options.inputsRead, if
 /// set, is called on every rank once its loader has read the files (on rank 0 after sending them).
 /// options (the command line's environment) apply on every rank; files they name travel in the
-/// bundle with the scene's.
+/// bundle with the scene's. headStart, if set, runs on each worker once its scene is built,
+/// while rank 0 is still deciding the job (work a worker can begin before the job comes; an
+/// exception from it is dropped).
 SharedScene shareScene(Transport& t, const std::string& path, const std::function<void()>& preLoad,
                        const std::function<std::string(Scene&, const FileBundle&)>& makeJob,
-                       const SceneOptions& options = {});
+                       const SceneOptions& options = {}, const std::function<void(Scene&)>& headStart = nullptr);
 
 }  // namespace rf::farm

@@ -119,6 +119,22 @@ TEST(BounceCache, ATurntableOfTheCameraBuildsItOnceAndEveryFrameSeesTheSameBounc
     EXPECT_NE(moved.get(), first.get());
 }
 
+// A farm worker builds the cache on a copy of its scene while rank 0 decides the job
+// (cmd_render's workerHeadStart): the copy shares the cache's slot, so the scene the worker then
+// renders finds it built and traces nothing more for it.
+TEST(BounceCache, ACopyOfTheSceneSharesItsCache) {
+    const Scene s = floorScene();
+    const RenderSettings rs = smallSettings(48, 27);
+    Scene copy = s;
+    RayStats onCopy;
+    const auto built = bounceCache(copy, rs, 2, &onCopy);
+    ASSERT_TRUE(built);
+    EXPECT_GT(onCopy.bounce, 0u);
+    RayStats onScene;
+    EXPECT_EQ(bounceCache(s, rs, 2, &onScene).get(), built.get());
+    EXPECT_EQ(onScene.bounce, 0u) << "built again for the scene the copy came from";
+}
+
 TEST(BounceCache, LightsOrbitingWithTheCameraDoNotMakeItFlicker) {
     // A bare model's turntable turns its lights with the camera, so the cache is lit again every
     // frame. Under a 0.6 m quad 1 m above a 20 m floor, the floor stays lit the same as the sun
