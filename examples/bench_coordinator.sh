@@ -2,7 +2,7 @@
 # Benchmark (not a test): the ceiling of rank 0 (the coordinator) of `rayfarm render`, with
 # near-free work, so that what is measured is rank 0's own work per frame: dispatch, gather,
 # frame assembly, PNG frames and the video. Since issue 32 the chunks are encoded on the other
-# ranks and rank 0 only joins them: in frame mode by the rank that rendered the chunk, in pixel
+# ranks and rank 0 only joins them: in frame mode by the rank that renders the chunk's frames, in pixel
 # mode by the rank that assembled it from every rank's tiles (rank 0 then only schedules tiles
 # and reads a note per tile). MODES="frame pixel" as before; run the same script from a
 # checkout before the change for its "before" figures. Whole `mpirun` processes of
