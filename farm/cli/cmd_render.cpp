@@ -21,6 +21,7 @@
 #include "output_check.h"
 #include "output_lock.h"
 #include "output_paths.h"
+#include "parallel.h"
 #include "png_sink.h"
 #include "preview_spawn.h"
 #include "progress.h"
@@ -164,7 +165,7 @@ void prebuildBounceCache(const Scene& scene, const anim::Timeline& tl, const Ren
     if (settings.bounce <= 0 || !bounceApplies(scene)) return;
     Scene posed = scene;
     tl.applyFrame(posed, frame);
-    bounceCache(posed, settings, std::max(1, threads));
+    bounceCache(posed, settings, threads > 0 ? threads : hardwareThreads());
 }
 
 /// A worker's head start (shareScene) while rank 0 decides the job and meters its exposure: the
@@ -194,9 +195,10 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
     job.mp4.chunkFrames =
         job.chunkFramesOption > 0 ? job.chunkFramesOption : defaultChunkFrames(job.mp4.fps, job.last - job.first + 1);
     decideOutputs(job, scene);
-    // Metering renders: only once every option has been checked. The bounce cache first, at the
-    // first frame, as the workers build theirs meanwhile (workerHeadStart); the meter uses it.
-    prebuildBounceCache(scene, tl, job.settings, job.first, job.threads);
+    // Metering renders: only once every option has been checked. When rank 0 renders (two ranks
+    // or fewer), the bounce cache first, at the first frame, as the workers build theirs
+    // meanwhile (workerHeadStart); the meter uses it.
+    if (ranks <= 2) prebuildBounceCache(scene, tl, job.settings, job.first, job.threads);
     resolveAutoExposure(scene, tl, job.settings, job.threads);
     // A format without alpha lays the frames over the background colour, as the scene shows it.
     const float bg[3] = {scene.background.r, scene.background.g, scene.background.b};

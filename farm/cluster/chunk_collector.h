@@ -1,6 +1,6 @@
 #pragma once
-/// Rank 0's reorder buffer in frame mode with chunked encoding: encoded chunks arrive in any
-/// order from the ranks that rendered them and leave in film order, to be joined into the video
+/// Rank 0's reorder buffer with chunked encoding: encoded chunks arrive in any order from the
+/// ranks that encoded them and leave in film order, to be joined into the video
 /// (Mp4Sink::writeChunk). It holds compressed chunks only, and the few frames' pixels the
 /// contact sheet and poster want until their chunk's turn.
 #include <map>

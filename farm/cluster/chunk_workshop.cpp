@@ -18,8 +18,9 @@ namespace {
 
 /// Complete frames a rank holds for its encoder before it holds back its own engine's results
 /// (and so the credit rank 0 gives back for them): enough that the encoder never waits, few
-/// enough that a 4K chunk never sits in memory whole when the engine renders far faster than
-/// x264 encodes (near-free work: bench_coordinator.sh).
+/// enough that a rank rendering its own chunk far faster than x264 encodes (near-free work:
+/// bench_coordinator.sh) does not pile its frames up. Frames other ranks render for its chunks
+/// are not held back (they come as those ranks run out of work of their own).
 constexpr int kFramesAhead = 3;
 
 /// Appends a message, its payload moved in. (Not push_back of a braced Outgoing: GCC 12's LTO
@@ -126,6 +127,7 @@ bool ChunkWorkshop::placeTile(TileResult& tile) {
     if (r.x0 < 0 || r.y0 < 0 || r.x1 > w || r.y1 > h || r.x0 >= r.x1 || r.y0 >= r.y1 || tile.layout.channels != ch ||
         tile.rgb.size() != size_t(r.pixels()) * size_t(ch))
         throw std::runtime_error(bad + "does not fit the frame");
+    if (r.pixels() > it->pixelsLeft) throw std::runtime_error(bad + "came twice");  // more than the frame still lacks
     if (it->pixelsLeft == r.pixels() && it->pixels.empty()) {  // the whole frame at once (frame mode): taken as it is
         it->pixels = std::move(tile.rgb);
         it->pixelsLeft = 0;

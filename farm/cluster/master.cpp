@@ -30,12 +30,18 @@ std::string Master::who(int rank) const {
     return "rank " + std::to_string(rank) + (host.empty() ? "" : " on " + host);
 }
 
+int Master::saidFrame(const WorkerState& w) const { return w.rank == 0 && local_ ? local_->currentFrame() : w.reportedFrame; }
+
 std::string Master::describeBusy(const WorkerState& w) const {
     if (w.building) return "while building its scene";
     if (w.outstanding.empty() && !w.assembling.empty()) return "while assembling chunk " + std::to_string(w.assembling.front().chunk);
     if (w.outstanding.empty()) return "while idle";
-    // Items run in the order given: the first is the one being rendered, the rest wait.
+    // Items run in the order given: the first is the one being rendered, the rest wait (unless
+    // the rank said it renders another of them: the first may be done, its note not yet sent).
     std::vector<int> frames;
+    const int said = saidFrame(w);
+    if (std::any_of(w.outstanding.begin(), w.outstanding.end(), [&](const WorkItem& i) { return i.frame == said; }))
+        frames.push_back(said);
     for (const WorkItem& i : w.outstanding)
         if (std::find(frames.begin(), frames.end(), i.frame) == frames.end()) frames.push_back(i.frame);
     std::string s = "while rendering frame " + std::to_string(frames[0]);
@@ -310,7 +316,9 @@ std::vector<int> Master::renderingFrames() const {
     std::vector<int> rankFrames(workers_.size(), -1);
     for (const WorkerState& w : workers_) {
         if (w.outstanding.empty()) continue;
-        rankFrames[size_t(w.rank)] = w.outstanding.front().frame;
+        const int said = saidFrame(w);
+        const bool holds = std::any_of(w.outstanding.begin(), w.outstanding.end(), [&](const WorkItem& i) { return i.frame == said; });
+        rankFrames[size_t(w.rank)] = holds ? said : w.outstanding.front().frame;
     }
     if (!local_ && !rankFrames.empty()) rankFrames.erase(rankFrames.begin());
     return rankFrames;

@@ -163,6 +163,8 @@ private:
     /// For progress: the frame each rendering rank is on (-1: idle).
     std::vector<int> renderingFrames() const;
     std::string describeBusy(const WorkerState& w) const;
+    /// The frame the rank last said it renders (its heartbeat; rank 0's own engine's), or -1.
+    int saidFrame(const WorkerState& w) const;
     std::string who(int rank) const;  // "rank 2 on node7"
 
     /// Interrupted (a signal or the cancel flag), with every worker's answer to it reset.

@@ -152,13 +152,14 @@ private:
     bool rank0Renders_ = false;
     std::atomic<int> framesPassed_{0};
     int encodedKept_ = 0;
-    /// Chunked encoding on the rendering ranks: each chunk encoded by one rank, which renders it
-    /// (frame mode) or assembles it from every rank's tiles (pixel mode).
+    /// Chunked encoding on the rendering ranks: each chunk encoded by one rank, which renders its
+    /// frames (frame mode; the film's last frames come from every rank) or assembles it from
+    /// every rank's tiles (pixel mode).
     bool chunked_ = false;
     ChunkPlan plan_;
     anim::FrameRanges kept_;
     std::unique_ptr<ChunkCollector> collector_;
-    double rankEncodeSeconds_ = 0.0;  ///< chunk encoders' time on the ranks that rendered them
+    double rankEncodeSeconds_ = 0.0;  ///< chunk encoders' time on the ranks that encoded them
     int chunksJoined_ = 0;
     int silentRank_ = -1;
     Clock::time_point end_{};
@@ -207,9 +208,9 @@ void FarmRun::emit(ReadyFrame& rf, int total) {
     if (opts_.onFrame) opts_.onFrame(FarmProgress{rf.frame, framesPassed_, total, rf.onDisk, &rf.rgb});
 }
 
-/// A chunk as it goes out: the PNGs of its frames kept by an earlier run (read here, decoded
-/// by the rank, which renders only the rest), the frames the pictures want, and whether to send
-/// PNGs back.
+/// A chunk as it goes out to the rank that encodes it: the PNGs of its frames kept by an
+/// earlier run (read here, decoded by that rank; only the other frames are handed out), the
+/// frames the pictures want, and whether to send PNGs back.
 ChunkOrder FarmRun::orderFor(const WorkItem& item) const {
     ChunkOrder o;
     o.item = item;
@@ -474,7 +475,7 @@ RunStats FarmRun::stats(const MasterOutcome& o, Clock::time_point end, const Sha
     s.renderSeconds = secondsBetween(firstDispatch, std::max(sinks_.video->lastDone(), o.firstDispatch));
     s.sustainedFps = s.renderSeconds > 0.0 ? s.frames / s.renderSeconds : 0.0;
     s.wallSeconds = secondsBetween(opts_.wallStart, end);
-    // Chunks encoded on the ranks that rendered them are encoder time too; rank 0's video
+    // Chunks encoded on the ranks are encoder time too; rank 0's video
     // thread then only joins them (mux_s).
     s.encodeSeconds = sinks_.video->busySeconds() + rankEncodeSeconds_;
     s.width = job_.settings.width;
@@ -575,8 +576,9 @@ int runFarmWorker(Transport& t, SharedScene& shared, double fpsOption, int threa
         RenderEngine engine(std::move(shared.scene), timeline, settings, threads, outputs.linear != 0,
                             benchFreeWorkRenderer(outputs.linear != 0));
         if (chunkVideo.empty()) return runWorker(t, engine, masterTimeout);
-        // This rank encodes chunks itself, as rank 0 would: chunks it renders whole (frame
-        // mode), or assembles from every rank's tiles (pixel mode).
+        // This rank encodes chunks itself, as rank 0 would: chunks whose frames it renders (frame
+        // mode, with the film's last frames from other ranks too), or assembles from every
+        // rank's tiles (pixel mode).
         ChunkWorkshop shop(engine, decodeChunkVideoSpec(chunkVideo), t.rank());
         return runWorker(t, engine, masterTimeout, nullptr, &shop);
     } catch (const std::exception& e) {

@@ -72,10 +72,10 @@ std::unique_ptr<Scheduler> makeFrameScheduler(anim::FrameRanges frames, int widt
 /// Frame mode with chunked encoding: whole frames, each chunk assembled and encoded by one
 /// rank, its owner, which renders the chunk's frames in order itself (nextFor: a rank's own
 /// open chunk first; with none, it opens the next chunk, its marker carrying the rank as
-/// WorkItem::assembler). Once every chunk is open, a rank with no frame of its own left
-/// renders the last frames of the open chunk with the most left, for its owner: the film's
-/// end is shared frame by frame instead of waiting for the slowest chunk. Kept frames
-/// (--resume) are not handed out. The window counts chunks.
+/// WorkItem::assembler). When no chunk can open (every chunk is, or the window is full), a
+/// rank with no frame of its own left renders the next frames of the open chunk with the most
+/// left, for its owner: the film's end is shared frame by frame instead of waiting for the
+/// slowest chunk. Kept frames (--resume) are not handed out. The window counts chunks.
 std::unique_ptr<Scheduler> makeChunkFrameScheduler(const ChunkPlan& plan, anim::FrameRanges kept, int width, int height,
                                                    int window);
 

@@ -50,13 +50,15 @@ public:
             open_.push_back({rank, plan_.firstFrame(*n), plan_.lastFrame(*n)});
             return marker;
         }
-        // Every chunk is open: the last frame of the one with the most left (the earliest on a
-        // tie, since the film is joined in order), rendered here for its owner.
+        // No chunk can open (all are, or the window is full): the next frame of the one with the
+        // most left (the earliest on a tie, since the film is joined in order), rendered here for
+        // its owner. Its frames keep coming in order, so its encoder takes them as they come and
+        // none waits long in the owner's memory for an earlier one.
         OpenChunk* most = nullptr;
         for (OpenChunk& c : open_)
             if (!most || c.last - c.next > most->last - most->next) most = &c;
         if (!most) return std::nullopt;
-        return frame(most->last--);
+        return frame(most->next++);
     }
     int itemsPerFrame() const override { return 1; }
     Mode mode() const override { return Mode::Frame; }

@@ -32,7 +32,7 @@ private:
 };
 
 /// Pixel mode with chunked encoding. The scheduler's "frames" are chunk numbers, as in frame
-/// mode's ChunkScheduler: the window counts chunks open. Opening a chunk yields its marker (the
+/// mode's ChunkFrameScheduler: the window counts chunks open. Opening a chunk yields its marker (the
 /// chunk's WorkItem, an empty rectangle), on which the master picks the rank that assembles it;
 /// then the frames of the open chunks go out tile by tile, taking the chunks in turn a frame at
 /// a time, so every open chunk's assembler receives frames at once and the encoders run side

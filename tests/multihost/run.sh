@@ -4,7 +4,7 @@
 # on them through netns_agent.sh in place of ssh, and every byte goes over TCP on 10.123.0.0/24.
 #   1. pixel and frame mode on 3 hosts give PNGs bit-identical to one process, and the same
 #      video file byte for byte (chunks of 4 frames, in frame mode encoded on the hosts that
-#      rendered them, in pixel mode on the hosts that assembled them from every host's tiles);
+#      render their frames, in pixel mode on the hosts that assembled them from every host's tiles);
 #   2. kill -9 of the worker on farm2: the run stops, naming rank 1 and farm2;
 #   3. farm3's link cut mid-chunk (frame mode, chunks of 8 frames rendered and encoded on the
 #      hosts): the shell gets control back within 15 s, the run names rank 2, farm3 and its

@@ -153,6 +153,13 @@ TEST(ChunkWorkshop, RefusesATileThatDoesNotFitItsFrame) {
     shortTile.item.rect = {16, 0, 32, 16};
     shortTile.rgb.resize(10);
     EXPECT_THROW(shop.addTile(shortTile), std::runtime_error);
+    // Frame mode's whole frame 1, waiting for frame 0 to be complete, comes again.
+    const TileResult whole = RenderEngine::render(scene, tl, scene.settings, 1, WorkItem{1, {0, 0, 40, 30}}, applied);
+    shop.addTile(whole);
+    EXPECT_THROW(shop.addTile(whole), std::runtime_error) << "a whole frame twice";
+    TileResult ofWhole = tile;
+    ofWhole.item.frame = 1;
+    EXPECT_THROW(shop.addTile(ofWhole), std::runtime_error) << "a tile of a frame already whole";
 }
 
 TEST(ChunkWorkshop, SendsItsEnginesTilesToTheirAssemblerAndTellsRankZero) {

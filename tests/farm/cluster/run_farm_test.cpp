@@ -251,8 +251,8 @@ struct ChunkedRun {
 };
 
 /// ranks loopback ranks render the test scene to a real MP4 in chunks of 2 frames, in `mode`,
-/// the chunks encoded on the rendering ranks (onRanks: frame mode's rank renders its chunk,
-/// pixel mode's assembles it from tiles) or all on rank 0.
+/// the chunks encoded on the rendering ranks (onRanks: frame mode's rank renders its chunk's
+/// frames, the film's last ones shared, pixel mode's assembles it from tiles) or all on rank 0.
 ChunkedRun runChunkedFarm(int ranks, Mode mode, bool onRanks = true) {
     const std::string path = writeSceneFile();
     const std::string out = std::string(RAYFARM_TEST_OUT) + "/run_farm/chunked_" + std::to_string(::getpid()) + "_" +
@@ -290,7 +290,8 @@ ChunkedRun runChunkedFarm(int ranks, Mode mode, bool onRanks = true) {
 }  // namespace
 
 // Issue 32: chunks are encoded on the ranks, never on rank 0. In frame mode each rank renders
-// and encodes whole chunks; in pixel mode a rank assembles each chunk from every rank's tiles
+// and encodes its chunks (the film's last frames rendered by any rank and sent to the chunk's);
+// in pixel mode a rank assembles each chunk from every rank's tiles
 // (which go to it, not to rank 0) and encodes it. Either way rank 0 receives PNGs and encoded
 // chunks, never pixels, and the file is byte for byte the one rank 0 makes encoding every chunk
 // itself from every frame's pixels, at any rank count.

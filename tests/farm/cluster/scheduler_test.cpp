@@ -136,7 +136,7 @@ std::string itemText(const std::optional<WorkItem>& i) {
 
 // Frame mode with chunked encoding: a rank asking opens a chunk of its own (the marker names it
 // to assemble it) and renders that chunk's frames in order; with every chunk open, a rank with
-// none of its own left takes the last frames of the chunk with the most left.
+// none of its own left takes the next frames of the chunk with the most left.
 TEST(Scheduler, ChunkFrameSchedulerKeepsChunksOnTheirRanksAndSharesTheEnd) {
     const ChunkPlan plan{10, 21, 4};  // chunks 10-13, 14-17, 18-21
     auto s = makeChunkFrameScheduler(plan, {}, 64, 48, 3);
@@ -152,10 +152,10 @@ TEST(Scheduler, ChunkFrameSchedulerKeepsChunksOnTheirRanksAndSharesTheEnd) {
     };
     for (int r : {1, 1, 2, 2, 1, 2, 1, 1, 1, 1}) ask(r);
     EXPECT_EQ(seen, (std::vector<std::string>{"c0>1", "10", "c1>2", "14", "11", "15", "12", "13", "c2>1", "18"}));
-    // Every chunk open: rank 1 has 19-21 of its own; rank 2, out of frames, takes chunk 2's last.
+    // Every chunk open: rank 1 has 19-21 of its own; rank 2, out of frames, takes chunk 2's next.
     seen.clear();
     for (int r : {2, 2, 2, 1, 2, 2}) ask(r);
-    EXPECT_EQ(seen, (std::vector<std::string>{"16", "17", "21", "19", "20", "-"}));
+    EXPECT_EQ(seen, (std::vector<std::string>{"16", "17", "19", "20", "21", "-"}));
     EXPECT_TRUE(s->exhausted());
 }
 
@@ -168,16 +168,16 @@ TEST(Scheduler, ChunkFrameSchedulerHelpsTheChunkWithMostLeftAndSkipsKeptFrames) 
     auto ask = [&](int rank) { seen.push_back(itemText(s->nextFor(rank))); };
     for (int r : {1, 1, 2, 2}) ask(r);
     // Chunk 1 opens for rank 2 (its assembler encodes the kept frames) but has no frame to hand
-    // out; the window of 2 is full, so rank 2 helps chunk 0, from its end (frame 3 is kept).
-    EXPECT_EQ(seen, (std::vector<std::string>{"c0>1", "0", "c1>2", "2"}));
+    // out; the window of 2 is full, so rank 2 helps chunk 0 (its frame 3 is kept).
+    EXPECT_EQ(seen, (std::vector<std::string>{"c0>1", "0", "c1>2", "1"}));
     seen.clear();
     for (int r : {1, 1}) ask(r);
-    EXPECT_EQ(seen, (std::vector<std::string>{"1", "-"}));
+    EXPECT_EQ(seen, (std::vector<std::string>{"2", "-"}));
     EXPECT_FALSE(s->exhausted());
     s->frameReleased();  // chunk 0 passed on
     seen.clear();
     for (int r : {2, 2, 1, 2, 1}) ask(r);
-    EXPECT_EQ(seen, (std::vector<std::string>{"c2>2", "9", "11", "10", "-"}));
+    EXPECT_EQ(seen, (std::vector<std::string>{"c2>2", "9", "10", "11", "-"}));
     EXPECT_TRUE(s->exhausted());
 }
 
