@@ -98,6 +98,20 @@ modes)
             echo "np $np $mode: $n frames ${w}x$h at $rate, PNGs identical to $ref, min PSNR $p dB"
         done
     done
+    # Frame mode renders each frame on one rank, so the film's rays are the same at every rank
+    # count, the bounce cache's included: every rank builds that cache before its work begins
+    # (a worker while rank 0 decides the job), not inside the run.
+    for np in 2 3; do
+        python3 - m_1_frame.json "m_${np}_frame.json" <<'PY' || fail "np $np frame: the film's rays differ from one process's"
+import json, sys
+a, b = (json.load(open(f))["rays"] for f in sys.argv[1:])
+for k in sorted(set(a) | set(b)):
+    if a.get(k) != b.get(k):
+        print(f"rays {k}: {a.get(k)} in one process, {b.get(k)} in {sys.argv[2]}", file=sys.stderr)
+        sys.exit(1)
+PY
+    done
+    echo "frame mode: the film's rays (bounce cache $(python3 -c "import json; print(json.load(open('m_1_frame.json'))['rays'].get('bounce_cache'))")) the same at np 1, 2, 3"
     # Lossless: the decoded video is the PNGs, bit for bit.
     mpi 2 render "$scene" -o lossless.mp4 --no-frames --lossless "$@" 2> lossless.log || { cat lossless.log; fail "lossless run failed"; }
     video_md5 lossless.mp4 > lossless.vmd5
