@@ -1,4 +1,4 @@
-#include "frame_time.h"
+#include "anim/frame_time.h"
 
 #include <algorithm>
 #include <cmath>

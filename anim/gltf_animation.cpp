@@ -1,4 +1,4 @@
-#include "gltf_animation.h"
+#include "anim/gltf_animation.h"
 
 #include <cmath>
 #include <filesystem>
@@ -7,8 +7,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
-#include "errors.h"
-#include "skinning.h"
+#include "engine/util/errors.h"
+#include "engine/geometry/skinning.h"
 
 namespace rf::anim {
 

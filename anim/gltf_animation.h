@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "keyframes.h"
-#include "scene.h"
+#include "anim/keyframes.h"
+#include "engine/scene/scene.h"
 
 namespace rf::anim {
 

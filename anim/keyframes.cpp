@@ -1,4 +1,4 @@
-#include "keyframes.h"
+#include "anim/keyframes.h"
 
 #include <algorithm>
 #include <cmath>

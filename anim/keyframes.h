@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "vec_math.h"
+#include "engine/util/vec_math.h"
 
 namespace rf::anim {
 

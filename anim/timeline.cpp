@@ -1,12 +1,12 @@
-#include "timeline.h"
+#include "anim/timeline.h"
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 
-#include "frame_time.h"
-#include "model_path.h"
-#include "timeline_spec.h"
+#include "anim/frame_time.h"
+#include "engine/util/model_path.h"
+#include "anim/timeline_spec.h"
 
 namespace rf::anim {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "scene.h"
+#include "engine/scene/scene.h"
 
 namespace rf::anim {
 

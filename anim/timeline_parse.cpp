@@ -21,12 +21,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "errors.h"
-#include "json_reader.h"
-#include "frame_time.h"
-#include "json_guard.h"
-#include "model_path.h"
-#include "timeline_spec.h"
+#include "engine/util/errors.h"
+#include "engine/util/json_reader.h"
+#include "anim/frame_time.h"
+#include "engine/util/json_guard.h"
+#include "engine/util/model_path.h"
+#include "anim/timeline_spec.h"
 
 namespace rf::anim {
 

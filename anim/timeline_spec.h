@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "gltf_animation.h"
-#include "keyframes.h"
-#include "turntable.h"
+#include "anim/gltf_animation.h"
+#include "anim/keyframes.h"
+#include "anim/turntable.h"
 
 namespace rf::anim {
 

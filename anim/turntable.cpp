@@ -1,9 +1,9 @@
-#include "turntable.h"
+#include "anim/turntable.h"
 
 #include <cmath>
 
-#include "frame_time.h"
-#include "turntable_fit.h"
+#include "anim/frame_time.h"
+#include "anim/turntable_fit.h"
 
 namespace rf::anim {
 

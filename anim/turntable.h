@@ -6,7 +6,7 @@
 #include <optional>
 #include <vector>
 
-#include "scene.h"
+#include "engine/scene/scene.h"
 
 namespace rf::anim {
 

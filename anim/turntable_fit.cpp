@@ -1,4 +1,4 @@
-#include "turntable_fit.h"
+#include "anim/turntable_fit.h"
 
 #include <algorithm>
 #include <cmath>

@@ -8,14 +8,14 @@
 
 #include <malloc.h>
 
-#include "cli.h"
-#include "cmd_report.h"
-#include "errors.h"
-#include "interrupt.h"
-#include "load_watch.h"
-#include "usage_error.h"
+#include "farm/cli/cli.h"
+#include "farm/report/cmd_report.h"
+#include "engine/util/errors.h"
+#include "farm/process/interrupt.h"
+#include "farm/process/load_watch.h"
+#include "farm/process/usage_error.h"
 #ifdef RAYFARM_HAVE_VIEW
-#include "cmd_view.h"
+#include "farm/view/cmd_view.h"
 #endif
 
 namespace {

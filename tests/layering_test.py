@@ -1,11 +1,12 @@
 #!/usr/bin/env python3
-"""The layers of shared/design.md and the rooms of farm/, checked on the sources.
+"""The layers of docs/architecture.md: the rooms of engine/ and farm/, checked on the sources.
 
     layering_test.py SOURCE_DIR
     layering_test.py --self-test    shows that it fails on a tree with each kind of problem
 
 Fails (exit 1, one line per finding) when
 - a file includes a header of a room it may not use (each room uses only the rooms below it);
+- a project header is included by a bare name rather than its path from the repository root;
 - mpi.h is included outside farm/cluster/, libav* outside farm/output/, Qt outside farm/view/;
 - two modules (a .h/.cpp pair) of the project depend on each other, directly or through
   others: a circle of includes, such as a.cpp including b.h while b.cpp includes a.h.
@@ -15,22 +16,26 @@ import re
 import sys
 
 # room -> the rooms its files may include from (itself always). farm/main.cpp and tools/ join
-# every room, so they may use all of them.
-ALLOWED = {
-    "engine": [],
-    "engine/stability": ["engine"],
-    "anim": ["engine"],
-    # engine: the signal handlers stop a load in progress (engine/load_control.h), and usage
-    # errors are made printable as input errors are (engine/errors.h).
-    "farm/process": ["engine"],
-    "farm/output": ["farm/process", "engine", "anim"],
-    "farm/cluster": ["farm/output", "farm/process", "engine", "anim"],
-    "farm/cli": ["farm/cluster", "farm/output", "farm/process", "engine", "anim"],
-    "farm/report": ["farm/cli", "farm/output", "farm/process", "engine/stability", "engine", "anim"],
-    "farm/view": ["farm/cli", "farm/cluster", "farm/output", "farm/process", "engine", "anim"],
+# every room, so they may use all of them. The engine's rooms, bottom up: each may use those
+# below it (engine/CMakeLists.txt says what each holds).
+ENGINE_ROOMS = ["engine/util", "engine/geometry", "engine/materials", "engine/lights", "engine/scene",
+                "engine/integrators", "engine/load/gltf", "engine/load"]
+ALLOWED = {room: ENGINE_ROOMS[:i] for i, room in enumerate(ENGINE_ROOMS)}
+ENGINE = ENGINE_ROOMS
+ALLOWED.update({
+    "engine/stability": ENGINE,
+    "anim": ENGINE,
+    # engine: the signal handlers stop a load in progress (engine/util/load_control.h), and usage
+    # errors are made printable as input errors are (engine/util/errors.h).
+    "farm/process": ENGINE,
+    "farm/output": ["farm/process", "anim"] + ENGINE,
+    "farm/cluster": ["farm/output", "farm/process", "anim"] + ENGINE,
+    "farm/cli": ["farm/cluster", "farm/output", "farm/process", "anim"] + ENGINE,
+    "farm/report": ["farm/cli", "farm/output", "farm/process", "engine/stability", "anim"] + ENGINE,
+    "farm/view": ["farm/cli", "farm/cluster", "farm/output", "farm/process", "anim"] + ENGINE,
     "farm": "*",
     "tools/pgo": "*",
-}
+})
 # System headers that belong to one room only.
 ONLY_IN = [
     (re.compile(r"^mpi\.h$"), "farm/cluster"),
@@ -54,14 +59,8 @@ def check(src):
             for n in names:
                 if n.endswith((".h", ".cpp", ".inc")):
                     files.append(os.path.relpath(os.path.join(root, n), src))
-    header_room, header_path = {}, {}
+    header_room = {f: room_of(f) for f in files if f.endswith((".h", ".inc"))}
     problems = []
-    for f in files:
-        base = os.path.basename(f)
-        if base.endswith(".h"):
-            if base in header_room:
-                problems.append(f"{f}: header name also used by {header_path[base]} (includes are by name)")
-            header_room[base], header_path[base] = room_of(f), f
     deps = {}  # module (path without extension) -> modules it includes
     for f in files:
         room = room_of(f)
@@ -76,14 +75,17 @@ def check(src):
                     problems.append(f"{f}: includes <{name}>, which only {only}/ may include")
             if kind != '"':
                 continue
-            base = os.path.basename(name)
-            if base not in header_room:
-                continue  # a third-party header found on the include path
-            target = header_room[base]
+            if name not in header_room:
+                # Project headers are named from the repository root ("engine/geometry/bvh.h"),
+                # so an include says where it points; anything else is a third-party header.
+                if os.path.basename(name) in {os.path.basename(h) for h in header_room}:
+                    problems.append(f"{f}: includes \"{name}\", not named from the repository root")
+                continue
+            target = header_room[name]
             allowed = ALLOWED[room]
             if target != room and allowed != "*" and target not in allowed:
-                problems.append(f"{f}: includes {header_path[base]}, but {room}/ may not use {target}/")
-            target_module = os.path.splitext(header_path[base])[0]
+                problems.append(f"{f}: includes {name}, but {room}/ may not use {target}/")
+            target_module = os.path.splitext(name)[0]
             if target_module != module:
                 deps.setdefault(module, set()).add(target_module)
     # Circles between modules: Tarjan's strongly connected components.
@@ -126,18 +128,22 @@ def self_test():
         def write(rel, text):
             os.makedirs(os.path.join(d, os.path.dirname(rel)), exist_ok=True)
             open(os.path.join(d, rel), "w").write(text)
-        write("engine/a.h", "#pragma once\n")
-        write("engine/a.cpp", '#include "a.h"\n#include "b.h"\n')
-        write("engine/b.h", "#pragma once\n")
-        write("engine/b.cpp", '#include "b.h"\n')
+        write("engine/util/a.h", "#pragma once\n")
+        write("engine/util/a.cpp", '#include "engine/util/a.h"\n#include "engine/util/b.h"\n')
+        write("engine/util/b.h", "#pragma once\n")
+        write("engine/util/b.cpp", '#include "engine/util/b.h"\n')
+        write("engine/scene/s.h", '#pragma once\n#include "engine/util/a.h"\n')
         write("farm/cluster/t.cpp", "#include <mpi.h>\n")
         _, _, clean = check(d)
-        write("engine/b.cpp", '#include "b.h"\n#include "a.h"\n')  # a circle
-        write("engine/c.cpp", '#include "timeline.h"\n')             # engine -> anim
+        write("engine/util/b.cpp", '#include "engine/util/b.h"\n#include "engine/util/a.h"\n')  # a circle
+        write("engine/util/c.cpp", '#include "anim/timeline.h"\n')   # engine -> anim
+        write("engine/util/d.cpp", '#include "engine/scene/s.h"\n')  # util -> scene, a floor up
+        write("engine/util/e.cpp", '#include "s.h"\n')               # a bare name
         write("anim/timeline.h", "#pragma once\n")
         write("farm/output/sink.cpp", "#include <mpi.h>\n")          # mpi.h outside cluster/
         _, _, found = check(d)
-    want = ["include circle", "may not use anim/", "only farm/cluster/ may include"]
+    want = ["include circle", "may not use anim/", "engine/util/ may not use engine/scene/", "not named from the repository root",
+            "only farm/cluster/ may include"]
     missing = [w for w in want if not any(w in p for p in found)]
     if clean or missing:
         print("FAIL: self-test: clean tree gave", clean, "; not found:", missing)

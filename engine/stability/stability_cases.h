@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "scene.h"
-#include "stability_case.h"
+#include "engine/scene/scene.h"
+#include "engine/stability/stability_case.h"
 
 namespace rf::stability {
 

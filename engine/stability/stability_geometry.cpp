@@ -4,9 +4,9 @@
 #include <cmath>
 #include <random>
 
-#include "shapes.h"
-#include "stability_cases.h"
-#include "stability_scenes.h"
+#include "engine/geometry/shapes.h"
+#include "engine/stability/stability_cases.h"
+#include "engine/stability/stability_scenes.h"
 
 namespace rf::stability {
 

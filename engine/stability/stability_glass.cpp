@@ -3,9 +3,9 @@
 // meshes", for the rule on shading normals that disagree with the facet).
 #include <cmath>
 
-#include "image.h"
-#include "stability_cases.h"
-#include "stability_scenes.h"
+#include "engine/util/image.h"
+#include "engine/stability/stability_cases.h"
+#include "engine/stability/stability_scenes.h"
 
 namespace rf::stability {
 

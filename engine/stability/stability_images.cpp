@@ -3,10 +3,10 @@
 #include <cmath>
 #include <sstream>
 
-#include "image.h"
-#include "json_scene_loader.h"
-#include "stability_cases.h"
-#include "stability_scenes.h"
+#include "engine/util/image.h"
+#include "engine/load/json_scene_loader.h"
+#include "engine/stability/stability_cases.h"
+#include "engine/stability/stability_scenes.h"
 
 namespace rf::stability {
 

@@ -1,10 +1,10 @@
-#include "stability_scenes.h"
+#include "engine/stability/stability_scenes.h"
 
 #include <cmath>
 #include <cstdio>
 
-#include "image.h"
-#include "render.h"
+#include "engine/util/image.h"
+#include "engine/integrators/render.h"
 
 namespace rf::stability {
 

@@ -2,11 +2,11 @@
 // camera-ray packets and each thread's blocker cache may make it faster, never different.
 #include <cstring>
 
-#include "exposure.h"
-#include "image.h"
-#include "render.h"
-#include "stability_cases.h"
-#include "stability_scenes.h"
+#include "engine/lights/exposure.h"
+#include "engine/util/image.h"
+#include "engine/integrators/render.h"
+#include "engine/stability/stability_cases.h"
+#include "engine/stability/stability_scenes.h"
 
 namespace rf::stability {
 

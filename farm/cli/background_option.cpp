@@ -1,10 +1,10 @@
-#include "background_option.h"
+#include "farm/cli/background_option.h"
 
 #include <cmath>
 #include <sstream>
 
-#include "cli.h"
-#include "image.h"
+#include "farm/cli/cli.h"
+#include "engine/util/image.h"
 
 namespace rf::cli {
 

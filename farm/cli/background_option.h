@@ -2,7 +2,7 @@
 /// --background COLOR|transparent, for still and render: what primary rays that miss show.
 #include <string>
 
-#include "background.h"
+#include "engine/scene/background.h"
 
 namespace rf::cli {
 

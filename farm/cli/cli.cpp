@@ -1,4 +1,4 @@
-#include "cli.h"
+#include "farm/cli/cli.h"
 
 #include <cctype>
 #include <charconv>
@@ -7,9 +7,9 @@
 
 #include <unistd.h>
 
-#include "errors.h"
-#include "interrupt.h"
-#include "sample_count.h"
+#include "engine/util/errors.h"
+#include "farm/process/interrupt.h"
+#include "engine/util/sample_count.h"
 
 namespace rf::cli {
 

@@ -6,9 +6,9 @@
 #include <stdexcept>
 #include <vector>
 
-#include "scene_options.h"
-#include "usage_error.h"
-#include "settings.h"
+#include "engine/scene/scene_options.h"
+#include "farm/process/usage_error.h"
+#include "engine/util/settings.h"
 
 namespace rf::cli {
 

@@ -5,12 +5,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli.h"
-#include "errors.h"
-#include "gltf_inspect.h"
-#include "model_path.h"
-#include "scene_loader.h"
-#include "timeline.h"
+#include "farm/cli/cli.h"
+#include "engine/util/errors.h"
+#include "engine/load/gltf/gltf_inspect.h"
+#include "engine/util/model_path.h"
+#include "engine/load/scene_loader.h"
+#include "anim/timeline.h"
 
 namespace rf::cli {
 

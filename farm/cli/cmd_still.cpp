@@ -5,20 +5,20 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "background_option.h"
-#include "cli.h"
-#include "errors.h"
-#include "exposure_meter.h"
-#include "gltf_loader.h"
-#include "image.h"
-#include "interrupt.h"
-#include "load_watch.h"
-#include "output_check.h"
-#include "output_paths.h"
-#include "render.h"
-#include "run_stats.h"
-#include "scene_loader.h"
-#include "timeline.h"
+#include "farm/cli/background_option.h"
+#include "farm/cli/cli.h"
+#include "engine/util/errors.h"
+#include "farm/cli/exposure_meter.h"
+#include "engine/load/gltf/gltf_loader.h"
+#include "engine/util/image.h"
+#include "farm/process/interrupt.h"
+#include "farm/process/load_watch.h"
+#include "farm/output/output_check.h"
+#include "farm/output/output_paths.h"
+#include "engine/integrators/render.h"
+#include "farm/output/run_stats.h"
+#include "engine/load/scene_loader.h"
+#include "anim/timeline.h"
 
 namespace rf::cli {
 

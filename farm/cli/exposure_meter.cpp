@@ -1,12 +1,12 @@
-#include "exposure_meter.h"
+#include "farm/cli/exposure_meter.h"
 
 #include <cstdio>
 #include <set>
 
-#include "cli.h"
-#include "exposure.h"
-#include "load_control.h"
-#include "render.h"
+#include "farm/cli/cli.h"
+#include "engine/lights/exposure.h"
+#include "engine/util/load_control.h"
+#include "engine/integrators/render.h"
 
 namespace rf::cli {
 

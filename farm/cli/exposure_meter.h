@@ -3,8 +3,8 @@
 #include <functional>
 #include <string>
 
-#include "scene.h"
-#include "timeline.h"
+#include "engine/scene/scene.h"
+#include "anim/timeline.h"
 
 namespace rf::cli {
 

@@ -1,4 +1,4 @@
-#include "launch_command.h"
+#include "farm/cli/launch_command.h"
 
 #include <cstdlib>
 #include <filesystem>

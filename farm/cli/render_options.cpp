@@ -1,12 +1,12 @@
-#include "render_options.h"
+#include "farm/cli/render_options.h"
 
 #include <filesystem>
 #include <stdexcept>
 #include <string>
 
-#include "background_option.h"
-#include "frame_time.h"
-#include "video_format.h"
+#include "farm/cli/background_option.h"
+#include "anim/frame_time.h"
+#include "farm/output/video_format.h"
 
 namespace rf::cli {
 

@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "cli.h"
-#include "render_job.h"
+#include "farm/cli/cli.h"
+#include "farm/cluster/render_job.h"
 
 namespace rf::cli {
 

@@ -1,4 +1,4 @@
-#include "bench_free_work.h"
+#include "farm/cluster/bench_free_work.h"
 
 #include <chrono>
 #include <cstdlib>

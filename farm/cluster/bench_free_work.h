@@ -5,7 +5,7 @@
 /// (dispatch, gather, assembly, PNG, encode, join). The pattern is not the scene's picture; it
 /// only gives PNG and the encoders content to chew. It plugs in where engines are made
 /// (RenderEngine::ItemRenderer), so the engine's own render path knows nothing of it.
-#include "render_engine.h"
+#include "farm/cluster/render_engine.h"
 
 namespace rf::farm {
 

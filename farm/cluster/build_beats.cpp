@@ -1,9 +1,9 @@
-#include "build_beats.h"
+#include "farm/cluster/build_beats.h"
 
 #include <chrono>
 
-#include "interrupt.h"
-#include "messages.h"
+#include "farm/process/interrupt.h"
+#include "farm/cluster/messages.h"
 
 namespace rf::farm {
 

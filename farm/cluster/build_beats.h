@@ -11,7 +11,7 @@
 #include <mutex>
 #include <thread>
 
-#include "transport.h"
+#include "farm/cluster/transport.h"
 
 namespace rf::farm {
 

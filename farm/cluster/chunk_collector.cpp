@@ -1,4 +1,4 @@
-#include "chunk_collector.h"
+#include "farm/cluster/chunk_collector.h"
 
 #include <stdexcept>
 

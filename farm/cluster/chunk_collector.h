@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "video_chunk.h"
+#include "farm/output/video_chunk.h"
 
 namespace rf::farm {
 

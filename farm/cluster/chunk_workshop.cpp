@@ -1,4 +1,4 @@
-#include "chunk_workshop.h"
+#include "farm/cluster/chunk_workshop.h"
 
 #include <algorithm>
 #include <chrono>
@@ -7,10 +7,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "chunk_encoder.h"
-#include "digest.h"
-#include "png_encoder.h"
-#include "video_chunk.h"
+#include "farm/output/chunk_encoder.h"
+#include "farm/output/digest.h"
+#include "farm/output/png_encoder.h"
+#include "farm/output/video_chunk.h"
 
 namespace rf::farm {
 

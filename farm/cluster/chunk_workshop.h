@@ -17,9 +17,9 @@
 #include <utility>
 #include <vector>
 
-#include "messages.h"
-#include "video_options.h"
-#include "render_engine.h"
+#include "farm/cluster/messages.h"
+#include "farm/output/video_options.h"
+#include "farm/cluster/render_engine.h"
 
 namespace rf::farm {
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "run_stats.h"
+#include "farm/output/run_stats.h"
 
 namespace rf::farm {
 

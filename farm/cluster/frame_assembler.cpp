@@ -1,4 +1,4 @@
-#include "frame_assembler.h"
+#include "farm/cluster/frame_assembler.h"
 
 #include <cstring>
 #include <stdexcept>

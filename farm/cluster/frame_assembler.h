@@ -4,8 +4,8 @@
 #include <map>
 #include <vector>
 
-#include "frame_ranges.h"
-#include "messages.h"
+#include "anim/frame_ranges.h"
+#include "farm/cluster/messages.h"
 
 namespace rf::farm {
 

@@ -1,4 +1,4 @@
-#include "launcher_reaper.h"
+#include "farm/cluster/launcher_reaper.h"
 
 #include <cerrno>
 #include <csignal>

@@ -5,7 +5,7 @@
 #include <mutex>
 #include <vector>
 
-#include "transport.h"
+#include "farm/cluster/transport.h"
 
 namespace rf::farm {
 

@@ -1,11 +1,11 @@
-#include "master.h"
+#include "farm/cluster/master.h"
 
 #include <algorithm>
 #include <thread>
 #include <utility>
 
-#include "interrupt.h"
-#include "progress.h"
+#include "farm/process/interrupt.h"
+#include "farm/process/progress.h"
 
 namespace rf::farm {
 

@@ -9,14 +9,14 @@
 #include <string>
 #include <vector>
 
-#include "chunk_collector.h"
-#include "chunk_workshop.h"
-#include "frame_assembler.h"
-#include "liveness.h"
-#include "render_engine.h"
-#include "run_stats.h"
-#include "scheduler.h"
-#include "transport.h"
+#include "farm/cluster/chunk_collector.h"
+#include "farm/cluster/chunk_workshop.h"
+#include "farm/cluster/frame_assembler.h"
+#include "farm/cluster/liveness.h"
+#include "farm/cluster/render_engine.h"
+#include "farm/output/run_stats.h"
+#include "farm/cluster/scheduler.h"
+#include "farm/cluster/transport.h"
 
 namespace rf::farm {
 

@@ -1,6 +1,6 @@
-#include "messages.h"
+#include "farm/cluster/messages.h"
 
-#include "byte_fields.h"
+#include "farm/process/byte_fields.h"
 
 #include <atomic>
 #include <cstring>

@@ -7,10 +7,10 @@
 #include <utility>
 #include <vector>
 
-#include "camera.h"
-#include "pixel_layout.h"
-#include "render.h"
-#include "stats.h"
+#include "engine/geometry/camera.h"
+#include "farm/output/pixel_layout.h"
+#include "engine/integrators/render.h"
+#include "engine/util/stats.h"
 
 namespace rf::farm {
 

@@ -1,4 +1,4 @@
-#include "render_engine.h"
+#include "farm/cluster/render_engine.h"
 
 #include <algorithm>
 #include <chrono>
@@ -6,8 +6,8 @@
 #include <cstring>
 #include <stdexcept>
 
-#include "image.h"
-#include "render.h"
+#include "engine/util/image.h"
+#include "engine/integrators/render.h"
 
 namespace rf::farm {
 

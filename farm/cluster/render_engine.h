@@ -16,9 +16,9 @@
 #include <thread>
 #include <vector>
 
-#include "messages.h"
-#include "scene.h"
-#include "timeline.h"
+#include "farm/cluster/messages.h"
+#include "engine/scene/scene.h"
+#include "anim/timeline.h"
 
 namespace rf::farm {
 

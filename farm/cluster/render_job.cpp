@@ -1,4 +1,4 @@
-#include "render_job.h"
+#include "farm/cluster/render_job.h"
 
 #include <cstring>
 #include <filesystem>
@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "chunk_workshop.h"
+#include "farm/cluster/chunk_workshop.h"
 
 
 namespace rf::farm {

@@ -4,12 +4,12 @@
 #include <string>
 #include <vector>
 
-#include "background.h"
-#include "frame_ranges.h"
-#include "messages.h"
-#include "video_options.h"
-#include "scheduler.h"
-#include "settings.h"
+#include "engine/scene/background.h"
+#include "anim/frame_ranges.h"
+#include "farm/cluster/messages.h"
+#include "farm/output/video_options.h"
+#include "farm/cluster/scheduler.h"
+#include "engine/util/settings.h"
 
 namespace rf::farm {
 

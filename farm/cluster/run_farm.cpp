@@ -1,4 +1,4 @@
-#include "run_farm.h"
+#include "farm/cluster/run_farm.h"
 
 #include <csignal>
 #include <cstdio>
@@ -9,25 +9,25 @@
 
 #include <sys/resource.h>
 
-#include "background.h"
-#include "bench_free_work.h"
-#include "chunk_collector.h"
-#include "chunk_workshop.h"
-#include "contact_sheet.h"
-#include "errors.h"
-#include "exr_frames.h"
-#include "frame_assembler.h"
-#include "gif_sink.h"
-#include "image.h"
-#include "interrupt.h"
-#include "master.h"
-#include "mp4_sink.h"
-#include "png_sink.h"
-#include "render.h"
-#include "render_engine.h"
-#include "signal_deadline.h"
-#include "timeline.h"
-#include "worker.h"
+#include "engine/scene/background.h"
+#include "farm/cluster/bench_free_work.h"
+#include "farm/cluster/chunk_collector.h"
+#include "farm/cluster/chunk_workshop.h"
+#include "farm/output/contact_sheet.h"
+#include "engine/util/errors.h"
+#include "farm/output/exr_frames.h"
+#include "farm/cluster/frame_assembler.h"
+#include "farm/output/gif_sink.h"
+#include "engine/util/image.h"
+#include "farm/process/interrupt.h"
+#include "farm/cluster/master.h"
+#include "farm/output/mp4_sink.h"
+#include "farm/output/png_sink.h"
+#include "engine/integrators/render.h"
+#include "farm/cluster/render_engine.h"
+#include "farm/process/signal_deadline.h"
+#include "anim/timeline.h"
+#include "farm/cluster/worker.h"
 
 namespace rf::farm {
 

@@ -23,13 +23,13 @@
 #include <string>
 #include <vector>
 
-#include "farm_options.h"
-#include "frame_sink.h"
-#include "render_job.h"
-#include "run_stats.h"
-#include "scene_broadcast.h"
-#include "transport.h"
-#include "view_session.h"
+#include "farm/cluster/farm_options.h"
+#include "farm/output/frame_sink.h"
+#include "farm/cluster/render_job.h"
+#include "farm/output/run_stats.h"
+#include "farm/cluster/scene_broadcast.h"
+#include "farm/cluster/transport.h"
+#include "farm/cluster/view_session.h"
 
 namespace rf::farm {
 

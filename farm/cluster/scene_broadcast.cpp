@@ -1,4 +1,4 @@
-#include "scene_broadcast.h"
+#include "farm/cluster/scene_broadcast.h"
 
 #include <chrono>
 #include <cstdlib>
@@ -7,12 +7,12 @@
 #include <set>
 #include <thread>
 
-#include "build_beats.h"
-#include "load_control.h"
-#include "usage_error.h"
-#include "errors.h"
-#include "file_source.h"
-#include "scene_loader.h"
+#include "farm/cluster/build_beats.h"
+#include "engine/util/load_control.h"
+#include "farm/process/usage_error.h"
+#include "engine/util/errors.h"
+#include "engine/util/file_source.h"
+#include "engine/load/scene_loader.h"
 
 namespace rf::farm {
 

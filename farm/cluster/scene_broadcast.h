@@ -8,10 +8,10 @@
 #include <stdexcept>
 #include <string>
 
-#include "file_source.h"
-#include "scene.h"
-#include "scene_options.h"
-#include "transport.h"
+#include "engine/util/file_source.h"
+#include "engine/scene/scene.h"
+#include "engine/scene/scene_options.h"
+#include "farm/cluster/transport.h"
 
 namespace rf::farm {
 

@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "frame_ranges.h"
-#include "messages.h"
-#include "video_chunk.h"
+#include "anim/frame_ranges.h"
+#include "farm/cluster/messages.h"
+#include "farm/output/video_chunk.h"
 
 namespace rf::farm {
 

@@ -1,4 +1,4 @@
-#include "scheduler.h"
+#include "farm/cluster/scheduler.h"
 
 namespace rf::farm {
 

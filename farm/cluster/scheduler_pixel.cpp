@@ -1,5 +1,5 @@
-#include "render.h"
-#include "scheduler.h"
+#include "engine/integrators/render.h"
+#include "farm/cluster/scheduler.h"
 
 namespace rf::farm {
 

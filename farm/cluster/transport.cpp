@@ -1,6 +1,6 @@
-#include "transport.h"
+#include "farm/cluster/transport.h"
 
-#include "launcher_reaper.h"
+#include "farm/cluster/launcher_reaper.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,4 +1,4 @@
-#include "view_session.h"
+#include "farm/cluster/view_session.h"
 
 #include <atomic>
 #include <chrono>
@@ -6,15 +6,15 @@
 #include <set>
 #include <stdexcept>
 
-#include "farm_options.h"
-#include "frame_assembler.h"
-#include "interrupt.h"
-#include "master.h"
-#include "render_engine.h"
-#include "render_job.h"
-#include "scene_broadcast.h"
-#include "scheduler.h"
-#include "timeline.h"
+#include "farm/cluster/farm_options.h"
+#include "farm/cluster/frame_assembler.h"
+#include "farm/process/interrupt.h"
+#include "farm/cluster/master.h"
+#include "farm/cluster/render_engine.h"
+#include "farm/cluster/render_job.h"
+#include "farm/cluster/scene_broadcast.h"
+#include "farm/cluster/scheduler.h"
+#include "anim/timeline.h"
 
 namespace rf::farm {
 

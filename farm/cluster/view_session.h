@@ -14,8 +14,8 @@
 #include <utility>
 #include <vector>
 
-#include "camera.h"
-#include "render.h"
+#include "engine/geometry/camera.h"
+#include "engine/integrators/render.h"
 
 namespace rf::farm {
 

@@ -1,4 +1,4 @@
-#include "worker.h"
+#include "farm/cluster/worker.h"
 
 #include <chrono>
 #include <cstdio>
@@ -8,9 +8,9 @@
 
 #include <unistd.h>
 
-#include "interrupt.h"
-#include "liveness.h"
-#include "messages.h"
+#include "farm/process/interrupt.h"
+#include "farm/cluster/liveness.h"
+#include "farm/cluster/messages.h"
 
 namespace rf::farm {
 

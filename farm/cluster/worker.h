@@ -4,9 +4,9 @@
 /// their frame, which may be this one), and say it is alive every kHeartbeatSeconds meanwhile.
 #include <functional>
 
-#include "chunk_workshop.h"
-#include "render_engine.h"
-#include "transport.h"
+#include "farm/cluster/chunk_workshop.h"
+#include "farm/cluster/render_engine.h"
+#include "farm/cluster/transport.h"
 
 namespace rf::farm {
 

@@ -1,4 +1,4 @@
-#include "bitmap_font.h"
+#include "farm/output/bitmap_font.h"
 
 namespace rf::farm {
 

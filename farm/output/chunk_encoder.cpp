@@ -1,4 +1,4 @@
-#include "chunk_encoder.h"
+#include "farm/output/chunk_encoder.h"
 
 #include <chrono>
 #include <cstring>

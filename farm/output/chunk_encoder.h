@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "video_options.h"
-#include "video_chunk.h"
+#include "farm/output/video_options.h"
+#include "farm/output/video_chunk.h"
 
 struct AVCodecContext;  // libavcodec's, for the muxer beside this file (chunk_muxer.cpp)
 

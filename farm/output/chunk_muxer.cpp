@@ -1,4 +1,4 @@
-#include "chunk_muxer.h"
+#include "farm/output/chunk_muxer.h"
 
 #include <atomic>
 #include <cstdio>
@@ -10,8 +10,8 @@ extern "C" {
 #include <libavformat/avformat.h>
 }
 
-#include "chunk_encoder.h"
-#include "mp4_remux.h"
+#include "farm/output/chunk_encoder.h"
+#include "farm/output/mp4_remux.h"
 
 namespace rf::farm {
 

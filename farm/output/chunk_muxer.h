@@ -9,8 +9,8 @@
 #include <memory>
 #include <string>
 
-#include "video_options.h"
-#include "video_chunk.h"
+#include "farm/output/video_options.h"
+#include "farm/output/video_chunk.h"
 
 namespace rf::farm {
 

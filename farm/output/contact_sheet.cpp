@@ -1,4 +1,4 @@
-#include "contact_sheet.h"
+#include "farm/output/contact_sheet.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "bitmap_font.h"
-#include "image.h"
-#include "video_options.h"
+#include "farm/output/bitmap_font.h"
+#include "engine/util/image.h"
+#include "farm/output/video_options.h"
 
 namespace rf::farm {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "frame_sink.h"
+#include "farm/output/frame_sink.h"
 
 namespace rf::farm {
 

@@ -1,4 +1,4 @@
-#include "digest.h"
+#include "farm/output/digest.h"
 
 #include <stdexcept>
 

@@ -1,4 +1,4 @@
-#include "exr_frames.h"
+#include "farm/output/exr_frames.h"
 
 #include <cstdio>
 #include <cstring>
@@ -8,7 +8,7 @@
 #include <OpenEXR/ImfArray.h>
 #include <OpenEXR/ImfRgbaFile.h>
 
-#include "png_sink.h"
+#include "farm/output/png_sink.h"
 
 namespace rf::farm {
 

@@ -5,9 +5,9 @@
 #include <string>
 #include <vector>
 
-#include "frame_ranges.h"
-#include "frame_sink.h"
-#include "pixel_layout.h"
+#include "anim/frame_ranges.h"
+#include "farm/output/frame_sink.h"
+#include "farm/output/pixel_layout.h"
 
 namespace rf::farm {
 

@@ -1,4 +1,4 @@
-#include "frame_sink.h"
+#include "farm/output/frame_sink.h"
 
 #include <stdexcept>
 

@@ -13,7 +13,7 @@
 #include <thread>
 #include <vector>
 
-#include "video_chunk.h"
+#include "farm/output/video_chunk.h"
 
 namespace rf::farm {
 

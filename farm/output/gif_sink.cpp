@@ -1,6 +1,6 @@
-#include "gif_sink.h"
+#include "farm/output/gif_sink.h"
 
-#include "video_format.h"
+#include "farm/output/video_format.h"
 
 #include <dlfcn.h>
 

@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "frame_sink.h"
+#include "farm/output/frame_sink.h"
 
 namespace rf::farm {
 

@@ -1,4 +1,4 @@
-#include "mp4_remux.h"
+#include "farm/output/mp4_remux.h"
 
 #include <cerrno>
 #include <cstdio>
@@ -8,7 +8,7 @@ extern "C" {
 #include <libavformat/avformat.h>
 }
 
-#include "video_format.h"
+#include "farm/output/video_format.h"
 
 namespace rf::farm {
 

@@ -1,4 +1,4 @@
-#include "mp4_sink.h"
+#include "farm/output/mp4_sink.h"
 
 #include <stdexcept>
 
@@ -6,8 +6,8 @@ extern "C" {
 #include <libavutil/log.h>
 }
 
-#include "chunk_encoder.h"
-#include "chunk_muxer.h"
+#include "farm/output/chunk_encoder.h"
+#include "farm/output/chunk_muxer.h"
 
 namespace rf::farm {
 

@@ -13,9 +13,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "frame_sink.h"
-#include "video_chunk.h"
-#include "video_options.h"
+#include "farm/output/frame_sink.h"
+#include "farm/output/video_chunk.h"
+#include "farm/output/video_options.h"
 
 namespace rf::farm {
 

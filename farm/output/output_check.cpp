@@ -1,4 +1,4 @@
-#include "output_check.h"
+#include "farm/output/output_check.h"
 
 #include <cerrno>
 #include <cstring>
@@ -8,7 +8,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "usage_error.h"
+#include "farm/process/usage_error.h"
 
 namespace rf {
 

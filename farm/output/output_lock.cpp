@@ -1,4 +1,4 @@
-#include "output_lock.h"
+#include "farm/output/output_lock.h"
 
 #include <cerrno>
 #include <csignal>
@@ -13,7 +13,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "usage_error.h"
+#include "farm/process/usage_error.h"
 
 namespace rf {
 

@@ -1,11 +1,11 @@
-#include "output_paths.h"
+#include "farm/output/output_paths.h"
 
 #include <filesystem>
 #include <system_error>
 
 #include <sys/stat.h>
 
-#include "usage_error.h"
+#include "farm/process/usage_error.h"
 
 namespace rf {
 

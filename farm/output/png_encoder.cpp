@@ -1,4 +1,4 @@
-#include "png_encoder.h"
+#include "farm/output/png_encoder.h"
 
 #include <cstdint>
 #include <stb_image.h>

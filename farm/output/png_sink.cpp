@@ -1,4 +1,4 @@
-#include "png_sink.h"
+#include "farm/output/png_sink.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -14,10 +14,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "usage_error.h"
-#include "digest.h"
-#include "file_write.h"
-#include "output_check.h"
+#include "farm/process/usage_error.h"
+#include "farm/output/digest.h"
+#include "engine/util/file_write.h"
+#include "farm/output/output_check.h"
 
 namespace rf::farm {
 

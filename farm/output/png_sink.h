@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "file_source.h"
-#include "frame_ranges.h"
-#include "frame_sink.h"
-#include "png_encoder.h"
+#include "engine/util/file_source.h"
+#include "anim/frame_ranges.h"
+#include "farm/output/frame_sink.h"
+#include "farm/output/png_encoder.h"
 
 namespace rf::farm {
 

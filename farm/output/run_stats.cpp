@@ -1,12 +1,12 @@
-#include "run_stats.h"
+#include "farm/output/run_stats.h"
 
 #include <fstream>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
-#include "file_write.h"
-#include "output_check.h"
+#include "engine/util/file_write.h"
+#include "farm/output/output_check.h"
 
 namespace rf {
 

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-#include "stats.h"
+#include "engine/util/stats.h"
 
 namespace rf {
 

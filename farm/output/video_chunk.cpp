@@ -1,10 +1,10 @@
-#include "video_chunk.h"
+#include "farm/output/video_chunk.h"
 
 #include <algorithm>
 #include <cmath>
 #include <utility>
 
-#include "byte_fields.h"
+#include "farm/process/byte_fields.h"
 
 namespace rf::farm {
 

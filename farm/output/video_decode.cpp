@@ -1,4 +1,4 @@
-#include "video_decode.h"
+#include "farm/output/video_decode.h"
 
 #include <algorithm>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include "video_format.h"
+#include "farm/output/video_format.h"
 
 #include <algorithm>
 #include <filesystem>

@@ -1,9 +1,9 @@
-#include "video_options.h"
+#include "farm/output/video_options.h"
 
 #include <cstdio>
 #include <stdexcept>
 
-#include "frame_time.h"
+#include "anim/frame_time.h"
 
 extern "C" {
 #include <libavutil/imgutils.h>

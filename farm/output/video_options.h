@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "video_format.h"
+#include "farm/output/video_format.h"
 
 namespace rf::farm {
 

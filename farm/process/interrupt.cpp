@@ -1,4 +1,4 @@
-#include "interrupt.h"
+#include "farm/process/interrupt.h"
 
 #include <atomic>
 #include <cerrno>
@@ -6,7 +6,7 @@
 
 #include <unistd.h>
 
-#include "load_control.h"
+#include "engine/util/load_control.h"
 
 namespace rf::farm {
 

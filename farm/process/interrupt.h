@@ -14,7 +14,7 @@
 namespace rf::farm {
 
 /// Installs the handlers (idempotent). Each signal also stops a load in progress
-/// (requestLoadCancel, engine/load_control.h).
+/// (requestLoadCancel, engine/util/load_control.h).
 void installInterruptHandlers();
 /// Only SIGXFSZ and SIGPIPE ignored (for commands that have no wind-down of their own).
 void ignoreWriteSignals();

@@ -1,9 +1,9 @@
-#include "load_watch.h"
+#include "farm/process/load_watch.h"
 
 #include <csignal>
 
-#include "errors.h"
-#include "interrupt.h"
+#include "engine/util/errors.h"
+#include "farm/process/interrupt.h"
 
 namespace rf::farm {
 

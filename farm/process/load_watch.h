@@ -1,15 +1,15 @@
 #pragma once
 /// Ctrl-C, SIGTERM or a hang-up while the scene loads ends the run within a second, with one
 /// line saying so. The handlers (interrupt.h) stop the engine's loaders at their next poll
-/// (engine/load_control.h), which throw LoadCancelled; the command catches it and calls
+/// (engine/util/load_control.h), which throw LoadCancelled; the command catches it and calls
 /// LoadWatch::interrupted. A third-party parser (tinygltf, nlohmann) or an MPI call cannot poll:
 /// if the load has not stopped kGraceSeconds after the signal, the watch's own thread says the
 /// same line and ends the process (SignalDeadline), as mpirun's SIGKILL would a second later.
 #include <functional>
 #include <string>
 
-#include "load_control.h"
-#include "signal_deadline.h"
+#include "engine/util/load_control.h"
+#include "farm/process/signal_deadline.h"
 
 namespace rf::farm {
 

@@ -1,10 +1,10 @@
-#include "progress.h"
+#include "farm/process/progress.h"
 
 #include <utility>
 
 #include <unistd.h>
 
-#include "interrupt.h"
+#include "farm/process/interrupt.h"
 
 namespace rf::farm {
 

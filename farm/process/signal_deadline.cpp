@@ -1,9 +1,9 @@
-#include "signal_deadline.h"
+#include "farm/process/signal_deadline.h"
 
 #include <chrono>
 #include <cstdlib>
 
-#include "interrupt.h"
+#include "farm/process/interrupt.h"
 
 namespace rf::farm {
 

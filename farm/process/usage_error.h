@@ -5,7 +5,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "errors.h"
+#include "engine/util/errors.h"
 
 namespace rf {
 

@@ -5,22 +5,22 @@
 #include <filesystem>
 #include <sstream>
 
-#include "background_option.h"
-#include "bounce_cache.h"
-#include "cli.h"
-#include "cmd_report.h"
-#include "errors.h"
-#include "exposure_meter.h"
-#include "gltf_loader.h"
-#include "mp4_sink.h"
-#include "output_check.h"
-#include "report_csv.h"
-#include "report_plot.h"
-#include "report_run.h"
-#include "report_stability.h"
-#include "sample_count.h"
-#include "scene_loader.h"
-#include "timeline.h"
+#include "farm/cli/background_option.h"
+#include "engine/integrators/bounce_cache.h"
+#include "farm/cli/cli.h"
+#include "farm/report/cmd_report.h"
+#include "engine/util/errors.h"
+#include "farm/cli/exposure_meter.h"
+#include "engine/load/gltf/gltf_loader.h"
+#include "farm/output/mp4_sink.h"
+#include "farm/output/output_check.h"
+#include "farm/report/report_csv.h"
+#include "farm/report/report_plot.h"
+#include "farm/report/report_run.h"
+#include "farm/report/report_stability.h"
+#include "engine/util/sample_count.h"
+#include "engine/load/scene_loader.h"
+#include "anim/timeline.h"
 
 namespace rf::cli {
 

@@ -1,4 +1,4 @@
-#include "report_csv.h"
+#include "farm/report/report_csv.h"
 
 #include <cmath>
 #include <cstdio>

@@ -1,4 +1,4 @@
-#include "report_knobs.h"
+#include "farm/report/report_knobs.h"
 
 #include <algorithm>
 #include <cmath>

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "settings.h"
+#include "engine/util/settings.h"
 
 namespace rf::report {
 

@@ -1,4 +1,4 @@
-#include "report_plot.h"
+#include "farm/report/report_plot.h"
 
 #include <spawn.h>
 #include <sys/wait.h>

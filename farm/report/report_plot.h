@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "report_sweep.h"
+#include "farm/report/report_sweep.h"
 
 namespace rf::report {
 

@@ -1,4 +1,4 @@
-#include "report_run.h"
+#include "farm/report/report_run.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -8,13 +8,13 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "errors.h"
-#include "image.h"
-#include "image_metrics.h"
-#include "render.h"
-#include "report_csv.h"
-#include "report_plot.h"
-#include "report_summary.h"
+#include "engine/util/errors.h"
+#include "engine/util/image.h"
+#include "engine/util/image_metrics.h"
+#include "engine/integrators/render.h"
+#include "farm/report/report_csv.h"
+#include "farm/report/report_plot.h"
+#include "farm/report/report_summary.h"
 
 namespace rf::report {
 

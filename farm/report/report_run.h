@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "report_sweep.h"
-#include "report_video.h"
-#include "scene.h"
-#include "timeline.h"
+#include "farm/report/report_sweep.h"
+#include "farm/report/report_video.h"
+#include "engine/scene/scene.h"
+#include "anim/timeline.h"
 
 namespace rf::report {
 

@@ -1,7 +1,7 @@
-#include "report_stability.h"
+#include "farm/report/report_stability.h"
 
-#include "report_csv.h"
-#include "stability_cases.h"
+#include "farm/report/report_csv.h"
+#include "engine/stability/stability_cases.h"
 
 #include <cmath>
 #include <cstdio>

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "stability_case.h"
+#include "engine/stability/stability_case.h"
 
 namespace rf::report {
 

@@ -4,11 +4,11 @@
 #include <cstdio>
 #include <limits>
 
-#include "camera.h"
-#include "frame_time.h"
-#include "keyframes.h"
-#include "report_stability.h"
-#include "turntable.h"
+#include "engine/geometry/camera.h"
+#include "anim/frame_time.h"
+#include "anim/keyframes.h"
+#include "farm/report/report_stability.h"
+#include "anim/turntable.h"
 
 namespace rf::report {
 

@@ -1,4 +1,4 @@
-#include "report_summary.h"
+#include "farm/report/report_summary.h"
 
 #include <algorithm>
 #include <cmath>

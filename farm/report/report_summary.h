@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "report_sweep.h"
-#include "scene.h"
+#include "farm/report/report_sweep.h"
+#include "engine/scene/scene.h"
 
 namespace rf::report {
 

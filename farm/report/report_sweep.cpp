@@ -1,10 +1,10 @@
-#include "report_sweep.h"
+#include "farm/report/report_sweep.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 
-#include "render.h"
+#include "engine/integrators/render.h"
 
 namespace rf::report {
 

@@ -5,12 +5,12 @@
 #include <string>
 #include <vector>
 
-#include "image.h"
-#include "image_metrics.h"
-#include "report_knobs.h"
-#include "scene.h"
-#include "settings.h"
-#include "stats.h"
+#include "engine/util/image.h"
+#include "engine/util/image_metrics.h"
+#include "farm/report/report_knobs.h"
+#include "engine/scene/scene.h"
+#include "engine/util/settings.h"
+#include "engine/util/stats.h"
 
 namespace rf::report {
 

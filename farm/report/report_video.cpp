@@ -1,4 +1,4 @@
-#include "report_video.h"
+#include "farm/report/report_video.h"
 
 #include <algorithm>
 #include <chrono>
@@ -11,10 +11,10 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "image_metrics.h"
-#include "mp4_sink.h"
-#include "report_plot.h"
-#include "video_decode.h"
+#include "engine/util/image_metrics.h"
+#include "farm/output/mp4_sink.h"
+#include "farm/report/report_plot.h"
+#include "farm/output/video_decode.h"
 
 namespace rf::report {
 

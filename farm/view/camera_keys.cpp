@@ -1,4 +1,4 @@
-#include "camera_keys.h"
+#include "farm/view/camera_keys.h"
 
 #include <algorithm>
 #include <cctype>
@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "file_source.h"
+#include "engine/util/file_source.h"
 
 namespace rf::view {
 

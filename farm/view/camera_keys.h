@@ -7,8 +7,8 @@
 
 #include <nlohmann/json_fwd.hpp>
 
-#include "scene.h"
-#include "timeline.h"
+#include "engine/scene/scene.h"
+#include "anim/timeline.h"
 
 namespace rf::view {
 

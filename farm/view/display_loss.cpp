@@ -1,4 +1,4 @@
-#include "display_loss.h"
+#include "farm/view/display_loss.h"
 
 #include <QAbstractNativeEventFilter>
 #include <QApplication>
@@ -11,7 +11,7 @@
 #include <string>
 #include <utility>
 
-#include "interrupt.h"
+#include "farm/process/interrupt.h"
 
 namespace rf::view {
 

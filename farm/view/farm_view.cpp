@@ -1,15 +1,15 @@
-#include "farm_view.h"
+#include "farm/view/farm_view.h"
 
 #include <algorithm>
 #include <cstring>
 
 #include <nlohmann/json.hpp>
 
-#include "interrupt.h"
-#include "load_control.h"
-#include "loopback_transport.h"
-#include "master.h"
-#include "messages.h"
+#include "farm/process/interrupt.h"
+#include "engine/util/load_control.h"
+#include "farm/cluster/loopback_transport.h"
+#include "farm/cluster/master.h"
+#include "farm/cluster/messages.h"
 
 namespace rf::view {
 

@@ -15,10 +15,10 @@
 #include <string>
 #include <thread>
 
-#include "film_render.h"
-#include "run_farm.h"
-#include "transport.h"
-#include "view_frame.h"
+#include "farm/view/film_render.h"
+#include "farm/cluster/run_farm.h"
+#include "farm/cluster/transport.h"
+#include "farm/view/view_frame.h"
 
 namespace rf::farm {
 class LoopbackHub;

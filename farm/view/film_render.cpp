@@ -1,15 +1,15 @@
-#include "film_render.h"
+#include "farm/view/film_render.h"
 
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
 
-#include "output_lock.h"
-#include "png_sink.h"
-#include "run_farm.h"
-#include "scene_loader.h"
-#include "timeline.h"
+#include "farm/output/output_lock.h"
+#include "farm/output/png_sink.h"
+#include "farm/cluster/run_farm.h"
+#include "engine/load/scene_loader.h"
+#include "anim/timeline.h"
 
 namespace rf::view {
 

@@ -9,10 +9,10 @@
 #include <functional>
 #include <string>
 
-#include "render_job.h"
-#include "scene.h"
-#include "settings.h"
-#include "transport.h"
+#include "farm/cluster/render_job.h"
+#include "engine/scene/scene.h"
+#include "engine/util/settings.h"
+#include "farm/cluster/transport.h"
 
 namespace rf::view {
 

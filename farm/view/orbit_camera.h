@@ -1,8 +1,8 @@
 #pragma once
 /// The viewer's camera moves: orbit about the target, pan in the view plane, dolly towards the
 /// target, frame a bounding box. Pure functions of the camera and the input, no window system.
-#include "aabb.h"
-#include "camera.h"
+#include "engine/geometry/aabb.h"
+#include "engine/geometry/camera.h"
 
 namespace rf::view {
 

@@ -1,4 +1,4 @@
-#include "preview_window.h"
+#include "farm/view/preview_window.h"
 
 #include <QLabel>
 #include <QKeySequence>

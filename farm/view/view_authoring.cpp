@@ -12,8 +12,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "interrupt.h"
-#include "view_window.h"
+#include "farm/process/interrupt.h"
+#include "farm/view/view_window.h"
 
 namespace rf::view {
 

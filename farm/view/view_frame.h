@@ -6,8 +6,8 @@
 #include <optional>
 #include <vector>
 
-#include "scene.h"
-#include "timeline.h"
+#include "engine/scene/scene.h"
+#include "anim/timeline.h"
 
 namespace rf::view {
 

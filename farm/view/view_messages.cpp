@@ -1,4 +1,4 @@
-#include "view_messages.h"
+#include "farm/view/view_messages.h"
 
 #include <cstring>
 #include <stdexcept>

@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <string>
 
-#include "background.h"
-#include "settings.h"
+#include "engine/scene/background.h"
+#include "engine/util/settings.h"
 
 namespace rf::view {
 

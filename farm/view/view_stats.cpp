@@ -1,4 +1,4 @@
-#include "view_stats.h"
+#include "farm/view/view_stats.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "view_window.h"
+#include "farm/view/view_window.h"
 
 #include <QBuffer>
 #include <QCloseEvent>
@@ -23,10 +23,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "farm_view.h"
-#include "orbit_camera.h"
-#include "interrupt.h"
-#include "preview_spawn.h"
+#include "farm/view/farm_view.h"
+#include "farm/view/orbit_camera.h"
+#include "farm/process/interrupt.h"
+#include "farm/cli/preview_spawn.h"
 
 namespace rf::view {
 

@@ -8,10 +8,10 @@
 #include <optional>
 #include <string>
 
-#include "camera_keys.h"
-#include "film_render.h"
-#include "farm_view.h"
-#include "view_stats.h"
+#include "farm/view/camera_keys.h"
+#include "farm/view/film_render.h"
+#include "farm/view/farm_view.h"
+#include "farm/view/view_stats.h"
 
 class QHBoxLayout;
 class QLabel;

@@ -1,14 +1,14 @@
-#include "view_worker.h"
+#include "farm/view/view_worker.h"
 
 #include <algorithm>
 #include <memory>
 
 #include <nlohmann/json.hpp>
 
-#include "interrupt.h"
-#include "messages.h"
-#include "render_engine.h"
-#include "worker.h"
+#include "farm/process/interrupt.h"
+#include "farm/cluster/messages.h"
+#include "farm/cluster/render_engine.h"
+#include "farm/cluster/worker.h"
 
 namespace rf::view {
 

@@ -2,9 +2,9 @@
 /// Ranks 1…N−1 of `mpirun … rayfarm view`: the farm's own worker loop (runWorker over a
 /// RenderEngine), serving rank 0's view sessions (kTagView epochs: camera, size, spp) and its
 /// films (plain work items) alike, until rank 0 says stop. No window, no Qt on these ranks.
-#include "scene.h"
-#include "timeline.h"
-#include "transport.h"
+#include "engine/scene/scene.h"
+#include "anim/timeline.h"
+#include "farm/cluster/transport.h"
 
 namespace rf::view {
 

@@ -13,11 +13,11 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include "file_source.h"
-#include "scene_loader.h"
-#include "gltf_animation.h"
-#include "render.h"
-#include "timeline.h"
+#include "engine/util/file_source.h"
+#include "engine/load/scene_loader.h"
+#include "anim/gltf_animation.h"
+#include "engine/integrators/render.h"
+#include "anim/timeline.h"
 
 using namespace rf;
 

@@ -5,12 +5,12 @@
 
 #include <filesystem>
 
-#include "camera.h"
-#include "file_source.h"
-#include "image.h"
-#include "render.h"
-#include "scene_loader.h"
-#include "timeline.h"
+#include "engine/geometry/camera.h"
+#include "engine/util/file_source.h"
+#include "engine/util/image.h"
+#include "engine/integrators/render.h"
+#include "engine/load/scene_loader.h"
+#include "anim/timeline.h"
 
 namespace rf::anim {
 namespace {

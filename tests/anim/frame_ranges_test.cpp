@@ -4,7 +4,7 @@
 #include <set>
 #include <vector>
 
-#include "frame_ranges.h"
+#include "anim/frame_ranges.h"
 
 using rf::anim::FrameRange;
 using rf::anim::FrameRanges;

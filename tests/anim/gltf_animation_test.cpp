@@ -11,14 +11,14 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 
-#include "camera.h"
-#include "errors.h"
-#include "file_source.h"
-#include "gltf_animation.h"
-#include "scene_loader.h"
-#include "timeline.h"
-#include "image.h"
-#include "render.h"
+#include "engine/geometry/camera.h"
+#include "engine/util/errors.h"
+#include "engine/util/file_source.h"
+#include "anim/gltf_animation.h"
+#include "engine/load/scene_loader.h"
+#include "anim/timeline.h"
+#include "engine/util/image.h"
+#include "engine/integrators/render.h"
 
 namespace rf::anim {
 namespace {

@@ -6,7 +6,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
-#include "keyframes.h"
+#include "anim/keyframes.h"
 
 namespace rf::anim {
 namespace {

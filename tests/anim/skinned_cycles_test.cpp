@@ -11,12 +11,12 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "gltf_animation.h"
-#include "gltf_loader.h"
-#include "image.h"
-#include "image_metrics.h"
-#include "render.h"
-#include "scene_loader.h"
+#include "anim/gltf_animation.h"
+#include "engine/load/gltf/gltf_loader.h"
+#include "engine/util/image.h"
+#include "engine/util/image_metrics.h"
+#include "engine/integrators/render.h"
+#include "engine/load/scene_loader.h"
 
 using namespace rf;
 

@@ -7,10 +7,10 @@
 #include <filesystem>
 #include <fstream>
 
-#include "errors.h"
-#include "file_source.h"
-#include "scene_loader.h"
-#include "timeline.h"
+#include "engine/util/errors.h"
+#include "engine/util/file_source.h"
+#include "engine/load/scene_loader.h"
+#include "anim/timeline.h"
 
 namespace rf::anim {
 namespace {

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <random>
 
-#include "turntable.h"
-#include "turntable_fit.h"
+#include "anim/turntable.h"
+#include "anim/turntable_fit.h"
 
 namespace rf::anim {
 namespace {

@@ -9,14 +9,14 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "errors.h"
-#include "file_source.h"
-#include "render.h"
-#include "scene_loader.h"
-#include "timeline.h"
-#include "timeline_spec.h"
-#include "turntable.h"
-#include "turntable_fit.h"
+#include "engine/util/errors.h"
+#include "engine/util/file_source.h"
+#include "engine/integrators/render.h"
+#include "engine/load/scene_loader.h"
+#include "anim/timeline.h"
+#include "anim/timeline_spec.h"
+#include "anim/turntable.h"
+#include "anim/turntable_fit.h"
 
 namespace rf::anim {
 namespace {

@@ -7,12 +7,12 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "exposure.h"
-#include "file_source.h"
-#include "image_metrics.h"
-#include "render.h"
-#include "scene_loader.h"
-#include "timeline.h"
+#include "engine/lights/exposure.h"
+#include "engine/util/file_source.h"
+#include "engine/util/image_metrics.h"
+#include "engine/integrators/render.h"
+#include "engine/load/scene_loader.h"
+#include "anim/timeline.h"
 
 namespace rf::anim {
 namespace {

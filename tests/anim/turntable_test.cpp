@@ -5,10 +5,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "camera.h"
-#include "frame_time.h"
-#include "timeline.h"
-#include "turntable.h"
+#include "engine/geometry/camera.h"
+#include "anim/frame_time.h"
+#include "anim/timeline.h"
+#include "anim/turntable.h"
 
 namespace rf::anim {
 namespace {

@@ -7,10 +7,10 @@
 #include <cstdio>
 #include <string>
 
-#include "render.h"
-#include "scene_loader.h"
+#include "engine/integrators/render.h"
+#include "engine/load/scene_loader.h"
 
-#include "bench_util.h"
+#include "tests/bench/bench_util.h"
 
 using namespace rf;
 

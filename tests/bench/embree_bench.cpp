@@ -18,11 +18,11 @@
 #include <thread>
 #include <vector>
 
-#include "bench_util.h"
-#include "image.h"
-#include "render.h"
-#include "scene_loader.h"
-#include "timeline.h"
+#include "tests/bench/bench_util.h"
+#include "engine/util/image.h"
+#include "engine/integrators/render.h"
+#include "engine/load/scene_loader.h"
+#include "anim/timeline.h"
 
 using namespace rf;
 

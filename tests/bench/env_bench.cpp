@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "env_lighting.h"
+#include "engine/scene/env_lighting.h"
 
-#include "bench_util.h"
+#include "tests/bench/bench_util.h"
 
 using namespace rf;
 

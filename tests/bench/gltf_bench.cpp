@@ -9,9 +9,9 @@
 #include <string>
 #include <ctime>
 
-#include "bench_util.h"
-#include "gltf_loader.h"
-#include "render.h"
+#include "tests/bench/bench_util.h"
+#include "engine/load/gltf/gltf_loader.h"
+#include "engine/integrators/render.h"
 
 using namespace rf;
 

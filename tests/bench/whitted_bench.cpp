@@ -8,13 +8,13 @@
 #include <cstring>
 #include <string>
 
-#include "errors.h"
-#include "image.h"
-#include "render.h"
-#include "scene_loader.h"
-#include "timeline.h"
+#include "engine/util/errors.h"
+#include "engine/util/image.h"
+#include "engine/integrators/render.h"
+#include "engine/load/scene_loader.h"
+#include "anim/timeline.h"
 
-#include "bench_util.h"
+#include "tests/bench/bench_util.h"
 
 using namespace rf;
 

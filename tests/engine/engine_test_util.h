@@ -4,9 +4,9 @@
 #include <string>
 #include <vector>
 
-#include "image.h"
-#include "render.h"
-#include "scene.h"
+#include "engine/util/image.h"
+#include "engine/integrators/render.h"
+#include "engine/scene/scene.h"
 
 namespace rf::test {
 

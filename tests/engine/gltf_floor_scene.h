@@ -6,11 +6,11 @@
 #include <memory>
 #include <vector>
 
-#include "env_lighting.h"
-#include "gltf_loader.h"
-#include "image.h"
-#include "gltf_test_util.h"
-#include "render.h"
+#include "engine/scene/env_lighting.h"
+#include "engine/load/gltf/gltf_loader.h"
+#include "engine/util/image.h"
+#include "tests/engine/gltf_test_util.h"
+#include "engine/integrators/render.h"
 
 namespace gltftest {
 

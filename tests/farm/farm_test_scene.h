@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "file_source.h"
-#include "render_engine.h"
-#include "scene_loader.h"
-#include "timeline.h"
+#include "engine/util/file_source.h"
+#include "farm/cluster/render_engine.h"
+#include "engine/load/scene_loader.h"
+#include "anim/timeline.h"
 
 namespace rf::testing {
 

@@ -5,8 +5,8 @@
 #include <cstdint>
 #include <string>
 
-#include "environment.h"
-#include "errors.h"
+#include "engine/lights/environment.h"
+#include "engine/util/errors.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     const std::string bytes(reinterpret_cast<const char*>(data), size);

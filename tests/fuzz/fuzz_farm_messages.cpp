@@ -5,9 +5,9 @@
 // a tile's header-only note.
 #include <cstdlib>
 
-#include "fuzz_input.h"
-#include "messages.h"
-#include "video_chunk.h"
+#include "tests/fuzz/fuzz_input.h"
+#include "farm/cluster/messages.h"
+#include "farm/output/video_chunk.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (size == 0) return 0;

@@ -1,5 +1,5 @@
 // libFuzzer harness: a binary glTF (.glb): header, JSON chunk and BIN chunk.
-#include "fuzz_input.h"
+#include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     rf::FileBundle b;

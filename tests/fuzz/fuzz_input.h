@@ -8,10 +8,10 @@
 #include <stdexcept>
 #include <string>
 
-#include "errors.h"
-#include "file_source.h"
-#include "scene_loader.h"
-#include "timeline.h"
+#include "engine/util/errors.h"
+#include "engine/util/file_source.h"
+#include "engine/load/scene_loader.h"
+#include "anim/timeline.h"
 
 namespace rffuzz {
 

@@ -1,6 +1,6 @@
 // libFuzzer harness: the scene bundle a worker receives (FileBundle::deserialize), then the
 // scene loaded from it. The bundle's first file is the scene; its type follows its name.
-#include "fuzz_input.h"
+#include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     rf::FileBundle b;

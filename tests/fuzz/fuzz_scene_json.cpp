@@ -1,5 +1,5 @@
 // libFuzzer harness: a scene file (.json) with its timeline, as `rayfarm render` reads it.
-#include "fuzz_input.h"
+#include "tests/fuzz/fuzz_input.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     rf::FileBundle b;

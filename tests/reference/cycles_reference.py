@@ -115,7 +115,7 @@ def pick_camera(doc, index):
 def charlie_albedo(nv, roughness, theta_steps=96, phi_steps=48):
     """E(n·v) of KHR_materials_sheen's lobe (Charlie distribution, the extension's fitted
     visibility, sheen colour 1) by quadrature over the hemisphere, as rayfarm tabulates it
-    (engine/brdf_sheen.cpp: roughness from 0.07, alpha its square)."""
+    (engine/materials/brdf_sheen.cpp: roughness from 0.07, alpha its square)."""
     alpha = max(0.07, min(1.0, roughness)) ** 2
     t = (1 - alpha) ** 2
     co = [a + (b - a) * t for a, b in ((21.5473, 25.3245), (3.82987, 3.32435), (0.19823, 0.16801),

@@ -1,5 +1,5 @@
 # A glTF file with KHR_materials_variants written by Blender 3.4's own exporter, for rayfarm's
-# variants test (tests/engine/gltf_variants_test.cpp): a cube in a grey "paint" material and a
+# variants test (tests/engine/load/gltf/gltf_variants_test.cpp): a cube in a grey "paint" material and a
 # metal sphere; variants "Ruby" and "Jade" give the cube's slot a red and a green material, the
 # sphere has none. Made through the exporter's Material Variants UI, as a user would:
 #   blender --background --factory-startup --python tests/reference/variants_blender.py

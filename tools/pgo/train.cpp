@@ -7,11 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "errors.h"
-#include "image.h"
-#include "render.h"
-#include "scene_loader.h"
-#include "timeline.h"
+#include "engine/util/errors.h"
+#include "engine/util/image.h"
+#include "engine/integrators/render.h"
+#include "engine/load/scene_loader.h"
+#include "anim/timeline.h"
 
 using namespace rf;
 

@@ -7,10 +7,10 @@
 #include <algorithm>
 #include <random>
 
-#include "chunk_workshop.h"
-#include "farm_test_scene.h"
-#include "png_encoder.h"
-#include "video_chunk.h"
+#include "farm/cluster/chunk_workshop.h"
+#include "tests/farm/farm_test_scene.h"
+#include "farm/output/png_encoder.h"
+#include "farm/output/video_chunk.h"
 
 using namespace rf;
 using namespace rf::farm;

@@ -4,8 +4,8 @@
 #include <random>
 #include <stdexcept>
 
-#include "frame_assembler.h"
-#include "render.h"
+#include "farm/cluster/frame_assembler.h"
+#include "engine/integrators/render.h"
 
 using namespace rf;
 using namespace rf::farm;

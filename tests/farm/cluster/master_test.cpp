@@ -10,17 +10,17 @@
 #include <map>
 #include <thread>
 
-#include "build_beats.h"
-#include "farm_test_scene.h"
-#include "usage_error.h"
-#include "errors.h"
-#include "frame_assembler.h"
-#include "loopback_transport.h"
-#include "master.h"
-#include "messages.h"
-#include "scene_broadcast.h"
-#include "timeline.h"
-#include "worker.h"
+#include "farm/cluster/build_beats.h"
+#include "tests/farm/farm_test_scene.h"
+#include "farm/process/usage_error.h"
+#include "engine/util/errors.h"
+#include "farm/cluster/frame_assembler.h"
+#include "farm/cluster/loopback_transport.h"
+#include "farm/cluster/master.h"
+#include "farm/cluster/messages.h"
+#include "farm/cluster/scene_broadcast.h"
+#include "anim/timeline.h"
+#include "farm/cluster/worker.h"
 
 using namespace rf;
 using namespace rf::farm;

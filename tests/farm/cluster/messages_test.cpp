@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "messages.h"
+#include "farm/cluster/messages.h"
 
 using namespace rf;
 using namespace rf::farm;

@@ -5,8 +5,8 @@
 
 #include <map>
 
-#include "farm_test_scene.h"
-#include "render_engine.h"
+#include "tests/farm/farm_test_scene.h"
+#include "farm/cluster/render_engine.h"
 
 using namespace rf;
 using namespace rf::farm;

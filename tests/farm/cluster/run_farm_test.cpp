@@ -12,13 +12,13 @@
 
 #include <unistd.h>
 
-#include "farm_test_scene.h"
-#include "loopback_transport.h"
-#include "render_engine.h"
-#include "mp4_sink.h"
-#include "png_encoder.h"
-#include "run_farm.h"
-#include "timeline.h"
+#include "tests/farm/farm_test_scene.h"
+#include "farm/cluster/loopback_transport.h"
+#include "farm/cluster/render_engine.h"
+#include "farm/output/mp4_sink.h"
+#include "farm/output/png_encoder.h"
+#include "farm/cluster/run_farm.h"
+#include "anim/timeline.h"
 
 using namespace rf;
 using namespace rf::farm;

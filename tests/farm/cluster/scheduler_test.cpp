@@ -2,8 +2,8 @@
 
 #include <set>
 
-#include "chunk_collector.h"
-#include "scheduler.h"
+#include "farm/cluster/chunk_collector.h"
+#include "farm/cluster/scheduler.h"
 
 using namespace rf;
 using namespace rf::farm;

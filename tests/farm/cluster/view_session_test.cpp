@@ -11,12 +11,12 @@
 #include <mutex>
 #include <thread>
 
-#include "farm_test_scene.h"
-#include "loopback_transport.h"
-#include "render.h"
-#include "render_engine.h"
-#include "run_farm.h"
-#include "timeline.h"
+#include "tests/farm/farm_test_scene.h"
+#include "farm/cluster/loopback_transport.h"
+#include "engine/integrators/render.h"
+#include "farm/cluster/render_engine.h"
+#include "farm/cluster/run_farm.h"
+#include "anim/timeline.h"
 
 using namespace rf;
 using namespace rf::farm;

@@ -10,10 +10,10 @@
 #include <sstream>
 #include <string>
 
-#include "chunk_encoder.h"
-#include "mp4_sink.h"
-#include "tool_output.h"
-#include "video_chunk.h"
+#include "farm/output/chunk_encoder.h"
+#include "farm/output/mp4_sink.h"
+#include "tests/farm/output/tool_output.h"
+#include "farm/output/video_chunk.h"
 
 using namespace rf::farm;
 

@@ -10,9 +10,9 @@
 #include <memory>
 #include <string>
 
-#include "mp4_remux.h"
-#include "mp4_sink.h"
-#include "tool_output.h"
+#include "farm/output/mp4_remux.h"
+#include "farm/output/mp4_sink.h"
+#include "tests/farm/output/tool_output.h"
 
 using namespace rf::farm;
 

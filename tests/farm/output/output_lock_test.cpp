@@ -10,8 +10,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "output_lock.h"
-#include "usage_error.h"
+#include "farm/output/output_lock.h"
+#include "farm/process/usage_error.h"
 
 using rf::OutputLock;
 

@@ -9,17 +9,17 @@
 #include <cstring>
 #include <filesystem>
 
-#include "bitmap_font.h"
-#include "contact_sheet.h"
-#include "exr_frames.h"
-#include "farm_test_scene.h"
-#include "frame_assembler.h"
-#include "image.h"
-#include "messages.h"
-#include "render.h"
-#include "render_engine.h"
-#include "timeline.h"
-#include "video_format.h"
+#include "farm/output/bitmap_font.h"
+#include "farm/output/contact_sheet.h"
+#include "farm/output/exr_frames.h"
+#include "tests/farm/farm_test_scene.h"
+#include "farm/cluster/frame_assembler.h"
+#include "engine/util/image.h"
+#include "farm/cluster/messages.h"
+#include "engine/integrators/render.h"
+#include "farm/cluster/render_engine.h"
+#include "anim/timeline.h"
+#include "farm/output/video_format.h"
 
 using namespace rf;
 using namespace rf::farm;

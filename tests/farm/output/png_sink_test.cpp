@@ -4,10 +4,10 @@
 #include <filesystem>
 #include <fstream>
 
-#include "usage_error.h"
-#include "frame_sink.h"
-#include "image.h"
-#include "png_sink.h"
+#include "farm/process/usage_error.h"
+#include "farm/output/frame_sink.h"
+#include "engine/util/image.h"
+#include "farm/output/png_sink.h"
 
 using namespace rf;
 using namespace rf::farm;

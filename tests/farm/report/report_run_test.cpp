@@ -1,6 +1,6 @@
 // The whole quality report on a tiny scene: every file written, every row in the CSV, a plot
 // that decodes, a summary that names what the scene left out; and the CLI's refusals.
-#include "report_run.h"
+#include "farm/report/report_run.h"
 
 #include <gtest/gtest.h>
 
@@ -9,14 +9,14 @@
 #include <fstream>
 #include <sstream>
 
-#include "cli.h"
-#include "cmd_report.h"
-#include "errors.h"
-#include "image.h"
-#include "report_csv.h"
-#include "report_test_scene.h"
-#include "scene_loader.h"
-#include "timeline.h"
+#include "farm/cli/cli.h"
+#include "farm/report/cmd_report.h"
+#include "engine/util/errors.h"
+#include "engine/util/image.h"
+#include "farm/report/report_csv.h"
+#include "tests/farm/report/report_test_scene.h"
+#include "engine/load/scene_loader.h"
+#include "anim/timeline.h"
 
 namespace rf::report {
 namespace {

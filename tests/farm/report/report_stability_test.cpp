@@ -4,8 +4,8 @@
 #include <fstream>
 #include <set>
 
-#include "report_stability.h"
-#include "report_test_scene.h"
+#include "farm/report/report_stability.h"
+#include "tests/farm/report/report_test_scene.h"
 
 namespace rf::report {
 namespace {

@@ -1,8 +1,8 @@
 // summary.md: the cheapest setting within the target, and the ray kinds a scene left out.
 #include <gtest/gtest.h>
 
-#include "report_summary.h"
-#include "report_test_scene.h"
+#include "farm/report/report_summary.h"
+#include "tests/farm/report/report_test_scene.h"
 
 namespace rf::report {
 namespace {

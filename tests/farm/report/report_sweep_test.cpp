@@ -3,9 +3,9 @@
 
 #include <cmath>
 
-#include "image.h"
-#include "report_sweep.h"
-#include "report_test_scene.h"
+#include "engine/util/image.h"
+#include "farm/report/report_sweep.h"
+#include "tests/farm/report/report_test_scene.h"
 
 namespace rf::report {
 namespace {

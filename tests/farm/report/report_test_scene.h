@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <string>
 
-#include "scene.h"
+#include "engine/scene/scene.h"
 
 namespace rf::testing {
 

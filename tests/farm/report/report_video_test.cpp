@@ -3,11 +3,11 @@
 
 #include <cmath>
 
-#include "image.h"
-#include "render.h"
-#include "report_test_scene.h"
-#include "report_video.h"
-#include "video_decode.h"
+#include "engine/util/image.h"
+#include "engine/integrators/render.h"
+#include "tests/farm/report/report_test_scene.h"
+#include "farm/report/report_video.h"
+#include "farm/output/video_decode.h"
 
 namespace rf::report {
 namespace {

@@ -1,4 +1,4 @@
-#include "camera_keys.h"
+#include "farm/view/camera_keys.h"
 
 #include <gtest/gtest.h>
 
@@ -7,9 +7,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "file_source.h"
-#include "orbit_camera.h"
-#include "scene_loader.h"
+#include "engine/util/file_source.h"
+#include "farm/view/orbit_camera.h"
+#include "engine/load/scene_loader.h"
 
 namespace rf::view {
 namespace {

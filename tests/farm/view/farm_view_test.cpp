@@ -1,7 +1,7 @@
 // The window's backend over the farm's one entry point (runFarm's view session): alone (a
 // one-rank loopback, rank 0 rendering on its threads) and over a loopback farm of three ranks
 // whose workers run runViewWorker, as under mpirun.
-#include "farm_view.h"
+#include "farm/view/farm_view.h"
 
 #include <gtest/gtest.h>
 
@@ -12,12 +12,12 @@
 #include <set>
 #include <thread>
 
-#include "file_source.h"
-#include "image.h"
-#include "loopback_transport.h"
-#include "render.h"
-#include "scene_loader.h"
-#include "view_worker.h"
+#include "engine/util/file_source.h"
+#include "engine/util/image.h"
+#include "farm/cluster/loopback_transport.h"
+#include "engine/integrators/render.h"
+#include "engine/load/scene_loader.h"
+#include "farm/view/view_worker.h"
 
 namespace rf::view {
 namespace {

@@ -1,4 +1,4 @@
-#include "orbit_camera.h"
+#include "farm/view/orbit_camera.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "view_frame.h"
+#include "farm/view/view_frame.h"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,70 @@
+#include "engine/integrators/material_gltf.h"
+
+#include "engine/materials/material_eval.h"
+#include "engine/scene/scene.h"
+#include "engine/materials/specular_glossiness.h"
+
+namespace rf {
+
+GltfSample gltfSample(const Scene& scene, const SurfaceInteraction& si) {
+    const Material& m = scene.materials[si.material];
+    GltfSample g;
+    pbr::Surface& s = g.surface;
+    s.baseColor = baseColor(scene, si);  // factor × texture (× COLOR_0 where the mesh has it)
+    s.metallic = m.metallic;
+    s.roughness = m.roughness;
+    s.ior = m.ior;
+    s.specular = m.specularWeight;
+    auto texel = [&](int tex, const TextureTransform& t) {
+        return sampleTexture(scene.textures[size_t(tex)], textureUv(t, si.uv, si.uv1), textureFootprint(t, si.uvArea));
+    };
+    if (m.metallicRoughnessTexture >= 0) {
+        const pbr::MetallicRoughness mr =
+            pbr::metallicRoughnessFromTexel(m.metallic, m.roughness, texel(m.metallicRoughnessTexture, m.metallicRoughnessTransform));
+        s.metallic = std::clamp(mr.metallic, 0.f, 1.f);
+        s.roughness = std::clamp(mr.roughness, 0.f, 1.f);
+    }
+    if (m.specularGlossiness) {
+        Color specular = m.sgSpecular;
+        float glossiness = m.sgGlossiness;
+        if (m.specularGlossinessTexture >= 0) {
+            const Vec4 t = texel(m.specularGlossinessTexture, m.specularGlossinessTransform);
+            specular *= Color(t);
+            glossiness *= t.a;
+        }
+        const SpecularGlossinessAsMetallic mr = convertSpecularGlossiness(s.baseColor, specular, glossiness);
+        s.baseColor = mr.baseColor;
+        s.metallic = mr.metallic;
+        s.roughness = mr.roughness;
+    }
+    if (m.occlusionTexture >= 0)
+        s.occlusion = std::clamp(pbr::occlusionFromTexel(m.occlusionStrength, texel(m.occlusionTexture, m.occlusionTransform)), 0.f, 1.f);
+    g.emission = m.emission;
+    if (m.emissiveTexture >= 0 && m.emission != Color(0.f)) g.emission *= Color(texel(m.emissiveTexture, m.emissiveTransform));
+    g.transmission = m.transmission;
+    s.transmission = m.transmission;
+    g.unlit = m.unlit;
+    s.clearcoat = m.clearcoat;
+    s.clearcoatRoughness = m.clearcoatRoughness;
+    if (m.clearcoat > 0.f && m.clearcoatTexture >= 0) s.clearcoat *= texel(m.clearcoatTexture, m.clearcoatTransform).r;
+    if (m.clearcoat > 0.f && m.clearcoatRoughnessTexture >= 0)
+        s.clearcoatRoughness = std::clamp(s.clearcoatRoughness * texel(m.clearcoatRoughnessTexture, m.clearcoatRoughnessTransform).g, 0.f, 1.f);
+    s.sheenColor = m.sheenColor;
+    s.sheenRoughness = m.sheenRoughness;
+    if (m.sheenColor != Color(0.f)) {
+        if (m.sheenColorTexture >= 0) s.sheenColor *= Color(texel(m.sheenColorTexture, m.sheenColorTransform));
+        if (m.sheenRoughnessTexture >= 0)
+            s.sheenRoughness = std::clamp(s.sheenRoughness * texel(m.sheenRoughnessTexture, m.sheenRoughnessTransform).a, 0.f, 1.f);
+    }
+    return g;
+}
+
+float gltfThickness(const Scene& scene, const SurfaceInteraction& si) {
+    const Material& m = scene.materials[si.material];
+    if (m.thicknessTexture < 0 || !(m.thickness > 0.f)) return m.thickness;
+    const TextureTransform& t = m.thicknessTransform;
+    return m.thickness * sampleTexture(scene.textures[size_t(m.thicknessTexture)], textureUv(t, si.uv, si.uv1),
+                                       textureFootprint(t, si.uvArea)).g;
+}
+
+}  // namespace rf

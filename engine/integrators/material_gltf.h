@@ -1,0 +1,27 @@
+#pragma once
+/// The glTF metallic-roughness material at a surface point: every factor times its texture, as
+/// the core specification and KHR_materials_* define them, ready for brdf_gltf.h.
+#include "engine/materials/brdf_gltf.h"
+
+namespace rf {
+
+class Scene;
+struct SurfaceInteraction;
+
+struct GltfSample {
+    pbr::Surface surface;   ///< base colour, metallic, roughness, ior, specular, occlusion
+    Color emission{0.f};    ///< emissiveFactor × emissive texture (sRGB) × emissive strength
+    float transmission = 0.f;
+    bool unlit = false;     ///< KHR_materials_unlit: surface.baseColor is the radiance
+};
+
+/// baseColor = factor × texture (sRGB, decoded at load) × COLOR_0; metallic = factor × B and
+/// roughness = factor × G of the metallicRoughness texture; occlusion = 1 + strength·(R − 1);
+/// emission = emissive (factor × strength, as loaded) × the emissive texture. Every texture reads
+/// its own texCoord set through its own KHR_texture_transform.
+GltfSample gltfSample(const Scene& scene, const SurfaceInteraction& si);
+
+/// KHR_materials_volume's thickness at si: factor × the thickness texture's G (0: thin-walled).
+float gltfThickness(const Scene& scene, const SurfaceInteraction& si);
+
+}  // namespace rf

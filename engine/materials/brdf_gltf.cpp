@@ -1,0 +1,279 @@
+#include "engine/materials/brdf_gltf.h"
+
+#include <array>
+
+namespace rf::pbr {
+
+float f0FromIor(float ior) {
+    const float r = (ior - 1.f) / (ior + 1.f);
+    return r * r;
+}
+
+Color specularF0(const Surface& s) { return glm::mix(Color(s.specular * f0FromIor(s.ior)), s.baseColor, s.metallic); }
+
+float ggxD(float cos2, float sin2, float alpha) {
+    const float a2 = alpha * alpha;
+    const float d = cos2 * a2 + sin2;  // = cos²·(α² − 1) + 1 without the cancellation
+    return d > 0.f ? a2 / (kPi * d * d) : 0.f;
+}
+
+float ggxD(float nh, float alpha) { return ggxD(nh * nh, std::max(0.f, (1.f - nh) * (1.f + nh)), alpha); }
+
+float smithVisibility(float nl, float nv, float alpha) {
+    const float a2 = alpha * alpha;
+    const float gv = nl * std::sqrt(nv * nv * (1.f - a2) + a2);
+    const float gl = nv * std::sqrt(nl * nl * (1.f - a2) + a2);
+    const float den = gv + gl;
+    return den > 0.f ? 0.5f / den : 0.f;
+}
+
+float schlickFresnel(float f0, float vh) {
+    const float m = std::clamp(1.f - vh, 0.f, 1.f);
+    const float m2 = m * m;
+    return f0 + (1.f - f0) * (m2 * m2 * m);
+}
+
+Color schlickFresnel(const Color& f0, float vh) {
+    const float m = std::clamp(1.f - vh, 0.f, 1.f);
+    const float m2 = m * m;
+    return f0 + (Color(1.f) - f0) * (m2 * m2 * m);
+}
+
+ViewTerms viewTerms(const Surface& s, const Vec3& n, const Vec3& v) {
+    ViewTerms vt;
+    const float nv = glm::dot(n, v);
+    if (!(nv > 0.f) || s.metallic >= 1.f || s.transmission >= 1.f) return vt;  // evalBrdf needs neither
+    const float f0 = f0FromIor(s.ior), w = s.specular;
+    vt.diffuseOut = 1.f - w * dielectricAlbedo(f0, s.roughness, nv);
+    vt.diffuseAvg = std::max(1e-4f, 1.f - w * dielectricAlbedoAverage(f0, s.roughness));
+    return vt;
+}
+
+Color evalBrdf(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l) { return evalBrdf(s, n, v, l, viewTerms(s, n, v)); }
+
+Color evalBrdf(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l, const ViewTerms& vt) {
+    const float nl = glm::dot(n, l), nv = glm::dot(n, v);
+    if (!(nl > 0.f) || !(nv > 0.f)) return Color(0.f);
+    Vec3 h = v + l;
+    const float hl = glm::length(h);
+    if (!(hl > 0.f)) return Color(0.f);
+    h /= hl;
+    const float nh = std::max(glm::dot(n, h), 0.f), vh = std::max(glm::dot(v, h), 0.f);
+    const Vec3 nxh = glm::cross(n, h);
+    const float alpha = std::max(alphaFromRoughness(s.roughness), kMinAlpha);
+    const float dv = ggxD(nh * nh, glm::dot(nxh, nxh), alpha) * smithVisibility(nl, nv, alpha);
+    // The metal's and the dielectric's Fresnel-weighted lobes, mixed by metallic; the
+    // dielectric's Fresnel layer weighs `specular` (KHR_materials_specular; 1 without it).
+    const float f0 = f0FromIor(s.ior);
+    const Color fresnel = s.metallic * schlickFresnel(s.baseColor, vh) + Color((1.f - s.metallic) * s.specular * schlickFresnel(f0, vh));
+    const Color spec = fresnel * dv;
+    if (s.metallic >= 1.f || s.transmission >= 1.f) return spec;
+    const float couple = vt.diffuseOut * (1.f - s.specular * dielectricAlbedo(f0, s.roughness, nl)) / vt.diffuseAvg;
+    const Color diffuse = (1.f - s.metallic) * (1.f - s.transmission) * couple * s.baseColor * (1.f / kPi);
+    return diffuse + spec;
+}
+
+Color directLight(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l, const Color& irradiance) {
+    return directLight(s, n, v, l, irradiance, viewTerms(s, n, v));
+}
+
+Color directLight(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l, const Color& irradiance,
+                  const ViewTerms& vt) {
+    const float nl = glm::dot(n, l);
+    if (!(nl > 0.f)) return Color(0.f);
+    return evalBrdf(s, n, v, l, vt) * irradiance * nl;
+}
+
+namespace {
+constexpr float kCoatF0 = 0.04f;  // the coat's ior is 1.5 (the extension fixes it)
+}
+
+Color clearcoatDirect(const Surface& s, const Vec3& nc, const Vec3& v, const Vec3& l, const Color& base, const Color& irradiance) {
+    if (!(s.clearcoat > 0.f)) return base;
+    Vec3 h = v + l;
+    const float hl = glm::length(h);
+    if (!(hl > 0.f)) return base;
+    h /= hl;
+    const float fc = s.clearcoat * schlickFresnel(kCoatF0, std::max(glm::dot(v, h), 0.f));
+    const float nl = glm::dot(nc, l), nv = glm::dot(nc, v);
+    Color coat(0.f);
+    if (nl > 0.f && nv > 0.f) {
+        const float alpha = std::max(alphaFromRoughness(s.clearcoatRoughness), kMinAlpha);
+        const float nh = std::max(glm::dot(nc, h), 0.f);
+        const Vec3 nxh = glm::cross(nc, h);
+        coat = Color(fc * ggxD(nh * nh, glm::dot(nxh, nxh), alpha) * smithVisibility(nl, nv, alpha) * nl) * irradiance;
+    }
+    return (1.f - fc) * base + coat;
+}
+
+Color clearcoatEnvironment(const Surface& s, float ncv, const Color& base, const Color& coatRadiance) {
+    if (!(s.clearcoat > 0.f)) return base;
+    const Vec2 ab = specularScaleBias(ncv, s.clearcoatRoughness);
+    const float fv = s.clearcoat * schlickFresnel(kCoatF0, std::clamp(ncv, 0.f, 1.f));
+    return (1.f - fv) * base + s.occlusion * s.clearcoat * (kCoatF0 * ab.x + ab.y) * coatRadiance;
+}
+
+MetallicRoughness metallicRoughnessFromTexel(float metallicFactor, float roughnessFactor, const Vec4& texel) {
+    return {metallicFactor * texel.b, roughnessFactor * texel.g};
+}
+
+float occlusionFromTexel(float strength, const Vec4& texel) { return 1.f + strength * (texel.r - 1.f); }
+
+Vec2 hammersley(uint32_t i, uint32_t n) {
+    uint32_t bits = i;
+    bits = (bits << 16u) | (bits >> 16u);
+    bits = ((bits & 0x55555555u) << 1u) | ((bits & 0xAAAAAAAAu) >> 1u);
+    bits = ((bits & 0x33333333u) << 2u) | ((bits & 0xCCCCCCCCu) >> 2u);
+    bits = ((bits & 0x0F0F0F0Fu) << 4u) | ((bits & 0xF0F0F0F0u) >> 4u);
+    bits = ((bits & 0x00FF00FFu) << 8u) | ((bits & 0xFF00FF00u) >> 8u);
+    return Vec2((i + 0.5f) / float(n), float(bits) * 2.3283064365386963e-10f);
+}
+
+Vec3 sampleGgxHalfVector(float alpha, float u1, float u2) {
+    // Inverting the CDF of D(h)·cos θh over cos² θh.
+    const float a2 = alpha * alpha;
+    const float den = 1.f + (a2 - 1.f) * u1;
+    const float cos2 = den > 0.f ? std::clamp((1.f - u1) / den, 0.f, 1.f) : 1.f;
+    const float cosT = std::sqrt(cos2), sinT = std::sqrt(1.f - cos2);
+    const float phi = 2.f * kPi * u2;
+    return Vec3(sinT * std::cos(phi), sinT * std::sin(phi), cosT);
+}
+
+Vec2 integrateScaleBias(float nv, float alpha) {
+    // The lobe's albedo is ∫ F·D·V·(n·l) dω = f0·A + B with A = ∫(1 − Fc)w, B = ∫Fc·w and
+    // Fc = (1 − v·h)⁵, by quadrature over GGX half vectors.
+    constexpr uint32_t kSamples = 1024;
+    const Vec3 v(std::sqrt(std::max(0.f, 1.f - nv * nv)), 0.f, nv);
+    double a = 0.0, b = 0.0;
+    for (uint32_t i = 0; i < kSamples; ++i) {
+        const Vec2 u = hammersley(i, kSamples);
+        const Vec3 h = sampleGgxHalfVector(alpha, u.x, u.y);
+        const float vh = glm::dot(v, h);
+        const Vec3 l = 2.f * vh * h - v;
+        if (l.z <= 0.f || vh <= 0.f) continue;
+        // f·cos/pdf with pdf(l) = D·(n·h)/(4 v·h): the D cancels.
+        const float w = smithVisibility(l.z, nv, alpha) * 4.f * l.z * vh / h.z;
+        const float fc = schlickFresnel(0.f, vh);
+        a += (1.f - fc) * w;
+        b += fc * w;
+    }
+    return Vec2(float(a / kSamples), float(b / kSamples));
+}
+
+Vec2 integrateScaleBiasNode(int roughnessRow, int nvColumn) {
+    const float nv = std::max(1e-3f, float(nvColumn) / (kScaleBiasLutSize - 1));
+    const float r = float(roughnessRow) / (kScaleBiasLutSize - 1);
+    return integrateScaleBias(nv, alphaFromRoughness(r));
+}
+
+namespace {
+
+constexpr int kLutSize = kScaleBiasLutSize;
+using AverageLut = std::array<Vec2, kLutSize>;
+
+// integrateScaleBiasNode(j, i) at row j, column i, written out by tests/engine/materials/brdf_lut_gen
+// (a million GGX samples, 200 million instructions that every process spent at start-up).
+// BrdfLut.ShippedTableIsTheQuadrature checks it against the quadrature.
+constexpr float kScaleBiasTable[kLutSize * kLutSize][2] = {
+#include "engine/materials/brdf_lut_table.inc"
+};
+
+Vec2 lutNode(size_t k) { return Vec2(kScaleBiasTable[k][0], kScaleBiasTable[k][1]); }
+
+/// The table column left of n·v ∈ [0, 1] and the weight of the one right of it.
+struct LutColumn {
+    int i0;
+    float fx;
+};
+LutColumn lutColumn(float nv) {
+    const float x = nv * (kLutSize - 1);
+    const int i0 = std::min(int(x), kLutSize - 2);
+    return {i0, x - i0};
+}
+
+/// A row of the table at n·v (in column c); roughness row 0 is a mirror and so exact in closed
+/// form.
+Vec2 lutRow(int j, float nv, LutColumn c) {
+    if (j == 0) {
+        const float fc = schlickFresnel(0.f, nv);
+        return Vec2(1.f - fc, fc);
+    }
+    const size_t k = size_t(j) * kLutSize + size_t(c.i0);
+    return glm::mix(lutNode(k), lutNode(k + 1), c.fx);
+}
+
+/// Per roughness row: 2∫(A, B)(μ) μ dμ over the interpolated row, so E_avg matches the E the
+/// BRDF uses (the coupled diffuse then integrates to exactly 1 − E(n·v)).
+const AverageLut& averageLut() {
+    static const AverageLut avg = [] {
+        AverageLut t{};
+        constexpr int kSteps = 1024;
+        for (int j = 0; j < kLutSize; ++j) {
+            Vec2 sum(0.f);
+            for (int i = 0; i < kSteps; ++i) {
+                const float mu = (i + 0.5f) / kSteps;
+                sum += lutRow(j, mu, lutColumn(mu)) * mu;
+            }
+            t[size_t(j)] = sum * (2.f / kSteps);
+        }
+        return t;
+    }();
+    return avg;
+}
+
+/// Row index and weight for a roughness in [0, 1].
+int rowOf(float roughness, float& frac) {
+    roughness = std::clamp(std::isfinite(roughness) ? roughness : 1.f, 0.f, 1.f);
+    const float y = roughness * (kLutSize - 1);
+    const int j0 = std::min(int(y), kLutSize - 2);
+    frac = y - j0;
+    return j0;
+}
+
+}  // namespace
+
+Vec2 scaleBiasLutEntry(int roughnessRow, int nvColumn) {
+    return lutNode(size_t(roughnessRow) * kLutSize + size_t(nvColumn));
+}
+
+Vec2 specularScaleBias(float nv, float roughness) {
+    nv = std::clamp(std::isfinite(nv) ? nv : 0.f, 0.f, 1.f);
+    float fy;
+    const int j0 = rowOf(roughness, fy);
+    const LutColumn c = lutColumn(nv);  // both rows share it
+    return glm::mix(lutRow(j0, nv, c), lutRow(j0 + 1, nv, c), fy);
+}
+
+float dielectricAlbedo(float f0, float roughness, float nv) {
+    const Vec2 ab = specularScaleBias(nv, roughness);
+    return f0 * ab.x + ab.y;
+}
+
+float dielectricAlbedoAverage(float f0, float roughness) {
+    float fy;
+    const int j0 = rowOf(roughness, fy);
+    const AverageLut& t = averageLut();
+    const Vec2 ab = glm::mix(t[size_t(j0)], t[size_t(j0) + 1], fy);
+    return f0 * ab.x + ab.y;
+}
+
+Color specularAlbedo(const Surface& s, float nv) { return specularAlbedo(s, specularScaleBias(nv, s.roughness)); }
+
+Color specularAlbedo(const Surface& s, Vec2 ab) {
+    const float dielectric = s.specular * (f0FromIor(s.ior) * ab.x + ab.y);
+    return s.metallic * (s.baseColor * ab.x + Color(ab.y)) + Color((1.f - s.metallic) * dielectric);
+}
+
+Color environmentLight(const Surface& s, float nv, const Color& specularRadiance, const Color& diffuseRadiance) {
+    return environmentLight(s, specularScaleBias(nv, s.roughness), specularRadiance, diffuseRadiance);
+}
+
+Color environmentLight(const Surface& s, Vec2 ab, const Color& specularRadiance, const Color& diffuseRadiance) {
+    const float ed = s.specular * (f0FromIor(s.ior) * ab.x + ab.y);
+    const Color spec = specularAlbedo(s, ab) * specularRadiance;
+    // The coupled diffuse layer under light arriving evenly: (1 − E(n·v))·c times irradiance/π.
+    const Color diffuse = (1.f - s.metallic) * (1.f - s.transmission) * (1.f - ed) * s.baseColor * diffuseRadiance;
+    return s.occlusion * (spec + diffuse);
+}
+
+}  // namespace rf::pbr
