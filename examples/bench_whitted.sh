@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # Benchmark (not a test): the Whitted orbit, 31 frames at 640×360, depth 5, 1 spp on all local
-# cores, made by rayfarm and by POV-Ray 3.7 on shared/reference/whitted.pov with the command
-# of shared/design.md. Both are timed as whole processes: `rayfarm render scenes/whitted.json -o
+# cores, made by rayfarm and by POV-Ray 3.7 on scenes/reference/whitted.pov with the command
+# of docs/architecture.md. Both are timed as whole processes: `rayfarm render scenes/whitted.json -o
 # w.mp4 --size 640x360 --spp 1 --frames 0:30` (start-up, load, render, PNG frames kept, H.264
 # encode) against povray writing its PNG frames. Prints both frame rates and their ratio, and as
 # a second line the engine alone (tests/bench/whitted_bench: frames rendered, nothing written).
 #   bash examples/bench_whitted.sh [BUILD_DIR]       (default: build)
-# Environment: POV_FILE (default ../shared/reference/whitted.pov), THREADS (default: nproc),
+# Environment: POV_FILE (default scenes/reference/whitted.pov), THREADS (default: nproc),
 # REPEAT (default 3): the two renderers take turns this many times. On a shared machine a run can
 # lose a third of its speed to other work, so the summary compares each one's best run (the least
 # disturbed) and also gives the median of the per-round ratios.
@@ -14,7 +14,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
 threads=${THREADS:-$(nproc 2>/dev/null || echo 2)}
-pov=${POV_FILE:-../shared/reference/whitted.pov}
+pov=${POV_FILE:-scenes/reference/whitted.pov}
 repeat=${REPEAT:-3}
 
 # POV-Ray is only needed here, so it is installed here (not by the test set-up).
