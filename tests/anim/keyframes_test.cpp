@@ -1,4 +1,4 @@
-// Key tracks: the timeline cases 23, 24, 26, 27 and 28 of shared/stability.md.
+// Key tracks: the timeline cases 23, 24, 26, 27 and 28 of docs/stability.md.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Turntables and frame times: the timeline cases 25, 29 and 30 of shared/stability.md.
+// Turntables and frame times: the timeline cases 25, 29 and 30 of docs/stability.md.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,5 @@
 // Sphere and plane intersection, including the stiff cases 1, 2, 7, 8 and 12 of
-// shared/stability.md.
+// docs/stability.md.
 #include <gtest/gtest.h>
 
 #include <random>

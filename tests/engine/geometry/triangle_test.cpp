@@ -1,5 +1,5 @@
 // Ray–triangle tests (classic, Möller–Trumbore, watertight) and the mesh cases 4–8 and 18 of
-// shared/stability.md.
+// docs/stability.md.
 #include <gtest/gtest.h>
 
 #include <random>

@@ -1,4 +1,4 @@
-// Whole-scene stiff cases of shared/stability.md: distance invariance (3), the thin gap at
+// Whole-scene stiff cases of docs/stability.md: distance invariance (3), the thin gap at
 // scene level (12), the scale sweep (21) and a model far from the world origin (22). The cases
 // are defined once in engine/stability/ (report --stability tabulates the same); the thresholds
 // asserted here are this test's own, so loosening a case's tolerance there does not pass here.

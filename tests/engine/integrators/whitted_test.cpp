@@ -1,5 +1,5 @@
 // The Whitted tracer: the seed's shading formula with attenuation, light types, recursion,
-// and the secondary-ray and shading cases 11, 13, 14, 15, 17 and 20 of shared/stability.md.
+// and the secondary-ray and shading cases 11, 13, 14, 15, 17 and 20 of docs/stability.md.
 #include <gtest/gtest.h>
 
 #include <random>
