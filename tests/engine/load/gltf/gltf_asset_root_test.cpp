@@ -19,12 +19,12 @@ std::string triangle() {
     return oneTriangleBytes(a, b, c);
 }
 
-/// root/models/m.gltf reading `uri`; root/shared/tri.bin and root/../outside-<n>/tri.bin exist.
+/// root/models/m.gltf reading `uri`; root/common/tri.bin and root/../outside-<n>/tri.bin exist.
 struct Layout {
     TempDir root, outside;
     std::string model;
     explicit Layout(const std::string& uri) {
-        writeFile(root / "shared/tri.bin", triangle());
+        writeFile(root / "common/tri.bin", triangle());
         writeFile(outside / "tri.bin", triangle());
         model = root / "models/m.gltf";
         writeFile(model, oneTriangleGltf(uri).dump());
@@ -59,7 +59,7 @@ struct InDirectory {
 }  // namespace
 
 TEST(GltfAssetRoot, UriInsideTheRootLoadsAndOutsideItIsRefused) {
-    Layout l("../shared/tri.bin");
+    Layout l("../common/tri.bin");
     AssetOptions inside;
     inside.root = l.root.path.string();
     EXPECT_EQ(loadedMeshes(l.model, inside), 1u);
@@ -92,7 +92,7 @@ TEST(GltfAssetRoot, SymbolicLinkOutOfTheRootIsRefused) {
     EXPECT_NE(e.find("outside the asset root"), std::string::npos) << e;
     // A link that stays inside the root is followed.
     fs::remove(l.root / "models/link.bin");
-    fs::create_symlink(l.root / "shared/tri.bin", l.root / "models/link.bin");
+    fs::create_symlink(l.root / "common/tri.bin", l.root / "models/link.bin");
     EXPECT_EQ(loadedMeshes(l.model, opts), 1u);
     // A linked folder on the way out is caught as well.
     Layout l2("sub/tri.bin");
@@ -103,7 +103,7 @@ TEST(GltfAssetRoot, SymbolicLinkOutOfTheRootIsRefused) {
 
 TEST(GltfAssetRoot, AbsoluteUriIsRefusedNamingTheOption) {
     Layout l("x");
-    writeFile(l.model, oneTriangleGltf(l.root / "shared/tri.bin").dump());
+    writeFile(l.model, oneTriangleGltf(l.root / "common/tri.bin").dump());
     AssetOptions opts;
     opts.root = "/";
     const std::string e = loadError(l.model, opts);
@@ -112,7 +112,7 @@ TEST(GltfAssetRoot, AbsoluteUriIsRefusedNamingTheOption) {
 }
 
 TEST(GltfAssetRoot, DefaultRootIsTheCurrentDirectoryWhenTheModelLiesUnderIt) {
-    Layout l("../shared/tri.bin");
+    Layout l("../common/tri.bin");
     InDirectory cd(l.root.path);
     EXPECT_EQ(loadedMeshes("models/m.gltf", {}), 1u);
     EXPECT_EQ(loadedMeshes(l.model, {}), 1u);  // the absolute path lies under it as well
@@ -121,7 +121,7 @@ TEST(GltfAssetRoot, DefaultRootIsTheCurrentDirectoryWhenTheModelLiesUnderIt) {
 }
 
 TEST(GltfAssetRoot, SceneFileKeySetsTheRootAndTheCommandLineOverridesIt) {
-    Layout l("../shared/tri.bin");
+    Layout l("../common/tri.bin");
     const std::string scene = l.root / "scene.json";
     const json objects = {{{"type", "model"}, {"path", "models/m.gltf"}}};
     writeFile(scene, json{{"asset_root", "."}, {"objects", objects}}.dump());
