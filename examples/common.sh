@@ -1,5 +1,5 @@
-# Sourced by the examples: builds rayfarm if it is missing and sets $bin to it.
-# RAYFARM_BIN overrides the binary. Open MPI refuses root unless told (containers run as root).
+# Sourced by the examples and by some benchmarks (bench/): builds rayfarm if it is missing and
+# sets $bin to it. RAYFARM_BIN overrides the binary. Open MPI refuses root unless told (containers run as root).
 bin=${RAYFARM_BIN:-build/bin/rayfarm}
 if [ ! -x "$bin" ]; then
   bash tests/install-deps.sh

@@ -19,7 +19,7 @@ packages=(
   libopenexr-dev                                              # farm/: half-float EXR frames
   chromium                                                    # tests: the WebM-with-alpha page, headless
   libgtest-dev libbenchmark-dev                               # tests and benchmarks
-  libembree-dev                                               # tests/bench/embree_bench: equal-work traversal reference (never linked into rayfarm)
+  libembree-dev                                               # bench/embree_bench: equal-work traversal reference (never linked into rayfarm)
   assimp-testmodels                                           # real glTF files the tests render
   ffmpeg                                                      # ffprobe, to check videos independently
   python3 procps                                              # farm MPI tests: stats JSON, pgrep for ranks

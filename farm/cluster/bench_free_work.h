@@ -1,5 +1,5 @@
 #pragma once
-/// Benchmark stand-in work (examples/bench_coordinator.sh), off unless RAYFARM_BENCH_FREE_WORK
+/// Benchmark stand-in work (bench/bench_coordinator.sh), off unless RAYFARM_BENCH_FREE_WORK
 /// is set in the environment: every rank's engine fills each item with a cheap pattern that
 /// moves with the frame instead of tracing it, so what remains per frame is the farm's own work
 /// (dispatch, gather, assembly, PNG, encode, join). The pattern is not the scene's picture; it

@@ -2,7 +2,7 @@
 # Benchmark (not a test): loading time of large generated inputs (issue 30), each as a whole
 # `rayfarm still INPUT --size 32x18 -o x.png` process (start-up, JSON parse, the loaders'
 # checks, BVH build, a 32x18 render). Prints a table: input, file size, wall seconds, peak RSS.
-#   bash examples/bench_loading.sh [BUILD_DIR]       (default: build)
+#   bash bench/bench_loading.sh [BUILD_DIR]       (default: build)
 # Inputs (SCALE=k divides every count by k, for a quick look):
 #   - a scene file with 100,000 materials (the duplicate-key check; was 30 s at 40,000)
 #   - a scene file with 1,000,000 spheres, none touching (the overlap check; was 37 s at 100,000)

@@ -11,7 +11,7 @@
 # ranks' engines (farm/cluster/bench_free_work.h) that fills each work item with a cheap pattern
 # moving with the frame instead of tracing it (even all-miss rays cost about 35 ns a pixel, which
 # would make two workers the bottleneck at 4K, not rank 0).
-#   [NP=3] [FRAMES_SCALE=1] [REPEAT=1] [CHUNK=12] [MODES="frame pixel"] bash examples/bench_coordinator.sh [BUILD_DIR]
+#   [NP=3] [FRAMES_SCALE=1] [REPEAT=1] [CHUNK=12] [MODES="frame pixel"] bash bench/bench_coordinator.sh [BUILD_DIR]
 #   (default: build)
 # NP=3 is rank 0 coordinating only (with three ranks or more it renders nothing) and two worker
 # ranks. Sizes 640x360, 1920x1080 and 3840x2160, pixel and frame mode, PNG frames kept (the

@@ -6,7 +6,7 @@
 # longer run the bytes of a PNG frame, the video's bytes a frame and the encoder's busy time a
 # frame (--stats encode_s; with films this short the chunks are 2 frames, so the encoder's
 # start-up inflates it).
-#   bash examples/bench_render_cost.sh [BUILD_DIR]   (default: build; about a minute)
+#   bash bench/bench_render_cost.sh [BUILD_DIR]   (default: build; about a minute)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}

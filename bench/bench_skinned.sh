@@ -5,7 +5,7 @@
 # the joints still animate but move nothing), both 120 frames at 640x360, default quality, 2
 # ranks, whole processes in turns. Prints the sustained fps of each, their ratio (target >= 0.8)
 # and the per-frame pose + skin + BVH refit cost (anim_bench --model).
-#   [REPEAT=3] bash examples/bench_skinned.sh [BUILD_DIR]       (default: build)
+#   [REPEAT=3] bash bench/bench_skinned.sh [BUILD_DIR]       (default: build)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}

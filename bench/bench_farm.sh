@@ -3,7 +3,7 @@
 # gather, encode, mux), for scenes/whitted.json and the 2CylinderEngine glTF turntable at 640x360
 # over 120 frames, in pixel and frame mode at 1 and 2 ranks; the 1 -> 2 rank speed-up; and the
 # encoder's share of the time (encoder busy seconds / seconds from first dispatch to last mux).
-#   [REPEAT=3] bash examples/bench_farm.sh [BUILD_DIR]       (default: build)
+#   [REPEAT=3] bash bench/bench_farm.sh [BUILD_DIR]       (default: build)
 # mpirun binds each rank to one core when it starts two or fewer, so "1 rank" is one core and
 # "2 ranks" two. Runs use --no-frames (the MP4 only); one extra run shows the cost of keeping
 # PNG frames (the default), one the default --mode auto. Targets: >= 30 fps for the engine turntable at --spp 1, speed-up

@@ -10,7 +10,7 @@
 #include "engine/integrators/render.h"
 #include "engine/load/scene_loader.h"
 
-#include "tests/bench/bench_util.h"
+#include "bench/bench_util.h"
 
 using namespace rf;
 

@@ -4,8 +4,8 @@
 # of docs/architecture.md. Both are timed as whole processes: `rayfarm render scenes/whitted.json -o
 # w.mp4 --size 640x360 --spp 1 --frames 0:30` (start-up, load, render, PNG frames kept, H.264
 # encode) against povray writing its PNG frames. Prints both frame rates and their ratio, and as
-# a second line the engine alone (tests/bench/whitted_bench: frames rendered, nothing written).
-#   bash examples/bench_whitted.sh [BUILD_DIR]       (default: build)
+# a second line the engine alone (bench/whitted_bench: frames rendered, nothing written).
+#   bash bench/bench_whitted.sh [BUILD_DIR]       (default: build)
 # Environment: POV_FILE (default scenes/reference/whitted.pov), THREADS (default: nproc),
 # REPEAT (default 3): the two renderers take turns this many times. On a shared machine a run can
 # lose a third of its speed to other work, so the summary compares each one's best run (the least

@@ -3,8 +3,8 @@
 # 2CylinderEngine glTF model at 640x360, under Xvfb, the mouse driven by xdotool (XTEST).
 # Prints the window's own --stats figures: frames shown, fps while moving, and the mean and p95
 # latency from an input event to the first frame on screen that answers it.
-#   bash examples/bench_view.sh [BUILD_DIR] [SECONDS]     (defaults: build, 8)
-#   NP=3 bash examples/bench_view.sh                      the window under mpirun -np 3
+#   bash bench/bench_view.sh [BUILD_DIR] [SECONDS]     (defaults: build, 8)
+#   NP=3 bash bench/bench_view.sh                      the window under mpirun -np 3
 # Targets: >= 30 fps while moving, p95 latency <= 50 ms.
 set -euo pipefail
 cd "$(dirname "$0")/.."

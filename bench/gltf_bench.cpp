@@ -9,7 +9,7 @@
 #include <string>
 #include <ctime>
 
-#include "tests/bench/bench_util.h"
+#include "bench/bench_util.h"
 #include "engine/load/gltf/gltf_loader.h"
 #include "engine/integrators/render.h"
 

@@ -2,7 +2,7 @@
 // instead of rayfarm's BVH. Same triangles (loaded and placed by rayfarm), same cameras (the
 // scene's timeline), same primary rays (rf::CameraRays), one closest-hit ray per pixel and one
 // shadow ray per hit towards the scene's first point light, shaded with a plain Lambert term.
-// examples/bench_embree.sh times this whole process next to `rayfarm render --no-frames`.
+// bench/bench_embree.sh times this whole process next to `rayfarm render --no-frames`.
 // --tracer rayfarm runs the same loop on rayfarm's own Scene::intersect and Scene::occluded
 // (no blocker cache) in place of rtcIntersect1/rtcOccluded1: the traversal alone, on the same
 // rays with the same shading, without rayfarm's renderer, film and encoder around it.
@@ -18,7 +18,7 @@
 #include <thread>
 #include <vector>
 
-#include "tests/bench/bench_util.h"
+#include "bench/bench_util.h"
 #include "engine/util/image.h"
 #include "engine/integrators/render.h"
 #include "engine/load/scene_loader.h"

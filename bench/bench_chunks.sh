@@ -7,7 +7,7 @@
 # IDR picture either way; only its keyint setting differs, 250 before, infinite now). Printed
 # per K: the file's size and the encoder's busy time from the --stats file (`encode_s`: the
 # video thread, frames to packets), each against the single encoder.
-#   [SIZES="640x360:120 1920x1080:120"] [KS="120 60 30 15"] bash examples/bench_chunks.sh [BUILD_DIR]
+#   [SIZES="640x360:120 1920x1080:120"] [KS="120 60 30 15"] bash bench/bench_chunks.sh [BUILD_DIR]
 # Run it under `flock /work/bench.lock` on a shared host; it prints the load at start and end.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Benchmark (not a test): what the default look's bounce light costs, as whole processes.
-#   [REPEAT=5] bash examples/bench_bounce.sh BUILD_DIR [BASE_BUILD_DIR]
+#   [REPEAT=5] bash bench/bench_bounce.sh BUILD_DIR [BASE_BUILD_DIR]
 # With one build, its default look against the same binary with --bounce 0; with two, BUILD_DIR
 # against BASE_BUILD_DIR (say, a build of the commit before the bounce light) at their defaults.
 # Cases, each run REPEAT times, all cases and both sides in turns within a round (the host is

@@ -3,7 +3,7 @@
 # 1.5 MB JPEG of 16000x16000 on BoxTextured, each as a whole `rayfarm still MODEL --size 64x48
 # --spp 1` process at --exposure auto (the glTF default) and 0. Prints peak RSS (/usr/bin/time's
 # maximum resident set), wall and CPU seconds per run; with two binaries, in turns.
-#   bash examples/bench_textures.sh RAYFARM [OTHER_RAYFARM]      (ROUNDS=n, default 2)
+#   bash bench/bench_textures.sh RAYFARM [OTHER_RAYFARM]      (ROUNDS=n, default 2)
 # Target: under 2 GB and a few seconds per rank. Needs ffmpeg (to write the JPEG) and /usr/bin/time.
 set -euo pipefail
 bins=("$@")

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Benchmark (not a test): environment filtering time by shape (issue 30 #4). Two tables:
-# 1. tests/bench env_bench: an EnvironmentLight made from texels of 8192 x 4096 pixels in six
+# 1. bench/env_bench: an EnvironmentLight made from texels of 8192 x 4096 pixels in six
 #    shapes (2:1, 1:1, 8:1, 1:8, and the issue's strips 8 x 4,194,304 and 4,194,304 x 8, which a
 #    file header is now refused for, but the filtering itself must not be slow on).
 # 2. whole `rayfarm still env.json --size 32x18` processes with an .hdr of 8192 x 4096 pixels
@@ -8,7 +8,7 @@
 #    strip (refused from its header in one line).
 # With OLD_BUILD (a build of an earlier commit), each row runs the old binary then the new, in
 # turns, and prints the ratio.
-#   bash examples/bench_environment.sh [BUILD_DIR [OLD_BUILD_DIR]]     (default: build)
+#   bash bench/bench_environment.sh [BUILD_DIR [OLD_BUILD_DIR]]     (default: build)
 # Run it under `flock /work/bench.lock` on a shared machine, and note `uptime` beside it.
 set -euo pipefail
 cd "$(dirname "$0")/.."

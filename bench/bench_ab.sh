@@ -9,7 +9,7 @@
 #   close      scenes/bench/engine_close.json, 40 frames 640x360, 1 thread (bench_embree's rayfarm side)
 #   walker     a skinned film, for comparison: tests/reference/characters/walker.gltf, 120 frames
 #              640x360, default quality, mpirun -np 2
-#   [REPEAT=3] bash examples/bench_ab.sh BUILD_A BUILD_B
+#   [REPEAT=3] bash bench/bench_ab.sh BUILD_A BUILD_B
 set -euo pipefail
 cd "$(dirname "$0")/.."
 a=$1 b=$2

@@ -11,7 +11,7 @@
 
 #include "engine/scene/env_lighting.h"
 
-#include "tests/bench/bench_util.h"
+#include "bench/bench_util.h"
 
 using namespace rf;
 

@@ -1,5 +1,5 @@
 // Times the Whitted orbit: scenes/whitted.json, every frame of its timeline rendered on all local
-// cores, as examples/bench_whitted.sh runs it next to POV-Ray. Prints frames per second.
+// cores, as bench/bench_whitted.sh runs it next to POV-Ray. Prints frames per second.
 //   whitted_bench [SCENE] [--size WxH] [--frames N] [--threads N] [--depth N] [--out DIR]
 #include <chrono>
 #include <ctime>
@@ -14,7 +14,7 @@
 #include "engine/load/scene_loader.h"
 #include "anim/timeline.h"
 
-#include "tests/bench/bench_util.h"
+#include "bench/bench_util.h"
 
 using namespace rf;
 

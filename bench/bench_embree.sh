@@ -3,7 +3,7 @@
 # turntable of scenes/bench/engine_close.json (the 2CylinderEngine fills the frame) and
 # engine_far.json (twice as far) at 640x360: primary rays plus one shadow ray per hit towards one
 # point light. rayfarm is timed as the whole `rayfarm render --no-frames` process (load, BVH,
-# render, H.264 encode); Embree as the whole tests/bench/embree_bench process (rayfarm's loader,
+# render, H.264 encode); Embree as the whole bench/embree_bench process (rayfarm's loader,
 # Embree's build, rtcIntersect1/rtcOccluded1 on the same rays from rayfarm's camera). Prints both
 # frame rates and rayfarm / Embree for both distances on 1 and 2 threads. rayfarm runs twice
 # per round: on engine_*.json, shaded with the model's own glTF materials (the metallic-roughness
@@ -11,7 +11,7 @@
 # engine_*_lambert.json, the same rays in one Lambert material shaded as the harness shades
 # them (interpolated normals where the harness takes the geometric one): there mainly the
 # traversal, rayfarm's per-pixel work and its H.264 encode differ.
-#   bash examples/bench_embree.sh [BUILD_DIR]       (default: build)
+#   bash bench/bench_embree.sh [BUILD_DIR]       (default: build)
 # Environment: REPEAT (default 2): Embree and the two rayfarm runs take turns this many times;
 # each one's best run counts, since other work on a shared machine only ever slows a run down.
 set -euo pipefail
