@@ -1,5 +1,5 @@
 #pragma once
-/// The --stats JSON file (fields as in shared/design.md; add fields, never rename).
+/// The --stats JSON file (fields as in docs/architecture.md; add fields, never rename).
 #include <map>
 #include <string>
 #include <vector>

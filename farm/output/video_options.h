@@ -14,8 +14,8 @@ namespace rf::farm {
 struct Mp4Options {
     double fps = 30.0;
     int crf = 18;                       ///< the codec's rate factor (-1: the format's default)
-    /// The codec's preset ("": the format's default; H.264's is ultrafast, README: the same PSNR
-    /// as veryfast at 4x the speed).
+    /// The codec's preset ("": the format's default; H.264's is ultrafast, docs/performance.md:
+    /// the same PSNR as veryfast at 4x the speed).
     std::string preset = "ultrafast";
     /// libx264rgb at qp 0: the RGB frames decode back bit for bit (High 4:4:4 Predictive; not
     /// every player plays it: for reference comparisons). VP9: its lossless mode.
