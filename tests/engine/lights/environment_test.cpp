@@ -286,7 +286,7 @@ TEST(Environment, BuiltinStudioIsLitFromAboveAndFinite) {
 // Issue 30 #4: an 8 x 4,194,304 image filtered in 70 s against 1.7 s for the same pixel count
 // at 2:1. The mip chain stopped halving once the short side was 8 wide, so the irradiance summed
 // every texel of the full image for each of its 576. Now the chain goes on until the level is
-// small in pixels, whatever the shape: the work below is what the time follows (examples/
+// small in pixels, whatever the shape: the work below is what the time follows (bench/
 // bench_environment.sh times it).
 TEST(Environment, FilteringWorkFollowsThePixelCountWhateverTheShape) {
     // About 2^17 pixels each: 2:1, 1:1, 8:1 and 1:8 (what a file may have), then strips no file
