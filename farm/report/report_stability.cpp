@@ -1,7 +1,7 @@
 #include "farm/report/report_stability.h"
 
 #include "farm/report/report_csv.h"
-#include "engine/stability/stability_cases.h"
+#include "farm/report/stability/stability_cases.h"
 
 #include <cmath>
 #include <cstdio>
