@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "farm/cli/cli.h"
+#include "farm/commands/commands.h"
 #include "engine/util/errors.h"
 #include "engine/load/gltf/gltf_inspect.h"
 #include "engine/util/model_path.h"
