@@ -12,7 +12,8 @@
 # moving with the frame instead of tracing it (even all-miss rays cost about 35 ns a pixel, which
 # would make two workers the bottleneck at 4K, not rank 0).
 #   [NP=3] [FRAMES_SCALE=1] [REPEAT=1] [CHUNK=12] [MODES="frame pixel"] bash bench/bench_coordinator.sh [BUILD_DIR]
-#   (default: build)
+#   (default: build-bench, configured with -DRAYFARM_BENCH_HOOKS=ON: the stand-in renderer is
+#   compiled only into such a build, never into the default one)
 # NP=3 is rank 0 coordinating only (with three ranks or more it renders nothing) and two worker
 # ranks. Sizes 640x360, 1920x1080 and 3840x2160, pixel and frame mode, PNG frames kept (the
 # default) and not (--no-frames): 12 runs of 120/60/24 frames, a few minutes on 2 cores;
@@ -24,12 +25,15 @@
 # --stats file, who encoded, and the load average at the start of the run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-build=${1:-build}
+build=${1:-build-bench}
 bin=$build/bin/rayfarm
-if [ ! -x "$bin" ]; then
+# A rayfarm without the stand-in (a default build) would trace every pixel and measure its
+# workers instead of rank 0: configure BUILD_DIR with the hooks and build it.
+if [ ! -x "$bin" ] || ! grep -q RAYFARM_BENCH_FREE_WORK "$bin"; then
   bash tests/install-deps.sh
-  cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DRAYFARM_BENCH_HOOKS=ON >/dev/null
   cmake --build "$build" -j"$(nproc 2>/dev/null || echo 2)" --target rayfarm
+  grep -q RAYFARM_BENCH_FREE_WORK "$bin" || { echo "bench_coordinator: $bin has no benchmark hooks" >&2; exit 1; }
 fi
 bin=$(realpath "$bin")
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1

@@ -9,6 +9,7 @@
 #include <malloc.h>
 
 #include "farm/cli/cli.h"
+#include "farm/commands/commands.h"
 #include "farm/report/cmd_report.h"
 #include "engine/util/errors.h"
 #include "farm/process/interrupt.h"

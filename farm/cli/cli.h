@@ -1,5 +1,6 @@
 #pragma once
-/// Command-line parsing shared by the subcommands, and the subcommands' entry points.
+/// Command-line parsing shared by the subcommands (their entry points: farm/commands/commands.h
+/// for render, still and info).
 #include <map>
 #include <optional>
 #include <string>
@@ -50,10 +51,5 @@ void declareSceneOptions(ArgParser& p);
 /// Reads them (declare them first), and --size where the command has it; throws UsageError for
 /// values that are not numbers.
 SceneOptions sceneOptions(const ArgParser& p);
-
-int runStill(const std::vector<std::string>& args);
-int runRender(const std::vector<std::string>& args);
-/// rayfarm info MODEL [--json]: what the file holds and its default turntable.
-int runInfo(const std::vector<std::string>& args);
 
 }  // namespace rf::cli

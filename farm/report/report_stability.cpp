@@ -1,7 +1,7 @@
 #include "farm/report/report_stability.h"
 
 #include "farm/report/report_csv.h"
-#include "engine/stability/stability_cases.h"
+#include "farm/report/stability/stability_cases.h"
 
 #include <cmath>
 #include <cstdio>
@@ -61,7 +61,7 @@ std::string stabilityMarkdown(const std::vector<StabilityCase>& cases) {
         counted += !c.informative;
         pass += !c.informative && c.pass;
     }
-    std::string s = "# Stiff and extreme cases\n\nCases of the stability catalogue (`shared/stability.md`, "
+    std::string s = "# Stiff and extreme cases\n\nCases of the stability catalogue (`docs/stability.md`, "
                     "numbered as there) that the engine's API can render or measure. " +
                     std::to_string(pass) + " of " + std::to_string(counted) +
                     " pass. Rows marked *info* show what a naive method does and are not counted.\n\n"

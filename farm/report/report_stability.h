@@ -1,15 +1,15 @@
 #pragma once
 /// `rayfarm report --stability`: the stiff and extreme cases of the stability catalogue
-/// (shared/stability.md) that can be rendered or measured through the engine's API, each with
+/// (docs/stability.md) that can be rendered or measured through the engine's API, each with
 /// the error measured and a pass/fail against a stated tolerance.
 #include <string>
 #include <vector>
 
-#include "engine/stability/stability_case.h"
+#include "farm/report/stability/stability_case.h"
 
 namespace rf::report {
 
-/// One row of the stability table (defined with the engine's cases, engine/stability/).
+/// One row of the stability table (defined with the engine's cases, farm/report/stability/).
 using stability::StabilityCase;
 
 struct StabilityReport {
@@ -19,7 +19,7 @@ struct StabilityReport {
     int counted() const;  ///< cases that are not merely informative
 };
 
-/// Every case, in catalogue order: the engine's (engine/stability/), the timeline's, then the
+/// Every case, in catalogue order: the engine's (farm/report/stability/), the timeline's, then the
 /// frame times. threads: 0 for all cores.
 std::vector<StabilityCase> runStabilityCases(int threads);
 

@@ -26,7 +26,7 @@
 #include "farm/view/farm_view.h"
 #include "farm/view/orbit_camera.h"
 #include "farm/process/interrupt.h"
-#include "farm/cli/preview_spawn.h"
+#include "farm/commands/preview_spawn.h"
 
 namespace rf::view {
 

@@ -120,8 +120,8 @@ TEST(BounceCache, ATurntableOfTheCameraBuildsItOnceAndEveryFrameSeesTheSameBounc
 }
 
 // A farm worker builds the cache on a copy of its scene while rank 0 decides the job
-// (cmd_render's workerHeadStart): the copy shares the cache's slot, so the scene the worker then
-// renders finds it built and traces nothing more for it.
+// (render's workerHeadStart, farm/commands/worker_head_start.h): the copy shares the cache's
+// slot, so the scene the worker then renders finds it built and traces nothing more for it.
 TEST(BounceCache, ACopyOfTheSceneSharesItsCache) {
     const Scene s = floorScene();
     const RenderSettings rs = smallSettings(48, 27);

@@ -15,7 +15,7 @@
 #include "engine/util/image.h"
 #include "engine/integrators/render.h"
 #include "engine/load/scene_loader.h"
-#include "engine/stability/stability_scenes.h"
+#include "farm/report/stability/stability_scenes.h"
 
 using namespace rf;
 

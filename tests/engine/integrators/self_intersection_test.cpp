@@ -10,7 +10,7 @@
 #include "engine/load/gltf/gltf_loader.h"
 #include "engine/util/image.h"
 #include "engine/integrators/render.h"
-#include "engine/stability/stability_cases.h"
+#include "farm/report/stability/stability_cases.h"
 #include "engine/geometry/triangle.h"
 
 using namespace rf;

@@ -1,11 +1,11 @@
-// Whole-scene stiff cases of docs/stability.md: distance invariance (3), the thin gap at
-// scene level (12), the scale sweep (21) and a model far from the world origin (22). The cases
-// are defined once in engine/stability/ (report --stability tabulates the same); the thresholds
+// Whole-scene stiff cases of docs/stability.md: distance invariance (3), the thin gap at scene
+// level (12), the scale sweep (21) and a model far from the world origin (22). The cases are
+// defined once in farm/report/stability/ (report --stability tabulates the same); the thresholds
 // asserted here are this test's own, so loosening a case's tolerance there does not pass here.
 #include <gtest/gtest.h>
 
 #include "tests/engine/engine_test_util.h"
-#include "engine/stability/stability_cases.h"
+#include "farm/report/stability/stability_cases.h"
 
 using namespace rf;
 using stability::StabilityCase;

@@ -1,4 +1,4 @@
-#include "engine/stability/stability_scenes.h"
+#include "farm/report/stability/stability_scenes.h"
 
 #include <cmath>
 #include <cstdio>

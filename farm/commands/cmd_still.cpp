@@ -7,6 +7,7 @@
 
 #include "farm/cli/background_option.h"
 #include "farm/cli/cli.h"
+#include "farm/commands/commands.h"
 #include "engine/util/errors.h"
 #include "farm/cli/exposure_meter.h"
 #include "engine/load/gltf/gltf_loader.h"

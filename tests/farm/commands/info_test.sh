@@ -8,7 +8,7 @@ set -u
 rayfarm=$1 src=$2 out=$3
 data=$src/tests/farm/data/info
 assimp=/usr/share/assimp/models/glTF2
-golden=$src/tests/farm/cli/info_golden.py
+golden=$src/tests/farm/commands/info_golden.py
 rm -rf "$out" && mkdir -p "$out"
 fail=0
 bad() { echo "FAIL: $*"; fail=1; }

@@ -1,4 +1,4 @@
-#include "farm/cli/preview_spawn.h"
+#include "farm/commands/preview_spawn.h"
 
 #include <fcntl.h>
 #include <spawn.h>

@@ -3,8 +3,8 @@
 // the diagonal (self-intersection) darkens some samples: speckle and a band along the diagonal.
 #include <cmath>
 
-#include "engine/stability/stability_cases.h"
-#include "engine/stability/stability_scenes.h"
+#include "farm/report/stability/stability_cases.h"
+#include "farm/report/stability/stability_scenes.h"
 
 namespace rf::stability {
 

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "farm/cli/cli.h"
+#include "farm/commands/commands.h"
 #include "engine/util/errors.h"
 #include "engine/load/gltf/gltf_inspect.h"
 #include "engine/util/model_path.h"
@@ -156,7 +157,16 @@ std::string fmt(const char* f, double v) {
     return buf;
 }
 std::string point(const json& v) {
-    return "(" + fmt("%.4g", v[0].get<double>()) + ", " + fmt("%.4g", v[1].get<double>()) + ", " + fmt("%.4g", v[2].get<double>()) + ")";
+    // Appended piece by piece: "(" + std::string&& trips GCC 12's false -Wrestrict (PR 105651)
+    // at -O3 without link-time optimisation, which -Werror makes a failed build.
+    std::string s = "(";
+    s += fmt("%.4g", v[0].get<double>());
+    s += ", ";
+    s += fmt("%.4g", v[1].get<double>());
+    s += ", ";
+    s += fmt("%.4g", v[2].get<double>());
+    s += ")";
+    return s;
 }
 std::string joined(const json& arr, const char* sep = ", ") {
     std::string s;

@@ -5,8 +5,8 @@
 
 #include "engine/util/image.h"
 #include "engine/load/json_scene_loader.h"
-#include "engine/stability/stability_cases.h"
-#include "engine/stability/stability_scenes.h"
+#include "farm/report/stability/stability_cases.h"
+#include "farm/report/stability/stability_scenes.h"
 
 namespace rf::stability {
 

@@ -1,4 +1,4 @@
-#include "farm/cli/render_options.h"
+#include "farm/commands/render_options.h"
 
 #include <filesystem>
 #include <stdexcept>

@@ -5,8 +5,8 @@
 #include <random>
 
 #include "engine/geometry/shapes.h"
-#include "engine/stability/stability_cases.h"
-#include "engine/stability/stability_scenes.h"
+#include "farm/report/stability/stability_cases.h"
+#include "farm/report/stability/stability_scenes.h"
 
 namespace rf::stability {
 

@@ -4,8 +4,8 @@
 #include <cmath>
 
 #include "engine/util/image.h"
-#include "engine/stability/stability_cases.h"
-#include "engine/stability/stability_scenes.h"
+#include "farm/report/stability/stability_cases.h"
+#include "farm/report/stability/stability_scenes.h"
 
 namespace rf::stability {
 

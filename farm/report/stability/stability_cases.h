@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "engine/scene/scene.h"
-#include "engine/stability/stability_case.h"
+#include "farm/report/stability/stability_case.h"
 
 namespace rf::stability {
 

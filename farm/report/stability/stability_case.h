@@ -1,5 +1,5 @@
 #pragma once
-/// One measured case of the stability catalogue (shared/stability.md): what was set up, the
+/// One measured case of the stability catalogue (docs/stability.md): what was set up, the
 /// error measured and the tolerance it is held to.
 #include <string>
 

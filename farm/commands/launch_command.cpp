@@ -1,4 +1,4 @@
-#include "farm/cli/launch_command.h"
+#include "farm/commands/launch_command.h"
 
 #include <cstdlib>
 #include <filesystem>

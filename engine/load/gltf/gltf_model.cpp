@@ -1,0 +1,231 @@
+#include "engine/load/gltf/gltf_model.h"
+
+#include <limits>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "engine/util/errors.h"
+#include "engine/util/load_control.h"
+#include "engine/load/gltf/gltf_lights_cameras.h"
+#include "engine/load/gltf/gltf_safety.h"
+#include "engine/load/gltf/gltf_variants.h"
+
+namespace rf::gltf {
+
+GltfModel::GltfModel(const std::string& path, FileSource& fs, const AssetOptions& assets) : path_(path), assets_(assets) {
+    model_ = parseGltf(path, fs, assets, notes_);
+    pollLoadCancel();
+    LoadStep resolving("resolving its node hierarchy");
+    chooseMaterialVariant();
+    resolveHierarchy();
+    checkInstancedSize();
+    readAnimations();
+    readSkins();
+}
+
+bool GltfModel::bounds(const DMat4& worldFromModel, glm::dvec3& lo, glm::dvec3& hi) {
+    lo = glm::dvec3(std::numeric_limits<double>::infinity());
+    hi = -lo;
+    bool any = false;
+    LoadStep step("reading its meshes");
+    for (int node : order_) {
+        pollLoadCancel();
+        const tinygltf::Node& n = model_.nodes[size_t(node)];
+        if (n.mesh < 0) continue;
+        const DMat4 m = worldFromModel * modelFromNode_[size_t(node)];
+        for (size_t p = 0; p < model_.meshes[size_t(n.mesh)].primitives.size(); ++p) {
+            const PrimitiveGeometry* g = primitive(n.mesh, int(p));
+            if (!g) continue;
+            std::vector<Vec3> pos = morphedPositions(g->mesh, defaultWeights(node));
+            const bool skinned = skinnedPrimitive(node, *g, int(p));
+            if (skinned) pos = restSkinned(node, *g, worldFromModel).positions;
+            for (uint32_t i : g->mesh.indices) {
+                const glm::dvec3 q = skinned ? glm::dvec3(pos[i]) : glm::dvec3(m * glm::dvec4(glm::dvec3(pos[i]), 1.0));
+                lo = glm::min(lo, q);
+                hi = glm::max(hi, q);
+                any = true;
+            }
+        }
+    }
+    return any && std::isfinite(lo.x + lo.y + lo.z + hi.x + hi.y + hi.z);
+}
+
+std::string GltfModel::emptyReason() const {
+    size_t nonFinite = 0, degenerate = 0, outside = 0;
+    for (const auto& [key, g] : prims_)
+        if (g) nonFinite += g->droppedNonFinite, degenerate += g->droppedDegenerate, outside += g->outsideBounds;
+    if (outside)
+        return "the model has no triangles to render (" + std::to_string(outside) +
+               " vertices lie outside POSITION's declared min/max: corrupt data?)";
+    if (nonFinite) return "the model has no triangles to render (" + std::to_string(nonFinite) + " have non-finite positions)";
+    if (degenerate) return "the model has no triangles to render (" + std::to_string(degenerate) + " are degenerate)";
+    if (skippedPointsLines_) return "the model has no triangles to render (points and lines are not rendered)";
+    if (order_.empty()) return "the model's scene has no nodes, so there is nothing to render";
+    return "the model has no triangles to render";
+}
+
+const PrimitiveGeometry* GltfModel::primitive(int mesh, int prim) {
+    const auto key = std::make_pair(mesh, prim);
+    auto it = prims_.find(key);
+    if (it == prims_.end()) {
+        PrimitiveGeometry g;
+        const bool triangles = buildPrimitive(model_, mesh, prim, path_, g, materialOverride_ < 0);
+        it = prims_.emplace(key, triangles ? std::optional<PrimitiveGeometry>(std::move(g)) : std::nullopt).first;
+        if (!triangles) skippedPointsLines_ = true;
+        else notePrimitive(*it->second, "meshes[" + std::to_string(mesh) + "].primitives[" + std::to_string(prim) + "]");
+    }
+    return it->second ? &*it->second : nullptr;
+}
+
+void GltfModel::notePrimitive(const PrimitiveGeometry& g, const std::string& w) {
+    if (g.outsideBounds)
+        notes_.push_back(w + ": " + std::to_string(g.outsideBounds) +
+                         " vertices lie outside POSITION's declared min/max (corrupt data?); their triangles dropped");
+    if (g.boundsMissing) notes_.push_back(w + ": POSITION has no min/max (glTF requires them); positions not checked");
+    if (g.leftoverIndices)
+        notes_.push_back(w + ": " + std::to_string(g.leftoverIndices) + " trailing indices ignored (TRIANGLES needs a multiple of 3)");
+    if (g.materialOutOfRange)
+        notes_.push_back(w + ".material: no such material (" + std::to_string(model_.materials.size()) +
+                         " in the file); drawn with the default material");
+}
+
+void GltfModel::chooseMaterialVariant() {
+    const std::vector<std::string> names = materialVariants(model_);
+    if (assets_.variant.empty()) {
+        if (!names.empty())
+            notes_.push_back("material variants " + listVariants(names) + "; showing the default materials (--variant NAME picks one)");
+        return;
+    }
+    if (names.empty() && !assets_.variantRequired) return;
+    variant_ = chooseVariant(model_, path_, assets_.variant, assets_.variantSource);
+}
+
+/// The node's mesh primitives, placed in render space; an animated node's keep their object
+/// space copies so the timeline can move them.
+void GltfModel::addNodeMeshes(Scene& scene, int node, const DMat4& renderFromNode, int modelIndex, bool dynamic,
+                              MaterialBuilder& materials, DropCounts& dropped) {
+    const tinygltf::Node& n = model_.nodes[size_t(node)];
+    if (n.mesh < 0) return;
+    const tinygltf::Mesh& gm = model_.meshes[size_t(n.mesh)];
+    for (size_t p = 0; p < gm.primitives.size(); ++p) {
+        const PrimitiveGeometry* g = primitive(n.mesh, int(p));
+        if (!g) continue;
+        dropped.degenerate += g->droppedDegenerate;
+        dropped.nonFinite += g->droppedNonFinite;
+        dropped.generated += g->generatedNormals;
+        if (g->mesh.indices.empty()) continue;
+        if (skinnedPrimitive(node, *g, int(p))) {
+            // The skin places it (the node's own transform is not used); it always keeps its
+            // object-space data, so any animation of its joints can move it.
+            TriangleMesh m = restSkinned(node, *g, scene.models[size_t(modelIndex)].renderFromModel);
+            m.name = gm.name;
+            m.model = modelIndex;
+            m.node = node;
+            bool finite = true;
+            for (const Vec3& q : m.positions) finite &= isFinite(q);
+            if (!finite) {
+                ++dropped.unplaced;
+                continue;
+            }
+            weightsNormalized_ += g->weightsNormalized;
+            weightsZero_ += g->weightsZero;
+            m.material = materialOverride_ >= 0 ? materialOverride_ : materials.materialFor(primitiveMaterial(gm, p, g->gltfMaterial));
+            if (materialOverride_ >= 0) m.colors.clear(), m.tangents.clear(), m.objectTangents.clear();
+            scene.meshes.push_back(std::move(m));
+            continue;
+        }
+        TriangleMesh m = g->mesh;
+        m.name = gm.name;
+        m.influences = 0;  // not bound to a skin here: drawn rigidly by its node
+        m.skinJoints.clear();
+        m.skinWeights.clear();
+        if (dynamic) {
+            m.model = modelIndex;
+            m.node = node;
+            m.objectPositions = m.positions;
+            m.objectNormals = m.normals;
+            m.objectTangents = m.tangents;
+            m.renderFromObject = renderFromNode;
+        }
+        if (!placePrimitive(m, renderFromNode, defaultWeights(node), !dynamic)) {
+            ++dropped.unplaced;
+            continue;
+        }
+        if (!dynamic) {
+            m.morphPositions.clear();
+            m.morphNormals.clear();
+            m.morphTangents.clear();
+        }
+        if (materialOverride_ >= 0) {
+            // One uniform material: the file's vertex colours and tangents have no part in it.
+            m.material = materialOverride_;
+            m.colors.clear();
+            m.tangents.clear();
+            m.objectTangents.clear();
+        } else {
+            m.material = materials.materialFor(primitiveMaterial(gm, p, g->gltfMaterial));
+        }
+        scene.meshes.push_back(std::move(m));
+    }
+}
+
+/// The node's KHR_lights_punctual light and camera, if it has them.
+void GltfModel::addNodeLightAndCamera(Scene& scene, int node, const DMat4& renderFromNode) {
+    const tinygltf::Node& n = model_.nodes[size_t(node)];
+    if (auto it = n.extensions.find("KHR_lights_punctual"); it != n.extensions.end() && it->second.Has("light")) {
+        const tinygltf::Value& li = it->second.Get("light");
+        const int idx = li.IsInt() ? li.Get<int>() : -1;
+        if (idx < 0 || size_t(idx) >= model_.lights.size())
+            throw InputError(path_, "nodes[" + std::to_string(node) + "]: no light " + std::to_string(idx));
+        scene.lights.push_back(punctualLight(model_.lights[size_t(idx)], renderFromNode, path_, idx));
+    }
+    if (n.camera >= 0) {
+        if (size_t(n.camera) >= model_.cameras.size())
+            throw InputError(path_, "nodes[" + std::to_string(node) + "].camera: no such camera");
+        std::string why, fault;
+        if (auto c = gltfCamera(model_.cameras[size_t(n.camera)], renderFromNode, why, fault)) {
+            scene.gltfCameras.push_back(*c);
+            scene.gltfCameraFaults.emplace_back(path_, fault.empty() ? fault : "cameras[" + std::to_string(n.camera) + "]." + fault);
+        } else notes_.push_back("cameras[" + std::to_string(n.camera) + "]: " + why + "; skipped");
+    }
+}
+
+/// What the load dropped or left out, as notes.
+void GltfModel::noteDrops(const DropCounts& d) {
+    if (d.degenerate) notes_.push_back(std::to_string(d.degenerate) + " degenerate triangles dropped");
+    if (d.nonFinite) notes_.push_back(std::to_string(d.nonFinite) + " triangles with non-finite or out-of-bounds positions dropped");
+    if (d.generated) notes_.push_back("normals generated for " + std::to_string(d.generated) + " primitives");
+    if (d.unplaced) notes_.push_back(std::to_string(d.unplaced) + " primitives dropped: their node scales them to nothing or to infinity");
+    if (skippedPointsLines_) notes_.push_back("points and lines are not rendered; skipped");
+    if (weightsNormalized_)
+        notes_.push_back(std::to_string(weightsNormalized_) + " skinned vertices have joint weights that do not sum to 1; normalized");
+    if (weightsZero_) notes_.push_back(std::to_string(weightsZero_) + " skinned vertices have no joint weight; they follow their first joint");
+    // Material extensions are noted per material, where they are met.
+    for (const std::string& e : model_.extensionsUsed)
+        if (!isSupportedExtension(e) && e.rfind("KHR_materials_", 0) != 0) notes_.push_back("extension " + e + " ignored");
+}
+
+void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel, int materialOverride) {
+    materialOverride_ = materialOverride;
+    const DMat4 renderFromModel = glm::translate(DMat4(1.0), -scene.renderOrigin) * worldFromModel;
+    const int modelIndex = int(scene.models.size());
+    scene.models.push_back(sceneGraph(renderFromModel));
+
+    // A node moves if it, or any ancestor, is animated (order_ lists parents first).
+    std::vector<uint8_t> dynamic(model_.nodes.size(), 0);
+    for (int i : order_) dynamic[size_t(i)] = animatedNode_[size_t(i)] || (parent_[size_t(i)] >= 0 && dynamic[size_t(parent_[size_t(i)])]);
+
+    LoadStep step("building its meshes and materials");
+    MaterialBuilder materials(scene, model_, path_, assets_);
+    DropCounts dropped;
+    for (int node : order_) {
+        pollLoadCancel();
+        const DMat4 renderFromNode = renderFromModel * modelFromNode_[size_t(node)];
+        addNodeMeshes(scene, node, renderFromNode, modelIndex, dynamic[size_t(node)] != 0, materials, dropped);
+        addNodeLightAndCamera(scene, node, renderFromNode);
+    }
+    noteDrops(dropped);
+    for (const std::string& n : notes_) scene.notes.push_back(path_ + ": " + n);
+}
+
+}  // namespace rf::gltf

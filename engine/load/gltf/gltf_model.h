@@ -1,0 +1,106 @@
+#pragma once
+/// The glTF loader's working model of one file (gltf_loader.cpp), internal to engine/load/gltf/:
+/// gltf_model.cpp makes it and turns it into scene content; gltf_node_tree.cpp reads its node
+/// hierarchy (transforms, skins, animations) and the scene graph animated nodes follow.
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "engine/util/file_source.h"
+#include "engine/scene/scene.h"
+#include "engine/scene/scene_options.h"
+#include "engine/load/gltf/gltf_geometry.h"
+#include "engine/load/gltf/gltf_materials.h"
+#include "engine/load/gltf/gltf_parse.h"
+#include "engine/load/gltf/gltf_variants.h"
+#include "engine/geometry/skinning.h"
+
+namespace rf::gltf {
+
+/// A glTF file parsed and checked, with its node hierarchy resolved; turned into scene content
+/// by addTo().
+class GltfModel {
+public:
+    GltfModel(const std::string& path, FileSource& fs, const AssetOptions& assets);
+
+    /// World-space bounds of the drawn triangles; false if there are none.
+    bool bounds(const DMat4& worldFromModel, glm::dvec3& lo, glm::dvec3& hi);
+
+    /// How many material variants the file names (KHR_materials_variants).
+    size_t variantCount() const { return materialVariants(model_).size(); }
+
+    /// materialOverride ≥ 0: every primitive in that scene material, the file's left unread.
+    void addTo(Scene& scene, const DMat4& worldFromModel, int materialOverride = -1);
+
+    /// Why bounds() found nothing to draw, for the error message.
+    std::string emptyReason() const;
+
+private:
+    const PrimitiveGeometry* primitive(int mesh, int prim);
+
+    /// Data a loader could silently work around, said once per primitive.
+    void notePrimitive(const PrimitiveGeometry& g, const std::string& w);
+
+    std::vector<double> defaultWeights(int node) const;
+
+    DMat4 localTransform(int i) const;
+
+    /// Whether primitive prim of node's mesh is drawn through the node's skin: the node has one
+    /// and the primitive has JOINTS_n/WEIGHTS_n. Refuses joint indices the skin lacks.
+    bool skinnedPrimitive(int node, const PrimitiveGeometry& g, int prim) const;
+
+    /// A skinned primitive posed by its skin's rest joints (and the node's default morph
+    /// weights), with its object-space copies kept.
+    TriangleMesh restSkinned(int node, const PrimitiveGeometry& g, const DMat4& renderFromModel) const;
+
+    /// skins[]: joints that are nodes, inverse bind matrices (MAT4 floats, one per joint, or
+    /// the identity when absent), and the nodes that name them; the rest pose of every node
+    /// (joints need not be in the drawn scene).
+    void readSkins();
+
+    void resolveHierarchy();
+
+    /// Refuses models whose nodes instance more triangles than the cap, from accessor counts
+    /// alone, before any geometry is built (nodes sharing a big mesh multiply it).
+    void checkInstancedSize() const;
+
+    void readAnimations();
+
+    /// Primitives and triangles the load left out, summed over the model for its notes.
+    struct DropCounts {
+        size_t degenerate = 0, nonFinite = 0, generated = 0, unplaced = 0;
+    };
+    SceneGraph sceneGraph(const DMat4& renderFromModel) const;
+    void addNodeMeshes(Scene& scene, int node, const DMat4& renderFromNode, int modelIndex, bool dynamic,
+                       MaterialBuilder& materials, DropCounts& dropped);
+    void addNodeLightAndCamera(Scene& scene, int node, const DMat4& renderFromNode);
+    void noteDrops(const DropCounts& d);
+    /// assets_.variant as an index into the file's variants (variant_), refused if it has none
+    /// by that name; without a choice, a note lists the variants the file offers.
+    void chooseMaterialVariant();
+    /// The file's material for primitive p of mesh under the chosen variant.
+    int primitiveMaterial(const tinygltf::Mesh& mesh, size_t p, int loaded) const {
+        return variant_ >= 0 ? variantMaterial(mesh.primitives[p], variant_) : loaded;
+    }
+
+    std::string path_;
+    AssetOptions assets_;
+    tinygltf::Model model_;
+    std::vector<std::string> notes_;
+    std::vector<int> parent_;
+    std::vector<DMat4> modelFromNode_;
+    std::vector<int> order_;  ///< drawn nodes, parents before children
+    std::vector<uint8_t> animatedNode_;
+    std::vector<Animation> animations_;
+    std::vector<Skin> skins_;
+    std::vector<DMat4> restModelFromNode_;  ///< every node's rest transform (filled when there are skins)
+    size_t weightsNormalized_ = 0, weightsZero_ = 0;
+    int variant_ = -1;  ///< the chosen KHR_materials_variants variant, −1 for none
+    std::map<std::pair<int, int>, std::optional<PrimitiveGeometry>> prims_;
+    bool skippedPointsLines_ = false;
+    int materialOverride_ = -1;
+};
+
+}  // namespace rf::gltf

@@ -1,0 +1,141 @@
+#include "farm/commands/render_film.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <sched.h>
+
+#include "engine/integrators/bounce_cache.h"
+#include "engine/util/errors.h"
+#include "engine/util/load_control.h"
+#include "engine/util/parallel.h"
+#include "farm/commands/render_decision.h"
+#include "farm/commands/render_options.h"
+#include "farm/commands/render_outcome.h"
+#include "farm/commands/worker_head_start.h"
+#include "farm/cluster/master.h"
+#include "farm/cluster/run_farm.h"
+#include "farm/cluster/scene_broadcast.h"
+#include "farm/cluster/worker.h"
+#include "farm/output/output_lock.h"
+#include "farm/process/interrupt.h"
+#include "farm/process/load_watch.h"
+#include "farm/process/progress.h"
+#include "anim/timeline.h"
+
+namespace rf::cli {
+
+using namespace rf::farm;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+/// CPUs this process may run on: mpirun binds each rank to one core when it starts two or
+/// fewer, to a socket beyond that, and nothing when --bind-to none.
+int cpusAllowed() {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(0, sizeof set, &set) != 0) return hardwareThreads();
+    return std::max(1, CPU_COUNT(&set));
+}
+
+/// Threads this rank renders with: --threads; else the cores mpirun bound it to; else (not
+/// bound) the node's cores shared among the ranks on it.
+int threadsForRank(const RenderJob& job, const Transport& t) {
+    if (job.threads > 0) return job.threads;
+    const int allowed = cpusAllowed();
+    if (allowed < hardwareThreads()) return allowed;
+    return std::max(1, hardwareThreads() / std::max(1, t.ranksOnThisNode()));
+}
+
+/// "2 render thread(s) on rank 0 (bound by mpirun to 1 of 2 CPUs)", for the plan line.
+std::string describeThreads(const RenderJob& job, const Transport& t) {
+    std::string s = std::to_string(threadsForRank(job, t)) + " render thread(s) on rank 0";
+    if (cpusAllowed() < hardwareThreads())
+        s += " (bound by mpirun to " + std::to_string(cpusAllowed()) + " of " + std::to_string(hardwareThreads()) + " CPUs)";
+    return s;
+}
+
+/// Rank 0 after the scene is shared: runFarm with the job's sinks, then the outcome's lines. It
+/// takes the MPI transport for abort(): a lost worker cannot be stopped any other way.
+int runRank0(MpiTransport& t, const RenderJob& job, SharedScene& shared, const std::vector<std::string>& args,
+             Clock::time_point wallStart, const std::string& progressLabel) {
+    for (const std::string& note : shared.scene.notes) printLine("note", note);  // one write() a line: mpirun interleaves ranks by write
+    if (bounceLeftOutForMotion(shared.scene, job.settings))
+        printLine("note", "bounce light left out: the model's geometry moves over the film, and its bounce cache would be "
+                          "built again for every frame (--bounce N keeps it, at that cost)");
+    FarmOptions opts;
+    opts.threads = threadsForRank(job, t);
+    opts.liveProgress = stderrIsTerminal();
+    opts.wallStart = wallStart;
+    opts.progressLabel = progressLabel;
+    int code = 0;
+    opts.onEnd = [&](const FarmOutcome& o) { code = reportOutcome(t.size(), job, o, args); };
+    StopWorkersOnThrow setUp(t);  // opening the video can fail (a full disk), after the workers started
+    const anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, job.fpsOption);
+    FarmSinks sinks = sinksForJob(job, [timeline](int f) { return timeline.frameTime(f); });
+    setUp.dismiss();  // runFarm guards its own set-up
+    FarmOutcome o;
+    try {
+        o = runFarm(t, job, shared, std::move(sinks), opts);
+    } catch (const std::exception& e) {
+        // A failed write (a full disk) keeps the frames done so far: say how to go on.
+        if (job.framesDir.empty()) throw;
+        throw std::runtime_error(std::string(e.what()) + "; finished frames are in " + job.framesDir +
+                                 "; to resume: " + resumeCommand(args, t.size()));
+    }
+    if (o.abortRanks) t.abort(code);  // a lost worker cannot be stopped politely, and mpirun waits for it
+    return code;
+}
+
+}  // namespace
+
+int renderFilm(MpiTransport& t, const ArgParser& p, const std::vector<std::string>& args, RenderJob job,
+               Clock::time_point wallStart, const FilmInJob* film) {
+    const std::string threadsNote = describeThreads(job, t);
+    SharedScene shared;
+    std::vector<OutputLock> locks;  // rank 0's, until the film ends
+    locks.reserve(2);               // never moved: the load watch may release them from its thread
+    try {
+        // A signal while loading ends the run within a second (load_watch.h).
+        LoadWatch watch(job.scenePath, t.rank() == 0, [&locks] {
+            for (OutputLock& l : locks) l.release();
+        });
+        try {
+            shared = shareScene(
+                t, job.scenePath, [&] { claimOutputs(job, p, locks); },
+                [&](Scene& scene, const FileBundle& inputs) {
+                    std::vector<std::string> read;
+                    for (const auto& [path, bytes] : inputs.files) read.push_back(path);
+                    checkOutputPaths(renderOutputs(job), read);  // the model's buffers and textures too
+                    decideJob(job, p, scene, inputs, t.size(), threadsNote, film != nullptr);
+                    return encodeWorkerJob(job);
+                },
+                sceneOptions(p), [&](Scene& scene) { workerHeadStart(scene, p, job, threadsForRank(job, t)); });
+        } catch (const LoadCancelled& c) {
+            const int code = watch.interrupted(c);
+            // A worker gets here only when rank 0 loaded and waits for it: say why it will not hear.
+            if (t.rank() != 0) reportWorkerError(t, "interrupted (" + signalName(c.signal) + ") while loading its scene");
+            return code;
+        }
+        watch.done();
+    } catch (const PeerFailed& e) {
+        // Rank 0 failed (and said why), or was interrupted while loading as this rank was.
+        if (loadCancelSignal()) return signalExitStatus(loadCancelSignal());
+        return e.code();
+    } catch (const std::exception& e) {
+        if (t.rank() == 0) throw;
+        reportWorkerError(t, std::string("loading the broadcast scene: ") + e.what());
+        return 1;
+    }
+    if (t.rank() != 0) {
+        const int code = runFarmWorker(t, shared, job.fpsOption, threadsForRank(job, t), std::max(4.0, 2.0 * job.workerTimeout));
+        // A silent master: leave now, as MPI_Finalize would wait for rank 0 forever.
+        if (code == kMasterSilentExit) std::_Exit(1);
+        return code;
+    }
+    std::string label;
+    if (film) label = "film " + std::to_string(film->index + 1) + " of " + std::to_string(film->count) + ", " + filmName(job.scenePath);
+    return runRank0(t, job, shared, args, wallStart, label);
+}
+
+}  // namespace rf::cli
