@@ -29,7 +29,11 @@ inline Scene loadFloor(const json& material, const std::vector<std::array<uint8_
     put<uint16_t>(buf, {0, 1, 2, 0, 2, 3});
     json images = json::array(), textures = json::array();
     for (size_t i = 0; i < pngs.size(); ++i) {
-        const std::string name = "t" + std::to_string(i) + ".png";
+        // Appended, not "t" + std::string&&: that trips GCC 12's false -Wrestrict (PR 105651) at
+        // -O3 without link-time optimisation, which -Werror makes a failed build.
+        std::string name = "t";
+        name += std::to_string(i);
+        name += ".png";
         writePng(dir / name, 2, 1, std::vector<uint8_t>(pngs[i].begin(), pngs[i].end()));
         images.push_back({{"uri", name}});
         textures.push_back({{"source", i}, {"sampler", 0}});
