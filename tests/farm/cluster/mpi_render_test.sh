@@ -66,6 +66,13 @@ wait_for_pngs() {  # dir count timeout-seconds
     done
 }
 
+wait_for_video() {  # file timeout-seconds: until the file plays at least one frame
+    local t=0
+    while [ "$(probe "$1" 2>/dev/null | awk '{print $1 + 0}')" -lt 1 ]; do
+        sleep 0.2; t=$((t + 2)); [ $t -lt $(($2 * 10)) ] || fail "$1 plays no frame after $2 s"
+    done
+}
+
 case "$CASE" in
 modes)
     scene=$1; shift
@@ -228,6 +235,10 @@ killed-master)
     mpirun --oversubscribe -np 2 "$RAYFARM" "${args[@]}" -o k9.$ext 2> k9.log &
     pid=$!
     wait_for_pngs k9.frames 8 60
+    # Frames reach the video a chunk at a time, encoded where they were rendered: eight PNGs can
+    # be on disk before rank 0 has joined the first chunk (about one run in three here), and a
+    # kill then leaves a file with no frame to play. The kill comes once the file plays one.
+    wait_for_video k9.$ext 60
     master=$(rank_pid "$pid" 0)
     [ -n "$master" ] || fail "rank 0 not found"
     start=$(date +%s.%N)
