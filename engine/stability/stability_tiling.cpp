@@ -20,8 +20,8 @@ Scene meshFloorScene() {
     TriangleMesh floor;
     floor.positions = {Vec3(-50, 1e-3f, -50), Vec3(50, 1e-3f, -50), Vec3(50, 1e-3f, 50), Vec3(-50, 1e-3f, 50)};
     floor.indices = {0, 2, 1, 0, 3, 2};
-    sc.meshes.push_back(floor);
-    sc.meshes.push_back(icosphere(2, 1.f, Vec3(0.f, 1.2f, 0.f)));
+    sc.geometry.meshes.push_back(floor);
+    sc.geometry.meshes.push_back(icosphere(2, 1.f, Vec3(0.f, 1.2f, 0.f)));
     Light l;
     l.position = Vec3(3.f, 6.f, 2.f);
     sc.lights = {l};
@@ -91,8 +91,8 @@ void dimLightScene(std::vector<StabilityCase>& out, int threads) {
     m.roughness = 0.6f;
     m.metallic = 0.f;
     sc.materials = {m};
-    sc.planes.push_back({Vec3(0, 1, 0), 0.f, 0});
-    sc.spheres.push_back({Vec3(0.f, 0.6f, 0.f), 0.6f, 0});
+    sc.geometry.planes.push_back({Vec3(0, 1, 0), 0.f, 0});
+    sc.geometry.spheres.push_back({Vec3(0.f, 0.6f, 0.f), 0.6f, 0});
     Light l;
     l.position = Vec3(1.2f, 2.2f, 0.8f);
     l.intensity = 10.f / kLumensPerWatt;

@@ -61,7 +61,7 @@ json turntableJson(const Scene& loaded, const anim::Timeline& tl, size_t fileLig
                    {"fov_deg", tidy(scene.camera.fovDeg)}};
     json clips = json::array();
     for (const anim::Timeline::Clip& c : tl.clips()) {
-        const Animation& a = loaded.models[size_t(c.model)].animations[size_t(c.animation)];
+        const Animation& a = loaded.geometry.models[size_t(c.model)].animations[size_t(c.animation)];
         clips.push_back({{"index", c.animation},
                          {"name", a.name},
                          {"period_s", tidy(c.period)},
@@ -156,7 +156,10 @@ std::string fmt(const char* f, double v) {
     return buf;
 }
 std::string point(const json& v) {
-    return "(" + fmt("%.4g", v[0].get<double>()) + ", " + fmt("%.4g", v[1].get<double>()) + ", " + fmt("%.4g", v[2].get<double>()) + ")";
+    // Appended, not "(" + fmt(...): GCC 12 warns falsely (-Wrestrict) on that operator+.
+    std::string s = "(";
+    s += fmt("%.4g", v[0].get<double>()) + ", " + fmt("%.4g", v[1].get<double>()) + ", " + fmt("%.4g", v[2].get<double>()) + ")";
+    return s;
 }
 std::string joined(const json& arr, const char* sep = ", ") {
     std::string s;

@@ -98,8 +98,8 @@ void writeStillStats(const std::string& path, const Scene& scene, const RenderSe
     s.rays = rays;
     s.perRank.push_back({0, t.renderS, 1, 0});
     s.extra["load_s"] = t.loadS;
-    s.extra["triangles"] = static_cast<double>(scene.triangleCount());
-    s.extraText["bvh"] = scene.usesBvh() ? "yes" : "no (scene too small to profit)";
+    s.extra["triangles"] = static_cast<double>(scene.geometry.triangleCount());
+    s.extraText["bvh"] = scene.geometry.usesBvh() ? "yes" : "no (scene too small to profit)";
     writeStatsJson(path, s);
 }
 

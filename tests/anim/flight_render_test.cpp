@@ -30,7 +30,7 @@ Footprint brightestFloorPoint(const Scene& s, const Image& img) {
         for (int x = 0; x < img.width(); ++x) {
             const Ray r = cam.generate(x + 0.5f, y + 0.5f);
             Hit hit;
-            if (!s.intersect(r, hit)) continue;
+            if (!s.geometry.intersect(r, hit)) continue;
             const DVec3 o = DVec3(r.o) + s.renderOrigin, d(r.d);
             if (!(d.y < 0.0)) continue;
             const double tFloor = -o.y / d.y;

@@ -34,7 +34,7 @@ struct Rgba {
 Rgba renderAt(const std::string& name, double t, int w, int h) {
     DiskFileSource fs;
     Scene scene = loadScene(kDir + name + ".gltf", fs);
-    const anim::GltfAnimationPlayer player(scene.models[0], 0, 0, true);
+    const anim::GltfAnimationPlayer player(scene.geometry.models[0], 0, 0, true);
     player.apply(scene, t);
     useGltfCamera(scene, 0);
     scene.transparentBackground = true;

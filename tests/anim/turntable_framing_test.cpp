@@ -66,7 +66,7 @@ Fill filmFill(Scene s) {
     rs.maxDepth = 1;  // coverage needs no secondary rays
     for (int i = 0; i < tl.frameCount(); ++i) {
         tl.applyFrame(s, i);
-        if (tl.animatesGeometry()) s.refit();
+        if (tl.animatesGeometry()) s.geometry.refit();
         RayStats st;
         addFrame(renderFrame(s, s.camera, rs, i, 0, st), f);
     }

@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
         settings.maxDepth = 1;  // primary rays and their shadow rays only
         std::printf("model        %s\n", path.c_str());
         std::printf("cores        %d hardware threads; load the machine lightly for wall-clock figures\n", hardwareThreads());
-        std::printf("triangles    %zu   lights %zu (shadowing: %d)\n", scene.triangleCount(), scene.lights.size(),
+        std::printf("triangles    %zu   lights %zu (shadowing: %d)\n", scene.geometry.triangleCount(), scene.lights.size(),
                     int(std::count_if(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return l.castShadows; })));
         std::printf("load         %.3f s wall, %.3f s CPU (parse + convert, 1 thread, best of %d)\n", loadS, loadCpu, repeat);
         std::printf("bvh build    %.3f s wall, %.3f s CPU (1 thread, best of %d)\n", buildS, buildCpu, repeat);

@@ -29,7 +29,11 @@ inline Scene loadFloor(const json& material, const std::vector<std::array<uint8_
     put<uint16_t>(buf, {0, 1, 2, 0, 2, 3});
     json images = json::array(), textures = json::array();
     for (size_t i = 0; i < pngs.size(); ++i) {
-        const std::string name = "t" + std::to_string(i) + ".png";
+        // Appended, not "t" + to_string(i): GCC 12 warns falsely (-Wrestrict) on that operator+
+        // wherever it inlines it, which depends on what the function around it inlines.
+        std::string name = "t";
+        name += std::to_string(i);
+        name += ".png";
         writePng(dir / name, 2, 1, std::vector<uint8_t>(pngs[i].begin(), pngs[i].end()));
         images.push_back({{"uri", name}});
         textures.push_back({{"source", i}, {"sampler", 0}});

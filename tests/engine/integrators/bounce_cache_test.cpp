@@ -43,9 +43,9 @@ Vec3 sunDirection(float yaw) { return glm::normalize(Vec3(std::cos(yaw), -2.f, s
 Scene floorScene(float half = 50.f, float quadHalf = 0.1f, bool sphere = true) {
     Scene s = emptyScene();
     s.materials = {lambert(Color(kFloorAlbedo)), lambert(Color(0.5f)), lambert(Color(0.5f))};
-    s.meshes.push_back(gridMesh(1, half, 0));
-    s.meshes.push_back(ceilingQuad(quadHalf, 1.f, 1));
-    if (sphere) s.meshes.push_back(uvSphere(24, 48, 1.f, Vec3(2.5f, 1.f, 0.f), true, 2));
+    s.geometry.meshes.push_back(gridMesh(1, half, 0));
+    s.geometry.meshes.push_back(ceilingQuad(quadHalf, 1.f, 1));
+    if (sphere) s.geometry.meshes.push_back(uvSphere(24, 48, 1.f, Vec3(2.5f, 1.f, 0.f), true, 2));
     Light sun;
     sun.type = LightType::Directional;
     sun.direction = sunDirection(0.f);
@@ -63,8 +63,8 @@ SurfaceInteraction hitFrom(const Scene& s, Vec3 o, Vec3 d) {
     r.o = o;
     r.d = glm::normalize(d);
     Hit h;
-    EXPECT_TRUE(s.intersect(r, h));
-    return s.interaction(r, h);
+    EXPECT_TRUE(s.geometry.intersect(r, h));
+    return s.geometry.interaction(r, h);
 }
 
 /// The bounce arriving at the quad's underside, from below.
@@ -195,7 +195,7 @@ TEST(BounceCache, TheSameSurfaceListedInAnotherOrderGivesTheSameCache) {
     b.materials = a.materials;
     b.lights = a.lights;
     b.camera = a.camera;
-    for (const TriangleMesh& m : a.meshes) {
+    for (const TriangleMesh& m : a.geometry.meshes) {
         TriangleMesh r = m;
         const size_t n = m.triangleCount();
         for (size_t t = 0; t < n; ++t) {
@@ -204,7 +204,7 @@ TEST(BounceCache, TheSameSurfaceListedInAnotherOrderGivesTheSameCache) {
             r.indices[3 * t + 1] = m.indices[3 * from + 2];
             r.indices[3 * t + 2] = m.indices[3 * from];
         }
-        b.meshes.push_back(r);
+        b.geometry.meshes.push_back(r);
     }
     b.build();
     const RenderSettings rs = smallSettings(48, 27);
@@ -238,7 +238,7 @@ TEST(BounceCache, AFilmWhoseGeometryMovesHasItOnlyWhenAskedFor) {
     // so), --bounce N or render.bounce (bounceMoving) keeps it, and every moving frame gets a
     // cache of its own pose.
     Scene s = floorScene(10.f, 0.3f, false);
-    s.meshes[1].node = 0;  // the quad hangs on an animated node
+    s.geometry.meshes[1].node = 0;  // the quad hangs on an animated node
     RenderSettings rs = smallSettings(48, 27);
     EXPECT_TRUE(bounceLeftOutForMotion(s, rs));
     EXPECT_FALSE(bounceCache(s, rs, 2));
@@ -249,15 +249,15 @@ TEST(BounceCache, AFilmWhoseGeometryMovesHasItOnlyWhenAskedFor) {
     ASSERT_TRUE(first);
     EXPECT_GT(spent.bounce, 3000u * 16u);  // the gathers and footprints that built it
     EXPECT_EQ(spent.total(), 0u);          // not counted as the frame's own rays
-    for (Vec3& p : s.meshes[1].positions) p.y += 1.f;  // the quad 2 m above the floor
-    s.refit();
+    for (Vec3& p : s.geometry.meshes[1].positions) p.y += 1.f;  // the quad 2 m above the floor
+    s.geometry.refit();
     const auto second = bounceCache(s, rs, 2);
     ASSERT_TRUE(second);
     EXPECT_NE(first, second);
     // What a scene built in that pose gets: the cache follows the pose, not the first frame.
     Scene posed = floorScene(10.f, 0.3f, false);
-    for (Vec3& p : posed.meshes[1].positions) p.y += 1.f;
-    posed.meshes[1].node = 0;
+    for (Vec3& p : posed.geometry.meshes[1].positions) p.y += 1.f;
+    posed.geometry.meshes[1].node = 0;
     posed.build();
     const auto fresh = bounceCache(posed, rs, 2);
     ASSERT_TRUE(fresh);

@@ -53,9 +53,9 @@ PixelBox materialPixels(const Scene& scene, int w, int h, const std::string& mat
         for (int x = 0; x < w; ++x) {
             const Ray r = rays.generate(x + 0.5f, y + 0.5f);
             Hit hit;
-            if (!scene.intersect(r, hit)) continue;
+            if (!scene.geometry.intersect(r, hit)) continue;
             if (!material.empty()) {
-                const SurfaceInteraction si = scene.interaction(r, hit);
+                const SurfaceInteraction si = scene.geometry.interaction(r, hit);
                 if (scene.materials[si.material].name != material) continue;
             }
             b.x0 = std::min(b.x0, x), b.y0 = std::min(b.y0, y), b.x1 = std::max(b.x1, x + 1), b.y1 = std::max(b.y1, y + 1);

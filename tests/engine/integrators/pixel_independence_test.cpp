@@ -105,8 +105,8 @@ TEST(PixelIndependence, MeshFloorUnderAMeshBallIsTheSameAtEveryTilingPacketAndCa
     TriangleMesh floor;
     floor.positions = {Vec3(-50, 1e-3f, -50), Vec3(50, 1e-3f, -50), Vec3(50, 1e-3f, 50), Vec3(-50, 1e-3f, 50)};
     floor.indices = {0, 2, 1, 0, 3, 2};
-    s.meshes.push_back(floor);
-    s.meshes.push_back(test::uvSphere(12, 24, 1.f, Vec3(0.f, 1.2f, 0.f), true));
+    s.geometry.meshes.push_back(floor);
+    s.geometry.meshes.push_back(test::uvSphere(12, 24, 1.f, Vec3(0.f, 1.2f, 0.f), true));
     Light l;
     l.position = Vec3(3.f, 6.f, 2.f);
     s.lights = {l};

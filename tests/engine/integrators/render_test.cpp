@@ -50,14 +50,14 @@ TEST(Render, BitIdenticalForAnyThreadCountAndTileSize) {
 TEST(Render, PacketsGiveTheSamePixelsForAnyTiling) {
     Scene s = test::emptyScene();
     s.materials[0] = test::matte(Color(0.8f, 0.5f, 0.3f));
-    s.meshes.push_back(test::uvSphere(24, 48, 1.f, Vec3(0, 1, 0), true));
-    s.meshes.push_back(test::gridMesh(16, 4.f));
+    s.geometry.meshes.push_back(test::uvSphere(24, 48, 1.f, Vec3(0, 1, 0), true));
+    s.geometry.meshes.push_back(test::gridMesh(16, 4.f));
     s.lights.push_back(Light{});
     s.lights.back().position = Vec3(3, 5, -4);
     s.camera.eye = Vec3(0.3f, 2.f, -5.f);
     s.camera.target = Vec3(0, 0.8f, 0);
     s.build();
-    ASSERT_TRUE(s.usesBvh());
+    ASSERT_TRUE(s.geometry.usesBvh());
     RenderSettings rs = test::smallSettings(83, 45, 4, 3);
     rs.tileSize = 32;
     RayStats ref;
@@ -110,8 +110,8 @@ TEST(Render, NonFiniteRadianceIsReplacedAndCounted) {
     hot.emission = Color(std::numeric_limits<float>::infinity(), 0.f, 0.f);
     Material nan = test::matte(Color(std::nanf(""), 0.5f, 0.5f));
     s.materials = {test::matte(Color(0.5f)), hot, nan};
-    s.spheres.push_back(Sphere{Vec3(-1.2f, 0.f, 0.f), 1.f, 1});
-    s.spheres.push_back(Sphere{Vec3(1.2f, 0.f, 0.f), 1.f, 2});
+    s.geometry.spheres.push_back(Sphere{Vec3(-1.2f, 0.f, 0.f), 1.f, 1});
+    s.geometry.spheres.push_back(Sphere{Vec3(1.2f, 0.f, 0.f), 1.f, 2});
     Light l;
     l.position = Vec3(0, 5, 5);
     s.lights.push_back(l);
@@ -131,7 +131,7 @@ TEST(Render, NonFiniteRadianceIsReplacedAndCounted) {
                 SampleRng rng(0, uint64_t(y) * rs.width + x, k);
                 const float jx = rng.next(), jy = rng.next();
                 Hit h;
-                expect += s.intersect(cam.generate(x + ((k % 2) + jx) * 0.5f, y + ((k / 2) + jy) * 0.5f), h);
+                expect += s.geometry.intersect(cam.generate(x + ((k % 2) + jx) * 0.5f, y + ((k / 2) + jy) * 0.5f), h);
             }
     EXPECT_GT(expect, 100u);
     EXPECT_EQ(st.nonFinite, expect);

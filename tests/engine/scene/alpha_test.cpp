@@ -15,7 +15,7 @@ namespace {
 Scene sphereScene() {
     Scene s = test::emptyScene();
     s.materials = {test::matte(Color(0.2f, 0.6f, 0.9f))};
-    s.spheres.push_back(Sphere{Vec3(0.f), 1.f, 0});
+    s.geometry.spheres.push_back(Sphere{Vec3(0.f), 1.f, 0});
     Light l;
     l.position = Vec3(3, 5, 5);
     s.lights.push_back(l);

@@ -36,7 +36,7 @@ std::string outDir(const std::string& name) {
 Scene transparentFarmScene() {
     Scene s = rf::testing::loadFarmScene();
     s.transparentBackground = true;
-    s.planes.clear();  // no floor: sky around the spheres
+    s.geometry.planes.clear();  // no floor: sky around the spheres
     s.build();
     return s;
 }
