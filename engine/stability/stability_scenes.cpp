@@ -56,7 +56,7 @@ std::vector<uint8_t> render8(const Scene& sc, int w, int h, int spp, int threads
     s.spp = spp;
     s.maxDepth = 5;
     RayStats rays;
-    return toRgb8(renderFrame(sc, sc.camera, s, 0, threads, rays), s);
+    return toRgb8(renderFrame(sc, {sc.camera, s}, 0, threads, rays), s);
 }
 
 namespace {

@@ -39,7 +39,7 @@ int variantsDiffering(const Scene& sc, int w, int h, int threads, int& variants)
     s.height = h;
     s.spp = 4;
     RayStats rays;
-    const Image ref = renderFrame(sc, sc.camera, s, 0, threads, rays);
+    const Image ref = renderFrame(sc, {sc.camera, s}, 0, threads, rays);
     std::vector<bool> bad(size_t(w) * h, false);
     variants = 0;
     for (int tile : {1, 7, 16, 32, 128})
@@ -47,7 +47,7 @@ int variantsDiffering(const Scene& sc, int w, int h, int threads, int& variants)
             s.tileSize = tile;
             s.packets = mode != 1;
             s.blockerCache = mode != 2;
-            const Image img = renderFrame(sc, sc.camera, s, 0, threads, rays);
+            const Image img = renderFrame(sc, {sc.camera, s}, 0, threads, rays);
             ++variants;
             for (size_t i = 0; i < bad.size(); ++i) bad[i] = bad[i] || std::memcmp(img.data() + 3 * i, ref.data() + 3 * i, 3 * sizeof(float)) != 0;
         }
@@ -110,11 +110,11 @@ void dimLightScene(std::vector<StabilityCase>& out, int threads) {
     s.minWeight = 0.f;
     RayStats rays;
     ExposureMeter meter;
-    meter.add(renderFrame(sc, sc.camera, s, 0, threads, rays));
+    meter.add(renderFrame(sc, {sc.camera, s}, 0, threads, rays));
     s.exposure = meter.ev();
-    const std::vector<uint8_t> full = toRgb8(renderFrame(sc, sc.camera, s, 0, threads, rays), s);
+    const std::vector<uint8_t> full = toRgb8(renderFrame(sc, {sc.camera, s}, 0, threads, rays), s);
     s.minWeight = RenderSettings{}.minWeight;
-    const std::vector<uint8_t> pruned = toRgb8(renderFrame(sc, sc.camera, s, 0, threads, rays), s);
+    const std::vector<uint8_t> pruned = toRgb8(renderFrame(sc, {sc.camera, s}, 0, threads, rays), s);
     double mean = 0.0;
     for (uint8_t v : pruned) mean += v;
     mean /= double(pruned.size());

@@ -172,7 +172,7 @@ int runStill(const std::vector<std::string>& args) {
 
     RayStats rays;
     const auto t1 = std::chrono::steady_clock::now();
-    const Image img = renderFrame(scene, scene.camera, settings, frame, threads, rays);
+    const Image img = renderFrame(scene, {scene.camera, settings}, frame, threads, rays);
     const auto t2 = std::chrono::steady_clock::now();
     writeReplacing(out, [&](const std::string& to) {
         if (img.hasAlpha()) writePng(to, img.width(), img.height(), toRgba8(img, settings.toneMap, exposureScale(settings.exposure)), 4);

@@ -55,7 +55,7 @@ void resolveAutoExposure(const Scene& scene, const anim::Timeline& timeline, Ren
         pollLoadCancel();
         timeline.applyFrame(probe, f);
         if (afterPose) afterPose(probe);
-        meter.add(renderFrame(probe, probe.camera, small, f, threads, rays));
+        meter.add(renderFrame(probe, {probe.camera, small}, f, threads, rays));
     }
     settings.exposure = meter.ev();
     settings.autoExposure = false;

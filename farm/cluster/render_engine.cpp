@@ -240,7 +240,7 @@ std::vector<TileResult> RenderEngine::renderTogether(Scene& scene, const anim::T
     // Small rectangles (pixel mode) are split finer so every thread gets several pieces.
     const int sub = subTileFor(items[0].rect, s);
     const Camera& camera = view && !view->followTimeline ? view->camera : scene.camera;
-    renderRects(scene, camera, s, frame, jobs, threads, sub, cancel);
+    renderRects(scene, {camera, s}, frame, jobs, threads, sub, cancel);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     for (size_t i = 0; i < items.size(); ++i) {
         TileResult& r = out[i];

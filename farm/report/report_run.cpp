@@ -81,7 +81,7 @@ double writeDefaultImages(const Scene& scene, const RenderSettings& settings, co
     const std::filesystem::path dir(o.outDir);
     const RenderSettings defSettings = withQuality(settings, o.sweep.base);
     RayStats rays;
-    const Image def = renderFrame(scene, scene.camera, defSettings, o.frame, o.threads, rays);
+    const Image def = renderFrame(scene, {scene.camera, defSettings}, o.frame, o.threads, rays);
     const std::vector<uint8_t> def8 = toRgb8(def, settings);
     writePng((dir / "default.png").string(), w, h, def8);
     // Scaled to the 99th percentile, so a few extreme pixels do not leave the rest black.
@@ -178,7 +178,7 @@ VideoReport runVideoReport(Scene& scene, const anim::Timeline& timeline, const R
         timeline.applyFrame(scene, i);
         if (o.pose) o.pose(scene);
         RayStats rays;
-        frames.push_back(toRgb8(renderFrame(scene, scene.camera, settings, i, o.threads, rays), settings));
+        frames.push_back(toRgb8(renderFrame(scene, {scene.camera, settings}, i, o.threads, rays), settings));
     }
     VideoSweepSpec spec = o.sweep;
     spec.fps = timeline.fps();

@@ -60,7 +60,7 @@ TimedRender renderTimed(const Scene& scene, const RenderSettings& settings, int 
     while (r.repeats < std::max(1, maxRepeats) && (r.repeats == 0 || total < minTotalSeconds)) {
         RayStats rays;
         const auto t0 = std::chrono::steady_clock::now();
-        Image img = renderFrame(scene, scene.camera, settings, frame, threads, rays);
+        Image img = renderFrame(scene, {scene.camera, settings}, frame, threads, rays);
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         total += s;
         r.seconds = std::min(r.seconds, s);

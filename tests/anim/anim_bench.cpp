@@ -107,7 +107,7 @@ double renderSeconds(const Scene& s, int w, int h) {
     for (int k = 0; k < 3; ++k) {
         RayStats rays;
         const double t0 = cpuNow();
-        (void)renderFrame(s, s.camera, st, 0, 1, rays);
+        (void)renderFrame(s, {s.camera, st}, 0, 1, rays);
         best = std::min(best, cpuNow() - t0);
     }
     return best;

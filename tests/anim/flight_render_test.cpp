@@ -67,7 +67,7 @@ TEST(Flight, LightFootprintFollowsItsKeys) {
         tl.applyFrame(s, k.frame);
         ASSERT_DOUBLE_EQ(tl.frameTime(k.frame), k.frame / 24.0);
         RayStats rays;
-        const Image img = renderFrame(s, s.camera, settings, k.frame, 0, rays);
+        const Image img = renderFrame(s, {s.camera, settings}, k.frame, 0, rays);
         const Footprint f = brightestFloorPoint(s, img);
         const std::string where = "frame " + std::to_string(k.frame);
         bool ok = f.found;

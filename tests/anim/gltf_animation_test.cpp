@@ -422,7 +422,7 @@ TEST(RealGltf, SimpleSkinSilhouetteFollowsThePose) {
         RenderSettings rs = a.settings;
         rs.width = W, rs.height = H, rs.spp = 1;
         RayStats stats;
-        const Image img = renderFrame(a, cam, rs, 0, 1, stats);
+        const Image img = renderFrame(a, {cam, rs}, 0, 1, stats);
         ASSERT_TRUE(img.hasAlpha());
         const CameraRays cr(cam, W, H);
         const std::vector<glm::dvec3> e = simpleSkinExpected(theta);

@@ -46,7 +46,7 @@ Rgba renderAt(const std::string& name, double t, int w, int h) {
     s.exposure = 0.f;
     s.autoExposure = false;
     RayStats rays;
-    return {w, h, toRgba8(renderFrame(scene, scene.camera, s, 0, 0, rays), s.toneMap, 1.f)};
+    return {w, h, toRgba8(renderFrame(scene, {scene.camera, s}, 0, 0, rays), s.toneMap, 1.f)};
 }
 
 struct Score {

@@ -68,7 +68,7 @@ Fill filmFill(Scene s) {
         tl.applyFrame(s, i);
         if (tl.animatesGeometry()) s.geometry.refit();
         RayStats st;
-        addFrame(renderFrame(s, s.camera, rs, i, 0, st), f);
+        addFrame(renderFrame(s, {s.camera, rs}, i, 0, st), f);
     }
     return f;
 }
@@ -86,7 +86,7 @@ Fill sphereFill(Scene s) {
     for (int i = 0; i < t.frameCount(); ++i) {
         t.apply(s, double(i) / t.fps(), rest);
         RayStats st;
-        addFrame(renderFrame(s, s.camera, rs, i, 0, st), f);
+        addFrame(renderFrame(s, {s.camera, rs}, i, 0, st), f);
     }
     return f;
 }
@@ -137,7 +137,7 @@ TEST(SkinnedTurntable, FramingOnTheBindPoseAloneWouldClip) {
         rest.apply(s, t, lights);
         for (const GltfAnimationPlayer& p : players) p.apply(s, t);
         RayStats st;
-        addFrame(renderFrame(s, s.camera, rs, i, 0, st), f);
+        addFrame(renderFrame(s, {s.camera, rs}, i, 0, st), f);
     }
     std::printf("simple_skin framed on its bind pose: %d of %d sampled frames clipped\n", f.clippedFrames, (rest.frameCount() + 2) / 3);
     EXPECT_GT(f.clippedFrames, 0) << "the bind pose's framing holds the whole motion: the test cannot tell them apart";

@@ -25,7 +25,7 @@ const std::string kEngine = "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF
 std::vector<uint8_t> frameAt(const Scene& s, RenderSettings rs, int frame, int spp) {
     rs.spp = spp;
     RayStats st;
-    return toRgb8(renderFrame(s, s.camera, rs, frame, 0, st), rs);
+    return toRgb8(renderFrame(s, {s.camera, rs}, frame, 0, st), rs);
 }
 
 TEST(DefaultTurntableSampling, EngineFinsDoNotAliasAtTheDefaultSamples) {
@@ -45,7 +45,7 @@ TEST(DefaultTurntableSampling, EngineFinsDoNotAliasAtTheDefaultSamples) {
     meterSettings.spp = 1;
     RayStats st;
     ExposureMeter meter;
-    meter.add(renderFrame(s, s.camera, meterSettings, frame, 0, st));
+    meter.add(renderFrame(s, {s.camera, meterSettings}, frame, 0, st));
     rs.exposure = meter.ev();
     rs.autoExposure = false;
 

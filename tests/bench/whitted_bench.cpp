@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
             } else {
                 timeline.applyFrame(scene, i);
             }
-            const Image img = renderFrame(scene, scene.camera, settings, i, threads, rays);
+            const Image img = renderFrame(scene, {scene.camera, settings}, i, threads, rays);
             if (!outDir.empty()) {
                 char name[64];
                 std::snprintf(name, sizeof name, "/frame_%03d.png", i);

@@ -28,7 +28,7 @@ void train(const std::string& path, const SceneOptions& options, std::vector<int
     for (int f : frames) {
         if (f < timeline.frameCount()) timeline.applyFrame(scene, f);
         RayStats rays;
-        const Image img = renderFrame(scene, scene.camera, settings, f, 1, rays);
+        const Image img = renderFrame(scene, {scene.camera, settings}, f, 1, rays);
         std::vector<uint8_t> rgb(size_t(img.width()) * img.height() * 3);
         encodeRgb8(img.data(), rgb.size(), settings.toneMap, rgb.data(), exposureScale(settings.exposure));
     }

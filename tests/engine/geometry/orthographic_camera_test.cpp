@@ -48,7 +48,7 @@ Image sphereAt(float dist, bool orthographic, int w, int h) {
 Image renderCamera(const Scene& scene, int w, int h) {
     RenderSettings st = test::smallSettings(w, h);
     RayStats rays;
-    return renderFrame(scene, scene.camera, st, 0, 1, rays);
+    return renderFrame(scene, {scene.camera, st}, 0, 1, rays);
 }
 
 Scene loadJson(const std::string& text) {

@@ -107,7 +107,7 @@ TEST(BounceCache, ATurntableOfTheCameraBuildsItOnceAndEveryFrameSeesTheSameBounc
         const float a = 2.f * kPi * float(frame) / 120.f;
         s.camera.eye = Vec3(8.f * std::sin(a), 3.f, 8.f * std::cos(a));
         RayStats rays;
-        renderFrame(s, s.camera, rs, frame, 2, rays);
+        renderFrame(s, {s.camera, rs}, frame, 2, rays);
         const auto now = bounceCache(s, rs, 2);
         EXPECT_EQ(now.get(), first.get()) << "frame " << frame << ": the camera moved, nothing else; no rebuild";
         const Color at = bounceUnderQuad(s, *now);

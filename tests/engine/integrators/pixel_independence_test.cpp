@@ -51,7 +51,7 @@ void expectIdenticalAcrossVariants(const std::string& name, const Scene& scene, 
             fresh = scene;
             fresh.bounceSlot = std::make_shared<SceneCacheSlot>();
         }
-        const Image img = renderFrame(v.threads == 1 ? fresh : scene, scene.camera, s, 3, v.threads, rays);
+        const Image img = renderFrame(v.threads == 1 ? fresh : scene, {scene.camera, s}, 3, v.threads, rays);
         const std::vector<float> px(img.data(), img.data() + size_t(img.width()) * img.height() * 3);
         const std::vector<uint8_t> bytes = toRgb8(img, s);
         if (first.empty()) {

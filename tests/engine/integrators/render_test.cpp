@@ -26,9 +26,9 @@ TEST(Render, BitIdenticalForAnyThreadCountAndTileSize) {
     RenderSettings rs = test::smallSettings(97, 61, 4, 5);  // odd sizes: partial tiles at the edges
     RayStats s1, s2, s3;
     rs.tileSize = 16;
-    const Image one = renderFrame(s, s.camera, rs, 7, 1, s1);
-    const Image two = renderFrame(s, s.camera, rs, 7, 2, s2);
-    const Image three = renderFrame(s, s.camera, rs, 7, 3, s3);
+    const Image one = renderFrame(s, {s.camera, rs}, 7, 1, s1);
+    const Image two = renderFrame(s, {s.camera, rs}, 7, 2, s2);
+    const Image three = renderFrame(s, {s.camera, rs}, 7, 3, s3);
     EXPECT_TRUE(sameBits(one, two));
     EXPECT_TRUE(sameBits(one, three));
     EXPECT_EQ(s1.total(), s2.total());
@@ -36,12 +36,12 @@ TEST(Render, BitIdenticalForAnyThreadCountAndTileSize) {
     for (int tile : {1, 7, 32, 200}) {
         rs.tileSize = tile;
         RayStats st;
-        EXPECT_TRUE(sameBits(one, renderFrame(s, s.camera, rs, 7, 2, st))) << "tile " << tile;
+        EXPECT_TRUE(sameBits(one, renderFrame(s, {s.camera, rs}, 7, 2, st))) << "tile " << tile;
     }
     // Another frame index draws other jitter: the picture is a function of the frame too.
     RayStats st;
     rs.tileSize = 16;
-    EXPECT_FALSE(sameBits(one, renderFrame(s, s.camera, rs, 8, 2, st)));
+    EXPECT_FALSE(sameBits(one, renderFrame(s, {s.camera, rs}, 8, 2, st)));
 }
 
 // Camera rays go through the BVH in packets of aligned pixel blocks: tiles of any size, odd
@@ -61,18 +61,18 @@ TEST(Render, PacketsGiveTheSamePixelsForAnyTiling) {
     RenderSettings rs = test::smallSettings(83, 45, 4, 3);
     rs.tileSize = 32;
     RayStats ref;
-    const Image one = renderFrame(s, s.camera, rs, 3, 1, ref);
+    const Image one = renderFrame(s, {s.camera, rs}, 3, 1, ref);
     EXPECT_EQ(ref.primary, uint64_t(83 * 45 * 4));
     for (int tile : {1, 3, 7, 16, 64}) {
         rs.tileSize = tile;
         RayStats st;
-        EXPECT_TRUE(sameBits(one, renderFrame(s, s.camera, rs, 3, 2, st))) << "tile " << tile;
+        EXPECT_TRUE(sameBits(one, renderFrame(s, {s.camera, rs}, 3, 2, st))) << "tile " << tile;
         EXPECT_EQ(st.total(), ref.total()) << "tile " << tile;
     }
     const TileRect rect{5, 3, 62, 38};
     std::vector<float> buf(size_t(rect.pixels()) * 3);
     RayStats ts;
-    renderTile(s, s.camera, rect, rs, 3, buf.data(), ts);
+    renderTile(s, {s.camera, rs}, rect, 3, buf.data(), ts);
     EXPECT_EQ(ts.primary, uint64_t(rect.pixels()) * 4);
     for (int y = rect.y0; y < rect.y1; ++y)
         for (int x = rect.x0; x < rect.x1; ++x)
@@ -84,11 +84,11 @@ TEST(Render, RenderTileMatchesTheFrameRegion) {
     const Scene s = whitted();
     const RenderSettings rs = test::smallSettings(64, 40, 1, 5);
     RayStats st;
-    const Image frame = renderFrame(s, s.camera, rs, 0, 2, st);
+    const Image frame = renderFrame(s, {s.camera, rs}, 0, 2, st);
     const TileRect rect{13, 5, 41, 29};
     std::vector<float> buf(size_t(rect.pixels()) * 3);
     RayStats ts;
-    renderTile(s, s.camera, rect, rs, 0, buf.data(), ts);
+    renderTile(s, {s.camera, rs}, rect, 0, buf.data(), ts);
     EXPECT_EQ(ts.primary, uint64_t(rect.pixels()));
     for (int y = rect.y0; y < rect.y1; ++y)
         for (int x = rect.x0; x < rect.x1; ++x)

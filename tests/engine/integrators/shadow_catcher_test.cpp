@@ -96,7 +96,7 @@ Image frame(const Scene& s) {
     rs.width = 64;
     rs.height = 64;
     RayStats st;
-    return renderFrame(s, s.camera, rs, 0, 1, st);
+    return renderFrame(s, {s.camera, rs}, 0, 1, st);
 }
 
 TEST(ShadowCatcher, UnshadowedGroundIsTheBackgroundToTheBitShadowIsDarker) {

@@ -60,7 +60,7 @@ Image render(const Scene& scene, const Camera& cam, int w, int h) {
     s.width = w;
     s.height = h;
     RayStats stats;
-    return renderFrame(scene, cam, s, 0, 1, stats);
+    return renderFrame(scene, {cam, s}, 0, 1, stats);
 }
 
 bool allFinite(const Image& img) {
