@@ -13,6 +13,7 @@
 #include "engine/util/parallel.h"
 #include "engine/util/sampler.h"
 #include "engine/scene/scene.h"
+#include "engine/scene/scene_cache.h"
 
 namespace rf {
 
@@ -132,7 +133,7 @@ struct BounceGeometry {
     uint64_t rays = 0;  ///< traced to build it (placing the points, their gathers)
 };
 
-/// What bounceCache keeps in a scene's slot (Scene::bounceSlot).
+/// What bounceCache keeps in a job's slot (RenderView::bounceSlot).
 struct BounceSlot {
     uint64_t geometryVersion = 0;
     uint32_t points = 0;
@@ -458,14 +459,15 @@ bool bounceLeftOutForMotion(const Scene& scene, const RenderSettings& settings) 
            geometryMoves(scene);
 }
 
-std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderSettings& settings, int threads, RayStats* spent) {
-    if (settings.bounce <= 0 || settings.indirectSamples > 0 || !scene.bounceSlot) return nullptr;
+std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderSettings& settings, SceneCacheSlot* slotIn,
+                                               int threads, RayStats* spent) {
+    if (settings.bounce <= 0 || settings.indirectSamples > 0 || !slotIn) return nullptr;
     if (!settings.bounceMoving && geometryMoves(scene)) return nullptr;
     const uint32_t points = bouncePoints(settings);
     const uint64_t lights = lightsKey(scene);
-    std::lock_guard<std::mutex> lock(scene.bounceSlot->mutex);
-    if (!scene.bounceSlot->state) scene.bounceSlot->state = std::make_shared<BounceSlot>();
-    BounceSlot& slot = *std::static_pointer_cast<BounceSlot>(scene.bounceSlot->state);
+    std::lock_guard<std::mutex> lock(slotIn->mutex);
+    if (!slotIn->state) slotIn->state = std::make_shared<BounceSlot>();
+    BounceSlot& slot = *std::static_pointer_cast<BounceSlot>(slotIn->state);
     const bool sameGeometry = slot.geometryVersion == scene.geometry.version() && slot.points == points;
     if (sameGeometry)
         for (size_t i = 0; i < slot.lit.size(); ++i)

@@ -22,7 +22,7 @@ void renderTile(const Scene& scene, const RenderView& view, const TileRect& rect
                 float* alpha) {
     const RenderSettings& settings = view.settings;
     const CameraRays rays(view.camera, settings.width, settings.height);
-    const std::unique_ptr<Integrator> integrator = makeIntegrator(scene, settings);
+    const std::unique_ptr<Integrator> integrator = makeIntegrator(scene, settings, view.bounceSlot.get());
     const int n = std::max(1, static_cast<int>(std::lround(std::sqrt(static_cast<double>(std::max(1, settings.spp))))));
     const float invN = 1.f / n;
     const float invSpp = 1.f / (n * n);
@@ -130,7 +130,7 @@ void renderRects(const Scene& scene, const RenderView& view, int frame, const st
     // The bounce cache, built here on every thread if the geometry or lights moved since the
     // last rectangle; each tile's integrator then finds it ready (its counts go to the first's).
     RayStats cacheStats;
-    const std::shared_ptr<const BounceCache> bounce = bounceCache(scene, settings, threads, &cacheStats);
+    const std::shared_ptr<const BounceCache> bounce = bounceCache(scene, settings, view.bounceSlot.get(), threads, &cacheStats);
     // Per job and thread, added at the end: threads bumping one shared count would bounce its
     // cache line between cores.
     const size_t nt = size_t(std::max(1, threads));

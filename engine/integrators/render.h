@@ -9,6 +9,7 @@
 #include "engine/util/image.h"
 #include "engine/util/parallel.h"
 #include "engine/scene/scene.h"
+#include "engine/scene/scene_cache.h"
 #include "engine/util/stats.h"
 
 namespace rf {
@@ -28,6 +29,10 @@ struct TileRect {
 struct RenderView {
     Camera camera;
     RenderSettings settings;
+    /// Where the bounce cache (bounce_cache.h) is kept between frames: the job's, so that all
+    /// its frames (and the head start and metering before them) share one. A view made without
+    /// one gets a slot of its own, and builds the cache for itself.
+    std::shared_ptr<SceneCacheSlot> bounceSlot = std::make_shared<SceneCacheSlot>();
 };
 
 /// Renders rect of frame `frame` into out (rect.pixels() × 3 linear floats, row-major). The

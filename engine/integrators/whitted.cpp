@@ -3,6 +3,7 @@
 #include <new>
 
 #include "engine/scene/env_lighting.h"
+#include "engine/scene/scene_cache.h"
 #include "engine/util/image.h"
 #include "engine/integrators/light_eval.h"
 #include "engine/materials/material_eval.h"
@@ -13,7 +14,7 @@
 
 namespace rf {
 
-WhittedTracer::WhittedTracer(const Scene& scene, const RenderSettings& settings)
+WhittedTracer::WhittedTracer(const Scene& scene, const RenderSettings& settings, SceneCacheSlot* bounceSlot)
     : scene_(scene), settings_(settings), blockers_(scene.lights.size()) {
     specFloor_.reserve(scene.materials.size());
     for (const Material& m : scene.materials)
@@ -21,14 +22,16 @@ WhittedTracer::WhittedTracer(const Scene& scene, const RenderSettings& settings)
     displayScale_ = exposureScale(settings.exposure);
     for (const Material& m : scene.materials) seeThroughShadows_ |= m.gltfPbr && m.transmission > 0.f;
     if (scene.shadowCatcherHeight) catcher_.emplace(scene);
-    bounce_ = bounceCache(scene, settings, 1);  // renderRect built it on all its threads already
+    // renderRect built it on all its threads already; a tracer made alone builds its own.
+    SceneCacheSlot own;
+    bounce_ = bounceCache(scene, settings, bounceSlot ? bounceSlot : &own, 1);
 }
 
-std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const RenderSettings& settings) {
+std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const RenderSettings& settings, SceneCacheSlot* bounceSlot) {
     switch (settings.integrator) {
         case IntegratorKind::Whitted: break;
     }
-    return std::make_unique<WhittedTracer>(scene, settings);
+    return std::make_unique<WhittedTracer>(scene, settings, bounceSlot);
 }
 
 float WhittedTracer::specular(const Material& m, int material, const Vec3& ns, const Vec3& l, const Vec3& V) const {

@@ -17,7 +17,8 @@ namespace rf {
 
 class WhittedTracer final : public Integrator {
 public:
-    WhittedTracer(const Scene& scene, const RenderSettings& settings);
+    /// bounceSlot: where the job keeps its bounce cache (null: the tracer builds one of its own).
+    WhittedTracer(const Scene& scene, const RenderSettings& settings, SceneCacheSlot* bounceSlot = nullptr);
 
     /// Radiance along a primary ray (counted as primary); see Integrator::Li.
     Color Li(const Ray& r, uint64_t seed, RayStats& stats, float* coverage) const override;

@@ -16,7 +16,6 @@
 #include "engine/materials/material.h"
 #include "engine/materials/material_eval.h"
 #include "engine/materials/texture.h"
-#include "engine/scene/scene_cache.h"
 #include "engine/scene/scene_geometry.h"
 #include "engine/scene/scene_options.h"
 #include "engine/util/settings.h"
@@ -71,9 +70,6 @@ public:
     /// --animation NAME|INDEX (SceneOptions::animation): the animation every animated model
     /// plays, over the scene file's "animation"; anim::Timeline resolves it.
     std::optional<std::string> animation;
-
-    /// Where the bounce cache (bounce_cache.h) is kept between frames; copies share it.
-    std::shared_ptr<SceneCacheSlot> bounceSlot = std::make_shared<SceneCacheSlot>();
 
     /// Spheres, planes, meshes and models, the acceleration structure over them and every ray
     /// query (scene_geometry.h).

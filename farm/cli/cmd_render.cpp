@@ -159,30 +159,31 @@ std::string videoChunksNote(const RenderJob& job) {
 /// Builds the scene's bounce cache for these settings at `frame`, on a posed copy (posing leaves
 /// traces in a scene, as resolveAutoExposure says), so that the film's first frame on this rank
 /// finds it ready instead of building it inside the run (about 0.4 s on one core for
-/// 2CylinderEngine). Copies share the cache's slot; a cache for other settings or another pose
+/// 2CylinderEngine) into the film's slot; a cache for other settings or another pose
 /// is simply not used, and the render builds its own as before.
-void prebuildBounceCache(const Scene& scene, const anim::Timeline& tl, const RenderSettings& settings, int frame, int threads) {
+void prebuildBounceCache(const Scene& scene, const anim::Timeline& tl, const RenderSettings& settings, int frame, int threads,
+                         SceneCacheSlot& bounceSlot) {
     if (settings.bounce <= 0 || !bounceApplies(scene)) return;
     Scene posed = scene;
     tl.applyFrame(posed, frame);
-    bounceCache(posed, settings, threads > 0 ? threads : hardwareThreads());
+    bounceCache(posed, settings, &bounceSlot, threads > 0 ? threads : hardwareThreads());
 }
 
 /// A worker's head start (shareScene) while rank 0 decides the job and meters its exposure: the
 /// bounce cache for the settings and first frame the same command line gives rank 0.
-void workerHeadStart(Scene& scene, const ArgParser& p, const RenderJob& job, int threads) {
+void workerHeadStart(Scene& scene, SceneCacheSlot& bounceSlot, const ArgParser& p, const RenderJob& job, int threads) {
     RenderSettings settings = scene.settings;
     applyQualityOptions(p, settings);
     const anim::Timeline tl = anim::Timeline::fromScene(scene, job.fpsOption);
     int first = 0, last = tl.frameCount() - 1;
     if (auto f = p.value("--frames")) parseFrameRange(*f, tl.frameCount(), first, last);
-    prebuildBounceCache(scene, tl, settings, first, threads);
+    prebuildBounceCache(scene, tl, settings, first, threads, bounceSlot);
 }
 
 /// Rank 0's part of makeJob: everything decided from the options and the loaded scene, checked
 /// before any rendering.
-void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundle& inputs, int ranks, const std::string& threadsNote,
-               bool filmOfSeveral) {
+void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const std::shared_ptr<SceneCacheSlot>& bounceSlot,
+               const FileBundle& inputs, int ranks, const std::string& threadsNote, bool filmOfSeveral) {
     job.settings = scene.settings;
     applyQualityOptions(p, job.settings);
     const anim::Timeline tl = anim::Timeline::fromScene(scene, job.fpsOption);
@@ -198,8 +199,8 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
     // Metering renders: only once every option has been checked. When rank 0 renders (two ranks
     // or fewer), the bounce cache first, at the first frame, as the workers build theirs
     // meanwhile (workerHeadStart); the meter uses it.
-    if (ranks <= 2) prebuildBounceCache(scene, tl, job.settings, job.first, job.threads);
-    resolveAutoExposure(scene, tl, job.settings, job.threads);
+    if (ranks <= 2) prebuildBounceCache(scene, tl, job.settings, job.first, job.threads, *bounceSlot);
+    resolveAutoExposure(scene, tl, job.settings, job.threads, {}, bounceSlot);
     // A format without alpha lays the frames over the background colour, as the scene shows it.
     const float bg[3] = {scene.background.r, scene.background.g, scene.background.b};
     encodeRgb8(bg, 3, job.settings.toneMap, job.mp4.flattenOver, exposureScale(job.settings.exposure));
@@ -336,6 +337,8 @@ int renderFilm(MpiTransport& t, const ArgParser& p, const std::vector<std::strin
                Clock::time_point wallStart, const FilmInJob* film) {
     const std::string threadsNote = describeThreads(job, t);
     SharedScene shared;
+    // The film's bounce cache: the head start and the metering fill it, the frames use it.
+    const auto bounceSlot = std::make_shared<SceneCacheSlot>();
     std::vector<OutputLock> locks;  // rank 0's, until the film ends
     locks.reserve(2);               // never moved: the load watch may release them from its thread
     try {
@@ -350,10 +353,11 @@ int renderFilm(MpiTransport& t, const ArgParser& p, const std::vector<std::strin
                     std::vector<std::string> read;
                     for (const auto& [path, bytes] : inputs.files) read.push_back(path);
                     checkOutputPaths(renderOutputs(job), read);  // the model's buffers and textures too
-                    decideJob(job, p, scene, inputs, t.size(), threadsNote, film != nullptr);
+                    decideJob(job, p, scene, bounceSlot, inputs, t.size(), threadsNote, film != nullptr);
                     return encodeWorkerJob(job);
                 },
-                sceneOptions(p), [&](Scene& scene) { workerHeadStart(scene, p, job, threadsForRank(job, t)); });
+                sceneOptions(p), [&](Scene& scene) { workerHeadStart(scene, *bounceSlot, p, job, threadsForRank(job, t)); },
+                bounceSlot);
         } catch (const LoadCancelled& c) {
             const int code = watch.interrupted(c);
             // A worker gets here only when rank 0 loaded and waits for it: say why it will not hear.
