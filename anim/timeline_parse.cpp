@@ -310,7 +310,8 @@ std::vector<GltfAnimationPlayer> defaultPlayers(const Scene& scene) {
     if (scene.animation) return chosenPlayers(scene, *scene.animation, "", "--animation");
     std::vector<GltfAnimationPlayer> players;
     for (size_t m = 0; m < scene.geometry.models.size(); ++m)
-        if (!scene.geometry.models[m].animations.empty()) players.emplace_back(scene.geometry.models[m], static_cast<int>(m), 0, true);
+        if (!scene.geometry.models[m].animations.empty())
+            players.emplace_back(scene.geometry.models[m], static_cast<int>(m), 0, true);
     return players;
 }
 
@@ -325,7 +326,9 @@ std::vector<GltfAnimationPlayer> chosenPlayers(const Scene& scene, const std::st
         players.emplace_back(g, static_cast<int>(m), a, true);
     }
     if (players.empty()) {
-        if (scene.geometry.models.size() == 1) throw InputError(file.empty() ? scene.geometry.models[0].source : file, where + ": " + missingAnimation(scene.geometry.models[0], choice));
+        if (scene.geometry.models.size() == 1)
+            throw InputError(file.empty() ? scene.geometry.models[0].source : file,
+                             where + ": " + missingAnimation(scene.geometry.models[0], choice));
         throw InputError(file.empty() ? scene.sourcePath : file, where + ": the scene has no model animations to choose from");
     }
     return players;

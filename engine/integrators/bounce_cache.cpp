@@ -459,8 +459,8 @@ bool bounceLeftOutForMotion(const Scene& scene, const RenderSettings& settings) 
            geometryMoves(scene);
 }
 
-std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderSettings& settings, SceneCacheSlot* slotIn,
-                                               int threads, RayStats* spent) {
+std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderSettings& settings,
+                                               SceneCacheSlot* slotIn, int threads, RayStats* spent) {
     if (settings.bounce <= 0 || settings.indirectSamples > 0 || !slotIn) return nullptr;
     if (!settings.bounceMoving && geometryMoves(scene)) return nullptr;
     const uint32_t points = bouncePoints(settings);

@@ -18,8 +18,8 @@ constexpr int kPacketSide = 4;
 static_assert(kPacketSide * kPacketSide <= 64, "a packet's wanted pixels are a 64-bit mask");
 }  // namespace
 
-void renderTile(const Scene& scene, const RenderView& view, const TileRect& rect, int frame, float* out, RayStats& stats,
-                float* alpha) {
+void renderTile(const Scene& scene, const RenderView& view, const TileRect& rect, int frame, float* out,
+                RayStats& stats, float* alpha) {
     const RenderSettings& settings = view.settings;
     const CameraRays rays(view.camera, settings.width, settings.height);
     const std::unique_ptr<Integrator> integrator = makeIntegrator(scene, settings, view.bounceSlot.get());
@@ -130,7 +130,8 @@ void renderRects(const Scene& scene, const RenderView& view, int frame, const st
     // The bounce cache, built here on every thread if the geometry or lights moved since the
     // last rectangle; each tile's integrator then finds it ready (its counts go to the first's).
     RayStats cacheStats;
-    const std::shared_ptr<const BounceCache> bounce = bounceCache(scene, settings, view.bounceSlot.get(), threads, &cacheStats);
+    const std::shared_ptr<const BounceCache> bounce =
+        bounceCache(scene, settings, view.bounceSlot.get(), threads, &cacheStats);
     // Per job and thread, added at the end: threads bumping one shared count would bounce its
     // cache line between cores.
     const size_t nt = size_t(std::max(1, threads));

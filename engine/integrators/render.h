@@ -41,8 +41,8 @@ struct RenderView {
 /// alpha (if given, rect.pixels() floats): coverage, the fraction of the pixel's samples whose
 /// primary ray met geometry. With scene.transparentBackground the colour is premultiplied by it
 /// (misses add nothing).
-void renderTile(const Scene& scene, const RenderView& view, const TileRect& rect, int frame, float* out, RayStats& stats,
-                float* alpha = nullptr);
+void renderTile(const Scene& scene, const RenderView& view, const TileRect& rect, int frame, float* out,
+                RayStats& stats, float* alpha = nullptr);
 
 /// Splits a width × height image into tiles of tileSize, row by row.
 std::vector<TileRect> makeTiles(int width, int height, int tileSize);

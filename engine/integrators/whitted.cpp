@@ -27,7 +27,8 @@ WhittedTracer::WhittedTracer(const Scene& scene, const RenderSettings& settings,
     bounce_ = bounceCache(scene, settings, bounceSlot ? bounceSlot : &own, 1);
 }
 
-std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const RenderSettings& settings, SceneCacheSlot* bounceSlot) {
+std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const RenderSettings& settings,
+                                           SceneCacheSlot* bounceSlot) {
     switch (settings.integrator) {
         case IntegratorKind::Whitted: break;
     }

@@ -158,7 +158,8 @@ std::string fmt(const char* f, double v) {
 std::string point(const json& v) {
     // Appended, not "(" + fmt(...): GCC 12 warns falsely (-Wrestrict) on that operator+.
     std::string s = "(";
-    s += fmt("%.4g", v[0].get<double>()) + ", " + fmt("%.4g", v[1].get<double>()) + ", " + fmt("%.4g", v[2].get<double>()) + ")";
+    s += fmt("%.4g", v[0].get<double>()) + ", " + fmt("%.4g", v[1].get<double>()) + ", " +
+         fmt("%.4g", v[2].get<double>()) + ")";
     return s;
 }
 std::string joined(const json& arr, const char* sep = ", ") {

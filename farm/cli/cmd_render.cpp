@@ -161,8 +161,8 @@ std::string videoChunksNote(const RenderJob& job) {
 /// finds it ready instead of building it inside the run (about 0.4 s on one core for
 /// 2CylinderEngine) into the film's slot; a cache for other settings or another pose
 /// is simply not used, and the render builds its own as before.
-void prebuildBounceCache(const Scene& scene, const anim::Timeline& tl, const RenderSettings& settings, int frame, int threads,
-                         SceneCacheSlot& bounceSlot) {
+void prebuildBounceCache(const Scene& scene, const anim::Timeline& tl, const RenderSettings& settings, int frame,
+                         int threads, SceneCacheSlot& bounceSlot) {
     if (settings.bounce <= 0 || !bounceApplies(scene)) return;
     Scene posed = scene;
     tl.applyFrame(posed, frame);
@@ -356,8 +356,8 @@ int renderFilm(MpiTransport& t, const ArgParser& p, const std::vector<std::strin
                     decideJob(job, p, scene, bounceSlot, inputs, t.size(), threadsNote, film != nullptr);
                     return encodeWorkerJob(job);
                 },
-                sceneOptions(p), [&](Scene& scene) { workerHeadStart(scene, *bounceSlot, p, job, threadsForRank(job, t)); },
-                bounceSlot);
+                sceneOptions(p),
+                [&](Scene& scene) { workerHeadStart(scene, *bounceSlot, p, job, threadsForRank(job, t)); }, bounceSlot);
         } catch (const LoadCancelled& c) {
             const int code = watch.interrupted(c);
             // A worker gets here only when rank 0 loaded and waits for it: say why it will not hear.

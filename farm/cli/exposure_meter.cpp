@@ -31,7 +31,8 @@ std::string noLightWarning(const Scene& scene) {
 }
 
 void resolveAutoExposure(const Scene& scene, const anim::Timeline& timeline, RenderSettings& settings, int threads,
-                         const std::function<void(Scene&)>& afterPose, const std::shared_ptr<SceneCacheSlot>& bounceSlot) {
+                         const std::function<void(Scene&)>& afterPose,
+                         const std::shared_ptr<SceneCacheSlot>& bounceSlot) {
     if (!settings.autoExposure) return;
     // Four frames a quarter turn apart see every side of a turntable; 80 pixels across and one
     // sample are plenty for a log-average, and cost a few milliseconds.

@@ -27,8 +27,12 @@ void appendLinearPlane(const std::vector<float>& rgb, const std::vector<float>& 
 
 RenderEngine::RenderEngine(Scene scene, anim::Timeline timeline, RenderSettings settings, int threads, bool linear,
                            ItemRenderer itemRenderer, std::shared_ptr<SceneCacheSlot> bounceSlot)
-    : scene_(std::move(scene)), timeline_(std::move(timeline)), settings_(settings),
-      bounceSlot_(bounceSlot ? std::move(bounceSlot) : std::make_shared<SceneCacheSlot>()), threads_(std::max(1, threads)), linear_(linear),
+    : scene_(std::move(scene)),
+      timeline_(std::move(timeline)),
+      settings_(settings),
+      bounceSlot_(bounceSlot ? std::move(bounceSlot) : std::make_shared<SceneCacheSlot>()),
+      threads_(std::max(1, threads)),
+      linear_(linear),
       itemRenderer_(std::move(itemRenderer)) {
     thread_ = std::thread([this] { loop(); });
 }
@@ -199,7 +203,8 @@ void RenderEngine::loop() {
 TileResult RenderEngine::render(Scene& scene, const anim::Timeline& tl, const RenderSettings& job, int threads,
                                 const WorkItem& item, int& appliedFrame, bool linear, const ViewSpec* view,
                                 const std::atomic<bool>* cancel, const std::shared_ptr<SceneCacheSlot>& bounceSlot) {
-    return std::move(renderTogether(scene, tl, job, threads, {item}, appliedFrame, linear, view, cancel, bounceSlot)[0]);
+    return std::move(
+        renderTogether(scene, tl, job, threads, {item}, appliedFrame, linear, view, cancel, bounceSlot)[0]);
 }
 
 std::vector<TileResult> RenderEngine::renderTogether(Scene& scene, const anim::Timeline& tl, const RenderSettings& job,

@@ -73,9 +73,10 @@ public:
     /// render() for items of one frame and epoch at once, their sub-tiles shared among the
     /// threads; each result is the one render() gives (busySeconds: its share of the wall time,
     /// by pixels).
-    static std::vector<TileResult> renderTogether(Scene& scene, const anim::Timeline& tl, const RenderSettings& s, int threads,
-                                                  const std::vector<WorkItem>& items, int& appliedFrame, bool linear = false,
-                                                  const ViewSpec* view = nullptr, const std::atomic<bool>* cancel = nullptr,
+    static std::vector<TileResult> renderTogether(Scene& scene, const anim::Timeline& tl, const RenderSettings& s,
+                                                  int threads, const std::vector<WorkItem>& items, int& appliedFrame,
+                                                  bool linear = false, const ViewSpec* view = nullptr,
+                                                  const std::atomic<bool>* cancel = nullptr,
                                                   const std::shared_ptr<SceneCacheSlot>& bounceSlot = nullptr);
 
     /// The largest number of items rendered together so far (for tests).

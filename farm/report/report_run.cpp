@@ -179,7 +179,8 @@ VideoReport runVideoReport(Scene& scene, const anim::Timeline& timeline, const R
         timeline.applyFrame(scene, i);
         if (o.pose) o.pose(scene);
         RayStats rays;
-        frames.push_back(toRgb8(renderFrame(scene, {scene.camera, settings, o.bounceSlot}, i, o.threads, rays), settings));
+        frames.push_back(
+            toRgb8(renderFrame(scene, {scene.camera, settings, o.bounceSlot}, i, o.threads, rays), settings));
     }
     VideoSweepSpec spec = o.sweep;
     spec.fps = timeline.fps();

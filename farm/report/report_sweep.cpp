@@ -105,7 +105,8 @@ std::vector<SweepRow> runSweep(const Scene& scene, const RenderSettings& setting
         bool any = false;
         for (size_t i = 0; i < rows.size(); ++i) {
             if (spent[i] >= spec.minTimingSeconds) continue;
-            const TimedRender r = renderTimed(scene, withQuality(settings, rows[i].q), frame, threads, 0.0, 1, bounceSlot);
+            const TimedRender r =
+                renderTimed(scene, withQuality(settings, rows[i].q), frame, threads, 0.0, 1, bounceSlot);
             spent[i] += r.seconds;
             rows[i].seconds = std::min(rows[i].seconds, r.seconds);
             ++rows[i].repeats;

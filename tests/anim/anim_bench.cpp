@@ -84,9 +84,11 @@ void measure(const char* what, Scene s, size_t vertices) {
     std::printf("%-34s %9zu vertices  fromScene %8.3f ms  apply %9.4f ms/frame  (%d frames timed, %s)\n", what, vertices,
                 1e3 * setup, 1e3 * per, frames, tl.animatesGeometry() ? "geometry moves" : "no geometry work");
     if (tl.animatesGeometry())
-        std::printf("%-34s   of which pose (morph, skin) %.3f ms/frame, trees %.3f ms/frame (%d anchor trees built, "
-                    "%d of %d frames rebuilt, largest refit SAH ratio %.3f, rebuild above %.2f)\n",
-                    "", 1e3 * pose / frames, 1e3 * tree / frames, anchors, rebuilt, frames, ratio, SceneGeometry::kRebuildGrowth);
+        std::printf(
+            "%-34s   of which pose (morph, skin) %.3f ms/frame, trees %.3f ms/frame (%d anchor trees built, "
+            "%d of %d frames rebuilt, largest refit SAH ratio %.3f, rebuild above %.2f)\n",
+            "", 1e3 * pose / frames, 1e3 * tree / frames, anchors, rebuilt, frames, ratio,
+            SceneGeometry::kRebuildGrowth);
 }
 
 
@@ -204,6 +206,7 @@ int main(int argc, char** argv) {
     Scene g = gridModel(n, true);
     const double t0 = now();
     for (int i = 0; i < 10; ++i) g.geometry.refit();
-    std::printf("%-34s %9zu vertices  SceneGeometry::refit alone %9.4f ms\n", "animated grid model", v, 1e3 * (now() - t0) / 10);
+    std::printf("%-34s %9zu vertices  SceneGeometry::refit alone %9.4f ms\n", "animated grid model", v,
+                1e3 * (now() - t0) / 10);
     return 0;
 }

@@ -23,7 +23,8 @@ const std::string kEngine = "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF
 
 /// One frame of the posed scene at `spp`, as 8-bit sRGB through the film's tone map and EV.
 /// bounce: the film's bounce cache.
-std::vector<uint8_t> frameAt(const Scene& s, RenderSettings rs, int frame, int spp, const std::shared_ptr<SceneCacheSlot>& bounce) {
+std::vector<uint8_t> frameAt(const Scene& s, RenderSettings rs, int frame, int spp,
+                             const std::shared_ptr<SceneCacheSlot>& bounce) {
     rs.spp = spp;
     RayStats st;
     return toRgb8(renderFrame(s, {s.camera, rs, bounce}, frame, 0, st), rs);

@@ -118,8 +118,8 @@ int main(int argc, char** argv) {
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double cpu = processCpuSeconds() - cpu0;
     std::printf("bvh_bench: %s: %zu triangles, %zu BVH nodes, build %.3f s (load+build %.3f s)\n",
-                synthetic ? "synthetic" : path.c_str(), scene.geometry.triangleCount(), scene.geometry.bvh().nodes().size(), buildS,
-                std::chrono::duration<double>(tb1 - tb0).count());
+                synthetic ? "synthetic" : path.c_str(), scene.geometry.triangleCount(),
+                scene.geometry.bvh().nodes().size(), buildS, std::chrono::duration<double>(tb1 - tb0).count());
     std::printf("bvh_bench: %d frames %dx%d, %d thread(s): %llu primary + %llu shadow rays, %.1f%% hit, %.3f s, "
                 "%.2f Mrays/s (CPU %.3f s: %.2f Mrays per CPU-second)\n",
                 frames, width, height, threads, (unsigned long long)primary, (unsigned long long)shadow,

@@ -146,7 +146,8 @@ int main(int argc, char** argv) {
         if (timeline.animatesGeometry()) throw std::runtime_error("the orbit must not move geometry");
         // Embree gets the triangle meshes alone: spheres and planes would be left out of its
         // picture but not of rayfarm's.
-        if (!scene.geometry.spheres.empty() || !scene.geometry.planes.empty()) throw std::runtime_error(path + ": triangle meshes only, no spheres or planes");
+        if (!scene.geometry.spheres.empty() || !scene.geometry.planes.empty())
+            throw std::runtime_error(path + ": triangle meshes only, no spheres or planes");
         Vec3 light(0.f);
         bool haveLight = false;
         for (const Light& l : scene.lights)
@@ -194,10 +195,12 @@ int main(int argc, char** argv) {
         const double cpu = rf::bench::processCpuSeconds() - cpu0;
         const double loadS = std::chrono::duration<double>(t1 - t0).count();
         const double renderS = std::chrono::duration<double>(t2 - t1).count();
-        std::printf("%s: %d frames %dx%d, %d thread%s, %zu triangles: load + build %.3f s, render %.3f s (%.2f fps, "
-                    "%.1f ms CPU per frame), %.1f%% of pixels hit, camera %.4g from its target, checksum %.1f\n",
-                    own ? "rayfarm-bvh" : "embree", frames, w, h, threads, threads > 1 ? "s" : "", scene.geometry.triangleCount(), loadS, renderS, frames / renderS,
-                    1e3 * cpu / frames, 100.0 * hits / (double(w) * h * frames), camDist, checksum);
+        std::printf(
+            "%s: %d frames %dx%d, %d thread%s, %zu triangles: load + build %.3f s, render %.3f s (%.2f fps, "
+            "%.1f ms CPU per frame), %.1f%% of pixels hit, camera %.4g from its target, checksum %.1f\n",
+            own ? "rayfarm-bvh" : "embree", frames, w, h, threads, threads > 1 ? "s" : "",
+            scene.geometry.triangleCount(), loadS, renderS, frames / renderS, 1e3 * cpu / frames,
+            100.0 * hits / (double(w) * h * frames), camDist, checksum);
         if (es) rtcReleaseScene(es);
         if (device) rtcReleaseDevice(device);
     } catch (const std::exception& e) {

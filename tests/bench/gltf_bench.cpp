@@ -79,8 +79,9 @@ int main(int argc, char** argv) {
         const auto bounceSlot = std::make_shared<SceneCacheSlot>();  // the run's, as a render job keeps it
         std::printf("model        %s\n", path.c_str());
         std::printf("cores        %d hardware threads; load the machine lightly for wall-clock figures\n", hardwareThreads());
-        std::printf("triangles    %zu   lights %zu (shadowing: %d)\n", scene.geometry.triangleCount(), scene.lights.size(),
-                    int(std::count_if(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return l.castShadows; })));
+        std::printf(
+            "triangles    %zu   lights %zu (shadowing: %d)\n", scene.geometry.triangleCount(), scene.lights.size(),
+            int(std::count_if(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return l.castShadows; })));
         std::printf("load         %.3f s wall, %.3f s CPU (parse + convert, 1 thread, best of %d)\n", loadS, loadCpu, repeat);
         std::printf("bvh build    %.3f s wall, %.3f s CPU (1 thread, best of %d)\n", buildS, buildCpu, repeat);
         {

@@ -57,7 +57,9 @@ Scene testScene(uint32_t seed) {
         }
     }
     s.geometry.meshes.push_back(soup);
-    for (int i = 0; i < 20; ++i) s.geometry.spheres.push_back(Sphere{Vec3(8.f * u(rng), 1.f + u(rng), 8.f * u(rng)), 0.1f + 0.3f * (u(rng) + 1.f), 0});
+    for (int i = 0; i < 20; ++i)
+        s.geometry.spheres.push_back(
+            Sphere{Vec3(8.f * u(rng), 1.f + u(rng), 8.f * u(rng)), 0.1f + 0.3f * (u(rng) + 1.f), 0});
     s.build();
     return s;
 }

@@ -96,7 +96,8 @@ TEST(SceneInstances, PosedInstancesHitWhatTheBakedGeometryHits) {
             // Scene-wide prim ids are the same in both (meshes in the same order).
             EXPECT_EQ(h.prim, hr.prim) << "pose " << a << " ray " << i;
             EXPECT_NEAR(h.t, hr.t, 2e-5f * hr.t) << "pose " << a << " ray " << i;
-            instanced += s.geometry.instances()[1].prims.front() <= h.prim && h.prim <= s.geometry.instances()[1].prims.back();
+            instanced +=
+                s.geometry.instances()[1].prims.front() <= h.prim && h.prim <= s.geometry.instances()[1].prims.back();
             EXPECT_EQ(s.geometry.occluded(r, 100.f), ref.geometry.occluded(r, 100.f));
             const SurfaceInteraction si = s.geometry.interaction(r, h), sr = ref.geometry.interaction(r, hr);
             EXPECT_NEAR(glm::length(si.p - sr.p), 0.f, 1e-4f);
@@ -143,7 +144,8 @@ TEST(SceneInstances, PosingNeverTouchesTheStaticOrRigidTrees) {
             out.insert(out.end(), {n.box.lo.x, n.box.lo.y, n.box.lo.z, n.box.hi.x, n.box.hi.y, n.box.hi.z});
         return out;
     };
-    const std::vector<float> staticBefore = boxes(s.geometry.instances()[0].bvh), rigidBefore = boxes(s.geometry.instances()[1].bvh);
+    const std::vector<float> staticBefore = boxes(s.geometry.instances()[0].bvh),
+                             rigidBefore = boxes(s.geometry.instances()[1].bvh);
     const std::vector<float> deformBefore = boxes(s.geometry.instances()[3].bvh);
     for (double a : {0.3, 1.9}) {
         s.geometry.applyNodeTransforms(0, poseAt(a), {{}, {}, {1.0}});

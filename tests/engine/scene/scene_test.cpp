@@ -19,7 +19,8 @@ std::vector<uint8_t> aloneByEveryPair(const Scene& s) {
         for (const Plane& pl : s.geometry.planes)
             if (std::abs(glm::dot(DVec3(pl.n), DVec3(a.center)) + double(pl.d)) < double(a.radius)) out[i] = 0;
         for (size_t j = 0; j < s.geometry.spheres.size(); ++j)
-            if (j != i && glm::length(DVec3(a.center) - DVec3(s.geometry.spheres[j].center)) < double(a.radius) + s.geometry.spheres[j].radius)
+            if (j != i && glm::length(DVec3(a.center) - DVec3(s.geometry.spheres[j].center)) <
+                              double(a.radius) + s.geometry.spheres[j].radius)
                 out[i] = 0;
     }
     return out;
@@ -38,7 +39,8 @@ TEST(Scene, AloneSpheresMatchTheEveryPairRule) {
     std::uniform_real_distribution<float> pos(-40.f, 40.f), rad(0.05f, 3.f);
     for (int round = 0; round < 4; ++round) {
         Scene s;
-        for (int i = 0; i < 1500; ++i) s.geometry.spheres.push_back(Sphere{Vec3(pos(rng), pos(rng), pos(rng)), rad(rng), 0});
+        for (int i = 0; i < 1500; ++i)
+            s.geometry.spheres.push_back(Sphere{Vec3(pos(rng), pos(rng), pos(rng)), rad(rng), 0});
         // Touching exactly (alone), a hair closer (not), a big one holding small ones, two coincident.
         s.geometry.spheres.push_back(Sphere{Vec3(100.f, 0.f, 0.f), 1.f, 0});
         s.geometry.spheres.push_back(Sphere{Vec3(102.f, 0.f, 0.f), 1.f, 0});

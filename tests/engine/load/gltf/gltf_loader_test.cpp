@@ -320,7 +320,8 @@ TEST(GltfLoader, MorphCubeKeepsItsAnimationAndMovesWithWeights) {
     for (size_t i = 0; i < before.objectPositions.size(); ++i) {
         const glm::dvec3 want(renderFromNode * glm::dvec4(glm::dvec3(before.objectPositions[i] + before.morphPositions[0][i]), 1.0));
         EXPECT_NEAR(glm::length(glm::dvec3(scene.geometry.meshes[0].positions[i]) - want), 0.0, 1e-4) << i;
-        maxMove = std::max(maxMove, glm::length(glm::dvec3(scene.geometry.meshes[0].positions[i] - before.positions[i])));
+        maxMove =
+            std::max(maxMove, glm::length(glm::dvec3(scene.geometry.meshes[0].positions[i] - before.positions[i])));
     }
     EXPECT_GT(maxMove, 1.0);  // the target visibly moves the cube (scaled by 100)
 }
