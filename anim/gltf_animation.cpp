@@ -150,31 +150,31 @@ void GltfAnimationPlayer::poseLocal(const SceneGraph& g, double at, std::vector<
 }
 
 void GltfAnimationPlayer::apply(Scene& scene, double t) const {
-    if (model_ < 0 || model_ >= static_cast<int>(scene.models.size())) return;
+    if (model_ < 0 || model_ >= static_cast<int>(scene.geometry.models.size())) return;
     std::vector<DMat4> renderFromNode;
     std::vector<std::vector<double>> weights;
-    pose(scene.models[model_], t, renderFromNode, weights);
+    pose(scene.geometry.models[model_], t, renderFromNode, weights);
     if (!loop_ || !(duration_ > 0.0)) {
-        scene.applyNodeTransforms(model_, renderFromNode, weights);
+        scene.geometry.applyNodeTransforms(model_, renderFromNode, weights);
         return;
     }
     // The nearest of kPoseAnchors poses spaced evenly over the looping clip: the one whose
-    // tree a deforming mesh refits (Scene::PoseAnchor). Chosen from the local time alone.
+    // tree a deforming mesh refits (SceneGeometry::PoseAnchor). Chosen from the local time alone.
     const double phase = localTime(t) / duration_;
-    Scene::PoseAnchor anchor;
+    SceneGeometry::PoseAnchor anchor;
     anchor.clip = animation_;
     anchor.index = int(std::floor(phase * kPoseAnchors + 0.5)) % kPoseAnchors;
-    const SceneGraph& g = scene.models[model_];
+    const SceneGraph& g = scene.geometry.models[model_];
     anchor.pose = [&, at = duration_ * anchor.index / kPoseAnchors](std::vector<DMat4>& n, std::vector<std::vector<double>>& w) {
         poseLocal(g, at, n, w);
     };
-    scene.applyNodeTransforms(model_, renderFromNode, weights, &anchor);
+    scene.geometry.applyNodeTransforms(model_, renderFromNode, weights, &anchor);
 }
 
 std::vector<MeshExtent> meshExtents(const Scene& scene, int model) {
     std::vector<MeshExtent> out;
-    for (size_t i = 0; i < scene.meshes.size(); ++i) {
-        const TriangleMesh& m = scene.meshes[i];
+    for (size_t i = 0; i < scene.geometry.meshes.size(); ++i) {
+        const TriangleMesh& m = scene.geometry.meshes[i];
         if (m.model != model || m.node < 0) continue;
         MeshExtent e;
         e.mesh = i;
@@ -185,7 +185,7 @@ std::vector<MeshExtent> meshExtents(const Scene& scene, int model) {
             e.morph.push_back(d);
         }
         if (m.skin >= 0 && m.influences > 0) {
-            const SceneGraph& g = scene.models[size_t(model)];
+            const SceneGraph& g = scene.geometry.models[size_t(model)];
             e.joints.resize(size_t(m.skin) < g.skins.size() ? g.skins[size_t(m.skin)].joints.size() : 0);
             for (size_t i = 0; i < m.objectPositions.size(); ++i)
                 for (size_t k = i * size_t(m.influences); k < (i + 1) * size_t(m.influences); ++k)
@@ -202,14 +202,14 @@ void GltfAnimationPlayer::growPosedBounds(const Scene& scene, double t, const st
 
 void GltfAnimationPlayer::visitPosed(const Scene& scene, double t, const std::vector<MeshExtent>& extents,
                                      const std::function<void(const Vec3&)>& visit) const {
-    if (model_ < 0 || model_ >= static_cast<int>(scene.models.size())) return;
+    if (model_ < 0 || model_ >= static_cast<int>(scene.geometry.models.size())) return;
     std::vector<DMat4> renderFromNode;
     std::vector<std::vector<double>> weights;
-    pose(scene.models[model_], t, renderFromNode, weights);
-    const SceneGraph& graph = scene.models[size_t(model_)];
+    pose(scene.geometry.models[model_], t, renderFromNode, weights);
+    const SceneGraph& graph = scene.geometry.models[size_t(model_)];
     std::vector<std::vector<DMat4>> joints(graph.skins.size());
     for (const MeshExtent& e : extents) {
-        const TriangleMesh& mesh = scene.meshes[e.mesh];
+        const TriangleMesh& mesh = scene.geometry.meshes[e.mesh];
         if (mesh.model != model_ || mesh.node < 0 || mesh.node >= static_cast<int>(renderFromNode.size()) || e.base.empty()) continue;
         const bool skinned = mesh.skin >= 0 && size_t(mesh.skin) < joints.size();
         if (skinned && joints[size_t(mesh.skin)].empty()) joints[size_t(mesh.skin)] = jointMatrices(graph.skins[size_t(mesh.skin)], renderFromNode);

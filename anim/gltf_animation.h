@@ -1,7 +1,7 @@
 #pragma once
 /// Plays a model's own glTF animation: samplers evaluated with the glTF rules (LINEAR with slerp
 /// for rotations, STEP, CUBICSPLINE with tangents scaled by the key interval), node TRS and
-/// morph weights, node world matrices, and the meshes moved through Scene::applyNodeTransforms.
+/// morph weights, node world matrices, and the meshes moved through SceneGeometry::applyNodeTransforms.
 #include <functional>
 #include <string>
 #include <vector>
@@ -31,7 +31,7 @@ struct MeshExtent {
     std::vector<Aabb> joints;
 };
 
-/// Extents of every animated mesh (node ≥ 0) of scene.models[model].
+/// Extents of every animated mesh (node ≥ 0) of scene.geometry.models[model].
 std::vector<MeshExtent> meshExtents(const Scene& scene, int model);
 
 /// One animation of one model, ready to evaluate at any time.
@@ -58,7 +58,7 @@ public:
                    std::vector<std::vector<double>>& weights) const;
     /// Poses the model at t and moves its meshes (re-transform and BVH refit). A looping clip
     /// names the nearest of kPoseAnchors poses spaced over it, whose tree a deforming mesh's
-    /// is refitted from (Scene::PoseAnchor).
+    /// is refitted from (SceneGeometry::PoseAnchor).
     void apply(Scene& scene, double t) const;
     static constexpr int kPoseAnchors = 8;
     /// Grows b (render space) by the model's animated meshes as posed at t, leaving the scene

@@ -216,8 +216,8 @@ public:
     /// "animation": NAME or INDEX: every animated model plays that one.
     std::vector<GltfAnimationPlayer> chosen(const std::string& choice, const std::string& w) const {
         std::vector<GltfAnimationPlayer> players;
-        for (size_t m = 0; m < scene_.models.size(); ++m) {
-            const SceneGraph& g = scene_.models[m];
+        for (size_t m = 0; m < scene_.geometry.models.size(); ++m) {
+            const SceneGraph& g = scene_.geometry.models[m];
             if (g.animations.empty()) continue;
             const int a = chooseAnimation(g, choice);
             if (a < 0) fail(w, missingAnimation(g, choice));
@@ -229,14 +229,14 @@ public:
 
     GltfAnimationPlayer player(const json& j, const std::string& w) const {
         allowKeys(j, w, {"model", "name", "index", "mode", "speed", "offset"});
-        const int nModels = static_cast<int>(scene_.models.size());
+        const int nModels = static_cast<int>(scene_.geometry.models.size());
         int model = 0;
         if (j.contains("model")) {
             if (!j["model"].is_number_integer()) fail(join(w, "model"), "expected a model index");
             model = j["model"].get<int>();
         }
         if (model < 0 || model >= nModels) fail(join(w, "model"), "no model " + std::to_string(model) + " (the scene has " + std::to_string(nModels) + ")");
-        const SceneGraph& g = scene_.models[model];
+        const SceneGraph& g = scene_.geometry.models[model];
         if (g.animations.empty()) fail(w, "model " + std::to_string(model) + " (" + g.source + ") has no animations");
         if (j.contains("name") && j.contains("index")) fail(w, "give either a name or an index");
         int anim = 0;
@@ -309,23 +309,26 @@ TurntableSettings defaultModelTurntable() {
 std::vector<GltfAnimationPlayer> defaultPlayers(const Scene& scene) {
     if (scene.animation) return chosenPlayers(scene, *scene.animation, "", "--animation");
     std::vector<GltfAnimationPlayer> players;
-    for (size_t m = 0; m < scene.models.size(); ++m)
-        if (!scene.models[m].animations.empty()) players.emplace_back(scene.models[m], static_cast<int>(m), 0, true);
+    for (size_t m = 0; m < scene.geometry.models.size(); ++m)
+        if (!scene.geometry.models[m].animations.empty())
+            players.emplace_back(scene.geometry.models[m], static_cast<int>(m), 0, true);
     return players;
 }
 
 std::vector<GltfAnimationPlayer> chosenPlayers(const Scene& scene, const std::string& choice, const std::string& file,
                                                const std::string& where) {
     std::vector<GltfAnimationPlayer> players;
-    for (size_t m = 0; m < scene.models.size(); ++m) {
-        const SceneGraph& g = scene.models[m];
+    for (size_t m = 0; m < scene.geometry.models.size(); ++m) {
+        const SceneGraph& g = scene.geometry.models[m];
         if (g.animations.empty()) continue;
         const int a = chooseAnimation(g, choice);
         if (a < 0) throw InputError(file.empty() ? g.source : file, where + ": " + missingAnimation(g, choice));
         players.emplace_back(g, static_cast<int>(m), a, true);
     }
     if (players.empty()) {
-        if (scene.models.size() == 1) throw InputError(file.empty() ? scene.models[0].source : file, where + ": " + missingAnimation(scene.models[0], choice));
+        if (scene.geometry.models.size() == 1)
+            throw InputError(file.empty() ? scene.geometry.models[0].source : file,
+                             where + ": " + missingAnimation(scene.geometry.models[0], choice));
         throw InputError(file.empty() ? scene.sourcePath : file, where + ": the scene has no model animations to choose from");
     }
     return players;
@@ -338,7 +341,7 @@ double longestPeriod(const std::vector<GltfAnimationPlayer>& players) {
 }
 
 Aabb filmBounds(const Scene& scene, const std::vector<GltfAnimationPlayer>& players, int frames, double fps) {
-    Aabb b = scene.bounds();
+    Aabb b = scene.geometry.bounds();
     if (players.empty()) return b;
     std::vector<std::vector<MeshExtent>> extents;
     for (const GltfAnimationPlayer& p : players) extents.push_back(meshExtents(scene, p.model()));

@@ -31,10 +31,12 @@ struct TurntableSettings {
 class Turntable {
 public:
     Turntable() = default;
-    /// Frames the orbit on scene.bounds() (render space) with the scene camera's field of view
+    /// Frames the orbit on scene.geometry.bounds() (render space) with the scene camera's field of view
     /// and the render settings' aspect ratio. Falls back to the camera's target and distance
     /// when the scene has no bounded geometry.
-    static Turntable framed(const TurntableSettings& s, const Scene& scene) { return framed(s, scene, scene.bounds()); }
+    static Turntable framed(const TurntableSettings& s, const Scene& scene) {
+        return framed(s, scene, scene.geometry.bounds());
+    }
     /// The same, framed on the given bounds (render space), e.g. those an animation sweeps.
     /// geometryMoves: an animation moves meshes, so a silhouette fit uses the bounds' corners
     /// (the rest pose's vertices say nothing of the other frames).

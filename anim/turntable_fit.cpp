@@ -30,10 +30,10 @@ struct Bin {
 /// Every vertex and sphere-box corner, relative to center.
 std::vector<DVec3> scenePoints(const Scene& scene, const DVec3& center, bool staticOnly) {
     std::vector<DVec3> pts;
-    for (const TriangleMesh& m : scene.meshes)
+    for (const TriangleMesh& m : scene.geometry.meshes)
         if (!staticOnly || m.node < 0)
             for (const Vec3& p : m.positions) pts.push_back(DVec3(p) - center);
-    for (const Sphere& s : scene.spheres) {
+    for (const Sphere& s : scene.geometry.spheres) {
         Aabb b;
         b.grow(s.center - Vec3(s.radius));
         b.grow(s.center + Vec3(s.radius));

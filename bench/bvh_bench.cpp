@@ -37,7 +37,7 @@ Scene syntheticScene(int n) {
             const uint32_t a = i * (segs + 1) + j, b = a + 1, c = a + segs + 1, d = c + 1;
             m.indices.insert(m.indices.end(), {a, c, b, b, c, d});
         }
-    s.meshes.push_back(std::move(m));
+    s.geometry.meshes.push_back(std::move(m));
     return s;
 }
 
@@ -72,7 +72,7 @@ int main(int argc, char** argv) {
     const auto tb1 = std::chrono::steady_clock::now();
     scene.build();  // timed alone: the load above includes parsing
     const double buildS = std::chrono::duration<double>(std::chrono::steady_clock::now() - tb1).count();
-    const Aabb box = scene.bounds();
+    const Aabb box = scene.geometry.bounds();
     const Vec3 c = box.center();
     const float radius = 0.5f * glm::length(box.extent());
     if (!(radius > 0.f)) {
@@ -98,14 +98,14 @@ int main(int argc, char** argv) {
                 const Ray r = rays.generate(x + 0.5f, y + 0.5f);
                 ++perThread[t].primary;
                 Hit hit;
-                if (!scene.intersect(r, hit)) continue;
+                if (!scene.geometry.intersect(r, hit)) continue;
                 ++rowHits[y];
                 const Vec3 p = r.o + hit.t * r.d;
                 Ray sr;
                 sr.d = glm::normalize(light - p);
                 sr.o = p + sr.d * (1e-4f * radius);
                 ++perThread[t].shadow;
-                scene.occluded(sr, glm::length(light - sr.o));
+                scene.geometry.occluded(sr, glm::length(light - sr.o));
             }
         });
         for (const RayStats& s : perThread) {
@@ -118,8 +118,8 @@ int main(int argc, char** argv) {
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double cpu = processCpuSeconds() - cpu0;
     std::printf("bvh_bench: %s: %zu triangles, %zu BVH nodes, build %.3f s (load+build %.3f s)\n",
-                synthetic ? "synthetic" : path.c_str(), scene.triangleCount(), scene.bvh().nodes().size(), buildS,
-                std::chrono::duration<double>(tb1 - tb0).count());
+                synthetic ? "synthetic" : path.c_str(), scene.geometry.triangleCount(),
+                scene.geometry.bvh().nodes().size(), buildS, std::chrono::duration<double>(tb1 - tb0).count());
     std::printf("bvh_bench: %d frames %dx%d, %d thread(s): %llu primary + %llu shadow rays, %.1f%% hit, %.3f s, "
                 "%.2f Mrays/s (CPU %.3f s: %.2f Mrays per CPU-second)\n",
                 frames, width, height, threads, (unsigned long long)primary, (unsigned long long)shadow,

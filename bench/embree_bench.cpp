@@ -3,7 +3,7 @@
 // scene's timeline), same primary rays (rf::CameraRays), one closest-hit ray per pixel and one
 // shadow ray per hit towards the scene's first point light, shaded with a plain Lambert term.
 // bench/bench_embree.sh times this whole process next to `rayfarm render --no-frames`.
-// --tracer rayfarm runs the same loop on rayfarm's own Scene::intersect and Scene::occluded
+// --tracer rayfarm runs the same loop on rayfarm's own SceneGeometry::intersect and SceneGeometry::occluded
 // (no blocker cache) in place of rtcIntersect1/rtcOccluded1: the traversal alone, on the same
 // rays with the same shading, without rayfarm's renderer, film and encoder around it.
 // Prints figures; not a test. Built only when CMake finds Embree 3.
@@ -31,7 +31,7 @@ namespace {
 /// All triangle meshes of the scene, as one Embree geometry in render space.
 RTCScene buildEmbreeScene(RTCDevice device, const Scene& scene) {
     size_t nv = 0, nt = 0;
-    for (const TriangleMesh& m : scene.meshes) {
+    for (const TriangleMesh& m : scene.geometry.meshes) {
         nv += m.positions.size();
         nt += m.triangleCount();
     }
@@ -40,7 +40,7 @@ RTCScene buildEmbreeScene(RTCDevice device, const Scene& scene) {
     auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv));
     auto* ix = static_cast<unsigned*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), nt));
     size_t vb = 0, ib = 0;
-    for (const TriangleMesh& m : scene.meshes) {
+    for (const TriangleMesh& m : scene.geometry.meshes) {
         for (const Vec3& p : m.positions) {
             v[3 * vb] = p.x;
             v[3 * vb + 1] = p.y;
@@ -103,7 +103,7 @@ float shadePixel(RTCScene es, const Ray& r, const Vec3& light) {
 /// numbers them: the geometric normal of a rayfarm hit, computed as Embree computes Ng.
 std::vector<Vec3> flatTriangles(const Scene& scene) {
     std::vector<Vec3> v;
-    for (const TriangleMesh& m : scene.meshes)
+    for (const TriangleMesh& m : scene.geometry.meshes)
         for (uint32_t i : m.indices) v.push_back(m.positions[i]);
     return v;
 }
@@ -111,13 +111,13 @@ std::vector<Vec3> flatTriangles(const Scene& scene) {
 /// shadePixel with rayfarm's traversal (the scene holds triangles only: main checks).
 float shadePixelRayfarm(const Scene& scene, const std::vector<Vec3>& tris, const Ray& r, const Vec3& light) {
     Hit h;
-    if (!scene.intersect(r, h)) return 0.f;
+    if (!scene.geometry.intersect(r, h)) return 0.f;
     const Vec3* v = &tris[3 * size_t(h.prim)];
     return lambert(r, h.t, glm::cross(v[1] - v[0], v[2] - v[0]), light, [&](const Vec3& o, const Vec3& l, float dist) {
         Ray sr;
         sr.o = o;
         sr.d = l;
-        return scene.occluded(sr, dist);
+        return scene.geometry.occluded(sr, dist);
     });
 }
 
@@ -146,7 +146,8 @@ int main(int argc, char** argv) {
         if (timeline.animatesGeometry()) throw std::runtime_error("the orbit must not move geometry");
         // Embree gets the triangle meshes alone: spheres and planes would be left out of its
         // picture but not of rayfarm's.
-        if (!scene.spheres.empty() || !scene.planes.empty()) throw std::runtime_error(path + ": triangle meshes only, no spheres or planes");
+        if (!scene.geometry.spheres.empty() || !scene.geometry.planes.empty())
+            throw std::runtime_error(path + ": triangle meshes only, no spheres or planes");
         Vec3 light(0.f);
         bool haveLight = false;
         for (const Light& l : scene.lights)
@@ -194,10 +195,12 @@ int main(int argc, char** argv) {
         const double cpu = rf::bench::processCpuSeconds() - cpu0;
         const double loadS = std::chrono::duration<double>(t1 - t0).count();
         const double renderS = std::chrono::duration<double>(t2 - t1).count();
-        std::printf("%s: %d frames %dx%d, %d thread%s, %zu triangles: load + build %.3f s, render %.3f s (%.2f fps, "
-                    "%.1f ms CPU per frame), %.1f%% of pixels hit, camera %.4g from its target, checksum %.1f\n",
-                    own ? "rayfarm-bvh" : "embree", frames, w, h, threads, threads > 1 ? "s" : "", scene.triangleCount(), loadS, renderS, frames / renderS,
-                    1e3 * cpu / frames, 100.0 * hits / (double(w) * h * frames), camDist, checksum);
+        std::printf(
+            "%s: %d frames %dx%d, %d thread%s, %zu triangles: load + build %.3f s, render %.3f s (%.2f fps, "
+            "%.1f ms CPU per frame), %.1f%% of pixels hit, camera %.4g from its target, checksum %.1f\n",
+            own ? "rayfarm-bvh" : "embree", frames, w, h, threads, threads > 1 ? "s" : "",
+            scene.geometry.triangleCount(), loadS, renderS, frames / renderS, 1e3 * cpu / frames,
+            100.0 * hits / (double(w) * h * frames), camDist, checksum);
         if (es) rtcReleaseScene(es);
         if (device) rtcReleaseDevice(device);
     } catch (const std::exception& e) {

@@ -76,16 +76,18 @@ int main(int argc, char** argv) {
         settings.width = width;
         settings.height = height;
         settings.maxDepth = 1;  // primary rays and their shadow rays only
+        const auto bounceSlot = std::make_shared<SceneCacheSlot>();  // the run's, as a render job keeps it
         std::printf("model        %s\n", path.c_str());
         std::printf("cores        %d hardware threads; load the machine lightly for wall-clock figures\n", hardwareThreads());
-        std::printf("triangles    %zu   lights %zu (shadowing: %d)\n", scene.triangleCount(), scene.lights.size(),
-                    int(std::count_if(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return l.castShadows; })));
+        std::printf(
+            "triangles    %zu   lights %zu (shadowing: %d)\n", scene.geometry.triangleCount(), scene.lights.size(),
+            int(std::count_if(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return l.castShadows; })));
         std::printf("load         %.3f s wall, %.3f s CPU (parse + convert, 1 thread, best of %d)\n", loadS, loadCpu, repeat);
         std::printf("bvh build    %.3f s wall, %.3f s CPU (1 thread, best of %d)\n", buildS, buildCpu, repeat);
         {
             // How much of the orbit the model covers: misses are cheap, so say it with the rate.
             RayStats st;
-            const Image img = renderFrame(scene, scene.camera, settings, 0, 1, st);
+            const Image img = renderFrame(scene, {scene.camera, settings, bounceSlot}, 0, 1, st);
             size_t covered = 0;
             for (int y = 0; y < img.height(); ++y)
                 for (int x = 0; x < img.width(); ++x) {
@@ -98,7 +100,8 @@ int main(int argc, char** argv) {
             RayStats stats;
             const double c0 = rf::bench::processCpuSeconds();
             const auto t0 = std::chrono::steady_clock::now();
-            for (int f = 0; f < frames; ++f) renderFrame(scene, orbit(scene.camera, f, frames), settings, f, threads, stats);
+            for (int f = 0; f < frames; ++f)
+                renderFrame(scene, {orbit(scene.camera, f, frames), settings, bounceSlot}, f, threads, stats);
             const double s = seconds(t0, std::chrono::steady_clock::now());
             const double cpu = rf::bench::processCpuSeconds() - c0;
             std::printf("%d thread%s   %.2f Mrays/s wall, %.2f Mrays per CPU-second  (%llu primary + %llu shadow rays, %d frames "

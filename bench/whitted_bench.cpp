@@ -48,6 +48,7 @@ int main(int argc, char** argv) {
         settings.maxDepth = depth;
         if (threads <= 0) threads = hardwareThreads();
         RayStats rays;
+        const auto bounceSlot = std::make_shared<SceneCacheSlot>();  // the run's, as a render job keeps it
         const auto t0 = std::chrono::steady_clock::now();
         const double cpu0 = processCpuSeconds();
         for (int i = 0; i < frames; ++i) {
@@ -58,7 +59,7 @@ int main(int argc, char** argv) {
             } else {
                 timeline.applyFrame(scene, i);
             }
-            const Image img = renderFrame(scene, scene.camera, settings, i, threads, rays);
+            const Image img = renderFrame(scene, {scene.camera, settings, bounceSlot}, i, threads, rays);
             if (!outDir.empty()) {
                 char name[64];
                 std::snprintf(name, sizeof name, "/frame_%03d.png", i);

@@ -19,7 +19,7 @@ struct TriangleMesh {
     std::vector<uint32_t> indices;  ///< three per triangle
     int material = 0;
 
-    /// Animated meshes: the node (in Scene::models[model]) that carries the mesh, and the
+    /// Animated meshes: the node (in SceneGeometry::models[model]) that carries the mesh, and the
     /// model-space data re-transformed each frame. node < 0: static, positions are final.
     int model = -1;
     int node = -1;
@@ -37,11 +37,11 @@ struct TriangleMesh {
     std::vector<std::vector<Vec3>> morphTangents;
     /// A moving mesh whose pose mirrors (a matrix of negative determinant) turns the file's
     /// counter-clockwise front faces clockwise; the indices keep the file's order and
-    /// Scene::interaction turns the facet normal round instead: the whole mesh (rigid), or per
+    /// SceneGeometry::interaction turns the facet normal round instead: the whole mesh (rigid), or per
     /// vertex (skinned: its skin matrix; empty when no vertex is mirrored), by majority.
     bool mirrored = false;
     std::vector<uint8_t> mirroredVertices;
-    /// Skinned meshes (skin ≥ 0, in Scene::models[model].skins): `influences` joint/weight
+    /// Skinned meshes (skin ≥ 0, in SceneGeometry::models[model].skins): `influences` joint/weight
     /// pairs per vertex (4 per JOINTS_n/WEIGHTS_n set), joints indexing the skin's joint list
     /// and weights summing to 1. The node's own transform is then not used (glTF 2.0 §3.7.3.3).
     int skin = -1;

@@ -1,10 +1,10 @@
 #pragma once
-/// The bottom level of the scene's two-level acceleration structure (Scene::build): one BVH
+/// The bottom level of the scene's two-level acceleration structure (SceneGeometry::build): one BVH
 /// over a group of the scene's primitives and how rays reach it, as Embree's and pbrt-v4's
 /// instances are. Three kinds, by how the group moves over a film:
 /// - Static: the meshes that never move, and every sphere, in render space; built once.
 /// - Deforming: a skinned or morphed mesh's triangles in render space; refitted each frame
-///   from the tree build() made, rebuilt when the refit has degraded it (Scene::kRebuildGrowth).
+///   from the tree build() made, rebuilt when the refit has degraded it (SceneGeometry::kRebuildGrowth).
 /// - Rigid: the meshes of one animated node, in the node's object space; the tree is built
 ///   once and kept for the whole film, and each frame only the node's matrix changes: rays
 ///   are taken into object space for it.
@@ -25,14 +25,14 @@ struct SceneInstance {
     enum class Kind : uint8_t { Static, Deforming, Rigid };
     Kind kind = Kind::Static;
     int model = -1, node = -1;    ///< Deforming, Rigid: the model and node that pose it
-    std::vector<uint32_t> meshes;  ///< Scene::meshes in it
+    std::vector<uint32_t> meshes;  ///< SceneGeometry::meshes in it
     std::vector<uint32_t> prims;   ///< its primitives (scene-wide ids), the order its boxes are built in
     uint32_t slotBase = 0;         ///< its slots in the scene's slot arrays: [slotBase, slotBase + prims.size())
     Bvh bvh;                       ///< the tree rays walk (slot order = bvh.primIndex() into prims)
     Bvh built;                     ///< Deforming: the tree build() made, where every refit starts
     double builtCost = 0.0;        ///< its SAH cost (Bvh::sahCost)
     bool lastRebuilt = false;      ///< the last update rebuilt bvh instead of refitting it
-    /// Deforming: trees built over fixed poses of a looping clip (Scene::PoseAnchor), keyed by
+    /// Deforming: trees built over fixed poses of a looping clip (SceneGeometry::PoseAnchor), keyed by
     /// (clip, anchor), each with its SAH cost; a frame's tree is the nearest anchor's refitted.
     struct AnchorTree {
         Bvh tree;  ///< topology only (dropWideNodes)

@@ -13,6 +13,7 @@
 #include "engine/util/parallel.h"
 #include "engine/util/sampler.h"
 #include "engine/scene/scene.h"
+#include "engine/scene/scene_cache.h"
 
 namespace rf {
 
@@ -132,7 +133,7 @@ struct BounceGeometry {
     uint64_t rays = 0;  ///< traced to build it (placing the points, their gathers)
 };
 
-/// What bounceCache keeps in a scene's slot (Scene::bounceSlot).
+/// What bounceCache keeps in a job's slot (RenderView::bounceSlot).
 struct BounceSlot {
     uint64_t geometryVersion = 0;
     uint32_t points = 0;
@@ -165,20 +166,20 @@ std::vector<GatherHit> gatherPoint(const Scene& scene, const BouncePoint& bp, ui
         const float below = glm::dot(dir, bp.frame.ng);
         if (below <= 0.f) dir = glm::normalize(dir - 2.f * below * bp.frame.ng);
         Ray r;
-        uint32_t skip = scene.skipFor(bp.si, dir);
+        uint32_t skip = scene.geometry.skipFor(bp.si, dir);
         r.o = skip == bp.si.prim ? bp.si.p : offsetRayOrigin(bp.si.p, bp.si.pError + pad, bp.frame.ng, dir);
         r.d = dir;
         GatherHit g;
         for (int crossing = 0; crossing <= kGlassCrossings; ++crossing) {
             Hit hit;
             ++rays;
-            if (!scene.intersect(r, hit, skip)) break;
-            const SurfaceInteraction hs = scene.interaction(r, hit);
+            if (!scene.geometry.intersect(r, hit, skip)) break;
+            const SurfaceInteraction hs = scene.geometry.interaction(r, hit);
             const Material& m = scene.materials[size_t(hs.material)];
             if (m.gltfPbr && m.transmission > 0.f && crossing < kGlassCrossings) {
                 // Looked through, unbent: glass passes the bounce on as its shadows pass light.
                 g.through *= m.transmission * baseColor(scene, hs);
-                skip = scene.skipFor(hs, dir);
+                skip = scene.geometry.skipFor(hs, dir);
                 r.o = skip == hs.prim ? hs.p : offsetRayOrigin(hs.p, hs.pError, hs.ng, dir);
                 continue;
             }
@@ -271,7 +272,7 @@ std::shared_ptr<const BounceGeometry> buildBounceGeometry(const Scene& scene, ui
         Vec3 p, n;
     };
     std::vector<NodeSpec> nodes;
-    geo->meshes.resize(scene.meshes.size());
+    geo->meshes.resize(scene.geometry.meshes.size());
     float spacing = radius;
     auto gridSide = [&](const TriangleMesh& mesh, uint32_t t) -> uint32_t {
         const Vec3& p0 = mesh.positions[mesh.indices[3 * t]];
@@ -283,10 +284,10 @@ std::shared_ptr<const BounceGeometry> buildBounceGeometry(const Scene& scene, ui
     };
     for (int pass = 0; pass < 8; ++pass) {
         size_t total = 0;
-        for (size_t m = 0; m < scene.meshes.size(); ++m) {
+        for (size_t m = 0; m < scene.geometry.meshes.size(); ++m) {
             if (!bounceSurface(scene, int(m))) continue;
-            for (uint32_t t = 0; t < scene.meshes[m].triangleCount(); ++t) {
-                const size_t L = gridSide(scene.meshes[m], t);
+            for (uint32_t t = 0; t < scene.geometry.meshes[m].triangleCount(); ++t) {
+                const size_t L = gridSide(scene.geometry.meshes[m], t);
                 if (L > 1) total += (L + 1) * (L + 2) / 2;
             }
         }
@@ -294,8 +295,8 @@ std::shared_ptr<const BounceGeometry> buildBounceGeometry(const Scene& scene, ui
         if (total <= most) break;
         spacing *= float(std::sqrt(double(total) / double(most))) * 1.05f;
     }
-    for (size_t m = 0; m < scene.meshes.size(); ++m) {
-        const TriangleMesh& mesh = scene.meshes[m];
+    for (size_t m = 0; m < scene.geometry.meshes.size(); ++m) {
+        const TriangleMesh& mesh = scene.geometry.meshes[m];
         if (!bounceSurface(scene, int(m))) continue;
         const bool both = scene.materials[size_t(mesh.material)].doubleSided;
         MeshNodes& mn = geo->meshes[m];
@@ -433,14 +434,14 @@ Color BounceCache::at(const Scene& scene, const SurfaceInteraction& si, float si
     }
     const int64_t base = side > 0.f ? mn.front : mn.back;
     if (base < 0) return Color(0.f);
-    const uint32_t* idx = &scene.meshes[size_t(si.mesh)].indices[3 * size_t(si.tri)];
+    const uint32_t* idx = &scene.geometry.meshes[size_t(si.mesh)].indices[3 * size_t(si.tri)];
     const Color* node = nodeBounce_.data() + base;
     return b0 * node[idx[0]] + b1 * node[idx[1]] + b2 * node[idx[2]];
 }
 
 namespace {
 bool geometryMoves(const Scene& scene) {
-    for (const TriangleMesh& m : scene.meshes)
+    for (const TriangleMesh& m : scene.geometry.meshes)
         if (m.node >= 0) return true;
     return false;
 }
@@ -448,7 +449,7 @@ bool geometryMoves(const Scene& scene) {
 
 bool bounceApplies(const Scene& scene) {
     bool surface = false, glowing = false;
-    for (size_t m = 0; m < scene.meshes.size() && !surface; ++m) surface = bounceSurface(scene, int(m));
+    for (size_t m = 0; m < scene.geometry.meshes.size() && !surface; ++m) surface = bounceSurface(scene, int(m));
     for (const Material& mat : scene.materials) glowing |= mat.gltfPbr && mat.emission != Color(0.f);
     return surface && (!scene.lights.empty() || glowing);
 }
@@ -458,15 +459,16 @@ bool bounceLeftOutForMotion(const Scene& scene, const RenderSettings& settings) 
            geometryMoves(scene);
 }
 
-std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderSettings& settings, int threads, RayStats* spent) {
-    if (settings.bounce <= 0 || settings.indirectSamples > 0 || !scene.bounceSlot) return nullptr;
+std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderSettings& settings,
+                                               SceneCacheSlot* slotIn, int threads, RayStats* spent) {
+    if (settings.bounce <= 0 || settings.indirectSamples > 0 || !slotIn) return nullptr;
     if (!settings.bounceMoving && geometryMoves(scene)) return nullptr;
     const uint32_t points = bouncePoints(settings);
     const uint64_t lights = lightsKey(scene);
-    std::lock_guard<std::mutex> lock(scene.bounceSlot->mutex);
-    if (!scene.bounceSlot->state) scene.bounceSlot->state = std::make_shared<BounceSlot>();
-    BounceSlot& slot = *std::static_pointer_cast<BounceSlot>(scene.bounceSlot->state);
-    const bool sameGeometry = slot.geometryVersion == scene.geometryVersion() && slot.points == points;
+    std::lock_guard<std::mutex> lock(slotIn->mutex);
+    if (!slotIn->state) slotIn->state = std::make_shared<BounceSlot>();
+    BounceSlot& slot = *std::static_pointer_cast<BounceSlot>(slotIn->state);
+    const bool sameGeometry = slot.geometryVersion == scene.geometry.version() && slot.points == points;
     if (sameGeometry)
         for (size_t i = 0; i < slot.lit.size(); ++i)
             if (slot.lit[i].first == lights) {
@@ -478,7 +480,7 @@ std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderS
         // Without lights only emission can bounce; without either there is nothing to build.
         slot.geometry = bounceApplies(scene) ? buildBounceGeometry(scene, points, threads) : nullptr;
         if (spent && slot.geometry) spent->bounce += slot.geometry->rays;
-        slot.geometryVersion = scene.geometryVersion();
+        slot.geometryVersion = scene.geometry.version();
         slot.points = points;
         slot.triedLit = lit;
         slot.lit.clear();

@@ -27,6 +27,7 @@
 namespace rf {
 
 class Scene;
+struct SceneCacheSlot;
 struct BounceGeometry;
 
 class BounceCache {
@@ -59,11 +60,11 @@ std::shared_ptr<const BounceGeometry> buildBounceGeometry(const Scene& scene, ui
 /// The scene's bounce cache for these settings, or null when there is none to use
 /// (settings.bounce 0, sampled indirect light, no glTF surface, neither lights nor emission).
 /// Built on `threads` threads when the scene's geometry or lights changed since the last call
-/// (the cache is kept with the scene, keyed by both), so a turntable that moves only the
-/// camera builds it once. Thread-safe. spent (if given) counts the rays this call traced to
-/// build or light it (RayStats::bounce).
-std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderSettings& settings, int threads,
-                                               RayStats* spent = nullptr);
+/// with this slot (the job's: RenderView::bounceSlot; the cache is kept there, keyed by both),
+/// so a turntable that moves only the camera builds it once. Null slot: none. Thread-safe.
+/// spent (if given) counts the rays this call traced to build or light it (RayStats::bounce).
+std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderSettings& settings, SceneCacheSlot* slot,
+                                               int threads, RayStats* spent = nullptr);
 
 /// Whether the scene has what bounce light needs: a surface it lights (bounce_points.h's
 /// bounceSurface) and lights or emission to bounce.

@@ -105,7 +105,7 @@ constexpr uint32_t kMinPointsPerSide = 8;
 }  // namespace
 
 bool bounceSurface(const Scene& scene, int mesh) {
-    const int mat = scene.meshes[size_t(mesh)].material;
+    const int mat = scene.geometry.meshes[size_t(mesh)].material;
     if (mat < 0 || size_t(mat) >= scene.materials.size()) return false;
     const Material& m = scene.materials[size_t(mat)];
     return m.gltfPbr && !m.unlit && m.transmission < 1.f;
@@ -123,8 +123,8 @@ bool castOnto(const Scene& scene, const Vec3& p0, const Vec3& p1, const Vec3& p2
     r.d = -ng;
     r.tMax = 3.f * lift;
     Hit hit;
-    if (!isFinite(r.o) || !scene.intersect(r, hit)) return false;
-    bp.si = scene.interaction(r, hit);
+    if (!isFinite(r.o) || !scene.geometry.intersect(r, hit)) return false;
+    bp.si = scene.geometry.interaction(r, hit);
     if (bp.si.mesh < 0 || !bounceSurface(scene, bp.si.mesh)) return false;
     bp.frame = shadingFrame(scene, bp.si, ng);
     const GltfSample gs = gltfSample(scene, bp.si);
@@ -152,9 +152,9 @@ BouncePoints placeBouncePoints(const Scene& scene, uint32_t count, int threads) 
     double& area = out.area;
     std::vector<MeshSide> sides;
     double total = 0.0;
-    for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    for (size_t m = 0; m < scene.geometry.meshes.size(); ++m) {
         if (!bounceSurface(scene, int(m))) continue;
-        const TriangleMesh& mesh = scene.meshes[m];
+        const TriangleMesh& mesh = scene.geometry.meshes[m];
         MeshSide ms;
         ms.mesh = uint32_t(m);
         ms.entries = surfaceOrder(mesh);
@@ -195,7 +195,7 @@ BouncePoints placeBouncePoints(const Scene& scene, uint32_t count, int threads) 
         const AreaEntry& e = *(it == ms.entries.begin() ? it : it - 1);
         const float f = std::clamp(float((u - e.before) / double(e.area)), 0.f, 0x1.fffffep-1f);
         const float g = radicalInverse2(k);
-        const TriangleMesh& mesh = scene.meshes[ms.mesh];
+        const TriangleMesh& mesh = scene.geometry.meshes[ms.mesh];
         const uint32_t* corner = &mesh.indices[3 * size_t(e.tri)];
         const Vec3& p0 = mesh.positions[corner[e.rot]];
         const Vec3& p1 = mesh.positions[corner[(e.rot + 1) % 3]];

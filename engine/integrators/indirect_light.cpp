@@ -44,7 +44,7 @@ struct LobeSums {
 
 Color WhittedTracer::sampleRay(const SurfaceInteraction& si, const ShadingFrame& frame, Vec3 dir, int depth,
                                const Color& weight, RayStats& stats, bool& escaped) const {
-    const uint32_t skip = scene_.skipFor(si, dir);
+    const uint32_t skip = scene_.geometry.skipFor(si, dir);
     Ray r;
     // A facet lying in an axis plane has no rounding error across it (pError 0 along its
     // normal), yet a ray starting exactly on it can meet it again at t ≈ 1e-7 (the watertight
@@ -56,7 +56,7 @@ Color WhittedTracer::sampleRay(const SurfaceInteraction& si, const ShadingFrame&
     r.coneSpread = si.coneSpread;
     ++stats.indirect;
     Hit hit;
-    escaped = !scene_.intersect(r, hit, skip);
+    escaped = !scene_.geometry.intersect(r, hit, skip);
     if (escaped) return missRadiance(dir);
     return traceHit(r, hit, depth + 1, weight, stats, kNoSampleSeed);
 }

@@ -14,6 +14,7 @@
 namespace rf {
 
 class Scene;
+struct SceneCacheSlot;
 
 /// One instance serves one thread at a time (renderTile makes one per tile), so an
 /// implementation may keep caches that change what its queries cost, never what they answer.
@@ -43,7 +44,9 @@ public:
     virtual bool usesSeed() const { return true; }
 };
 
-/// The integrator settings.integrator names, over scene (which must outlive it).
-std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const RenderSettings& settings);
+/// The integrator settings.integrator names, over scene (which must outlive it). bounceSlot: where
+/// the job keeps its bounce cache (RenderView::bounceSlot; null: the integrator builds its own).
+std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const RenderSettings& settings,
+                                           SceneCacheSlot* bounceSlot = nullptr);
 
 }  // namespace rf

@@ -16,7 +16,7 @@ namespace {
 /// with it, so the point moves towards the viewer's side, never through the surface.
 Vec3 terminatorSafeOrigin(const Scene& scene, const SurfaceInteraction& si, float side) {
     if (si.mesh < 0) return si.p;
-    const TriangleMesh& mesh = scene.meshes[si.mesh];
+    const TriangleMesh& mesh = scene.geometry.meshes[si.mesh];
     if (mesh.normals.empty()) return si.p;
     const uint32_t* idx = &mesh.indices[3 * si.tri];
     const float b[3] = {si.bary.b0, si.bary.b1, si.bary.b2};
@@ -45,7 +45,7 @@ Ray ShadowRays::shadowRay(const Light& L, const LightIncidence& li, bool behindF
         base_ = terminatorSafeOrigin(scene_, si_, frame_.side);
         shifted_ = true;
     }
-    skip = scene_.skipFor(si_, li.dir);
+    skip = scene_.geometry.skipFor(si_, li.dir);
     Ray sr;
     sr.o = spawnOrigin(base_, si_, frame_.ng, behindFacet ? frame_.ng : li.dir, skip);
     sr.d = li.dir;
@@ -67,7 +67,7 @@ bool ShadowRays::unoccluded(const Light& L, const LightIncidence& li, bool behin
     const std::less<const Light*> before;
     if (blockers_ && !before(&L, lights) && before(&L, lights + blockers_->prim.size()))
         last = &blockers_->prim[size_t(&L - lights)];
-    return !scene_.occluded(sr, tMax, skip, last);
+    return !scene_.geometry.occluded(sr, tMax, skip, last);
 }
 
 Color ShadowRays::transmittance(const Light& L, const LightIncidence& li, bool behindFacet, RayStats& stats, bool seeThrough) {
@@ -81,8 +81,8 @@ Color ShadowRays::transmittance(const Light& L, const LightIncidence& li, bool b
         ++stats.shadow;
         sr.tMax = tMax;
         Hit hit;
-        if (!scene_.intersect(sr, hit, skip)) return t;
-        const SurfaceInteraction hs = scene_.interaction(sr, hit);
+        if (!scene_.geometry.intersect(sr, hit, skip)) return t;
+        const SurfaceInteraction hs = scene_.geometry.interaction(sr, hit);
         const Material& m = scene_.materials[hs.material];
         if (!(m.gltfPbr && m.transmission > 0.f)) return Color(0.f);
         // Fresnel at the smooth surface the shading normal describes (as refraction uses it),
@@ -97,7 +97,7 @@ Color ShadowRays::transmittance(const Light& L, const LightIncidence& li, bool b
         if (!entering && m.volume() && m.attenuation != Color(0.f) && gltfThickness(scene_, hs) > 0.f)
             t *= glm::exp(-m.attenuation * hit.t);
         if (maxComponent(t) < 1e-4f) return Color(0.f);
-        skip = scene_.skipFor(hs, sr.d);
+        skip = scene_.geometry.skipFor(hs, sr.d);
         const Vec3 o = spawnOrigin(hs.p, hs, hs.ng, sr.d, skip);
         if (!std::isinf(tMax)) tMax = std::max(0.f, tMax - glm::length(o - sr.o));
         sr.o = o;

@@ -52,13 +52,13 @@ inline bool lightIncidence(const Light& L, const Vec3& p, const Vec3& ns, LightI
 }
 
 /// Where a ray leaving si starts. One that skips si's own primitive (the plane, or the sphere it
-/// leaves outwards: Scene::skipFor) cannot re-meet it however p rounded, so it starts at p and
+/// leaves outwards: SceneGeometry::skipFor) cannot re-meet it however p rounded, so it starts at p and
 /// saves the offset; any other is pushed off the surface by p's error bound along ng, on the
 /// side `side` points to.
 Vec3 spawnOrigin(const Vec3& p, const SurfaceInteraction& si, const Vec3& ng, const Vec3& side, uint32_t skip);
 
-/// Per light, the triangle that last blocked its shadow ray (Scene::occluded's lastBlocker), for
-/// the next shading point of the same thread; Scene::kNoPrim before any. Only what the shadow
+/// Per light, the triangle that last blocked its shadow ray (SceneGeometry::occluded's lastBlocker), for
+/// the next shading point of the same thread; SceneGeometry::kNoPrim before any. Only what the shadow
 /// queries cost depends on it, never what they answer, so results stay those of any thread count.
 struct ShadowBlockers {
     explicit ShadowBlockers(size_t lights = 0) : prim(lights, ~0u) {}

@@ -18,10 +18,11 @@ constexpr int kPacketSide = 4;
 static_assert(kPacketSide * kPacketSide <= 64, "a packet's wanted pixels are a 64-bit mask");
 }  // namespace
 
-void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, const RenderSettings& settings,
-                int frame, float* out, RayStats& stats, float* alpha) {
-    const CameraRays rays(camera, settings.width, settings.height);
-    const std::unique_ptr<Integrator> integrator = makeIntegrator(scene, settings);
+void renderTile(const Scene& scene, const RenderView& view, const TileRect& rect, int frame, float* out,
+                RayStats& stats, float* alpha) {
+    const RenderSettings& settings = view.settings;
+    const CameraRays rays(view.camera, settings.width, settings.height);
+    const std::unique_ptr<Integrator> integrator = makeIntegrator(scene, settings, view.bounceSlot.get());
     const int n = std::max(1, static_cast<int>(std::lround(std::sqrt(static_cast<double>(std::max(1, settings.spp))))));
     const float invN = 1.f / n;
     const float invSpp = 1.f / (n * n);
@@ -107,13 +108,14 @@ std::vector<TileRect> makeTiles(int width, int height, int tileSize) {
     return tiles;
 }
 
-void renderRect(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame, const TileRect& rect,
-                int threads, int subTile, const RectBuffers& out, RayStats& stats, const std::atomic<bool>* cancel) {
-    renderRects(scene, camera, settings, frame, {RectJob{rect, out, &stats}}, threads, subTile, cancel);
+void renderRect(const Scene& scene, const RenderView& view, int frame, const TileRect& rect, int threads, int subTile,
+                const RectBuffers& out, RayStats& stats, const std::atomic<bool>* cancel) {
+    renderRects(scene, view, frame, {RectJob{rect, out, &stats}}, threads, subTile, cancel);
 }
 
-void renderRects(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame,
-                 const std::vector<RectJob>& jobs, int threads, int subTile, const std::atomic<bool>* cancel) {
+void renderRects(const Scene& scene, const RenderView& view, int frame, const std::vector<RectJob>& jobs, int threads,
+                 int subTile, const std::atomic<bool>* cancel) {
+    const RenderSettings& settings = view.settings;
     struct Sub {
         TileRect t;
         size_t job;
@@ -128,7 +130,8 @@ void renderRects(const Scene& scene, const Camera& camera, const RenderSettings&
     // The bounce cache, built here on every thread if the geometry or lights moved since the
     // last rectangle; each tile's integrator then finds it ready (its counts go to the first's).
     RayStats cacheStats;
-    const std::shared_ptr<const BounceCache> bounce = bounceCache(scene, settings, threads, &cacheStats);
+    const std::shared_ptr<const BounceCache> bounce =
+        bounceCache(scene, settings, view.bounceSlot.get(), threads, &cacheStats);
     // Per job and thread, added at the end: threads bumping one shared count would bounce its
     // cache line between cores.
     const size_t nt = size_t(std::max(1, threads));
@@ -143,7 +146,7 @@ void renderRects(const Scene& scene, const Camera& camera, const RenderSettings&
         const size_t stride = size_t(rect.width());
         const bool wantAlpha = out.alpha || out.rgba8;
         std::vector<float> rgb(size_t(t.pixels()) * 3), alpha(wantAlpha ? size_t(t.pixels()) : 0);
-        renderTile(scene, camera, t, settings, frame, rgb.data(), perThread[subs[size_t(i)].job * nt + size_t(thread)],
+        renderTile(scene, view, t, frame, rgb.data(), perThread[subs[size_t(i)].job * nt + size_t(thread)],
                    wantAlpha ? alpha.data() : nullptr);
         const size_t w = size_t(t.width());
         for (int y = 0; y < t.height(); ++y) {
@@ -165,11 +168,11 @@ void renderRects(const Scene& scene, const Camera& camera, const RenderSettings&
     }
 }
 
-Image renderFrame(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame, int threads,
-                  RayStats& stats) {
+Image renderFrame(const Scene& scene, const RenderView& view, int frame, int threads, RayStats& stats) {
+    const RenderSettings& settings = view.settings;
     Image img(settings.width, settings.height, scene.transparentBackground);
     const TileRect whole{0, 0, settings.width, settings.height};
-    renderRect(scene, camera, settings, frame, whole, threads, settings.tileSize,
+    renderRect(scene, view, frame, whole, threads, settings.tileSize,
                {img.data(), img.hasAlpha() ? img.alphaData() : nullptr, nullptr}, stats);
     return img;
 }

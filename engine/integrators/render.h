@@ -9,6 +9,7 @@
 #include "engine/util/image.h"
 #include "engine/util/parallel.h"
 #include "engine/scene/scene.h"
+#include "engine/scene/scene_cache.h"
 #include "engine/util/stats.h"
 
 namespace rf {
@@ -21,14 +22,27 @@ struct TileRect {
     int pixels() const { return width() * height(); }
 };
 
+/// What a frame is seen through: the one source of the camera and settings the render loop
+/// reads. Scene::camera and Scene::settings are what the scene file (and the timeline's pose)
+/// say; the render calls below never read them, only the view they are handed, which callers
+/// make from them, from the job's settings or from an interactive view.
+struct RenderView {
+    Camera camera;
+    RenderSettings settings;
+    /// Where the bounce cache (bounce_cache.h) is kept between frames: the job's, so that all
+    /// its frames (and the head start and metering before them) share one. A view made without
+    /// one gets a slot of its own, and builds the cache for itself.
+    std::shared_ptr<SceneCacheSlot> bounceSlot = std::make_shared<SceneCacheSlot>();
+};
+
 /// Renders rect of frame `frame` into out (rect.pixels() × 3 linear floats, row-major). The
-/// result depends only on (scene, camera, settings, frame, pixel): never on thread or rank.
+/// result depends only on (scene, view, frame, pixel): never on thread or rank.
 /// Non-finite sample values are replaced by black and counted in stats.nonFinite.
 /// alpha (if given, rect.pixels() floats): coverage, the fraction of the pixel's samples whose
 /// primary ray met geometry. With scene.transparentBackground the colour is premultiplied by it
 /// (misses add nothing).
-void renderTile(const Scene& scene, const Camera& camera, const TileRect& rect, const RenderSettings& settings,
-                int frame, float* out, RayStats& stats, float* alpha = nullptr);
+void renderTile(const Scene& scene, const RenderView& view, const TileRect& rect, int frame, float* out,
+                RayStats& stats, float* alpha = nullptr);
 
 /// Splits a width × height image into tiles of tileSize, row by row.
 std::vector<TileRect> makeTiles(int width, int height, int tileSize);
@@ -49,9 +63,8 @@ struct RectBuffers {
 /// bit (a pixel depends only on its own coordinates, never on how the rectangle was cut).
 /// cancel: when it reads true, the sub-tiles not yet begun are skipped (the rectangle is then
 /// incomplete and the caller drops it): an interactive view replaced by a newer one.
-void renderRect(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame, const TileRect& rect,
-                int threads, int subTile, const RectBuffers& out, RayStats& stats,
-                const std::atomic<bool>* cancel = nullptr);
+void renderRect(const Scene& scene, const RenderView& view, int frame, const TileRect& rect, int threads, int subTile,
+                const RectBuffers& out, RayStats& stats, const std::atomic<bool>* cancel = nullptr);
 
 /// One rectangle of renderRects: where its pixels go, and its own ray counts.
 struct RectJob {
@@ -63,12 +76,11 @@ struct RectJob {
 /// renderRect for several rectangles of the same frame at once: the threads pull sub-tiles of
 /// all of them, so rectangles smaller than the threads' share of work (a farm rank's small
 /// tiles) still keep every thread busy. Each rectangle's pixels are those renderRect gives.
-void renderRects(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame,
-                 const std::vector<RectJob>& jobs, int threads, int subTile, const std::atomic<bool>* cancel = nullptr);
+void renderRects(const Scene& scene, const RenderView& view, int frame, const std::vector<RectJob>& jobs, int threads,
+                 int subTile, const std::atomic<bool>* cancel = nullptr);
 
 /// Renders a whole frame with `threads` worker threads (0: all cores) pulling tiles. The image
 /// has an alpha plane when the scene's background is transparent.
-Image renderFrame(const Scene& scene, const Camera& camera, const RenderSettings& settings, int frame, int threads,
-                  RayStats& stats);
+Image renderFrame(const Scene& scene, const RenderView& view, int frame, int threads, RayStats& stats);
 
 }  // namespace rf

@@ -18,7 +18,7 @@ constexpr float kSkyReach = 4.f;
 void placeGround(Scene& scene, Ground ground) {
     scene.shadowCatcherHeight.reset();
     if (ground == Ground::None) return;
-    const Aabb b = scene.bounds();
+    const Aabb b = scene.geometry.bounds();
     if (b.empty()) {
         scene.notes.push_back(scene.sourcePath + ": ground shadow: nothing bounded to stand on it; no ground");
         return;
@@ -28,7 +28,7 @@ void placeGround(Scene& scene, Ground ground) {
 
 ShadowCatcher::ShadowCatcher(const Scene& scene) : scene_(scene), y_(scene.shadowCatcherHeight.value_or(0.f)) {
     for (const Material& m : scene.materials) seeThrough_ |= m.gltfPbr && m.transmission > 0.f;
-    const Aabb b = scene.bounds();
+    const Aabb b = scene.geometry.bounds();
     if (!b.empty()) {
         const Vec3 e = b.extent();
         const float grow = kSkyReach * std::max({e.x, e.y, e.z});
@@ -81,7 +81,7 @@ CatcherLight ShadowCatcher::light(const Vec3& p, const Vec3& pError, RayStats& s
         if (near) {
             sky.d = dirs_[i];
             ++stats.shadow;
-            if (scene_.occluded(sky, kInf)) continue;
+            if (scene_.geometry.occluded(sky, kInf)) continue;
         }
         seen += e;
     }

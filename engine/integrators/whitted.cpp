@@ -3,6 +3,7 @@
 #include <new>
 
 #include "engine/scene/env_lighting.h"
+#include "engine/scene/scene_cache.h"
 #include "engine/util/image.h"
 #include "engine/integrators/light_eval.h"
 #include "engine/materials/material_eval.h"
@@ -13,7 +14,7 @@
 
 namespace rf {
 
-WhittedTracer::WhittedTracer(const Scene& scene, const RenderSettings& settings)
+WhittedTracer::WhittedTracer(const Scene& scene, const RenderSettings& settings, SceneCacheSlot* bounceSlot)
     : scene_(scene), settings_(settings), blockers_(scene.lights.size()) {
     specFloor_.reserve(scene.materials.size());
     for (const Material& m : scene.materials)
@@ -21,14 +22,17 @@ WhittedTracer::WhittedTracer(const Scene& scene, const RenderSettings& settings)
     displayScale_ = exposureScale(settings.exposure);
     for (const Material& m : scene.materials) seeThroughShadows_ |= m.gltfPbr && m.transmission > 0.f;
     if (scene.shadowCatcherHeight) catcher_.emplace(scene);
-    bounce_ = bounceCache(scene, settings, 1);  // renderRect built it on all its threads already
+    // renderRect built it on all its threads already; a tracer made alone builds its own.
+    SceneCacheSlot own;
+    bounce_ = bounceCache(scene, settings, bounceSlot ? bounceSlot : &own, 1);
 }
 
-std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const RenderSettings& settings) {
+std::unique_ptr<Integrator> makeIntegrator(const Scene& scene, const RenderSettings& settings,
+                                           SceneCacheSlot* bounceSlot) {
     switch (settings.integrator) {
         case IntegratorKind::Whitted: break;
     }
-    return std::make_unique<WhittedTracer>(scene, settings);
+    return std::make_unique<WhittedTracer>(scene, settings, bounceSlot);
 }
 
 float WhittedTracer::specular(const Material& m, int material, const Vec3& ns, const Vec3& l, const Vec3& V) const {
@@ -78,7 +82,7 @@ Color WhittedTracer::shade(const SurfaceInteraction& si, const Vec3& d, RayStats
 
 Color WhittedTracer::Li(const Ray& r, uint64_t seed, RayStats& stats, float* coverage) const {
     Hit h;
-    const bool met = scene_.intersect(r, h);
+    const bool met = scene_.geometry.intersect(r, h);
     return primaryLi(r, met, h, seed, stats, coverage);
 }
 
@@ -90,7 +94,7 @@ void WhittedTracer::LiPacket(const Ray* rays, int n, uint64_t wanted, const uint
     Hit* hits = reinterpret_cast<Hit*>(storage);
     for (int i = 0; i < n; ++i) new (hits + i) Hit();
     bool met[Bvh::kPacketMax];
-    scene_.intersectPacket(rays, n, hits, met);
+    scene_.geometry.intersectPacket(rays, n, hits, met);
     // Misses that show the environment are looked up four at a time, the rest ray by ray.
     const bool envBackground = scene_.environment && scene_.environmentBackground && !scene_.transparentBackground;
     int misses[Bvh::kPacketMax], nMiss = 0;
@@ -140,7 +144,7 @@ Color WhittedTracer::groundLi(const Ray& r, float t, RayStats& stats, float* cov
 Color WhittedTracer::trace(const Ray& r, int depth, const Color& weight, RayStats& stats, uint64_t seed, uint32_t skip,
                            float* tHit) const {
     Hit hit;
-    if (!scene_.intersect(r, hit, skip)) {
+    if (!scene_.geometry.intersect(r, hit, skip)) {
         if (tHit) *tHit = kInf;
         return depth == 1 ? primaryMiss(r.d) : missRadiance(r.d);
     }
@@ -159,7 +163,7 @@ Color WhittedTracer::volumeTransmittance(const SurfaceInteraction& si, float t) 
 
 Color WhittedTracer::traceHit(const Ray& r, const Hit& hit, int depth, const Color& weight, RayStats& stats,
                               uint64_t seed) const {
-    const SurfaceInteraction si = scene_.interaction(r, hit);
+    const SurfaceInteraction si = scene_.geometry.interaction(r, hit);
     const bool gltf = scene_.materials[si.material].gltfPbr;
     Color c = gltf ? shadeGltf(si, r.d, depth, weight, stats, childSeed(seed, 0)) : shade(si, r.d, stats, weight);
     if (depth >= settings_.maxDepth) return c;
@@ -204,7 +208,7 @@ Color WhittedTracer::traceHit(const Ray& r, const Hit& hit, int depth, const Col
         const Color filter = baseColor(scene_, si);
         const Color w = weight * kt * filter;
         if (maxComponent(w) > settings_.minWeight) {
-            const uint32_t skip = scene_.skipFor(si, refrDir);
+            const uint32_t skip = scene_.geometry.skipFor(si, refrDir);
             Ray tr;
             tr.o = spawnOrigin(si.p, si, ng, refrDir, skip);
             tr.d = refrDir;

@@ -17,11 +17,12 @@ namespace rf {
 
 class WhittedTracer final : public Integrator {
 public:
-    WhittedTracer(const Scene& scene, const RenderSettings& settings);
+    /// bounceSlot: where the job keeps its bounce cache (null: the tracer builds one of its own).
+    WhittedTracer(const Scene& scene, const RenderSettings& settings, SceneCacheSlot* bounceSlot = nullptr);
 
     /// Radiance along a primary ray (counted as primary); see Integrator::Li.
     Color Li(const Ray& r, uint64_t seed, RayStats& stats, float* coverage) const override;
-    /// The packet's rays through Scene::intersectPacket, then each wanted one as Li goes on.
+    /// The packet's rays through SceneGeometry::intersectPacket, then each wanted one as Li goes on.
     void LiPacket(const Ray* rays, int n, uint64_t wanted, const uint64_t* seeds, RayStats& stats, Color* out,
                   float* coverage) const override;
     /// Only sampled indirect light draws random numbers.
@@ -37,7 +38,7 @@ private:
     /// indirect light themselves (the samples' own rays: one bounce, not a path).
     /// tHit (if given): the distance to what the ray met, infinity if it met nothing.
     Color trace(const Ray& r, int depth, const Color& weight, RayStats& stats, uint64_t seed,
-                uint32_t skip = Scene::kNoPrim, float* tHit = nullptr) const;
+                uint32_t skip = SceneGeometry::kNoPrim, float* tHit = nullptr) const;
     /// KHR_materials_volume: what is left of light that crossed the inside of si's volume along
     /// a ray that met something at distance t (exp(−σ·t)); the thickness at si where it met
     /// nothing (an open mesh). White where si's material is no volume there.

@@ -32,7 +32,7 @@ Color WhittedTracer::primaryMiss(const Vec3& d) const {
 
 Color WhittedTracer::traceReflection(const SurfaceInteraction& si, const Vec3& ng, const Vec3& dir, int depth,
                                      const Color& weight, RayStats& stats, uint64_t seed, float* tHit) const {
-    const uint32_t skip = scene_.skipFor(si, dir);
+    const uint32_t skip = scene_.geometry.skipFor(si, dir);
     Ray rr;
     rr.o = spawnOrigin(si.p, si, ng, dir, skip);
     rr.d = dir;

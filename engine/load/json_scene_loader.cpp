@@ -332,7 +332,7 @@ private:
             sp.center = Vec3(rd_.dvec3(j, "center", w, DVec3(0.0)) - o);
             sp.radius = static_cast<float>(rd_.positive(j, "radius", w, 1.0));
             sp.material = material(j, w);
-            s.spheres.push_back(sp);
+            s.geometry.spheres.push_back(sp);
         } else if (type == "plane") {
             rd_.allowKeys(j, w, {"type", "normal", "point", "material"});
             Plane pl;
@@ -341,7 +341,7 @@ private:
             pl.n = Vec3(n);
             pl.d = static_cast<float>(-glm::dot(n, p));
             pl.material = material(j, w);
-            s.planes.push_back(pl);
+            s.geometry.planes.push_back(pl);
         } else if (type == "triangle" || type == "mesh") {
             readMesh(j, w, s, type == "triangle");
         } else if (type == "model") {
@@ -409,7 +409,7 @@ private:
             if (m.normals.size() != m.positions.size()) rd_.fail(w + ".normals", "expected one normal per position");
         }
         m.material = material(j, w);
-        s.meshes.push_back(std::move(m));
+        s.geometry.meshes.push_back(std::move(m));
     }
 
     /// "ground": "shadow" (an invisible shadow catcher under the model) or "none".

@@ -44,7 +44,7 @@ struct RenderSettings {
     bool bounceMoving = false;
     IntegratorKind integrator = IntegratorKind::Whitted;
     /// Speed-ups that must never change a pixel, switchable so tests can show they do not:
-    /// camera rays traced in packets of neighbouring pixels (render.cpp, Scene::intersectPacket),
+    /// camera rays traced in packets of neighbouring pixels (render.cpp, SceneGeometry::intersectPacket),
     /// and each thread's cache of the triangle that last blocked a light (ShadowBlockers).
     bool packets = true;
     bool blockerCache = true;

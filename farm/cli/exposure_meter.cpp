@@ -31,7 +31,8 @@ std::string noLightWarning(const Scene& scene) {
 }
 
 void resolveAutoExposure(const Scene& scene, const anim::Timeline& timeline, RenderSettings& settings, int threads,
-                         const std::function<void(Scene&)>& afterPose) {
+                         const std::function<void(Scene&)>& afterPose,
+                         const std::shared_ptr<SceneCacheSlot>& bounceSlot) {
     if (!settings.autoExposure) return;
     // Four frames a quarter turn apart see every side of a turntable; 80 pixels across and one
     // sample are plenty for a log-average, and cost a few milliseconds.
@@ -51,11 +52,14 @@ void resolveAutoExposure(const Scene& scene, const anim::Timeline& timeline, Ren
     Scene probe = scene;
     ExposureMeter meter;
     RayStats rays;
+    RenderView view{probe.camera, small};
+    if (bounceSlot) view.bounceSlot = bounceSlot;
     for (int f : frames) {
         pollLoadCancel();
         timeline.applyFrame(probe, f);
         if (afterPose) afterPose(probe);
-        meter.add(renderFrame(probe, probe.camera, small, f, threads, rays));
+        view.camera = probe.camera;
+        meter.add(renderFrame(probe, view, f, threads, rays));
     }
     settings.exposure = meter.ev();
     settings.autoExposure = false;

@@ -1,9 +1,11 @@
 #pragma once
 /// --exposure auto: one EV for a whole film, metered before the first frame is rendered.
 #include <functional>
+#include <memory>
 #include <string>
 
 #include "engine/scene/scene.h"
+#include "engine/scene/scene_cache.h"
 #include "anim/timeline.h"
 
 namespace rf::cli {
@@ -16,8 +18,10 @@ std::string noLightWarning(const Scene& scene);
 /// frames whichever part of it this run renders, so a still and the film's frame agree), meters
 /// them, stores the EV in settings.exposure, clears autoExposure and prints the EV chosen.
 /// afterPose (if given) runs after each frame is posed, e.g. to look through a glTF camera.
-/// The frames are posed on a copy: the scene is left as it was.
+/// The frames are posed on a copy: the scene is left as it was. bounceSlot: the job's bounce
+/// cache, which the metering frames build or use as the job's frames will (null: their own).
 void resolveAutoExposure(const Scene& scene, const anim::Timeline& timeline, RenderSettings& settings, int threads,
-                         const std::function<void(Scene&)>& afterPose = {});
+                         const std::function<void(Scene&)>& afterPose = {},
+                         const std::shared_ptr<SceneCacheSlot>& bounceSlot = nullptr);
 
 }  // namespace rf::cli

@@ -26,8 +26,13 @@ void appendLinearPlane(const std::vector<float>& rgb, const std::vector<float>& 
 }  // namespace
 
 RenderEngine::RenderEngine(Scene scene, anim::Timeline timeline, RenderSettings settings, int threads, bool linear,
-                           ItemRenderer itemRenderer)
-    : scene_(std::move(scene)), timeline_(std::move(timeline)), settings_(settings), threads_(std::max(1, threads)), linear_(linear),
+                           ItemRenderer itemRenderer, std::shared_ptr<SceneCacheSlot> bounceSlot)
+    : scene_(std::move(scene)),
+      timeline_(std::move(timeline)),
+      settings_(settings),
+      bounceSlot_(bounceSlot ? std::move(bounceSlot) : std::make_shared<SceneCacheSlot>()),
+      threads_(std::max(1, threads)),
+      linear_(linear),
       itemRenderer_(std::move(itemRenderer)) {
     thread_ = std::thread([this] { loop(); });
 }
@@ -172,10 +177,10 @@ void RenderEngine::loop() {
                 for (const WorkItem& item : items) done.push_back(itemRenderer_(item, scene_.transparentBackground ? 4 : 3));
             } else if (items.size() == 1) {
                 done.push_back(render(scene_, timeline_, settings_, threads_, items[0], appliedFrame_, linear_, view ? &*view : nullptr,
-                                      &cancelCurrent_));
+                                      &cancelCurrent_, bounceSlot_));
             } else {
                 done = renderTogether(scene_, timeline_, settings_, threads_, items, appliedFrame_, linear_, view ? &*view : nullptr,
-                                      &cancelCurrent_);
+                                      &cancelCurrent_, bounceSlot_);
             }
             std::lock_guard<std::mutex> lock(mutex_);
             current_ = -1;
@@ -197,13 +202,15 @@ void RenderEngine::loop() {
 
 TileResult RenderEngine::render(Scene& scene, const anim::Timeline& tl, const RenderSettings& job, int threads,
                                 const WorkItem& item, int& appliedFrame, bool linear, const ViewSpec* view,
-                                const std::atomic<bool>* cancel) {
-    return std::move(renderTogether(scene, tl, job, threads, {item}, appliedFrame, linear, view, cancel)[0]);
+                                const std::atomic<bool>* cancel, const std::shared_ptr<SceneCacheSlot>& bounceSlot) {
+    return std::move(
+        renderTogether(scene, tl, job, threads, {item}, appliedFrame, linear, view, cancel, bounceSlot)[0]);
 }
 
 std::vector<TileResult> RenderEngine::renderTogether(Scene& scene, const anim::Timeline& tl, const RenderSettings& job,
                                                      int threads, const std::vector<WorkItem>& items, int& appliedFrame,
-                                                     bool linear, const ViewSpec* view, const std::atomic<bool>* cancel) {
+                                                     bool linear, const ViewSpec* view, const std::atomic<bool>* cancel,
+                                                     const std::shared_ptr<SceneCacheSlot>& bounceSlot) {
     RenderSettings s = job;
     if (view) s.spp = view->spp, s.width = view->width, s.height = view->height;
     const auto t0 = std::chrono::steady_clock::now();
@@ -239,8 +246,9 @@ std::vector<TileResult> RenderEngine::renderTogether(Scene& scene, const anim::T
     }
     // Small rectangles (pixel mode) are split finer so every thread gets several pieces.
     const int sub = subTileFor(items[0].rect, s);
-    const Camera& camera = view && !view->followTimeline ? view->camera : scene.camera;
-    renderRects(scene, camera, s, frame, jobs, threads, sub, cancel);
+    RenderView rv{view && !view->followTimeline ? view->camera : scene.camera, s};
+    if (bounceSlot) rv.bounceSlot = bounceSlot;
+    renderRects(scene, rv, frame, jobs, threads, sub, cancel);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     for (size_t i = 0; i < items.size(); ++i) {
         TileResult& r = out[i];

@@ -10,6 +10,7 @@
 #include <condition_variable>
 #include <deque>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -18,6 +19,7 @@
 
 #include "farm/cluster/messages.h"
 #include "engine/scene/scene.h"
+#include "engine/scene/scene_cache.h"
 #include "anim/timeline.h"
 
 namespace rf::farm {
@@ -30,8 +32,10 @@ public:
 
     /// threads: render threads for this rank (≥ 1). linear: results carry the linear plane too
     /// (PixelLayout), for EXR frames. itemRenderer: null (trace the scene) but in benchmarks.
+    /// bounceSlot: the job's bounce cache (SharedScene::bounceSlot), which a head start may
+    /// have filled; null: one of the engine's own. Kept across setScene.
     RenderEngine(Scene scene, anim::Timeline timeline, RenderSettings settings, int threads, bool linear = false,
-                 ItemRenderer itemRenderer = nullptr);
+                 ItemRenderer itemRenderer = nullptr, std::shared_ptr<SceneCacheSlot> bounceSlot = nullptr);
     ~RenderEngine();
     RenderEngine(const RenderEngine&) = delete;
     RenderEngine& operator=(const RenderEngine&) = delete;
@@ -61,15 +65,19 @@ public:
     /// background is transparent.
     /// view: how an item of an interactive epoch renders (null: the job's own frame). cancel:
     /// renderRect's; the result is incomplete when it was set.
+    /// bounceSlot: where the bounce cache is kept (null: a slot for this call alone).
     static TileResult render(Scene& scene, const anim::Timeline& tl, const RenderSettings& s, int threads,
                              const WorkItem& item, int& appliedFrame, bool linear = false, const ViewSpec* view = nullptr,
-                             const std::atomic<bool>* cancel = nullptr);
+                             const std::atomic<bool>* cancel = nullptr,
+                             const std::shared_ptr<SceneCacheSlot>& bounceSlot = nullptr);
     /// render() for items of one frame and epoch at once, their sub-tiles shared among the
     /// threads; each result is the one render() gives (busySeconds: its share of the wall time,
     /// by pixels).
-    static std::vector<TileResult> renderTogether(Scene& scene, const anim::Timeline& tl, const RenderSettings& s, int threads,
-                                                  const std::vector<WorkItem>& items, int& appliedFrame, bool linear = false,
-                                                  const ViewSpec* view = nullptr, const std::atomic<bool>* cancel = nullptr);
+    static std::vector<TileResult> renderTogether(Scene& scene, const anim::Timeline& tl, const RenderSettings& s,
+                                                  int threads, const std::vector<WorkItem>& items, int& appliedFrame,
+                                                  bool linear = false, const ViewSpec* view = nullptr,
+                                                  const std::atomic<bool>* cancel = nullptr,
+                                                  const std::shared_ptr<SceneCacheSlot>& bounceSlot = nullptr);
 
     /// The largest number of items rendered together so far (for tests).
     int largestBatch() const;
@@ -91,6 +99,7 @@ private:
     Scene scene_;
     anim::Timeline timeline_;
     RenderSettings settings_;
+    std::shared_ptr<SceneCacheSlot> bounceSlot_;  ///< the job's bounce cache, for all its frames
     int threads_;
     bool linear_;
     ItemRenderer itemRenderer_;

@@ -395,7 +395,7 @@ FarmOutcome FarmRun::run(SharedScene& shared) {
     std::unique_ptr<RenderEngine> local;
     if (rank0Renders_)
         local = std::make_unique<RenderEngine>(std::move(shared.scene), timeline, job_.settings, opts_.threads, job_.exrFrames,
-                                               benchFreeWorkRenderer(job_.exrFrames));
+                                               benchFreeWorkRenderer(job_.exrFrames), shared.bounceSlot);
     std::unique_ptr<ChunkWorkshop> localShop;
     if (chunked_ && local) localShop = std::make_unique<ChunkWorkshop>(*local, chunkVideoSpec(job_), 0);
 
@@ -574,7 +574,7 @@ int runFarmWorker(Transport& t, SharedScene& shared, double fpsOption, int threa
         // Every rank parsed the same options, so the worker's timeline matches rank 0's.
         anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, fpsOption);
         RenderEngine engine(std::move(shared.scene), timeline, settings, threads, outputs.linear != 0,
-                            benchFreeWorkRenderer(outputs.linear != 0));
+                            benchFreeWorkRenderer(outputs.linear != 0), shared.bounceSlot);
         if (chunkVideo.empty()) return runWorker(t, engine, masterTimeout);
         // This rank encodes chunks itself, as rank 0 would: chunks whose frames it renders (frame
         // mode, with the film's last frames from other ranks too), or assembles from every

@@ -62,9 +62,10 @@ FileBundle filesSince(const FileBundle& all, const std::set<std::string>& sent) 
 
 SharedScene shareScene(Transport& t, const std::string& path, const std::function<void()>& preLoad,
                        const std::function<std::string(Scene&, const FileBundle&)>& makeJob, const SceneOptions& options,
-                       const std::function<void(Scene&)>& headStart) {
+                       const std::function<void(Scene&)>& headStart, std::shared_ptr<SceneCacheSlot> bounceSlot) {
     const auto t0 = std::chrono::steady_clock::now();
     SharedScene out;
+    out.bounceSlot = bounceSlot ? std::move(bounceSlot) : std::make_shared<SceneCacheSlot>();
     std::string payload;
     if (t.rank() == 0) {
         // Two broadcasts: the files as soon as the loader has read them (before the BVH and the

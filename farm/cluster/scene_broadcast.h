@@ -5,11 +5,13 @@
 /// soon as rank 0's loader has read them (SceneOptions::inputsRead), so the workers build while
 /// rank 0 builds and decides the job; the job follows in a second broadcast.
 #include <functional>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
 #include "engine/util/file_source.h"
 #include "engine/scene/scene.h"
+#include "engine/scene/scene_cache.h"
 #include "engine/scene/scene_options.h"
 #include "farm/cluster/transport.h"
 
@@ -27,6 +29,9 @@ private:
 
 struct SharedScene {
     Scene scene;
+    /// The job's bounce cache (RenderView::bounceSlot): a worker's head start and rank 0's
+    /// metering fill it before the job, and the rank's RenderEngine renders every frame with it.
+    std::shared_ptr<SceneCacheSlot> bounceSlot;
     std::string job;          ///< rank 0's job description, opaque here
     size_t bundleBytes = 0;   ///< the scene's files that travel: their paths' and contents' bytes
     double loadSeconds = 0.0; ///< reading, broadcast and loading on this rank
@@ -39,9 +44,11 @@ struct SharedScene {
 /// options (the command line's environment) apply on every rank; files they name travel in the
 /// bundle with the scene's. headStart, if set, runs on each worker once its scene is built,
 /// while rank 0 is still deciding the job (work a worker can begin before the job comes; an
-/// exception from it is dropped).
+/// exception from it is dropped). bounceSlot: the one makeJob and headStart fill, handed back
+/// as SharedScene::bounceSlot (null: a new one).
 SharedScene shareScene(Transport& t, const std::string& path, const std::function<void()>& preLoad,
                        const std::function<std::string(Scene&, const FileBundle&)>& makeJob,
-                       const SceneOptions& options = {}, const std::function<void(Scene&)>& headStart = nullptr);
+                       const SceneOptions& options = {}, const std::function<void(Scene&)>& headStart = nullptr,
+                       std::shared_ptr<SceneCacheSlot> bounceSlot = nullptr);
 
 }  // namespace rf::farm

@@ -76,7 +76,8 @@ FarmOutcome ViewSession::run(SharedScene& shared) {
     layout_ = PixelLayout{shared.scene.transparentBackground ? 4 : 3, false};
     if (rank0Renders_) {
         anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, job_.fpsOption);
-        local_ = std::make_unique<RenderEngine>(std::move(shared.scene), timeline, job_.settings, std::max(1, opts_.threads));
+        local_ = std::make_unique<RenderEngine>(std::move(shared.scene), timeline, job_.settings,
+                                                std::max(1, opts_.threads), false, nullptr, shared.bounceSlot);
     }
     // Nothing to render until the first view: an empty scheduler and assembler.
     sched_ = makePixelScheduler(anim::FrameRanges{}, 1, 1, 1, 1);

@@ -62,7 +62,7 @@ json turntableJson(const Scene& loaded, const anim::Timeline& tl, size_t fileLig
                    {"fov_deg", tidy(scene.camera.fovDeg)}};
     json clips = json::array();
     for (const anim::Timeline::Clip& c : tl.clips()) {
-        const Animation& a = loaded.models[size_t(c.model)].animations[size_t(c.animation)];
+        const Animation& a = loaded.geometry.models[size_t(c.model)].animations[size_t(c.animation)];
         clips.push_back({{"index", c.animation},
                          {"name", a.name},
                          {"period_s", tidy(c.period)},

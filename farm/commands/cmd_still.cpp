@@ -99,8 +99,8 @@ void writeStillStats(const std::string& path, const Scene& scene, const RenderSe
     s.rays = rays;
     s.perRank.push_back({0, t.renderS, 1, 0});
     s.extra["load_s"] = t.loadS;
-    s.extra["triangles"] = static_cast<double>(scene.triangleCount());
-    s.extraText["bvh"] = scene.usesBvh() ? "yes" : "no (scene too small to profit)";
+    s.extra["triangles"] = static_cast<double>(scene.geometry.triangleCount());
+    s.extraText["bvh"] = scene.geometry.usesBvh() ? "yes" : "no (scene too small to profit)";
     writeStatsJson(path, s);
 }
 
@@ -165,15 +165,20 @@ int runStill(const std::vector<std::string>& args) {
     RenderSettings settings = scene.settings;
     applyQualityOptions(p, settings);
     settings.bounceMoving = true;  // a still poses its model once: the cache is built once either way
+    // One bounce cache for the metering frames and the still.
+    const auto bounceSlot = std::make_shared<SceneCacheSlot>();
     if (settings.autoExposure) {
-        resolveAutoExposure(scene, timeline, settings, threads, [&](Scene& s) {
-            if (p.has("--camera")) useGltfCamera(s, p.intValue("--camera", 0, 0, 1 << 20));
-        });
+        resolveAutoExposure(
+            scene, timeline, settings, threads,
+            [&](Scene& s) {
+                if (p.has("--camera")) useGltfCamera(s, p.intValue("--camera", 0, 0, 1 << 20));
+            },
+            bounceSlot);
     }
 
     RayStats rays;
     const auto t1 = std::chrono::steady_clock::now();
-    const Image img = renderFrame(scene, scene.camera, settings, frame, threads, rays);
+    const Image img = renderFrame(scene, {scene.camera, settings, bounceSlot}, frame, threads, rays);
     const auto t2 = std::chrono::steady_clock::now();
     writeReplacing(out, [&](const std::string& to) {
         if (img.hasAlpha()) writePng(to, img.width(), img.height(), toRgba8(img, settings.toneMap, exposureScale(settings.exposure)), 4);

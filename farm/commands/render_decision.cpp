@@ -79,8 +79,8 @@ void claimOutputs(const RenderJob& job, const ArgParser& p, std::vector<OutputLo
     if (!job.framesDir.empty() && !job.resume && !p.has("--overwrite")) refuseEarlierFrames(job.framesDir);
 }
 
-void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundle& inputs, int ranks, const std::string& threadsNote,
-               bool filmOfSeveral) {
+void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const std::shared_ptr<SceneCacheSlot>& bounceSlot,
+               const FileBundle& inputs, int ranks, const std::string& threadsNote, bool filmOfSeveral) {
     job.settings = scene.settings;
     applyQualityOptions(p, job.settings);
     const anim::Timeline tl = anim::Timeline::fromScene(scene, job.fpsOption);
@@ -96,8 +96,8 @@ void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const FileBundl
     // Metering renders: only once every option has been checked. When rank 0 renders (two ranks
     // or fewer), the bounce cache first, at the first frame, as the workers build theirs
     // meanwhile (workerHeadStart); the meter uses it.
-    if (ranks <= 2) prebuildBounceCache(scene, tl, job.settings, job.first, job.threads);
-    resolveAutoExposure(scene, tl, job.settings, job.threads);
+    if (ranks <= 2) prebuildBounceCache(scene, tl, job.settings, job.first, job.threads, *bounceSlot);
+    resolveAutoExposure(scene, tl, job.settings, job.threads, {}, bounceSlot);
     // A format without alpha lays the frames over the background colour, as the scene shows it.
     const float bg[3] = {scene.background.r, scene.background.g, scene.background.b};
     encodeRgb8(bg, 3, job.settings.toneMap, job.mp4.flattenOver, exposureScale(job.settings.exposure));

@@ -24,7 +24,7 @@ void claimOutputs(const farm::RenderJob& job, const ArgParser& p, std::vector<Ou
 
 /// Rank 0's part of makeJob: everything decided from the options and the loaded scene, checked
 /// before any rendering.
-void decideJob(farm::RenderJob& job, const ArgParser& p, Scene& scene, const FileBundle& inputs, int ranks, const std::string& threadsNote,
-               bool filmOfSeveral);
+void decideJob(farm::RenderJob& job, const ArgParser& p, Scene& scene, const std::shared_ptr<SceneCacheSlot>& bounceSlot,
+               const FileBundle& inputs, int ranks, const std::string& threadsNote, bool filmOfSeveral);
 
 }  // namespace rf::cli

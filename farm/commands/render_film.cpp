@@ -93,6 +93,8 @@ int renderFilm(MpiTransport& t, const ArgParser& p, const std::vector<std::strin
                Clock::time_point wallStart, const FilmInJob* film) {
     const std::string threadsNote = describeThreads(job, t);
     SharedScene shared;
+    // The film's bounce cache: the head start and the metering fill it, the frames use it.
+    const auto bounceSlot = std::make_shared<SceneCacheSlot>();
     std::vector<OutputLock> locks;  // rank 0's, until the film ends
     locks.reserve(2);               // never moved: the load watch may release them from its thread
     try {
@@ -107,10 +109,11 @@ int renderFilm(MpiTransport& t, const ArgParser& p, const std::vector<std::strin
                     std::vector<std::string> read;
                     for (const auto& [path, bytes] : inputs.files) read.push_back(path);
                     checkOutputPaths(renderOutputs(job), read);  // the model's buffers and textures too
-                    decideJob(job, p, scene, inputs, t.size(), threadsNote, film != nullptr);
+                    decideJob(job, p, scene, bounceSlot, inputs, t.size(), threadsNote, film != nullptr);
                     return encodeWorkerJob(job);
                 },
-                sceneOptions(p), [&](Scene& scene) { workerHeadStart(scene, p, job, threadsForRank(job, t)); });
+                sceneOptions(p),
+                [&](Scene& scene) { workerHeadStart(scene, *bounceSlot, p, job, threadsForRank(job, t)); }, bounceSlot);
         } catch (const LoadCancelled& c) {
             const int code = watch.interrupted(c);
             // A worker gets here only when rank 0 loaded and waits for it: say why it will not hear.

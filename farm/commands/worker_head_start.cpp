@@ -8,20 +8,21 @@ namespace rf::cli {
 
 using namespace rf::farm;
 
-void prebuildBounceCache(const Scene& scene, const anim::Timeline& tl, const RenderSettings& settings, int frame, int threads) {
+void prebuildBounceCache(const Scene& scene, const anim::Timeline& tl, const RenderSettings& settings, int frame,
+                         int threads, SceneCacheSlot& bounceSlot) {
     if (settings.bounce <= 0 || !bounceApplies(scene)) return;
     Scene posed = scene;
     tl.applyFrame(posed, frame);
-    bounceCache(posed, settings, threads > 0 ? threads : hardwareThreads());
+    bounceCache(posed, settings, &bounceSlot, threads > 0 ? threads : hardwareThreads());
 }
 
-void workerHeadStart(Scene& scene, const ArgParser& p, const RenderJob& job, int threads) {
+void workerHeadStart(Scene& scene, SceneCacheSlot& bounceSlot, const ArgParser& p, const RenderJob& job, int threads) {
     RenderSettings settings = scene.settings;
     applyQualityOptions(p, settings);
     const anim::Timeline tl = anim::Timeline::fromScene(scene, job.fpsOption);
     int first = 0, last = tl.frameCount() - 1;
     if (auto f = p.value("--frames")) parseFrameRange(*f, tl.frameCount(), first, last);
-    prebuildBounceCache(scene, tl, settings, first, threads);
+    prebuildBounceCache(scene, tl, settings, first, threads, bounceSlot);
 }
 
 }  // namespace rf::cli

@@ -258,7 +258,7 @@ RenderSettings baseSettings(const ArgParser& p, const Scene& scene, const anim::
         settings.width = ref.width;
         settings.height = ref.height;
     }
-    resolveAutoExposure(scene, timeline, settings, threads, cameraPose(p));
+    resolveAutoExposure(scene, timeline, settings, threads, cameraPose(p), o.bounceSlot);
     return settings;
 }
 
@@ -289,6 +289,7 @@ int runReport(const std::vector<std::string>& args) {
     report::QualityReportOptions o = qualityOptions(p, *out, threads, scenePath);
     report::VideoReportOptions vo = videoOptions(p, *out, threads);
     vo.pose = cameraPose(p);
+    vo.bounceSlot = o.bounceSlot;  // one bounce cache for the metering, the sweep and the video
     // Fail before hours of rendering, not after.
     if (report::findOnPath("gnuplot").empty())
         throw std::runtime_error("report: gnuplot not found on PATH (install the Debian package gnuplot-nox)");

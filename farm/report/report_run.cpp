@@ -28,7 +28,7 @@ std::vector<uint8_t> renderReference(const Scene& scene, const RenderSettings& s
     if (o.progress)
         std::fprintf(stderr, "rayfarm: report: reference %s at %dx%d ...\n", describe(o.reference).c_str(), w, h);
     const RenderSettings refSettings = withQuality(settings, o.reference);
-    const TimedRender ref = renderTimed(scene, refSettings, o.frame, o.threads, 0.0, 1);
+    const TimedRender ref = renderTimed(scene, refSettings, o.frame, o.threads, 0.0, 1, o.bounceSlot);
     const std::vector<uint8_t> ref8 = toRgb8(ref.image, settings);
     writePng(rep.referencePath, w, h, ref8);
     rep.reference.q = o.reference;
@@ -81,7 +81,7 @@ double writeDefaultImages(const Scene& scene, const RenderSettings& settings, co
     const std::filesystem::path dir(o.outDir);
     const RenderSettings defSettings = withQuality(settings, o.sweep.base);
     RayStats rays;
-    const Image def = renderFrame(scene, scene.camera, defSettings, o.frame, o.threads, rays);
+    const Image def = renderFrame(scene, {scene.camera, defSettings, o.bounceSlot}, o.frame, o.threads, rays);
     const std::vector<uint8_t> def8 = toRgb8(def, settings);
     writePng((dir / "default.png").string(), w, h, def8);
     // Scaled to the 99th percentile, so a few extreme pixels do not leave the rest black.
@@ -125,11 +125,12 @@ QualityReport runQualityReport(const Scene& scene, const RenderSettings& setting
 
     const std::vector<uint8_t> ref8 =
         o.external ? takeExternalReference(settings, o, rep) : renderReference(scene, settings, o, rep);
-    rep.rows = runSweep(scene, settings, o.sweep, ref8, o.frame, o.threads, [&](int i, int n, const SweepRow& r) {
+    auto progress = [&](int i, int n, const SweepRow& r) {
         if (o.progress)
             std::fprintf(stderr, "rayfarm: report: [%d/%d] %s: %.4g s, PSNR %.2f dB, SSIM %.4f\n", i, n,
                          describe(r.q).c_str(), r.seconds, r.error.psnr, r.error.ssim);
-    });
+    };
+    rep.rows = runSweep(scene, settings, o.sweep, ref8, o.frame, o.threads, progress, o.bounceSlot);
     writeReportCsv(rep.csvPath, rep.reference, rep.rows);
 
     const double scale = writeDefaultImages(scene, settings, o, ref8, rep.errorImagePath);
@@ -178,7 +179,8 @@ VideoReport runVideoReport(Scene& scene, const anim::Timeline& timeline, const R
         timeline.applyFrame(scene, i);
         if (o.pose) o.pose(scene);
         RayStats rays;
-        frames.push_back(toRgb8(renderFrame(scene, scene.camera, settings, i, o.threads, rays), settings));
+        frames.push_back(
+            toRgb8(renderFrame(scene, {scene.camera, settings, o.bounceSlot}, i, o.threads, rays), settings));
     }
     VideoSweepSpec spec = o.sweep;
     spec.fps = timeline.fps();

@@ -3,6 +3,7 @@
 /// (report.csv, error_vs_time.png/.gp, summary.md, reference.png, default.png, error_default.png).
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "farm/report/report_sweep.h"
 #include "farm/report/report_video.h"
 #include "engine/scene/scene.h"
+#include "engine/scene/scene_cache.h"
 #include "anim/timeline.h"
 
 namespace rf::report {
@@ -40,6 +42,9 @@ struct QualityReportOptions {
     std::optional<ExternalReference> external;
     bool plot = true;      ///< draw error_vs_time.png with gnuplot
     bool progress = true;  ///< one line per render on stderr
+    /// The report's bounce cache (RenderView::bounceSlot): its renders, and the metering before
+    /// them, build it once for as long as the geometry, lights and bounce points stay the same.
+    std::shared_ptr<SceneCacheSlot> bounceSlot = std::make_shared<SceneCacheSlot>();
 };
 
 struct QualityReport {
@@ -58,6 +63,9 @@ struct VideoReportOptions {
     bool progress = true;
     /// Called after the timeline poses each frame (e.g. to look through a glTF camera).
     std::function<void(Scene&)> pose;
+    /// The report's bounce cache (RenderView::bounceSlot): its renders, and the metering before
+    /// them, build it once for as long as the geometry, lights and bounce points stay the same.
+    std::shared_ptr<SceneCacheSlot> bounceSlot = std::make_shared<SceneCacheSlot>();
 };
 
 struct VideoReport {

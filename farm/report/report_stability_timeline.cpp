@@ -71,7 +71,7 @@ void slerpEdges(std::vector<StabilityCase>& out) {
 
 void turntableQuarter(std::vector<StabilityCase>& out) {
     Scene sc;
-    sc.spheres.push_back({Vec3(0.f), 1.f, 0});
+    sc.geometry.spheres.push_back({Vec3(0.f), 1.f, 0});
     sc.materials.resize(1);
     sc.build();
     anim::TurntableSettings s;

@@ -53,14 +53,16 @@ std::vector<SweepPoint> makeSweep(const SweepSpec& spec) {
 }
 
 TimedRender renderTimed(const Scene& scene, const RenderSettings& settings, int frame, int threads,
-                        double minTotalSeconds, int maxRepeats) {
+                        double minTotalSeconds, int maxRepeats, const std::shared_ptr<SceneCacheSlot>& bounceSlot) {
+    RenderView view{scene.camera, settings};
+    if (bounceSlot) view.bounceSlot = bounceSlot;
     TimedRender r;
     double total = 0.0;
     r.seconds = 1e300;
     while (r.repeats < std::max(1, maxRepeats) && (r.repeats == 0 || total < minTotalSeconds)) {
         RayStats rays;
         const auto t0 = std::chrono::steady_clock::now();
-        Image img = renderFrame(scene, scene.camera, settings, frame, threads, rays);
+        Image img = renderFrame(scene, view, frame, threads, rays);
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         total += s;
         r.seconds = std::min(r.seconds, s);
@@ -75,14 +77,16 @@ TimedRender renderTimed(const Scene& scene, const RenderSettings& settings, int 
 
 std::vector<SweepRow> runSweep(const Scene& scene, const RenderSettings& settings, const SweepSpec& spec,
                                const std::vector<uint8_t>& reference, int frame, int threads,
-                               const std::function<void(int, int, const SweepRow&)>& progress) {
+                               const std::function<void(int, int, const SweepRow&)>& progress,
+                               std::shared_ptr<SceneCacheSlot> bounceSlot) {
+    if (!bounceSlot) bounceSlot = std::make_shared<SceneCacheSlot>();
     const std::vector<SweepPoint> points = makeSweep(spec);
     std::vector<SweepRow> rows;
     std::vector<double> spent;
     rows.reserve(points.size());
     for (size_t i = 0; i < points.size(); ++i) {
         const RenderSettings s = withQuality(settings, points[i].q);
-        const TimedRender r = renderTimed(scene, s, frame, threads, 0.0, 1);
+        const TimedRender r = renderTimed(scene, s, frame, threads, 0.0, 1, bounceSlot);
         SweepRow row;
         row.q = points[i].q;
         row.factor = points[i].factor;
@@ -101,7 +105,8 @@ std::vector<SweepRow> runSweep(const Scene& scene, const RenderSettings& setting
         bool any = false;
         for (size_t i = 0; i < rows.size(); ++i) {
             if (spent[i] >= spec.minTimingSeconds) continue;
-            const TimedRender r = renderTimed(scene, withQuality(settings, rows[i].q), frame, threads, 0.0, 1);
+            const TimedRender r =
+                renderTimed(scene, withQuality(settings, rows[i].q), frame, threads, 0.0, 1, bounceSlot);
             spent[i] += r.seconds;
             rows[i].seconds = std::min(rows[i].seconds, r.seconds);
             ++rows[i].repeats;

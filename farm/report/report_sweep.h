@@ -2,6 +2,7 @@
 /// The quality sweep of `rayfarm report`: which settings to render, timing each render, and its
 /// error against a high-quality reference of the same frame.
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -9,6 +10,7 @@
 #include "engine/util/image_metrics.h"
 #include "farm/report/report_knobs.h"
 #include "engine/scene/scene.h"
+#include "engine/scene/scene_cache.h"
 #include "engine/util/settings.h"
 #include "engine/util/stats.h"
 
@@ -54,9 +56,11 @@ struct TimedRender {
 };
 
 /// Renders frame `frame` with settings; repeats while the total stays under minTotalSeconds
-/// (at most maxRepeats times) and keeps the fastest time.
+/// (at most maxRepeats times) and keeps the fastest time. bounceSlot: where the bounce cache is
+/// kept (null: a slot for these repeats alone).
 TimedRender renderTimed(const Scene& scene, const RenderSettings& settings, int frame, int threads,
-                        double minTotalSeconds = 0.3, int maxRepeats = 5);
+                        double minTotalSeconds = 0.3, int maxRepeats = 5,
+                        const std::shared_ptr<SceneCacheSlot>& bounceSlot = nullptr);
 
 /// One row of the report.
 struct SweepRow {
@@ -73,9 +77,11 @@ struct SweepRow {
 
 /// Renders every point, scores it against reference (8-bit sRGB, width × height of settings),
 /// then re-times the points round robin (see SweepSpec). progress(i, n, row) after each first render.
+/// bounceSlot: where the bounce cache is kept (null: one for this sweep).
 std::vector<SweepRow> runSweep(const Scene& scene, const RenderSettings& settings, const SweepSpec& spec,
                                const std::vector<uint8_t>& reference, int frame, int threads,
-                               const std::function<void(int, int, const SweepRow&)>& progress = {});
+                               const std::function<void(int, int, const SweepRow&)>& progress = {},
+                               std::shared_ptr<SceneCacheSlot> bounceSlot = nullptr);
 
 /// Sets SweepRow::pareto over (seconds, rmse): a row is on the front if no other row has
 /// seconds ≤ and rmse ≤ with one of them strictly smaller.

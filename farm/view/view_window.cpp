@@ -81,7 +81,7 @@ ViewWindow::ViewWindow(Scene scene, anim::Timeline timeline, RenderSettings sett
     : scene_(std::move(scene)), timeline_(timeline), sceneTimeline_(std::move(timeline)), settings_(settings), options_(std::move(options)),
       start_(Clock::now()) {
     film_ = filmOf(timeline_);
-    bounds_ = scene_.bounds();
+    bounds_ = scene_.geometry.bounds();
     frame_ = std::clamp(options_.startFrame, 0, film_.frames - 1);
     // The free camera starts where the timeline puts it at the first frame shown.
     Scene posed = scene_;

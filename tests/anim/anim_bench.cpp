@@ -54,8 +54,8 @@ Scene gridModel(int n, bool animated) {
         a.channels.push_back({0, 0, AnimPath::Rotation});
         g.animations.push_back(a);
     }
-    s.models.push_back(g);
-    s.meshes.push_back(std::move(m));
+    s.geometry.models.push_back(g);
+    s.geometry.meshes.push_back(std::move(m));
     Light l;
     l.position = Vec3(2, 3, 2);
     s.lights.push_back(l);
@@ -73,20 +73,22 @@ void measure(const char* what, Scene s, size_t vertices) {
     const double t1 = now();
     for (int f = 0; f < frames; ++f) {
         tl.applyFrame(s, f);
-        const Scene::UpdateCost& c = s.lastUpdateCost();
+        const SceneGeometry::UpdateCost& c = s.geometry.lastUpdateCost();
         pose += c.poseS;
         tree += c.treeS;
         anchors += c.anchorsBuilt;
         ratio = std::max(ratio, c.sahRatio);
-        rebuilt += s.lastRefitRebuilt();
+        rebuilt += s.geometry.lastRefitRebuilt();
     }
     const double per = (now() - t1) / frames;
     std::printf("%-34s %9zu vertices  fromScene %8.3f ms  apply %9.4f ms/frame  (%d frames timed, %s)\n", what, vertices,
                 1e3 * setup, 1e3 * per, frames, tl.animatesGeometry() ? "geometry moves" : "no geometry work");
     if (tl.animatesGeometry())
-        std::printf("%-34s   of which pose (morph, skin) %.3f ms/frame, trees %.3f ms/frame (%d anchor trees built, "
-                    "%d of %d frames rebuilt, largest refit SAH ratio %.3f, rebuild above %.2f)\n",
-                    "", 1e3 * pose / frames, 1e3 * tree / frames, anchors, rebuilt, frames, ratio, Scene::kRebuildGrowth);
+        std::printf(
+            "%-34s   of which pose (morph, skin) %.3f ms/frame, trees %.3f ms/frame (%d anchor trees built, "
+            "%d of %d frames rebuilt, largest refit SAH ratio %.3f, rebuild above %.2f)\n",
+            "", 1e3 * pose / frames, 1e3 * tree / frames, anchors, rebuilt, frames, ratio,
+            SceneGeometry::kRebuildGrowth);
 }
 
 
@@ -107,7 +109,7 @@ double renderSeconds(const Scene& s, int w, int h) {
     for (int k = 0; k < 3; ++k) {
         RayStats rays;
         const double t0 = cpuNow();
-        (void)renderFrame(s, s.camera, st, 0, 1, rays);
+        (void)renderFrame(s, {s.camera, st}, 0, 1, rays);
         best = std::min(best, cpuNow() - t0);
     }
     return best;
@@ -127,26 +129,26 @@ void measureRule(const std::string& file, int samples, int w, int h) {
     for (int i = 0; i < samples; ++i) {
         const int f = int((long long)i * tl.frameCount() / samples);
         Scene refit = loaded, fresh = loaded, rest = loaded;
-        refit.rebuildGrowth = 1e30;
-        fresh.rebuildGrowth = 0.0;
-        rest.rebuildGrowth = 1e30;
+        refit.geometry.rebuildGrowth = 1e30;
+        fresh.geometry.rebuildGrowth = 0.0;
+        rest.geometry.rebuildGrowth = 1e30;
         tl.applyFrame(refit, f);  // builds the anchor's tree first: timed apart below
         tl.applyFrame(refit, f);
-        const Scene::UpdateCost c = refit.lastUpdateCost();
+        const SceneGeometry::UpdateCost c = refit.geometry.lastUpdateCost();
         tl.applyFrame(fresh, f);
         tl.applyFrame(fresh, f);
-        const Scene::UpdateCost cf = fresh.lastUpdateCost();
+        const SceneGeometry::UpdateCost cf = fresh.geometry.lastUpdateCost();
         // The rest pose's tree refitted: the frame's pose without an anchor.
         tl.applyFrame(rest, f);
         double restRatio = 0.0;
-        for (size_t m = 0; m < rest.models.size(); ++m) {
-            if (rest.models[m].animations.empty()) continue;
-            const anim::GltfAnimationPlayer p(rest.models[m], int(m), 0, true);
+        for (size_t m = 0; m < rest.geometry.models.size(); ++m) {
+            if (rest.geometry.models[m].animations.empty()) continue;
+            const anim::GltfAnimationPlayer p(rest.geometry.models[m], int(m), 0, true);
             std::vector<DMat4> nodes;
             std::vector<std::vector<double>> weights;
-            p.pose(rest.models[m], tl.frameTime(f), nodes, weights);
-            rest.applyNodeTransforms(int(m), nodes, weights);
-            restRatio = std::max(restRatio, rest.lastUpdateCost().sahRatio);
+            p.pose(rest.geometry.models[m], tl.frameTime(f), nodes, weights);
+            rest.geometry.applyNodeTransforms(int(m), nodes, weights);
+            restRatio = std::max(restRatio, rest.geometry.lastUpdateCost().sahRatio);
         }
         rest.camera = refit.camera;
         const double tr = renderSeconds(refit, w, h), tf = renderSeconds(fresh, w, h), tq = renderSeconds(rest, w, h);
@@ -191,7 +193,7 @@ int main(int argc, char** argv) {
         if (!models) continue;
         Scene s = loadScene(argv[i], fs);
         size_t v = 0;
-        for (const TriangleMesh& m : s.meshes) v += m.positions.size();
+        for (const TriangleMesh& m : s.geometry.meshes) v += m.positions.size();
         measure(argv[i], std::move(s), v);
     }
     if (models) return 0;
@@ -203,7 +205,8 @@ int main(int argc, char** argv) {
     // The engine's share of that: the BVH refit alone (applyNodeTransforms ends with it).
     Scene g = gridModel(n, true);
     const double t0 = now();
-    for (int i = 0; i < 10; ++i) g.refit();
-    std::printf("%-34s %9zu vertices  Scene::refit alone %9.4f ms\n", "animated grid model", v, 1e3 * (now() - t0) / 10);
+    for (int i = 0; i < 10; ++i) g.geometry.refit();
+    std::printf("%-34s %9zu vertices  SceneGeometry::refit alone %9.4f ms\n", "animated grid model", v,
+                1e3 * (now() - t0) / 10);
     return 0;
 }

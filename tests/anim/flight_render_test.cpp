@@ -30,7 +30,7 @@ Footprint brightestFloorPoint(const Scene& s, const Image& img) {
         for (int x = 0; x < img.width(); ++x) {
             const Ray r = cam.generate(x + 0.5f, y + 0.5f);
             Hit hit;
-            if (!s.intersect(r, hit)) continue;
+            if (!s.geometry.intersect(r, hit)) continue;
             const DVec3 o = DVec3(r.o) + s.renderOrigin, d(r.d);
             if (!(d.y < 0.0)) continue;
             const double tFloor = -o.y / d.y;
@@ -67,7 +67,7 @@ TEST(Flight, LightFootprintFollowsItsKeys) {
         tl.applyFrame(s, k.frame);
         ASSERT_DOUBLE_EQ(tl.frameTime(k.frame), k.frame / 24.0);
         RayStats rays;
-        const Image img = renderFrame(s, s.camera, settings, k.frame, 0, rays);
+        const Image img = renderFrame(s, {s.camera, settings}, k.frame, 0, rays);
         const Footprint f = brightestFloorPoint(s, img);
         const std::string where = "frame " + std::to_string(k.frame);
         bool ok = f.found;

@@ -183,7 +183,7 @@ DMat4 expectedCube(double t) {
 
 void expectMeshAt(const Scene& s, const DMat4& worldFromNode, const std::string& where) {
     int moved = 0;
-    for (const TriangleMesh& m : s.meshes) {
+    for (const TriangleMesh& m : s.geometry.meshes) {
         if (m.node < 0) continue;
         ++moved;
         ASSERT_EQ(m.objectPositions.size(), m.positions.size());
@@ -199,8 +199,8 @@ void expectMeshAt(const Scene& s, const DMat4& worldFromNode, const std::string&
 
 TEST(AnimatedNodeGltf, NodeTransformsMatchTheHandComputedPoses) {
     LOAD_OR_SKIP(s, sourceFile("scenes/animated_node.gltf"));
-    ASSERT_EQ(s.models.size(), 1u);
-    ASSERT_EQ(s.models[0].animations.size(), 2u);
+    ASSERT_EQ(s.geometry.models.size(), 1u);
+    ASSERT_EQ(s.geometry.models[0].animations.size(), 2u);
     // A bare model gets the default turntable (120 frames) and plays its first animation, looped.
     const Timeline tl = Timeline::fromScene(s);
     EXPECT_EQ(tl.frameCount(), 120);
@@ -212,15 +212,15 @@ TEST(AnimatedNodeGltf, NodeTransformsMatchTheHandComputedPoses) {
         expectMeshAt(s, expectedCube(t), "t = " + std::to_string(t) + " + 2 s");
     }
     // The hierarchy itself, from the player.
-    const GltfAnimationPlayer p(s.models[0], 0, 0, true);
+    const GltfAnimationPlayer p(s.geometry.models[0], 0, 0, true);
     std::vector<DMat4> m;
     std::vector<std::vector<double>> w;
-    p.pose(s.models[0], 1.0, m, w);
+    p.pose(s.geometry.models[0], 1.0, m, w);
     EXPECT_NEAR(glm::length(DVec3(m[0][3]) + s.renderOrigin - DVec3(2, 2, 0)), 0.0, 1e-6);
     // STEP holds until its next key.
-    p.pose(s.models[0], 0.999, m, w);
+    p.pose(s.geometry.models[0], 0.999, m, w);
     EXPECT_NEAR(glm::length(DVec3(m[1][0])), 1.0, 1e-6);
-    p.pose(s.models[0], 1.0, m, w);
+    p.pose(s.geometry.models[0], 1.0, m, w);
     EXPECT_NEAR(glm::length(DVec3(m[1][0])), 2.0, 1e-6);
 }
 
@@ -232,7 +232,7 @@ TEST(AnimatedNodeGltf, DefaultTurntableKeepsTheMovingModelInView) {
     for (int f = 0; f < tl.frameCount(); f += 5) {
         tl.applyFrame(s, f);
         const CameraRays cam(s.camera, s.settings.width, s.settings.height);
-        for (const TriangleMesh& m : s.meshes)
+        for (const TriangleMesh& m : s.geometry.meshes)
             for (const Vec3& p : m.positions) {
                 const Vec3 d = p - cam.origin;
                 const float z = glm::dot(d, cam.basis.forward);
@@ -273,10 +273,10 @@ TEST(AnimatedNodeGltf, AnimationSelectedByNameClampsAndRefitsTheBvh) {
     // Traversal sees the moved cube (the BVH was refitted), and not its old place.
     const Vec3 o = Vec3(DVec3(0, 3, 10) - s.renderOrigin);
     Hit hit;
-    EXPECT_TRUE(s.intersect(Ray(o, Vec3(0, 0, -1)), hit));
+    EXPECT_TRUE(s.geometry.intersect(Ray(o, Vec3(0, 0, -1)), hit));
     EXPECT_NEAR(hit.t, 9.5f, 1e-4f);
     Hit miss;
-    EXPECT_FALSE(s.intersect(Ray(Vec3(DVec3(0, 0, 10) - s.renderOrigin), Vec3(0, 0, -1)), miss));
+    EXPECT_FALSE(s.geometry.intersect(Ray(Vec3(DVec3(0, 0, 10) - s.renderOrigin), Vec3(0, 0, -1)), miss));
     tl.apply(s, 0.5);
     expectMeshAt(s, glm::translate(DMat4(1.0), DVec3(0, 1.5, 0)), "lift at 0.5 s");
 
@@ -292,7 +292,7 @@ TEST(AnimatedNodeGltf, AnimationSelectedByNameClampsAndRefitsTheBvh) {
 
 TEST(GltfAnimation, StaticModelsDoNotPayForAnimation) {
     LOAD_OR_SKIP(s, kAssimp + "BoxTextured-glTF/BoxTextured.gltf");
-    for (const TriangleMesh& m : s.meshes) EXPECT_LT(m.node, 0);
+    for (const TriangleMesh& m : s.geometry.meshes) EXPECT_LT(m.node, 0);
     const Timeline tl = Timeline::fromScene(s);
     EXPECT_FALSE(tl.animatesGeometry());
     EXPECT_EQ(tl.frameCount(), 120);  // still a turntable
@@ -308,9 +308,9 @@ TEST(GltfAnimation, StaticModelsDoNotPayForAnimation) {
 // LINEAR sampler of 127 keys.
 TEST(RealGltf, AnimatedMorphCubeWeightsMoveTheVertices) {
     LOAD_OR_SKIP(s, kAssimp + "glTF-Sample-Models/AnimatedMorphCube-glTF/AnimatedMorphCube.gltf");
-    ASSERT_EQ(s.models.size(), 1u);
-    ASSERT_EQ(s.models[0].animations.size(), 1u);
-    const Animation& an = s.models[0].animations[0];
+    ASSERT_EQ(s.geometry.models.size(), 1u);
+    ASSERT_EQ(s.geometry.models[0].animations.size(), 1u);
+    const Animation& an = s.geometry.models[0].animations[0];
     ASSERT_EQ(an.channels.size(), 1u);
     ASSERT_EQ(an.channels[0].path, AnimPath::Weights);
     const AnimSampler& smp = an.samplers[0];
@@ -323,12 +323,12 @@ TEST(RealGltf, AnimatedMorphCubeWeightsMoveTheVertices) {
     auto check = [&](double t, double w0, double w1, const std::string& where) {
         tl.apply(s, t);
         int n = 0;
-        for (const TriangleMesh& m : s.meshes) {
+        for (const TriangleMesh& m : s.geometry.meshes) {
             if (m.node < 0) continue;
             ASSERT_EQ(m.morphPositions.size(), 2u);
             for (size_t i = 0; i < m.positions.size(); ++i, ++n) {
                 const DVec3 obj = DVec3(m.objectPositions[i]) + w0 * DVec3(m.morphPositions[0][i]) + w1 * DVec3(m.morphPositions[1][i]);
-                const DVec3 want = DVec3(s.models[0].renderFromModel * node * glm::dvec4(obj, 1.0));
+                const DVec3 want = DVec3(s.geometry.models[0].renderFromModel * node * glm::dvec4(obj, 1.0));
                 ASSERT_NEAR(glm::length(DVec3(m.positions[i]) - want), 0.0, 1e-4) << where << " vertex " << i;
             }
         }
@@ -343,9 +343,9 @@ TEST(RealGltf, AnimatedMorphCubeWeightsMoveTheVertices) {
           smp.values[2 * k + 1] + u * (smp.values[2 * k + 3] - smp.values[2 * k + 1]), "between keys 40 and 41");
     // And the shape really changes over the animation (weights are not all equal).
     tl.apply(s, 0.0);
-    const Aabb b0 = s.bounds();
+    const Aabb b0 = s.geometry.bounds();
     tl.apply(s, smp.times[63]);
-    const Aabb b1 = s.bounds();
+    const Aabb b1 = s.geometry.bounds();
     EXPECT_GT(glm::length(b1.extent() - b0.extent()), 1e-3f);
 }
 
@@ -371,18 +371,18 @@ std::vector<glm::dvec3> simpleSkinExpected(double thetaDeg) {
 TEST(RealGltf, SimpleSkinIsPosedByItsAnimatedJoint) {
     LOAD_OR_SKIP(s, kAssimp + "simple_skin/simple_skin.gltf");
     for (const std::string& n : s.notes) EXPECT_EQ(n.find("skins are not supported"), std::string::npos) << n;
-    ASSERT_EQ(s.models.size(), 1u);
-    ASSERT_EQ(s.models[0].skins.size(), 1u);
-    ASSERT_EQ(s.meshes.size(), 1u);
+    ASSERT_EQ(s.geometry.models.size(), 1u);
+    ASSERT_EQ(s.geometry.models[0].skins.size(), 1u);
+    ASSERT_EQ(s.geometry.meshes.size(), 1u);
     const Timeline tl = Timeline::fromScene(s);
     EXPECT_TRUE(tl.animatesGeometry());
     for (const auto& [t, theta] : std::vector<std::pair<double, double>>{{0.0, 0.0}, {1.0, 90.0}, {4.0, -90.0}, {0.5, 45.0}}) {
         Scene a = s;
         tl.apply(a, t);
         const std::vector<glm::dvec3> e = simpleSkinExpected(theta);
-        ASSERT_EQ(a.meshes[0].positions.size(), e.size());
+        ASSERT_EQ(a.geometry.meshes[0].positions.size(), e.size());
         for (size_t i = 0; i < e.size(); ++i) {
-            const glm::dvec3 p = glm::dvec3(a.meshes[0].positions[i]) + a.renderOrigin;
+            const glm::dvec3 p = glm::dvec3(a.geometry.meshes[0].positions[i]) + a.renderOrigin;
             // 45° at 0.5 s is the file's key (0.383, 0.924), 45.03°: 1e-3 covers it.
             EXPECT_NEAR(glm::length(p - e[i]), 0.0, theta == 45.0 ? 1e-3 : 1e-5) << "t " << t << " vertex " << i;
         }
@@ -422,7 +422,7 @@ TEST(RealGltf, SimpleSkinSilhouetteFollowsThePose) {
         RenderSettings rs = a.settings;
         rs.width = W, rs.height = H, rs.spp = 1;
         RayStats stats;
-        const Image img = renderFrame(a, cam, rs, 0, 1, stats);
+        const Image img = renderFrame(a, {cam, rs}, 0, 1, stats);
         ASSERT_TRUE(img.hasAlpha());
         const CameraRays cr(cam, W, H);
         const std::vector<glm::dvec3> e = simpleSkinExpected(theta);
@@ -474,7 +474,7 @@ Scene loadWith(const std::string& path, const std::string& animation) {
 std::vector<std::vector<Vec3>> posedAt(Scene s, double t) {
     Timeline::fromScene(s).apply(s, t);
     std::vector<std::vector<Vec3>> out;
-    for (const TriangleMesh& m : s.meshes) out.push_back(m.positions);
+    for (const TriangleMesh& m : s.geometry.meshes) out.push_back(m.positions);
     return out;
 }
 
@@ -558,9 +558,9 @@ TEST(AnimationChoice, ABareModelsFilmLastsWholePlaysOfItsClip) {
     Scene a = load(path), b = load(path);
     slow.apply(a, 0.0);
     slow.apply(b, slow.frameCount() / slow.fps());
-    for (size_t m = 0; m < a.meshes.size(); ++m)
-        for (size_t i = 0; i < a.meshes[m].positions.size(); ++i)
-            EXPECT_NEAR(glm::length(a.meshes[m].positions[i] - b.meshes[m].positions[i]), 0.f, 1e-4f);
+    for (size_t m = 0; m < a.geometry.meshes.size(); ++m)
+        for (size_t i = 0; i < a.geometry.meshes[m].positions.size(); ++i)
+            EXPECT_NEAR(glm::length(a.geometry.meshes[m].positions[i] - b.geometry.meshes[m].positions[i]), 0.f, 1e-4f);
 }
 
 }  // namespace

@@ -34,7 +34,7 @@ struct Rgba {
 Rgba renderAt(const std::string& name, double t, int w, int h) {
     DiskFileSource fs;
     Scene scene = loadScene(kDir + name + ".gltf", fs);
-    const anim::GltfAnimationPlayer player(scene.models[0], 0, 0, true);
+    const anim::GltfAnimationPlayer player(scene.geometry.models[0], 0, 0, true);
     player.apply(scene, t);
     useGltfCamera(scene, 0);
     scene.transparentBackground = true;
@@ -46,7 +46,7 @@ Rgba renderAt(const std::string& name, double t, int w, int h) {
     s.exposure = 0.f;
     s.autoExposure = false;
     RayStats rays;
-    return {w, h, toRgba8(renderFrame(scene, scene.camera, s, 0, 0, rays), s.toneMap, 1.f)};
+    return {w, h, toRgba8(renderFrame(scene, {scene.camera, s}, 0, 0, rays), s.toneMap, 1.f)};
 }
 
 struct Score {

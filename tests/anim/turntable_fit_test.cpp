@@ -104,7 +104,7 @@ TEST(SilhouettePoints, HullHoldsEveryVertexInEveryDirection) {
     std::mt19937 rng(3);
     std::normal_distribution<float> g(0.f, 1.f);
     for (int i = 0; i < 20000; ++i) m.positions.push_back(Vec3(2.f * g(rng), 0.5f * g(rng) + 1.f, g(rng)));
-    s.meshes.push_back(m);
+    s.geometry.meshes.push_back(m);
     const DVec3 c(0.3, 1.0, -0.2);
     const std::vector<DVec3> hull = silhouettePoints(s, c);
     EXPECT_LE(hull.size(), 8320u);
@@ -126,7 +126,7 @@ TEST(Turntable, SilhouetteFitFramesCloserThanTheSphere) {
     Scene s;  // a long thin bar: its sphere is far larger than what any view shows of it
     TriangleMesh m;
     m.positions = {Vec3(-4, -0.2f, -0.2f), Vec3(4, 0.2f, 0.2f), Vec3(4, -0.2f, 0.2f)};
-    s.meshes.push_back(m);
+    s.geometry.meshes.push_back(m);
     s.camera.fovDeg = 40.f;
     TurntableSettings ts;
     const double sphere = Turntable::framed(ts, s).distance();

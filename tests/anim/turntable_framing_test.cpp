@@ -64,11 +64,12 @@ Fill filmFill(Scene s) {
     RenderSettings rs = s.settings;
     rs.spp = 1;
     rs.maxDepth = 1;  // coverage needs no secondary rays
+    const auto bounce = std::make_shared<SceneCacheSlot>();  // the film's bounce cache, as a render job keeps it
     for (int i = 0; i < tl.frameCount(); ++i) {
         tl.applyFrame(s, i);
-        if (tl.animatesGeometry()) s.refit();
+        if (tl.animatesGeometry()) s.geometry.refit();
         RayStats st;
-        addFrame(renderFrame(s, s.camera, rs, i, 0, st), f);
+        addFrame(renderFrame(s, {s.camera, rs, bounce}, i, 0, st), f);
     }
     return f;
 }
@@ -82,11 +83,12 @@ Fill sphereFill(Scene s) {
     RenderSettings rs = s.settings;
     rs.spp = 1;
     rs.maxDepth = 1;
+    const auto bounce = std::make_shared<SceneCacheSlot>();  // the film's bounce cache, as a render job keeps it
     const std::vector<Light> rest = s.lights;
     for (int i = 0; i < t.frameCount(); ++i) {
         t.apply(s, double(i) / t.fps(), rest);
         RayStats st;
-        addFrame(renderFrame(s, s.camera, rs, i, 0, st), f);
+        addFrame(renderFrame(s, {s.camera, rs, bounce}, i, 0, st), f);
     }
     return f;
 }
@@ -132,12 +134,13 @@ TEST(SkinnedTurntable, FramingOnTheBindPoseAloneWouldClip) {
     RenderSettings rs = s.settings;
     rs.spp = 1;
     rs.maxDepth = 1;
+    const auto bounce = std::make_shared<SceneCacheSlot>();  // the film's bounce cache, as a render job keeps it
     for (int i = 0; i < rest.frameCount(); i += 3) {
         const double t = double(i) / rest.fps();
         rest.apply(s, t, lights);
         for (const GltfAnimationPlayer& p : players) p.apply(s, t);
         RayStats st;
-        addFrame(renderFrame(s, s.camera, rs, i, 0, st), f);
+        addFrame(renderFrame(s, {s.camera, rs, bounce}, i, 0, st), f);
     }
     std::printf("simple_skin framed on its bind pose: %d of %d sampled frames clipped\n", f.clippedFrames, (rest.frameCount() + 2) / 3);
     EXPECT_GT(f.clippedFrames, 0) << "the bind pose's framing holds the whole motion: the test cannot tell them apart";

@@ -17,12 +17,12 @@ constexpr double kPi = 3.14159265358979323846;
 
 Scene twoSpheres() {
     Scene s;
-    s.spheres.push_back(Sphere{});
-    s.spheres.back().center = Vec3(-1.f, 0.f, 0.f);
-    s.spheres.back().radius = 1.f;
-    s.spheres.push_back(Sphere{});
-    s.spheres.back().center = Vec3(3.f, 0.f, 0.f);
-    s.spheres.back().radius = 1.f;
+    s.geometry.spheres.push_back(Sphere{});
+    s.geometry.spheres.back().center = Vec3(-1.f, 0.f, 0.f);
+    s.geometry.spheres.back().radius = 1.f;
+    s.geometry.spheres.push_back(Sphere{});
+    s.geometry.spheres.back().center = Vec3(3.f, 0.f, 0.f);
+    s.geometry.spheres.back().radius = 1.f;
     s.camera.fovDeg = 40.f;
     s.settings.width = 200;
     s.settings.height = 100;

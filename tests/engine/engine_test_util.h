@@ -75,7 +75,7 @@ inline RenderSettings smallSettings(int w, int h, int spp = 1, int depth = 5) {
 /// Renders the scene's camera on one thread.
 inline Image render(const Scene& scene, const RenderSettings& s, RayStats* statsOut = nullptr, int threads = 1) {
     RayStats st;
-    Image img = renderFrame(scene, scene.camera, s, 0, threads, st);
+    Image img = renderFrame(scene, {scene.camera, s}, 0, threads, st);
     if (statsOut) *statsOut = st;
     return img;
 }

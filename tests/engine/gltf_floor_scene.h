@@ -84,7 +84,7 @@ inline Image renderFromAbove(Scene s) {
     rs.exposure = 0.f;
     rs.autoExposure = false;
     RayStats stats;
-    return renderFrame(s, s.camera, rs, 0, 1, stats);
+    return renderFrame(s, {s.camera, rs}, 0, 1, stats);
 }
 
 /// n·v at pixel (x, y): the ray through the pixel centre meets the floor's normal +y.

@@ -25,10 +25,11 @@ void train(const std::string& path, const SceneOptions& options, std::vector<int
     settings.width = width;
     settings.height = width * 9 / 16;
     settings.spp = spp;
+    const auto bounceSlot = std::make_shared<SceneCacheSlot>();  // the film's, as a render job keeps it
     for (int f : frames) {
         if (f < timeline.frameCount()) timeline.applyFrame(scene, f);
         RayStats rays;
-        const Image img = renderFrame(scene, scene.camera, settings, f, 1, rays);
+        const Image img = renderFrame(scene, {scene.camera, settings, bounceSlot}, f, 1, rays);
         std::vector<uint8_t> rgb(size_t(img.width()) * img.height() * 3);
         encodeRgb8(img.data(), rgb.size(), settings.toneMap, rgb.data(), exposureScale(settings.exposure));
     }

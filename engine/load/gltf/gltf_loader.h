@@ -5,7 +5,7 @@
 /// Mapping choices (see also gltf_materials.h):
 /// - Render space = world − scene.renderOrigin; node transforms are composed in double.
 /// - Meshes on nodes that an animation targets (or below one) keep model-space data and a
-///   (model, node) link for Scene::applyNodeTransforms; all others are baked.
+///   (model, node) link for SceneGeometry::applyNodeTransforms; all others are baked.
 /// - KHR_lights_punctual: point/spot intensity in candela becomes intensity/π with inverse-square
 ///   attenuation (1/d² of a Lambertian surface's radiance, exposure 1); directional lux/π.
 /// - alphaMode BLEND: see-through without bending (transmission 1 − alpha at ior 1).

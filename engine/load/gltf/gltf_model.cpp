@@ -117,7 +117,7 @@ void GltfModel::addNodeMeshes(Scene& scene, int node, const DMat4& renderFromNod
         if (skinnedPrimitive(node, *g, int(p))) {
             // The skin places it (the node's own transform is not used); it always keeps its
             // object-space data, so any animation of its joints can move it.
-            TriangleMesh m = restSkinned(node, *g, scene.models[size_t(modelIndex)].renderFromModel);
+            TriangleMesh m = restSkinned(node, *g, scene.geometry.models[size_t(modelIndex)].renderFromModel);
             m.name = gm.name;
             m.model = modelIndex;
             m.node = node;
@@ -131,7 +131,7 @@ void GltfModel::addNodeMeshes(Scene& scene, int node, const DMat4& renderFromNod
             weightsZero_ += g->weightsZero;
             m.material = materialOverride_ >= 0 ? materialOverride_ : materials.materialFor(primitiveMaterial(gm, p, g->gltfMaterial));
             if (materialOverride_ >= 0) m.colors.clear(), m.tangents.clear(), m.objectTangents.clear();
-            scene.meshes.push_back(std::move(m));
+            scene.geometry.meshes.push_back(std::move(m));
             continue;
         }
         TriangleMesh m = g->mesh;
@@ -165,7 +165,7 @@ void GltfModel::addNodeMeshes(Scene& scene, int node, const DMat4& renderFromNod
         } else {
             m.material = materials.materialFor(primitiveMaterial(gm, p, g->gltfMaterial));
         }
-        scene.meshes.push_back(std::move(m));
+        scene.geometry.meshes.push_back(std::move(m));
     }
 }
 
@@ -208,8 +208,8 @@ void GltfModel::noteDrops(const DropCounts& d) {
 void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel, int materialOverride) {
     materialOverride_ = materialOverride;
     const DMat4 renderFromModel = glm::translate(DMat4(1.0), -scene.renderOrigin) * worldFromModel;
-    const int modelIndex = int(scene.models.size());
-    scene.models.push_back(sceneGraph(renderFromModel));
+    const int modelIndex = int(scene.geometry.models.size());
+    scene.geometry.models.push_back(sceneGraph(renderFromModel));
 
     // A node moves if it, or any ancestor, is animated (order_ lists parents first).
     std::vector<uint8_t> dynamic(model_.nodes.size(), 0);

@@ -13,17 +13,17 @@ namespace rf::stability {
 void farSmallSphere(std::vector<StabilityCase>& out) {
     Scene sc;
     sc.materials = {matte(Color(1.f))};
-    sc.spheres.push_back({Vec3(0.f), 0.1f, 0});
+    sc.geometry.spheres.push_back({Vec3(0.f), 0.1f, 0});
     sc.build();
     for (float x0 : {-400.f, -1e4f, -1e7f}) {
         Ray r;
         r.o = Vec3(x0, 0.095f, 0.f);
         r.d = Vec3(1.f, 0.f, 0.f);
         Hit hit;
-        const bool found = sc.intersect(r, hit);
+        const bool found = sc.geometry.intersect(r, hit);
         const double expect = -double(x0) - std::sqrt(0.1 * 0.1 - double(0.095f) * double(0.095f));
         float tNaive = 0.f;
-        const bool naive = intersectSphereNaive(sc.spheres[0], r, 0.f, kInf, tNaive);
+        const bool naive = intersectSphereNaive(sc.geometry.spheres[0], r, 0.f, kInf, tNaive);
         StabilityCase c{"1", "sphere r 0.1, ray from x = " + formatValue("%g", x0) + " at y 0.095", "", 0.0, 1e-6,
                         "relative t", false, false};
         c.error = found ? std::abs(double(hit.t) - expect) / expect : 1.0;
@@ -41,13 +41,13 @@ void triangleSeam(std::vector<StabilityCase>& out) {
     TriangleMesh m;
     m.positions = {Vec3(-5, -5, 0), Vec3(5, -5, 0), Vec3(5, 5, 0), Vec3(-5, 5, 0)};
     m.indices = {0, 1, 2, 0, 2, 3};
-    sc.meshes.push_back(m);
+    sc.geometry.meshes.push_back(m);
     sc.build();
     Ray r;
     r.o = Vec3(0, 0, 10);
     r.d = Vec3(0.30458447f, 0.30458447f, -0.9024725f);
     Hit hit;
-    const bool found = sc.intersect(r, hit);
+    const bool found = sc.geometry.intersect(r, hit);
     const Vec3 p = r.o + hit.t * r.d;
     StabilityCase c{"4", "ray onto the diagonal seam of two triangles", "", 0.0, 1e-4, "distance", false, false};
     c.error = found ? double(glm::length(p - Vec3(3.375f, 3.375f, 0.f))) : 1e30;
@@ -60,9 +60,9 @@ void watertight(std::vector<StabilityCase>& out) {
     const Vec3 centre(0.3f, -0.2f, 0.1f);
     Scene sc;
     sc.materials = {matte(Color(1.f))};
-    sc.meshes.push_back(icosphere(2, 1.f, centre));
+    sc.geometry.meshes.push_back(icosphere(2, 1.f, centre));
     sc.build();
-    const TriangleMesh& m = sc.meshes[0];
+    const TriangleMesh& m = sc.geometry.meshes[0];
     // Inradius: the nearest face plane to the centre, from the float vertices in double.
     double inR = 1e30;
     for (size_t i = 0; i < m.indices.size(); i += 3) {
@@ -81,7 +81,7 @@ void watertight(std::vector<StabilityCase>& out) {
         r.o = o;
         r.d = d;
         Hit hit;
-        if (!sc.intersect(r, hit)) ++missed;
+        if (!sc.geometry.intersect(r, hit)) ++missed;
     };
     // A grid along −z over the bounds; its lines x = 0 and y = 0 run along edges of the mesh.
     const int n = 256;
@@ -113,8 +113,8 @@ void watertight(std::vector<StabilityCase>& out) {
 void thinGap(std::vector<StabilityCase>& out) {
     Scene sc;
     sc.materials = {matte(Color(1.f))};
-    sc.spheres.push_back({Vec3(0.f), 1.f, 0});
-    sc.spheres.push_back({Vec3(0.f), 1.f + 4e-5f, 0});
+    sc.geometry.spheres.push_back({Vec3(0.f), 1.f, 0});
+    sc.geometry.spheres.push_back({Vec3(0.f), 1.f + 4e-5f, 0});
     sc.build();
     // As the tracer does: hit the outer shell, spawn a ray inward from the offset hit point, and
     // it must stop at the inner sphere (prim 0) 4e-5 further on, not skip it.
@@ -128,15 +128,15 @@ void thinGap(std::vector<StabilityCase>& out) {
         r.o = dir * 5.f;
         r.d = -dir;
         Hit hit;
-        if (!sc.intersect(r, hit)) continue;
-        const SurfaceInteraction si = sc.interaction(r, hit);
+        if (!sc.geometry.intersect(r, hit)) continue;
+        const SurfaceInteraction si = sc.geometry.interaction(r, hit);
         Ray in;
         in.d = r.d;
         in.o = offsetRayOrigin(si.p, si.pError, si.ng, in.d);
         Hit h2;
         ++rays;
         const double gap = glm::length(DVec3(in.o)) - 1.0;  // radial distance to the inner sphere
-        const bool found = sc.intersect(in, h2, sc.skipFor(si, in.d));
+        const bool found = sc.geometry.intersect(in, h2, sc.geometry.skipFor(si, in.d));
         const double err = found ? std::abs(h2.t - gap) : 1.0;
         if (hit.prim != 1 || !found || h2.prim != 0 || err > 1e-6) ++missed;
         worst = std::max(worst, err);

@@ -55,8 +55,8 @@ void translatedModel(std::vector<StabilityCase>& out, int threads) {
     // The same scene with float world coordinates (no rebasing): float spacing at 6.4e6 is 0.5.
     Scene naive = origin;
     const Vec3 shift(6.4e6f, 0.f, 0.f);
-    for (Sphere& s : naive.spheres) s.center += shift;
-    for (Plane& p : naive.planes) p.d -= glm::dot(p.n, shift);
+    for (Sphere& s : naive.geometry.spheres) s.center += shift;
+    for (Plane& p : naive.geometry.planes) p.d -= glm::dot(p.n, shift);
     for (Light& l : naive.lights) l.position += shift;
     naive.camera.eye += shift;
     naive.camera.target += shift;
@@ -79,7 +79,7 @@ void distanceInvariance(std::vector<StabilityCase>& out, int threads) {
         m.specular = 0.f;
         sc.materials = {m};
         sc.background = Color(0.1f);
-        sc.spheres.push_back({Vec3(0.2f, -0.1f, 0.f), 1.f, 0});
+        sc.geometry.spheres.push_back({Vec3(0.2f, -0.1f, 0.f), 1.f, 0});
         sc.camera.eye = Vec3(0.2f, -0.1f, dist);
         sc.camera.target = Vec3(0.2f, -0.1f, 0.f);
         sc.camera.fovDeg = float(glm::degrees(2.0 * std::atan(std::tan(std::asin(1.0 / dist)) / 0.6)));
@@ -91,7 +91,7 @@ void distanceInvariance(std::vector<StabilityCase>& out, int threads) {
     auto lit = [](float dist) {
         Scene sc;
         sc.materials = {matte(Color(0.8f, 0.3f, 0.2f))};
-        sc.spheres.push_back({Vec3(0.f), 1.f, 0});
+        sc.geometry.spheres.push_back({Vec3(0.f), 1.f, 0});
         Light l;
         l.position = Vec3(3, 4, 5);
         sc.lights = {l};
@@ -113,7 +113,7 @@ void selfShadowAtRange(std::vector<StabilityCase>& out, int threads) {
     m.ambient = 0.f;
     m.specular = 0.f;
     sc.materials = {m};
-    sc.planes.push_back({Vec3(0, 1, 0), 0.f, 0});
+    sc.geometry.planes.push_back({Vec3(0, 1, 0), 0.f, 0});
     Light l;
     l.type = LightType::Directional;
     l.direction = glm::normalize(Vec3(0.3f, -1.f, 0.2f));
@@ -140,7 +140,7 @@ void lightJustAbovePlane(std::vector<StabilityCase>& out, int threads) {
     m.specular = 0.f;
     m.diffuse = 1.f;
     sc.materials = {m};
-    sc.planes.push_back({Vec3(0, 1, 0), 0.f, 0});
+    sc.geometry.planes.push_back({Vec3(0, 1, 0), 0.f, 0});
     Light l;
     l.position = Vec3(0.f, 1e-3f, 0.f);
     sc.lights = {l};

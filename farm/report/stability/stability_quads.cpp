@@ -30,7 +30,7 @@ Scene flatQuadScene(float z, float tiltDeg) {
     q.positions = {c - u - v, c + u - v, c + u + v, c - u + v};
     q.indices = {0, 1, 2, 0, 2, 3};
     q.material = 0;
-    sc.meshes.push_back(q);
+    sc.geometry.meshes.push_back(q);
     Light key, graze;
     key.type = graze.type = LightType::Directional;
     key.direction = -glm::normalize(0.5f * u + 0.3f * v + n);

@@ -31,10 +31,10 @@ Scene demoScene(float s) {
     floor.color2 = Color(0.15f);
     floor.checkerScale = 1.0f * s;
     sc.materials = {floor, matte(Color(0.8f, 0.15f, 0.1f)), matte(Color(0.95f), 0.9f), matte(Color(0.1f, 0.4f, 0.85f))};
-    sc.planes.push_back({Vec3(0, 1, 0), 0.f, 0});
-    sc.spheres.push_back({Vec3(-1.6f, 0.8f, 0.3f) * s, 0.8f * s, 1});
-    sc.spheres.push_back({Vec3(0.4f, 1.0f, 0.0f) * s, 1.0f * s, 2});
-    sc.spheres.push_back({Vec3(2.0f, 0.5f, -1.2f) * s, 0.5f * s, 3});
+    sc.geometry.planes.push_back({Vec3(0, 1, 0), 0.f, 0});
+    sc.geometry.spheres.push_back({Vec3(-1.6f, 0.8f, 0.3f) * s, 0.8f * s, 1});
+    sc.geometry.spheres.push_back({Vec3(0.4f, 1.0f, 0.0f) * s, 1.0f * s, 2});
+    sc.geometry.spheres.push_back({Vec3(2.0f, 0.5f, -1.2f) * s, 0.5f * s, 3});
     Light a, b;
     a.position = Vec3(6, 9, -5) * s;
     b.position = Vec3(-7, 6, -8) * s;
@@ -56,7 +56,7 @@ std::vector<uint8_t> render8(const Scene& sc, int w, int h, int spp, int threads
     s.spp = spp;
     s.maxDepth = 5;
     RayStats rays;
-    return toRgb8(renderFrame(sc, sc.camera, s, 0, threads, rays), s);
+    return toRgb8(renderFrame(sc, {sc.camera, s}, 0, threads, rays), s);
 }
 
 namespace {

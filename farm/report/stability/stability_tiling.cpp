@@ -20,8 +20,8 @@ Scene meshFloorScene() {
     TriangleMesh floor;
     floor.positions = {Vec3(-50, 1e-3f, -50), Vec3(50, 1e-3f, -50), Vec3(50, 1e-3f, 50), Vec3(-50, 1e-3f, 50)};
     floor.indices = {0, 2, 1, 0, 3, 2};
-    sc.meshes.push_back(floor);
-    sc.meshes.push_back(icosphere(2, 1.f, Vec3(0.f, 1.2f, 0.f)));
+    sc.geometry.meshes.push_back(floor);
+    sc.geometry.meshes.push_back(icosphere(2, 1.f, Vec3(0.f, 1.2f, 0.f)));
     Light l;
     l.position = Vec3(3.f, 6.f, 2.f);
     sc.lights = {l};
@@ -39,7 +39,7 @@ int variantsDiffering(const Scene& sc, int w, int h, int threads, int& variants)
     s.height = h;
     s.spp = 4;
     RayStats rays;
-    const Image ref = renderFrame(sc, sc.camera, s, 0, threads, rays);
+    const Image ref = renderFrame(sc, {sc.camera, s}, 0, threads, rays);
     std::vector<bool> bad(size_t(w) * h, false);
     variants = 0;
     for (int tile : {1, 7, 16, 32, 128})
@@ -47,7 +47,7 @@ int variantsDiffering(const Scene& sc, int w, int h, int threads, int& variants)
             s.tileSize = tile;
             s.packets = mode != 1;
             s.blockerCache = mode != 2;
-            const Image img = renderFrame(sc, sc.camera, s, 0, threads, rays);
+            const Image img = renderFrame(sc, {sc.camera, s}, 0, threads, rays);
             ++variants;
             for (size_t i = 0; i < bad.size(); ++i) bad[i] = bad[i] || std::memcmp(img.data() + 3 * i, ref.data() + 3 * i, 3 * sizeof(float)) != 0;
         }
@@ -91,8 +91,8 @@ void dimLightScene(std::vector<StabilityCase>& out, int threads) {
     m.roughness = 0.6f;
     m.metallic = 0.f;
     sc.materials = {m};
-    sc.planes.push_back({Vec3(0, 1, 0), 0.f, 0});
-    sc.spheres.push_back({Vec3(0.f, 0.6f, 0.f), 0.6f, 0});
+    sc.geometry.planes.push_back({Vec3(0, 1, 0), 0.f, 0});
+    sc.geometry.spheres.push_back({Vec3(0.f, 0.6f, 0.f), 0.6f, 0});
     Light l;
     l.position = Vec3(1.2f, 2.2f, 0.8f);
     l.intensity = 10.f / kLumensPerWatt;
@@ -110,11 +110,11 @@ void dimLightScene(std::vector<StabilityCase>& out, int threads) {
     s.minWeight = 0.f;
     RayStats rays;
     ExposureMeter meter;
-    meter.add(renderFrame(sc, sc.camera, s, 0, threads, rays));
+    meter.add(renderFrame(sc, {sc.camera, s}, 0, threads, rays));
     s.exposure = meter.ev();
-    const std::vector<uint8_t> full = toRgb8(renderFrame(sc, sc.camera, s, 0, threads, rays), s);
+    const std::vector<uint8_t> full = toRgb8(renderFrame(sc, {sc.camera, s}, 0, threads, rays), s);
     s.minWeight = RenderSettings{}.minWeight;
-    const std::vector<uint8_t> pruned = toRgb8(renderFrame(sc, sc.camera, s, 0, threads, rays), s);
+    const std::vector<uint8_t> pruned = toRgb8(renderFrame(sc, {sc.camera, s}, 0, threads, rays), s);
     double mean = 0.0;
     for (uint8_t v : pruned) mean += v;
     mean /= double(pruned.size());

@@ -47,7 +47,7 @@ Scene testScene(uint32_t seed) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<float> u(-1.f, 1.f);
     for (Vec3& p : g.positions) p.y = 0.05f * u(rng);
-    s.meshes.push_back(g);
+    s.geometry.meshes.push_back(g);
     TriangleMesh soup;
     for (int i = 0; i < 600; ++i) {
         const Vec3 c(8.f * u(rng), 1.f + 2.f * u(rng), 8.f * u(rng));
@@ -56,8 +56,10 @@ Scene testScene(uint32_t seed) {
             soup.indices.push_back(static_cast<uint32_t>(soup.positions.size() - 1));
         }
     }
-    s.meshes.push_back(soup);
-    for (int i = 0; i < 20; ++i) s.spheres.push_back(Sphere{Vec3(8.f * u(rng), 1.f + u(rng), 8.f * u(rng)), 0.1f + 0.3f * (u(rng) + 1.f), 0});
+    s.geometry.meshes.push_back(soup);
+    for (int i = 0; i < 20; ++i)
+        s.geometry.spheres.push_back(
+            Sphere{Vec3(8.f * u(rng), 1.f + u(rng), 8.f * u(rng)), 0.1f + 0.3f * (u(rng) + 1.f), 0});
     s.build();
     return s;
 }
@@ -68,7 +70,7 @@ bool bruteForce(const Scene& s, const Ray& r, float& tBest, uint32_t& id) {
     tBest = r.tMax;
     bool found = false;
     uint32_t base = 0;
-    for (const TriangleMesh& m : s.meshes) {
+    for (const TriangleMesh& m : s.geometry.meshes) {
         for (size_t t = 0; t < m.triangleCount(); ++t) {
             TriangleHit h;
             if (intersectTriangleWatertight(wr, m.positions[m.indices[3 * t]], m.positions[m.indices[3 * t + 1]],
@@ -80,9 +82,9 @@ bool bruteForce(const Scene& s, const Ray& r, float& tBest, uint32_t& id) {
         }
         base += static_cast<uint32_t>(m.triangleCount());
     }
-    for (size_t i = 0; i < s.spheres.size(); ++i) {
+    for (size_t i = 0; i < s.geometry.spheres.size(); ++i) {
         float t;
-        if (intersectSphereExact(s.spheres[i], r, 0.f, tBest, t)) {
+        if (intersectSphereExact(s.geometry.spheres[i], r, 0.f, tBest, t)) {
             tBest = t;
             id = base + static_cast<uint32_t>(i);
             found = true;
@@ -115,7 +117,7 @@ Mismatch compare(const Scene& s, size_t count, float maxDist, uint32_t seed) {
             r.d = dir;
         }
         Hit h;
-        const bool hb = s.intersect(r, h);
+        const bool hb = s.geometry.intersect(r, h);
         float tRef;
         uint32_t idRef = 0;
         const bool hr = bruteForce(s, r, tRef, idRef);
@@ -152,7 +154,7 @@ std::vector<Ray> fan(const Vec3& o, const Vec3& aim, int w, int h, float step) {
 
 TEST(Bvh, RandomAndGrazingRaysMatchBruteForce) {
     const Scene s = testScene(11);
-    ASSERT_TRUE(s.usesBvh());
+    ASSERT_TRUE(s.geometry.usesBvh());
     const Mismatch mm = compare(s, 60000, 1e5f, 5);
     EXPECT_EQ(mm.wrongId, 0u);
     EXPECT_GT(mm.hits, mm.rays / 4);  // the rays do meet geometry
@@ -168,9 +170,9 @@ TEST(Bvh, AxisAlignedRaysWithSignedZerosOnSlabsMatchBruteForce) {
     std::mt19937 rng(17);
     std::uniform_real_distribution<float> u(-1.f, 1.f);
     for (Vec3& p : g.positions) p.y = 0.05f * u(rng);
-    s.meshes.push_back(g);
+    s.geometry.meshes.push_back(g);
     s.build();
-    ASSERT_TRUE(s.usesBvh());
+    ASSERT_TRUE(s.geometry.usesBvh());
     size_t hits = 0;
     for (int variant = 0; variant < 2; ++variant)
         for (int i = 0; i <= 32; ++i)
@@ -183,12 +185,12 @@ TEST(Bvh, AxisAlignedRaysWithSignedZerosOnSlabsMatchBruteForce) {
                     float tRef;
                     uint32_t idRef = 0;
                     const bool hr = bruteForce(s, r, tRef, idRef);
-                    const bool hb = s.intersect(r, h);
+                    const bool hb = s.geometry.intersect(r, h);
                     ASSERT_EQ(hb, hr) << i << "," << j;
                     if (!hr) continue;
                     ++hits;
                     EXPECT_EQ(h.t, tRef) << i << "," << j;
-                    EXPECT_EQ(s.occluded(r, tRef * 1.01f), true) << i << "," << j;
+                    EXPECT_EQ(s.geometry.occluded(r, tRef * 1.01f), true) << i << "," << j;
                 }
             }
     EXPECT_GT(hits, size_t(33 * 33 * 2));  // nearly every ray meets the grid (edges may miss at the rim)
@@ -218,7 +220,7 @@ TEST(BvhStress, GrazingPacketsMatchRaysTracedAlone) {
         const std::vector<Ray> packet = fan(aim - dist * dir, aim, 8, 8, 1e-4f * u01(rng));
         std::vector<Hit> ph(packet.size());
         bool met[Bvh::kPacketMax];
-        s.intersectPacket(packet.data(), int(packet.size()), ph.data(), met);
+        s.geometry.intersectPacket(packet.data(), int(packet.size()), ph.data(), met);
         for (size_t i = 0; i < packet.size(); ++i) {
             float tRef;
             uint32_t idRef = 0;
@@ -242,12 +244,12 @@ TEST(SmallScene, SpherePretestNeverLosesAHit) {
     std::mt19937 rng(17);
     std::uniform_real_distribution<float> u(-1.f, 1.f), u01(0.f, 1.f);
     for (int i = 0; i < 7; ++i)
-        s.spheres.push_back(Sphere{Vec3(4.f * u(rng), 4.f * u(rng), 4.f * u(rng)), std::pow(10.f, u(rng)), 0});
+        s.geometry.spheres.push_back(Sphere{Vec3(4.f * u(rng), 4.f * u(rng), 4.f * u(rng)), std::pow(10.f, u(rng)), 0});
     s.build();
-    ASSERT_FALSE(s.usesBvh());
+    ASSERT_FALSE(s.geometry.usesBvh());
     size_t hits = 0;
     for (int i = 0; i < 200000; ++i) {
-        const Sphere& sp = s.spheres[i % s.spheres.size()];
+        const Sphere& sp = s.geometry.spheres[i % s.geometry.spheres.size()];
         const Vec3 dir = glm::normalize(Vec3(u(rng), u(rng), u(rng)));
         Vec3 side = glm::cross(dir, glm::normalize(Vec3(u(rng), u(rng), u(rng))));
         side = glm::normalize(side);
@@ -257,7 +259,7 @@ TEST(SmallScene, SpherePretestNeverLosesAHit) {
         Ray r{target - dist * dir, dir};
         if (i % 5 == 4) r = Ray{Vec3(20.f * u(rng), 20.f * u(rng), 20.f * u(rng)), dir};
         Hit h;
-        const bool hb = s.intersect(r, h);
+        const bool hb = s.geometry.intersect(r, h);
         float tRef;
         uint32_t idRef = 0;
         const bool hr = bruteForce(s, r, tRef, idRef);
@@ -267,8 +269,8 @@ TEST(SmallScene, SpherePretestNeverLosesAHit) {
         ASSERT_EQ(h.prim, idRef) << "ray " << i;
         ASSERT_EQ(h.t, tRef) << "ray " << i;
         // Shadow rays ending just before, and well past, the hit.
-        ASSERT_FALSE(s.occluded(r, h.t * (1.f - 1e-5f))) << "ray " << i;
-        ASSERT_TRUE(s.occluded(r, h.t * 2.f + 1.f)) << "ray " << i;
+        ASSERT_FALSE(s.geometry.occluded(r, h.t * (1.f - 1e-5f))) << "ray " << i;
+        ASSERT_TRUE(s.geometry.occluded(r, h.t * 2.f + 1.f)) << "ray " << i;
     }
     EXPECT_GT(hits, 50000u);
 }
@@ -280,9 +282,9 @@ TEST(Bvh, AnyHitAgreesWithClosestHit) {
     for (int i = 0; i < 20000; ++i) {
         Ray r{Vec3(12.f * u(rng), 4.f * u(rng), 12.f * u(rng)), glm::normalize(Vec3(u(rng), u(rng), u(rng)))};
         Hit h;
-        const bool hit = s.intersect(r, h);
+        const bool hit = s.geometry.intersect(r, h);
         const float tMax = 3.f;
-        EXPECT_EQ(s.occluded(r, tMax), hit && h.t < tMax) << i;
+        EXPECT_EQ(s.geometry.occluded(r, tMax), hit && h.t < tMax) << i;
     }
 }
 
@@ -293,10 +295,10 @@ TEST(Bvh, LastBlockerChangesNoAnswer) {
     // rays start from a stale or bogus guess (a triangle that does not block, a sphere id, one
     // past the end) to show a wrong guess only costs a test.
     const Scene s = testScene(13);
-    const uint32_t nTri = static_cast<uint32_t>(s.triangleCount());
+    const uint32_t nTri = static_cast<uint32_t>(s.geometry.triangleCount());
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> u(-1.f, 1.f);
-    uint32_t cache = Scene::kNoPrim;
+    uint32_t cache = SceneGeometry::kNoPrim;
     int blocked = 0, reused = 0;
     for (int i = 0; i < 20000; ++i) {
         if (i % 200 == 0) cache = (i / 200) % 3 == 0 ? nTri + 1 : (i / 200) % 3 == 1 ? nTri + 100000u : uint32_t(i) % nTri;
@@ -305,15 +307,15 @@ TEST(Bvh, LastBlockerChangesNoAnswer) {
         const Ray r{o, glm::normalize(target - o)};
         const float tMax = glm::length(target - o);
         const uint32_t before = cache;
-        const bool plain = s.occluded(r, tMax);
-        const bool cached = s.occluded(r, tMax, Scene::kNoPrim, &cache);
+        const bool plain = s.geometry.occluded(r, tMax);
+        const bool cached = s.geometry.occluded(r, tMax, SceneGeometry::kNoPrim, &cache);
         ASSERT_EQ(cached, plain) << i;
         if (plain) {
             ++blocked;
             reused += cache == before;
-            ASSERT_LT(cache, nTri + static_cast<uint32_t>(s.spheres.size())) << i;
+            ASSERT_LT(cache, nTri + static_cast<uint32_t>(s.geometry.spheres.size())) << i;
         } else {
-            EXPECT_EQ(cache, Scene::kNoPrim) << i;
+            EXPECT_EQ(cache, SceneGeometry::kNoPrim) << i;
         }
     }
     // The walk crosses shadows, and some blocked rays were answered by the guess.
@@ -329,9 +331,9 @@ TEST(Bvh, LastBlockerAgreesWithTheWalkAtTheFarEnd) {
     Scene s = test::emptyScene();
     TriangleMesh floor = test::gridMesh(16, 5.f);
     for (Vec3& p : floor.positions) p.y = 3.f;
-    s.meshes.push_back(floor);
+    s.geometry.meshes.push_back(floor);
     s.build();
-    ASSERT_TRUE(s.usesBvh());
+    ASSERT_TRUE(s.geometry.usesBvh());
     std::mt19937 rng(11);
     std::uniform_real_distribution<float> u(-1.f, 1.f);
     int checked = 0, differ = 0;
@@ -339,12 +341,12 @@ TEST(Bvh, LastBlockerAgreesWithTheWalkAtTheFarEnd) {
         const Vec3 o(4.f * u(rng), -7.f + u(rng), 4.f * u(rng));
         const Ray r{o, glm::normalize(Vec3(0.3f * u(rng), 1.f, 0.3f * u(rng)))};
         Hit h;
-        if (!s.intersect(r, h)) continue;
+        if (!s.geometry.intersect(r, h)) continue;
         float tMax = std::nextafter(h.t, 0.f);
         for (int k = 0; k < 6; ++k, tMax = std::nextafter(tMax, kInf)) {
             uint32_t guess = h.prim;
-            const bool plain = s.occluded(r, tMax);
-            const bool cached = s.occluded(r, tMax, Scene::kNoPrim, &guess);
+            const bool plain = s.geometry.occluded(r, tMax);
+            const bool cached = s.geometry.occluded(r, tMax, SceneGeometry::kNoPrim, &guess);
             ++checked;
             differ += plain != cached;
         }
@@ -354,7 +356,7 @@ TEST(Bvh, LastBlockerAgreesWithTheWalkAtTheFarEnd) {
 }
 
 
-// Camera packets (Bvh::traversePacket through Scene::intersectPacket) against each ray alone
+// Camera packets (Bvh::traversePacket through SceneGeometry::intersectPacket) against each ray alone
 // and against brute force: tight and wide fans of 1 to 64 rays, grazing the bumpy grid, crossing
 // the soup's silhouettes, some missing everything, some from inside the soup.
 TEST(Bvh, PacketsMatchRaysTracedAlone) {
@@ -371,10 +373,10 @@ TEST(Bvh, PacketsMatchRaysTracedAlone) {
         const std::vector<Ray> packet = fan(o, aim, w, h, step);
         std::vector<Hit> ph(packet.size());
         bool met[Bvh::kPacketMax];
-        s.intersectPacket(packet.data(), int(packet.size()), ph.data(), met);
+        s.geometry.intersectPacket(packet.data(), int(packet.size()), ph.data(), met);
         for (size_t i = 0; i < packet.size(); ++i) {
             Hit alone;
-            const bool a = s.intersect(packet[i], alone);
+            const bool a = s.geometry.intersect(packet[i], alone);
             float tRef;
             uint32_t idRef = 0;
             const bool b = bruteForce(s, packet[i], tRef, idRef);
@@ -406,11 +408,11 @@ TEST(Bvh, PacketsThatCannotBeBoundedGoRayByRay) {
     for (const std::vector<Ray>* packet : {&spread, &wide}) {
         std::vector<Hit> ph(packet->size());
         bool met[Bvh::kPacketMax];
-        s.intersectPacket(packet->data(), int(packet->size()), ph.data(), met);
+        s.geometry.intersectPacket(packet->data(), int(packet->size()), ph.data(), met);
         int found = 0;
         for (size_t i = 0; i < packet->size(); ++i) {
             Hit alone;
-            ASSERT_EQ(met[i], s.intersect((*packet)[i], alone)) << i;
+            ASSERT_EQ(met[i], s.geometry.intersect((*packet)[i], alone)) << i;
             if (met[i]) {
                 EXPECT_EQ(ph[i].t, alone.t) << i;
             }
@@ -422,11 +424,11 @@ TEST(Bvh, PacketsThatCannotBeBoundedGoRayByRay) {
 
 TEST(Bvh, BuildIsDeterministicAndRefitFollowsMovedGeometry) {
     Scene a = testScene(21), b = testScene(21);
-    ASSERT_EQ(a.bvh().nodes().size(), b.bvh().nodes().size());
-    EXPECT_EQ(a.bvh().primIndex(), b.bvh().primIndex());
+    ASSERT_EQ(a.geometry.bvh().nodes().size(), b.geometry.bvh().nodes().size());
+    EXPECT_EQ(a.geometry.bvh().primIndex(), b.geometry.bvh().primIndex());
     // Lift the grid by 3 and refit: rays now meet it at y = 3.
-    for (Vec3& p : a.meshes[0].positions) p.y += 3.f;
-    a.refit();
+    for (Vec3& p : a.geometry.meshes[0].positions) p.y += 3.f;
+    a.geometry.refit();
     std::mt19937 rng(9);
     std::uniform_real_distribution<float> u(-1.f, 1.f);
     for (int i = 0; i < 5000; ++i) {
@@ -435,7 +437,7 @@ TEST(Bvh, BuildIsDeterministicAndRefitFollowsMovedGeometry) {
         float tRef;
         uint32_t idRef = 0;
         const bool hr = bruteForce(a, r, tRef, idRef);
-        ASSERT_EQ(a.intersect(r, h), hr);
+        ASSERT_EQ(a.geometry.intersect(r, h), hr);
         if (hr) {
             EXPECT_EQ(h.t, tRef);
         }

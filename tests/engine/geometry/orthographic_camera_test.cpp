@@ -34,7 +34,7 @@ Covered covered(const Image& img) {
 /// A unit sphere at the origin seen along −z from distance `dist`, over a transparent background.
 Image sphereAt(float dist, bool orthographic, int w, int h) {
     Scene s = test::emptyScene();
-    s.spheres.push_back(Sphere{Vec3(0.f), 1.f, 0});
+    s.geometry.spheres.push_back(Sphere{Vec3(0.f), 1.f, 0});
     s.transparentBackground = true;
     s.camera.eye = Vec3(0.f, 0.f, dist);
     s.camera.target = Vec3(0.f);
@@ -48,7 +48,7 @@ Image sphereAt(float dist, bool orthographic, int w, int h) {
 Image renderCamera(const Scene& scene, int w, int h) {
     RenderSettings st = test::smallSettings(w, h);
     RayStats rays;
-    return renderFrame(scene, scene.camera, st, 0, 1, rays);
+    return renderFrame(scene, {scene.camera, st}, 0, 1, rays);
 }
 
 Scene loadJson(const std::string& text) {

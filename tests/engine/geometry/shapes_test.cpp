@@ -161,7 +161,7 @@ TEST(Sphere, FromInsideFindsTheExit) {
         const Vec3 n = glm::normalize(Vec3(u(rng), u(rng), u(rng)));
         const Vec3 rel = radius * n;
         const Vec3 p = c + rel;
-        // As Scene::interaction bounds a sphere hit point.
+        // As SceneGeometry::interaction bounds a sphere hit point.
         const Vec3 pError = gamma(5) * absComponents(rel) + gamma(2) * absComponents(p);
         // Inward directions, the cosine to -n spread log-uniformly down to 1e-6 (grazing).
         const Vec3 t = glm::normalize(glm::cross(n, Vec3(u(rng), u(rng), u(rng))));

@@ -127,9 +127,9 @@ Scene loadStrip(const StripOptions& o, const TempDir& dir) {
 
 /// World positions of the strip's six vertices, in file order.
 std::vector<glm::dvec3> worldPositions(const Scene& s) {
-    EXPECT_EQ(s.meshes.size(), 1u);
+    EXPECT_EQ(s.geometry.meshes.size(), 1u);
     std::vector<glm::dvec3> out;
-    for (const Vec3& p : s.meshes[0].positions) out.push_back(glm::dvec3(p) + s.renderOrigin);
+    for (const Vec3& p : s.geometry.meshes[0].positions) out.push_back(glm::dvec3(p) + s.renderOrigin);
     return out;
 }
 
@@ -144,9 +144,9 @@ TEST(Skinning, TwoJointStripLandsWhereTheJointMatricesPutIt) {
     const glm::dvec3 expected[6] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.2, 1.8, 0}, {-1, 1, 0}, {-1, 2, 0}};
     for (int i = 0; i < 6; ++i)
         for (int c = 0; c < 3; ++c) EXPECT_NEAR(p[size_t(i)][c], expected[i][c], 1e-6) << "vertex " << i << " axis " << c;
-    ASSERT_EQ(s.models.size(), 1u);
-    ASSERT_EQ(s.models[0].skins.size(), 1u);
-    EXPECT_EQ(s.models[0].skins[0].joints, (std::vector<int>{1, 2}));
+    ASSERT_EQ(s.geometry.models.size(), 1u);
+    ASSERT_EQ(s.geometry.models[0].skins.size(), 1u);
+    EXPECT_EQ(s.geometry.models[0].skins[0].joints, (std::vector<int>{1, 2}));
     for (const std::string& n : s.notes) EXPECT_EQ(n.find("skins are not supported"), std::string::npos) << n;
 }
 
@@ -163,14 +163,14 @@ TEST(Skinning, AbsentInverseBindMatricesAreTheIdentity) {
 
 TEST(Skinning, NormalizedU8AndU16WeightsSkinExactlyLikeFloats) {
     TempDir dir;
-    const std::vector<Vec3> ref = loadStrip({}, dir).meshes[0].positions;
+    const std::vector<Vec3> ref = loadStrip({}, dir).geometry.meshes[0].positions;
     for (WeightType t : {WeightType::U8, WeightType::U16})
         for (bool u16Joints : {false, true}) {
             StripOptions o;
             o.weights = t;
             o.u16Joints = u16Joints;
             const Scene s = loadStrip(o, dir);
-            EXPECT_EQ(s.meshes[0].positions, ref) << "weights " << int(t) << " u16 joints " << u16Joints;
+            EXPECT_EQ(s.geometry.meshes[0].positions, ref) << "weights " << int(t) << " u16 joints " << u16Joints;
         }
 }
 
@@ -179,9 +179,9 @@ TEST(Skinning, EverySetOfJointsAndWeightsCounts) {
     StripOptions o;
     o.secondSet = true;
     const Scene s = loadStrip(o, dir);
-    EXPECT_EQ(s.meshes[0].influences, 8);
-    const std::vector<Vec3> ref = loadStrip({}, dir).meshes[0].positions;
-    EXPECT_EQ(s.meshes[0].positions, ref);
+    EXPECT_EQ(s.geometry.meshes[0].influences, 8);
+    const std::vector<Vec3> ref = loadStrip({}, dir).geometry.meshes[0].positions;
+    EXPECT_EQ(s.geometry.meshes[0].positions, ref);
 }
 
 TEST(Skinning, WeightsThatDoNotSumToOneAreNormalizedWithOneNote) {
@@ -311,7 +311,7 @@ Scene rowOfTriangles() {
         m.positions.insert(m.positions.end(), {{x, 0.f, 0.f}, {x + 0.05f, 0.f, 0.f}, {x, 0.05f, 0.f}});
         m.indices.insert(m.indices.end(), {b, b + 1, b + 2});
     }
-    s.meshes.push_back(m);
+    s.geometry.meshes.push_back(m);
     s.materials.emplace_back();
     s.build();
     return s;
@@ -324,22 +324,22 @@ float foldedX(int tri, float fold) {
     return tri % 2 ? x + fold * (25.5f - 2.f * x) : x;
 }
 void pose(Scene& s, float fold, float nudge = 0.f) {
-    TriangleMesh& m = s.meshes[0];
+    TriangleMesh& m = s.geometry.meshes[0];
     for (size_t v = 0; v < m.positions.size(); ++v) {
         const int tri = int(v / 3), k = int(v % 3);
         const float y = (k == 2 ? 0.05f : 0.f) + (tri % 2 ? 1.f : 0.f) * fold;
         m.positions[v] = Vec3(foldedX(tri, fold) + (k == 1 ? 0.05f : 0.f), y, nudge);
     }
-    s.refit();
+    s.geometry.refit();
 }
 
 TEST(MovingMeshBvh, RefitsWhileGoodRebuildsWhenTheSahCostGrows) {
     Scene s = rowOfTriangles();
-    ASSERT_TRUE(s.usesBvh());
+    ASSERT_TRUE(s.geometry.usesBvh());
     pose(s, 0.f, 0.01f);  // a small move: the refitted tree is as good as a new one
-    EXPECT_FALSE(s.lastRefitRebuilt());
+    EXPECT_FALSE(s.geometry.lastRefitRebuilt());
     pose(s, 1.f);  // folded: every refitted node spans the whole row
-    EXPECT_TRUE(s.lastRefitRebuilt());
+    EXPECT_TRUE(s.geometry.lastRefitRebuilt());
     // Still correct: a ray down onto each triangle hits that one.
     for (int tri : {0, 1, 100, 255}) {
         const float y = (tri % 2 ? 1.f : 0.f) + 0.01f;
@@ -348,7 +348,7 @@ TEST(MovingMeshBvh, RefitsWhileGoodRebuildsWhenTheSahCostGrows) {
         r.d = Vec3(0.f, 0.f, -1.f);
         r.tMax = 10.f;
         Hit h;
-        ASSERT_TRUE(s.intersect(r, h)) << tri;
+        ASSERT_TRUE(s.geometry.intersect(r, h)) << tri;
         EXPECT_NEAR(h.t, 1.0, 1e-5) << tri;
     }
 }
@@ -357,25 +357,25 @@ TEST(MovingMeshBvh, TheTreeIsAFunctionOfThePoseAlone) {
     // Pose B reached directly, or after another spread pose, or after a small one: one tree.
     Scene direct = rowOfTriangles(), viaSpread = rowOfTriangles(), viaSmall = rowOfTriangles();
     pose(direct, 0.9f);
-    ASSERT_TRUE(direct.lastRefitRebuilt());
+    ASSERT_TRUE(direct.geometry.lastRefitRebuilt());
     pose(viaSpread, 1.f);
     pose(viaSpread, 0.9f);
     pose(viaSmall, 0.f, 0.3f);
     pose(viaSmall, 0.9f);
     for (const Scene* s : {&viaSpread, &viaSmall}) {
-        EXPECT_EQ(s->bvh().primIndex(), direct.bvh().primIndex());
-        ASSERT_EQ(s->bvh().nodes().size(), direct.bvh().nodes().size());
-        for (size_t i = 0; i < direct.bvh().nodes().size(); ++i) {
-            EXPECT_EQ(s->bvh().nodes()[i].box.lo, direct.bvh().nodes()[i].box.lo);
-            EXPECT_EQ(s->bvh().nodes()[i].box.hi, direct.bvh().nodes()[i].box.hi);
+        EXPECT_EQ(s->geometry.bvh().primIndex(), direct.geometry.bvh().primIndex());
+        ASSERT_EQ(s->geometry.bvh().nodes().size(), direct.geometry.bvh().nodes().size());
+        for (size_t i = 0; i < direct.geometry.bvh().nodes().size(); ++i) {
+            EXPECT_EQ(s->geometry.bvh().nodes()[i].box.lo, direct.geometry.bvh().nodes()[i].box.lo);
+            EXPECT_EQ(s->geometry.bvh().nodes()[i].box.hi, direct.geometry.bvh().nodes()[i].box.hi);
         }
     }
     // And back at a small pose the built tree's topology is used again.
     Scene fresh = rowOfTriangles();
     pose(fresh, 0.f, 0.2f);
     pose(direct, 0.f, 0.2f);
-    EXPECT_FALSE(direct.lastRefitRebuilt());
-    EXPECT_EQ(direct.bvh().primIndex(), fresh.bvh().primIndex());
+    EXPECT_FALSE(direct.geometry.lastRefitRebuilt());
+    EXPECT_EQ(direct.geometry.bvh().primIndex(), fresh.geometry.bvh().primIndex());
 }
 
 }  // namespace

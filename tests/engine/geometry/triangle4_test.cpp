@@ -59,10 +59,10 @@ TEST(Triangle4, PackedLeavesFindTheHitsOfEveryTriangleInOrder) {
     std::mt19937 rng(9);
     std::uniform_real_distribution<float> u(-1.f, 1.f);
     for (Vec3& p : g.positions) p.y = 0.1f * u(rng);
-    s.meshes.push_back(g);
+    s.geometry.meshes.push_back(g);
     s.build();
-    ASSERT_TRUE(s.usesBvh());
-    const std::vector<uint32_t>& slots = s.bvh().primIndex();
+    ASSERT_TRUE(s.geometry.usesBvh());
+    const std::vector<uint32_t>& slots = s.geometry.bvh().primIndex();
     size_t hits = 0, ties = 0;
     for (int i = 0; i < 20000; ++i) {
         Ray r;
@@ -71,7 +71,7 @@ TEST(Triangle4, PackedLeavesFindTheHitsOfEveryTriangleInOrder) {
         r.o = Vec3(8.f * u(rng), 2.f + 3.f * u(rng), 8.f * u(rng));
         r.d = glm::normalize(target - r.o);
         Hit h;
-        const bool hb = s.intersect(r, h);
+        const bool hb = s.geometry.intersect(r, h);
         // Reference: the same BVH walked slot by slot with the scalar test (the path before the
         // pre-test existed). The same triangle and t, bit for bit, shared-vertex ties included.
         const WatertightRay wr(r);
@@ -87,7 +87,7 @@ TEST(Triangle4, PackedLeavesFindTheHitsOfEveryTriangleInOrder) {
         };
         uint32_t id = 0;
         float tBest = kInf;
-        const bool hr = s.bvh().traverseSlots(r, kInf, false, [&](uint32_t slot, float& tm) {
+        const bool hr = s.geometry.bvh().traverseSlots(r, kInf, false, [&](uint32_t slot, float& tm) {
             const bool hit = scalarLeaf(slot, tm, id);
             if (hit) tBest = tm;
             return hit;
@@ -104,8 +104,8 @@ TEST(Triangle4, PackedLeavesFindTheHitsOfEveryTriangleInOrder) {
         for (uint32_t slot = 0; slot < slots.size(); ++slot) scalarLeaf(slot, tAll, idAll);
         ASSERT_NEAR(h.t, tAll, 1e-5f * tAll) << "ray " << i;
         ties += h.prim != idAll;
-        ASSERT_EQ(s.occluded(r, h.t * 1.001f), true) << "ray " << i;
-        ASSERT_EQ(s.occluded(r, h.t * 0.999f), false) << "ray " << i;
+        ASSERT_EQ(s.geometry.occluded(r, h.t * 1.001f), true) << "ray " << i;
+        ASSERT_EQ(s.geometry.occluded(r, h.t * 0.999f), false) << "ray " << i;
     }
     EXPECT_GT(hits, 10000u);
     EXPECT_LT(ties, hits / 2);  // shared vertices tie, but most hits have one nearest triangle

@@ -113,10 +113,10 @@ TEST(Triangle, HitsScaleWithTheScene) {
 TEST(Triangle, WatertightClosedMeshHasNoCracks) {
     Scene s = test::emptyScene();
     const Vec3 centre(0.37f, -0.21f, 0.13f);
-    s.meshes.push_back(test::uvSphere(12, 17, 1.3f, centre, false));
+    s.geometry.meshes.push_back(test::uvSphere(12, 17, 1.3f, centre, false));
     s.build();
-    ASSERT_TRUE(s.usesBvh());
-    const TriangleMesh& m = s.meshes[0];
+    ASSERT_TRUE(s.geometry.usesBvh());
+    const TriangleMesh& m = s.geometry.meshes[0];
     // Inscribed radius of the polyhedron: the smallest distance from the centre to a face plane.
     float inscribed = kInf;
     for (size_t t = 0; t < m.triangleCount(); ++t) {
@@ -155,7 +155,7 @@ TEST(Triangle, WatertightClosedMeshHasNoCracks) {
         }
         missBrute += !any;
         Hit hit;
-        missScene += !s.intersect(r, hit);
+        missScene += !s.geometry.intersect(r, hit);
     }
     EXPECT_GT(rays.size(), 40000u);
     EXPECT_EQ(missBrute, 0u);
@@ -170,12 +170,12 @@ TEST(Triangle, InteractionInterpolatesNormalsAndUvs) {
     m.normals = {Vec3(0, 0, 1), glm::normalize(Vec3(1, 0, 1)), glm::normalize(Vec3(0, 1, 1))};
     m.uvs = {Vec2(0, 0), Vec2(1, 0), Vec2(0, 1)};
     m.indices = {0, 1, 2};
-    s.meshes.push_back(m);
+    s.geometry.meshes.push_back(m);
     s.build();
     const Ray r{Vec3(0.5f, 0.5f, 3.f), Vec3(0, 0, -1)};
     Hit hit;
-    ASSERT_TRUE(s.intersect(r, hit));
-    const SurfaceInteraction si = s.interaction(r, hit);
+    ASSERT_TRUE(s.geometry.intersect(r, hit));
+    const SurfaceInteraction si = s.geometry.interaction(r, hit);
     // Barycentrics (0.5, 0.25, 0.25).
     const Vec3 expectN = glm::normalize(0.5f * m.normals[0] + 0.25f * m.normals[1] + 0.25f * m.normals[2]);
     EXPECT_NEAR(glm::length(si.ns - expectN), 0.f, 1e-6f);
@@ -194,12 +194,12 @@ TEST(Triangle, ZeroNormalsAndZeroAreaStayFinite) {
     m.positions = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(2, 2, 0), Vec3(3, 3, 0), Vec3(4, 4, 0)};
     m.normals = {Vec3(0.f), Vec3(0.f), Vec3(0.f), Vec3(0, 0, 1), Vec3(0, 0, -1), Vec3(0.f)};
     m.indices = {0, 1, 2, 3, 4, 5};
-    s.meshes.push_back(m);
+    s.geometry.meshes.push_back(m);
     s.build();
     Hit hit;
     const Ray r{Vec3(0.2f, 0.2f, 1.f), Vec3(0, 0, -1)};
-    ASSERT_TRUE(s.intersect(r, hit));
-    const SurfaceInteraction si = s.interaction(r, hit);
+    ASSERT_TRUE(s.geometry.intersect(r, hit));
+    const SurfaceInteraction si = s.geometry.interaction(r, hit);
     EXPECT_NEAR(glm::length(si.ns), 1.f, 1e-6f);
     EXPECT_TRUE(isFinite(si.ns));
     EXPECT_NEAR(std::abs(glm::dot(si.ns, si.ng)), 1.f, 1e-6f);  // fell back on ng
@@ -209,7 +209,7 @@ TEST(Triangle, ZeroNormalsAndZeroAreaStayFinite) {
     forged.t = 1.f;
     forged.tri.b0 = forged.tri.b1 = 0.5f;
     forged.tri.b2 = 0.f;
-    const SurfaceInteraction sz = s.interaction(Ray{Vec3(3, 3, 1), Vec3(0, 0, -1)}, forged);
+    const SurfaceInteraction sz = s.geometry.interaction(Ray{Vec3(3, 3, 1), Vec3(0, 0, -1)}, forged);
     EXPECT_TRUE(isFinite(sz.ng));
     EXPECT_TRUE(isFinite(sz.ns));
     EXPECT_NEAR(glm::length(sz.ng), 1.f, 1e-6f);

@@ -43,9 +43,9 @@ Vec3 sunDirection(float yaw) { return glm::normalize(Vec3(std::cos(yaw), -2.f, s
 Scene floorScene(float half = 50.f, float quadHalf = 0.1f, bool sphere = true) {
     Scene s = emptyScene();
     s.materials = {lambert(Color(kFloorAlbedo)), lambert(Color(0.5f)), lambert(Color(0.5f))};
-    s.meshes.push_back(gridMesh(1, half, 0));
-    s.meshes.push_back(ceilingQuad(quadHalf, 1.f, 1));
-    if (sphere) s.meshes.push_back(uvSphere(24, 48, 1.f, Vec3(2.5f, 1.f, 0.f), true, 2));
+    s.geometry.meshes.push_back(gridMesh(1, half, 0));
+    s.geometry.meshes.push_back(ceilingQuad(quadHalf, 1.f, 1));
+    if (sphere) s.geometry.meshes.push_back(uvSphere(24, 48, 1.f, Vec3(2.5f, 1.f, 0.f), true, 2));
     Light sun;
     sun.type = LightType::Directional;
     sun.direction = sunDirection(0.f);
@@ -63,8 +63,8 @@ SurfaceInteraction hitFrom(const Scene& s, Vec3 o, Vec3 d) {
     r.o = o;
     r.d = glm::normalize(d);
     Hit h;
-    EXPECT_TRUE(s.intersect(r, h));
-    return s.interaction(r, h);
+    EXPECT_TRUE(s.geometry.intersect(r, h));
+    return s.geometry.interaction(r, h);
 }
 
 /// The bounce arriving at the quad's underside, from below.
@@ -73,6 +73,7 @@ Color bounceUnderQuad(const Scene& s, const BounceCache& c) { return c.at(s, hit
 }  // namespace
 
 TEST(BounceCache, UnderALitFloorTheBounceIsTheFloorsRadiance) {
+    const auto slot = std::make_shared<SceneCacheSlot>();  // the job's bounce cache
     // A point facing a uniformly lit Lambertian floor that fills its hemisphere receives
     // irradiance/π equal to the floor's radiance, ρ·E/π. What is missing here, as shares of the
     // cosine-weighted hemisphere: the floor beyond its 10 m edges (about 0.9%), the quad's own
@@ -80,7 +81,7 @@ TEST(BounceCache, UnderALitFloorTheBounceIsTheFloorsRadiance) {
     // darker than the floor it hides (about 1%): the bounce should be about 96% of ρ·E/π.
     const Scene s = floorScene(10.f);
     RenderSettings rs = smallSettings(64, 36);
-    const auto cache = bounceCache(s, rs, 2);
+    const auto cache = bounceCache(s, rs, slot.get(), 2);
     ASSERT_TRUE(cache);
     const float e = glm::dot(-sunDirection(0.f), Vec3(0, 1, 0));
     const float expected = kFloorAlbedo * e / kPi;
@@ -90,52 +91,55 @@ TEST(BounceCache, UnderALitFloorTheBounceIsTheFloorsRadiance) {
     EXPECT_EQ(got.r, got.g);  // a grey world bounces grey
     // No bounce asked for: none.
     rs.bounce = 0;
-    EXPECT_FALSE(bounceCache(s, rs, 2));
+    EXPECT_FALSE(bounceCache(s, rs, slot.get(), 2));
     // Sampled indirect light brings its own bounce; the cache stands aside.
     rs.bounce = kDefaultBounce;
     rs.indirectSamples = 4;
-    EXPECT_FALSE(bounceCache(s, rs, 2));
+    EXPECT_FALSE(bounceCache(s, rs, slot.get(), 2));
 }
 
 TEST(BounceCache, ATurntableOfTheCameraBuildsItOnceAndEveryFrameSeesTheSameBounce) {
+    const auto slot = std::make_shared<SceneCacheSlot>();  // the job's bounce cache
     Scene s = floorScene();
     const RenderSettings rs = smallSettings(48, 27);
-    const auto first = bounceCache(s, rs, 2);
+    const auto first = bounceCache(s, rs, slot.get(), 2);
     ASSERT_TRUE(first);
     const Color at0 = bounceUnderQuad(s, *first);
     for (int frame = 1; frame < 6; ++frame) {
         const float a = 2.f * kPi * float(frame) / 120.f;
         s.camera.eye = Vec3(8.f * std::sin(a), 3.f, 8.f * std::cos(a));
         RayStats rays;
-        renderFrame(s, s.camera, rs, frame, 2, rays);
-        const auto now = bounceCache(s, rs, 2);
+        renderFrame(s, {s.camera, rs, slot}, frame, 2, rays);
+        const auto now = bounceCache(s, rs, slot.get(), 2);
         EXPECT_EQ(now.get(), first.get()) << "frame " << frame << ": the camera moved, nothing else; no rebuild";
         const Color at = bounceUnderQuad(s, *now);
         EXPECT_EQ(std::memcmp(&at, &at0, sizeof at), 0) << "frame " << frame;
     }
     // A light that moves is a new cache.
     s.lights[0].direction = sunDirection(0.3f);
-    const auto moved = bounceCache(s, rs, 2);
+    const auto moved = bounceCache(s, rs, slot.get(), 2);
     EXPECT_NE(moved.get(), first.get());
 }
 
 // A farm worker builds the cache on a copy of its scene while rank 0 decides the job
-// (render's workerHeadStart, farm/commands/worker_head_start.h): the copy shares the cache's
-// slot, so the scene the worker then renders finds it built and traces nothing more for it.
+// (farm/commands/worker_head_start.h): the copy fills the job's slot, which the scene the worker
+// then renders shares, so it finds the cache built and traces nothing more for it.
 TEST(BounceCache, ACopyOfTheSceneSharesItsCache) {
+    const auto slot = std::make_shared<SceneCacheSlot>();  // the job's bounce cache
     const Scene s = floorScene();
     const RenderSettings rs = smallSettings(48, 27);
     Scene copy = s;
     RayStats onCopy;
-    const auto built = bounceCache(copy, rs, 2, &onCopy);
+    const auto built = bounceCache(copy, rs, slot.get(), 2, &onCopy);
     ASSERT_TRUE(built);
     EXPECT_GT(onCopy.bounce, 0u);
     RayStats onScene;
-    EXPECT_EQ(bounceCache(s, rs, 2, &onScene).get(), built.get());
+    EXPECT_EQ(bounceCache(s, rs, slot.get(), 2, &onScene).get(), built.get());
     EXPECT_EQ(onScene.bounce, 0u) << "built again for the scene the copy came from";
 }
 
 TEST(BounceCache, LightsOrbitingWithTheCameraDoNotMakeItFlicker) {
+    const auto slot = std::make_shared<SceneCacheSlot>();  // the job's bounce cache
     // A bare model's turntable turns its lights with the camera, so the cache is lit again every
     // frame. Under a 0.6 m quad 1 m above a 20 m floor, the floor stays lit the same as the sun
     // turns about the vertical (only the quad's own shadow goes round, right under it), so the
@@ -152,7 +156,7 @@ TEST(BounceCache, LightsOrbitingWithTheCameraDoNotMakeItFlicker) {
     float lo = kInf, hi = 0.f, step = 0.f, last = -1.f;
     for (int frame = 0; frame < 120; frame += 3) {
         s.lights[0].direction = sunDirection(2.f * kPi * float(frame) / 120.f);
-        const auto cache = bounceCache(s, rs, 2);
+        const auto cache = bounceCache(s, rs, slot.get(), 2);
         ASSERT_TRUE(cache);
         const float v = bounceUnderQuad(s, *cache).g;
         lo = std::min(lo, v);
@@ -166,9 +170,12 @@ TEST(BounceCache, LightsOrbitingWithTheCameraDoNotMakeItFlicker) {
 }
 
 TEST(BounceCache, TheSameOnOneThreadAsOnTwo) {
+    // One job for each scene, each with its bounce cache.
+    const auto aSlot = std::make_shared<SceneCacheSlot>();
+    const auto bSlot = std::make_shared<SceneCacheSlot>();
     const Scene a = floorScene(), b = floorScene();
     const RenderSettings rs = smallSettings(48, 27);
-    const auto one = bounceCache(a, rs, 1), two = bounceCache(b, rs, 2);
+    const auto one = bounceCache(a, rs, aSlot.get(), 1), two = bounceCache(b, rs, bSlot.get(), 2);
     ASSERT_TRUE(one && two);
     size_t differ = 0, n = 0;
     for (size_t i = 0; i < 20000; ++i) {
@@ -187,6 +194,9 @@ TEST(BounceCache, TheSameOnOneThreadAsOnTwo) {
 
 
 TEST(BounceCache, TheSameSurfaceListedInAnotherOrderGivesTheSameCache) {
+    // One job for each scene, each with its bounce cache.
+    const auto aSlot = std::make_shared<SceneCacheSlot>();
+    const auto bSlot = std::make_shared<SceneCacheSlot>();
     // A vertex-cache-optimised or meshopt-encoded copy of a file lists the same triangles in
     // another order, and may start a triangle at another corner: its points, and so its bounce,
     // must not move (they are spread in the surface's own order, not the file's).
@@ -195,7 +205,7 @@ TEST(BounceCache, TheSameSurfaceListedInAnotherOrderGivesTheSameCache) {
     b.materials = a.materials;
     b.lights = a.lights;
     b.camera = a.camera;
-    for (const TriangleMesh& m : a.meshes) {
+    for (const TriangleMesh& m : a.geometry.meshes) {
         TriangleMesh r = m;
         const size_t n = m.triangleCount();
         for (size_t t = 0; t < n; ++t) {
@@ -204,11 +214,11 @@ TEST(BounceCache, TheSameSurfaceListedInAnotherOrderGivesTheSameCache) {
             r.indices[3 * t + 1] = m.indices[3 * from + 2];
             r.indices[3 * t + 2] = m.indices[3 * from];
         }
-        b.meshes.push_back(r);
+        b.geometry.meshes.push_back(r);
     }
     b.build();
     const RenderSettings rs = smallSettings(48, 27);
-    const auto ca = bounceCache(a, rs, 2), cb = bounceCache(b, rs, 2);
+    const auto ca = bounceCache(a, rs, aSlot.get(), 2), cb = bounceCache(b, rs, bSlot.get(), 2);
     ASSERT_TRUE(ca && cb);
     // The same points at the same places; what the tracer reports there (a position or normal
     // interpolated from the corners in another order) may differ in the last bits, which tips a
@@ -234,32 +244,35 @@ TEST(BounceCache, TheSameSurfaceListedInAnotherOrderGivesTheSameCache) {
 }
 
 TEST(BounceCache, AFilmWhoseGeometryMovesHasItOnlyWhenAskedFor) {
+    // One job for each scene, each with its bounce cache.
+    const auto posedSlot = std::make_shared<SceneCacheSlot>();
+    const auto sSlot = std::make_shared<SceneCacheSlot>();
     // Moving geometry would rebuild the cache every frame: the default leaves it out (and says
     // so), --bounce N or render.bounce (bounceMoving) keeps it, and every moving frame gets a
     // cache of its own pose.
     Scene s = floorScene(10.f, 0.3f, false);
-    s.meshes[1].node = 0;  // the quad hangs on an animated node
+    s.geometry.meshes[1].node = 0;  // the quad hangs on an animated node
     RenderSettings rs = smallSettings(48, 27);
     EXPECT_TRUE(bounceLeftOutForMotion(s, rs));
-    EXPECT_FALSE(bounceCache(s, rs, 2));
+    EXPECT_FALSE(bounceCache(s, rs, sSlot.get(), 2));
     rs.bounceMoving = true;
     EXPECT_FALSE(bounceLeftOutForMotion(s, rs));
     RayStats spent;
-    const auto first = bounceCache(s, rs, 2, &spent);
+    const auto first = bounceCache(s, rs, sSlot.get(), 2, &spent);
     ASSERT_TRUE(first);
     EXPECT_GT(spent.bounce, 3000u * 16u);  // the gathers and footprints that built it
     EXPECT_EQ(spent.total(), 0u);          // not counted as the frame's own rays
-    for (Vec3& p : s.meshes[1].positions) p.y += 1.f;  // the quad 2 m above the floor
-    s.refit();
-    const auto second = bounceCache(s, rs, 2);
+    for (Vec3& p : s.geometry.meshes[1].positions) p.y += 1.f;  // the quad 2 m above the floor
+    s.geometry.refit();
+    const auto second = bounceCache(s, rs, sSlot.get(), 2);
     ASSERT_TRUE(second);
     EXPECT_NE(first, second);
     // What a scene built in that pose gets: the cache follows the pose, not the first frame.
     Scene posed = floorScene(10.f, 0.3f, false);
-    for (Vec3& p : posed.meshes[1].positions) p.y += 1.f;
-    posed.meshes[1].node = 0;
+    for (Vec3& p : posed.geometry.meshes[1].positions) p.y += 1.f;
+    posed.geometry.meshes[1].node = 0;
     posed.build();
-    const auto fresh = bounceCache(posed, rs, 2);
+    const auto fresh = bounceCache(posed, rs, posedSlot.get(), 2);
     ASSERT_TRUE(fresh);
     const float moved = bounceUnderQuad(s, *second).g, built = bounceUnderQuad(posed, *fresh).g;
     EXPECT_NEAR(moved, built, 1e-5f * built);
@@ -270,6 +283,7 @@ TEST(BounceCache, AFilmWhoseGeometryMovesHasItOnlyWhenAskedFor) {
 }
 
 TEST(BounceCache, TwoFramesHandedOutInTurnAreEachLitOnce) {
+    const auto slot = std::make_shared<SceneCacheSlot>();  // the job's bounce cache
     // Pixel mode can hand a rank tiles of frames f and f + 1 in turn; each light set is lit once
     // and then found again, not lit afresh at every switch.
     Scene s = floorScene(10.f, 0.3f, false);
@@ -280,7 +294,7 @@ TEST(BounceCache, TwoFramesHandedOutInTurnAreEachLitOnce) {
         for (int frame = 0; frame < 2; ++frame) {
             s.lights[0].direction = sunDirection(0.3f * float(frame));
             const uint64_t before = spent.bounce;
-            const auto c = bounceCache(s, rs, 2, &spent);
+            const auto c = bounceCache(s, rs, slot.get(), 2, &spent);
             ASSERT_TRUE(c);
             if (round == 0) {
                 EXPECT_GT(spent.bounce, before) << "frame " << frame << " was not lit";

@@ -53,9 +53,9 @@ PixelBox materialPixels(const Scene& scene, int w, int h, const std::string& mat
         for (int x = 0; x < w; ++x) {
             const Ray r = rays.generate(x + 0.5f, y + 0.5f);
             Hit hit;
-            if (!scene.intersect(r, hit)) continue;
+            if (!scene.geometry.intersect(r, hit)) continue;
             if (!material.empty()) {
-                const SurfaceInteraction si = scene.interaction(r, hit);
+                const SurfaceInteraction si = scene.geometry.interaction(r, hit);
                 if (scene.materials[si.material].name != material) continue;
             }
             b.x0 = std::min(b.x0, x), b.y0 = std::min(b.y0, y), b.x1 = std::max(b.x1, x + 1), b.y1 = std::max(b.y1, y + 1);
@@ -84,7 +84,7 @@ ImageErrorMetrics scoreAgainstCycles(const std::string& name, const std::string&
     RenderSettings s = referenceSettings(scene, w, h);
     s.exposure = exposure;
     RayStats rays;
-    const std::vector<uint8_t> ours = toRgb8(renderFrame(scene, scene.camera, s, 0, 0, rays), s);
+    const std::vector<uint8_t> ours = toRgb8(renderFrame(scene, {scene.camera, s}, 0, 0, rays), s);
     const PixelBox box = materialPixels(scene, w, h, "");
     EXPECT_GT(box.width() * box.height(), w * h / 4) << name << ": the model covers a quarter of the picture at least";
     const ImageErrorMetrics e = compareRgb8(crop(ours, w, box), crop(ref, w, box), box.width(), box.height());
@@ -162,12 +162,12 @@ TEST(CyclesScenes, ClearcoatSheenAndVolumeMatchCyclesOnEachSphere) {
     const std::vector<uint8_t> ref = readImageRgb8(kDir + "coat_sheen_volume.cycles.png", w, h);
     const RenderSettings s = referenceSettings(scene, w, h);
     RayStats rays;
-    const std::vector<uint8_t> ours = toRgb8(renderFrame(scene, scene.camera, s, 0, 0, rays), s);
+    const std::vector<uint8_t> ours = toRgb8(renderFrame(scene, {scene.camera, s}, 0, 0, rays), s);
     // The control: the same spheres without their coat, sheen and volume must score worse, and
     // below the thresholds, or the thresholds would not test the extensions.
     Scene plain = scene;
     for (Material& m : plain.materials) m.clearcoat = 0.f, m.sheenColor = Color(0.f), m.attenuation = Color(0.f);
-    const std::vector<uint8_t> without = toRgb8(renderFrame(plain, plain.camera, s, 0, 0, rays), s);
+    const std::vector<uint8_t> without = toRgb8(renderFrame(plain, {plain.camera, s}, 0, 0, rays), s);
     const std::string out = std::string(RAYFARM_TEST_OUT) + "/cycles_scenes";
     std::filesystem::create_directories(out);
     writePng(out + "/coat_sheen_volume.png", w, h, ours);

@@ -32,7 +32,7 @@ TEST_P(ImageRegression, MatchesReference) {
     rs.width = kWidth;
     rs.height = kHeight;
     RayStats st;
-    const Image img = renderFrame(scene, scene.camera, rs, 0, 0, st);
+    const Image img = renderFrame(scene, {scene.camera, rs}, 0, 0, st);
     const std::vector<uint8_t> got = toRgb8(img, rs.toneMap);
     const std::string refPath = std::string(RAYFARM_SOURCE_DIR) + "/tests/engine/reference/" + name + ".png";
     if (std::getenv("RAYFARM_UPDATE_REFERENCES")) {

@@ -21,12 +21,12 @@ Scene floorScene(float sphereY, bool sun, bool environment) {
     floor.color = Color(0.8f);
     floor.metallic = 0.f;
     floor.roughness = 1.f;
-    s.meshes.push_back(test::gridMesh(8, 1.f, 0));
+    s.geometry.meshes.push_back(test::gridMesh(8, 1.f, 0));
     if (sphereY > 0.f) {
         Material ball = floor;
         ball.color = Color(0.8f, 0.2f, 0.2f);
         s.materials.push_back(ball);
-        s.meshes.push_back(test::uvSphere(24, 48, 0.3f, Vec3(0.f, sphereY, 0.f), true, 1));
+        s.geometry.meshes.push_back(test::uvSphere(24, 48, 0.3f, Vec3(0.f, sphereY, 0.f), true, 1));
     }
     if (sun) {
         Light l;

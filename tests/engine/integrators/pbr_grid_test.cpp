@@ -42,7 +42,7 @@ ImageErrorMetrics renderAndCompare(const std::string& name, const SceneOptions& 
     if (spp > 0) s.spp = spp;
     spp = s.spp;
     RayStats rays;
-    const Image img = renderFrame(scene, scene.camera, s, 0, 0, rays);
+    const Image img = renderFrame(scene, {scene.camera, s}, 0, 0, rays);
     const std::vector<uint8_t> ours = toRgb8(img, s);
     int w = 0, h = 0;
     const std::vector<uint8_t> ref = readImageRgb8(kDir + "reference/" + reference, w, h);

@@ -30,7 +30,9 @@ struct Variant {
 };
 
 /// Renders `scene` as every variant and expects each to equal the first, float for float.
-void expectIdenticalAcrossVariants(const std::string& name, const Scene& scene, RenderSettings s) {
+/// bounce: the film's bounce cache, shared by the variants on two threads (null: a new one).
+void expectIdenticalAcrossVariants(const std::string& name, const Scene& scene, RenderSettings s,
+                                   std::shared_ptr<SceneCacheSlot> bounce = nullptr) {
     std::vector<Variant> variants;
     for (int tile : {32, 1, 7, 16, 128})
         for (bool packets : {true, false}) variants.push_back({tile, packets, true, 2});
@@ -39,19 +41,16 @@ void expectIdenticalAcrossVariants(const std::string& name, const Scene& scene, 
     variants.push_back({128, true, true, 1});
     std::vector<float> first;
     std::vector<uint8_t> firstBytes;
+    const auto shared = bounce ? bounce : std::make_shared<SceneCacheSlot>();
     for (const Variant& v : variants) {
         s.tileSize = v.tileSize;
         s.packets = v.packets;
         s.blockerCache = v.blockerCache;
         RayStats rays;
-        // On one thread the scene's bounce cache is built afresh, on that thread alone (the
-        // other variants share the one the first built on two).
-        Scene fresh;
-        if (v.threads == 1) {
-            fresh = scene;
-            fresh.bounceSlot = std::make_shared<SceneCacheSlot>();
-        }
-        const Image img = renderFrame(v.threads == 1 ? fresh : scene, scene.camera, s, 3, v.threads, rays);
+        // On one thread the bounce cache is built afresh, on that thread alone (the other
+        // variants share the one the first built on two).
+        const auto slot = v.threads == 1 ? std::make_shared<SceneCacheSlot>() : shared;
+        const Image img = renderFrame(scene, {scene.camera, s, slot}, 3, v.threads, rays);
         const std::vector<float> px(img.data(), img.data() + size_t(img.width()) * img.height() * 3);
         const std::vector<uint8_t> bytes = toRgb8(img, s);
         if (first.empty()) {
@@ -105,8 +104,8 @@ TEST(PixelIndependence, MeshFloorUnderAMeshBallIsTheSameAtEveryTilingPacketAndCa
     TriangleMesh floor;
     floor.positions = {Vec3(-50, 1e-3f, -50), Vec3(50, 1e-3f, -50), Vec3(50, 1e-3f, 50), Vec3(-50, 1e-3f, 50)};
     floor.indices = {0, 2, 1, 0, 3, 2};
-    s.meshes.push_back(floor);
-    s.meshes.push_back(test::uvSphere(12, 24, 1.f, Vec3(0.f, 1.2f, 0.f), true));
+    s.geometry.meshes.push_back(floor);
+    s.geometry.meshes.push_back(test::uvSphere(12, 24, 1.f, Vec3(0.f, 1.2f, 0.f), true));
     Light l;
     l.position = Vec3(3.f, 6.f, 2.f);
     s.lights = {l};
@@ -137,6 +136,7 @@ TEST(PixelIndependence, BounceLightIsTheSameAtEveryTilingPacketAndCache) {
     useGltfCamera(grid, 0);
     const RenderSettings s = small(grid, 1);
     ASSERT_GT(s.bounce, 0);
-    ASSERT_TRUE(bounceCache(grid, s, 2));
-    expectIdenticalAcrossVariants("pbr_grid bounce", grid, s);
+    const auto slot = std::make_shared<SceneCacheSlot>();
+    ASSERT_TRUE(bounceCache(grid, s, slot.get(), 2));
+    expectIdenticalAcrossVariants("pbr_grid bounce", grid, s, slot);
 }

@@ -26,7 +26,7 @@ std::vector<uint8_t> render8(const Scene& scene, float ev, float minWeight) {
     s.exposure = ev;
     s.minWeight = minWeight;
     RayStats rays;
-    return toRgb8(renderFrame(scene, scene.camera, s, 0, 2, rays), s);
+    return toRgb8(renderFrame(scene, {scene.camera, s}, 0, 2, rays), s);
 }
 
 double fractionDiffering(const std::vector<uint8_t>& x, const std::vector<uint8_t>& y, int tol) {

@@ -26,9 +26,9 @@ TEST(Render, BitIdenticalForAnyThreadCountAndTileSize) {
     RenderSettings rs = test::smallSettings(97, 61, 4, 5);  // odd sizes: partial tiles at the edges
     RayStats s1, s2, s3;
     rs.tileSize = 16;
-    const Image one = renderFrame(s, s.camera, rs, 7, 1, s1);
-    const Image two = renderFrame(s, s.camera, rs, 7, 2, s2);
-    const Image three = renderFrame(s, s.camera, rs, 7, 3, s3);
+    const Image one = renderFrame(s, {s.camera, rs}, 7, 1, s1);
+    const Image two = renderFrame(s, {s.camera, rs}, 7, 2, s2);
+    const Image three = renderFrame(s, {s.camera, rs}, 7, 3, s3);
     EXPECT_TRUE(sameBits(one, two));
     EXPECT_TRUE(sameBits(one, three));
     EXPECT_EQ(s1.total(), s2.total());
@@ -36,12 +36,12 @@ TEST(Render, BitIdenticalForAnyThreadCountAndTileSize) {
     for (int tile : {1, 7, 32, 200}) {
         rs.tileSize = tile;
         RayStats st;
-        EXPECT_TRUE(sameBits(one, renderFrame(s, s.camera, rs, 7, 2, st))) << "tile " << tile;
+        EXPECT_TRUE(sameBits(one, renderFrame(s, {s.camera, rs}, 7, 2, st))) << "tile " << tile;
     }
     // Another frame index draws other jitter: the picture is a function of the frame too.
     RayStats st;
     rs.tileSize = 16;
-    EXPECT_FALSE(sameBits(one, renderFrame(s, s.camera, rs, 8, 2, st)));
+    EXPECT_FALSE(sameBits(one, renderFrame(s, {s.camera, rs}, 8, 2, st)));
 }
 
 // Camera rays go through the BVH in packets of aligned pixel blocks: tiles of any size, odd
@@ -50,29 +50,29 @@ TEST(Render, BitIdenticalForAnyThreadCountAndTileSize) {
 TEST(Render, PacketsGiveTheSamePixelsForAnyTiling) {
     Scene s = test::emptyScene();
     s.materials[0] = test::matte(Color(0.8f, 0.5f, 0.3f));
-    s.meshes.push_back(test::uvSphere(24, 48, 1.f, Vec3(0, 1, 0), true));
-    s.meshes.push_back(test::gridMesh(16, 4.f));
+    s.geometry.meshes.push_back(test::uvSphere(24, 48, 1.f, Vec3(0, 1, 0), true));
+    s.geometry.meshes.push_back(test::gridMesh(16, 4.f));
     s.lights.push_back(Light{});
     s.lights.back().position = Vec3(3, 5, -4);
     s.camera.eye = Vec3(0.3f, 2.f, -5.f);
     s.camera.target = Vec3(0, 0.8f, 0);
     s.build();
-    ASSERT_TRUE(s.usesBvh());
+    ASSERT_TRUE(s.geometry.usesBvh());
     RenderSettings rs = test::smallSettings(83, 45, 4, 3);
     rs.tileSize = 32;
     RayStats ref;
-    const Image one = renderFrame(s, s.camera, rs, 3, 1, ref);
+    const Image one = renderFrame(s, {s.camera, rs}, 3, 1, ref);
     EXPECT_EQ(ref.primary, uint64_t(83 * 45 * 4));
     for (int tile : {1, 3, 7, 16, 64}) {
         rs.tileSize = tile;
         RayStats st;
-        EXPECT_TRUE(sameBits(one, renderFrame(s, s.camera, rs, 3, 2, st))) << "tile " << tile;
+        EXPECT_TRUE(sameBits(one, renderFrame(s, {s.camera, rs}, 3, 2, st))) << "tile " << tile;
         EXPECT_EQ(st.total(), ref.total()) << "tile " << tile;
     }
     const TileRect rect{5, 3, 62, 38};
     std::vector<float> buf(size_t(rect.pixels()) * 3);
     RayStats ts;
-    renderTile(s, s.camera, rect, rs, 3, buf.data(), ts);
+    renderTile(s, {s.camera, rs}, rect, 3, buf.data(), ts);
     EXPECT_EQ(ts.primary, uint64_t(rect.pixels()) * 4);
     for (int y = rect.y0; y < rect.y1; ++y)
         for (int x = rect.x0; x < rect.x1; ++x)
@@ -84,11 +84,11 @@ TEST(Render, RenderTileMatchesTheFrameRegion) {
     const Scene s = whitted();
     const RenderSettings rs = test::smallSettings(64, 40, 1, 5);
     RayStats st;
-    const Image frame = renderFrame(s, s.camera, rs, 0, 2, st);
+    const Image frame = renderFrame(s, {s.camera, rs}, 0, 2, st);
     const TileRect rect{13, 5, 41, 29};
     std::vector<float> buf(size_t(rect.pixels()) * 3);
     RayStats ts;
-    renderTile(s, s.camera, rect, rs, 0, buf.data(), ts);
+    renderTile(s, {s.camera, rs}, rect, 0, buf.data(), ts);
     EXPECT_EQ(ts.primary, uint64_t(rect.pixels()));
     for (int y = rect.y0; y < rect.y1; ++y)
         for (int x = rect.x0; x < rect.x1; ++x)
@@ -110,8 +110,8 @@ TEST(Render, NonFiniteRadianceIsReplacedAndCounted) {
     hot.emission = Color(std::numeric_limits<float>::infinity(), 0.f, 0.f);
     Material nan = test::matte(Color(std::nanf(""), 0.5f, 0.5f));
     s.materials = {test::matte(Color(0.5f)), hot, nan};
-    s.spheres.push_back(Sphere{Vec3(-1.2f, 0.f, 0.f), 1.f, 1});
-    s.spheres.push_back(Sphere{Vec3(1.2f, 0.f, 0.f), 1.f, 2});
+    s.geometry.spheres.push_back(Sphere{Vec3(-1.2f, 0.f, 0.f), 1.f, 1});
+    s.geometry.spheres.push_back(Sphere{Vec3(1.2f, 0.f, 0.f), 1.f, 2});
     Light l;
     l.position = Vec3(0, 5, 5);
     s.lights.push_back(l);
@@ -131,7 +131,7 @@ TEST(Render, NonFiniteRadianceIsReplacedAndCounted) {
                 SampleRng rng(0, uint64_t(y) * rs.width + x, k);
                 const float jx = rng.next(), jy = rng.next();
                 Hit h;
-                expect += s.intersect(cam.generate(x + ((k % 2) + jx) * 0.5f, y + ((k / 2) + jy) * 0.5f), h);
+                expect += s.geometry.intersect(cam.generate(x + ((k % 2) + jx) * 0.5f, y + ((k / 2) + jy) * 0.5f), h);
             }
     EXPECT_GT(expect, 100u);
     EXPECT_EQ(st.nonFinite, expect);

@@ -41,10 +41,10 @@ double jitterSpeckle(const std::string& path, int width, int height, Against aga
     s.autoExposure = false;
     s.exposure = 0.f;
     RayStats rays;
-    const Image fa = renderFrame(scene, scene.camera, s, 0, 2, rays);
+    const Image fa = renderFrame(scene, {scene.camera, s}, 0, 2, rays);
     if (against == Against::NoShadows)
         for (Light& l : scene.lights) l.castShadows = false;
-    const Image fb = renderFrame(scene, scene.camera, s, against == Against::Jitter ? 1 : 0, 2, rays);
+    const Image fb = renderFrame(scene, {scene.camera, s}, against == Against::Jitter ? 1 : 0, 2, rays);
     const std::vector<uint8_t> a = toRgb8(fa, s), b = toRgb8(fb, s);
     int surface = 0, changed = 0;
     std::vector<uint8_t> diff(a.size(), 0);  // white where a surface pixel changed, grey elsewhere on it

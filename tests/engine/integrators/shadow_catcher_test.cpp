@@ -21,7 +21,7 @@ Scene sphereOnGround() {
     Sphere sp;
     sp.center = Vec3(0.f, 1.f, 0.f);
     sp.radius = 1.f;
-    s.spheres.push_back(sp);
+    s.geometry.spheres.push_back(sp);
     Light l;
     l.type = LightType::Directional;
     l.direction = glm::normalize(Vec3(1.f, -1.f, 0.f));
@@ -96,7 +96,7 @@ Image frame(const Scene& s) {
     rs.width = 64;
     rs.height = 64;
     RayStats st;
-    return renderFrame(s, s.camera, rs, 0, 1, st);
+    return renderFrame(s, {s.camera, rs}, 0, 1, st);
 }
 
 TEST(ShadowCatcher, UnshadowedGroundIsTheBackgroundToTheBitShadowIsDarker) {

@@ -31,10 +31,10 @@ Scene glassScene(bool mesh) {
     glass.transmission = 1.f;
     glass.ior = 1.5f;
     s.materials = {floor, glass};
-    s.planes.push_back({Vec3(0, 1, 0), 0.f, 0});
+    s.geometry.planes.push_back({Vec3(0, 1, 0), 0.f, 0});
     const Vec3 c(0.f, 1.f, 0.f);
-    if (mesh) s.meshes.push_back(test::uvSphere(32, 64, 1.f, c, true, 1));
-    else s.spheres.push_back({c, 1.f, 1});
+    if (mesh) s.geometry.meshes.push_back(test::uvSphere(32, 64, 1.f, c, true, 1));
+    else s.geometry.spheres.push_back({c, 1.f, 1});
     Light l;
     l.position = Vec3(1.5f, 6.f, -1.f);
     s.lights = {l};

@@ -49,20 +49,20 @@ TEST(Stability, ThinGapBetweenConcentricSpheres) {
 TEST(Stability, RayInsideSphereStillMeetsWhatCutsIt) {
     auto firstHit = [](float planeY, bool overlap) {
         Scene s = test::emptyScene();
-        s.spheres.push_back(Sphere{Vec3(0.f), 1.f, 0});
-        s.spheres.push_back(Sphere{Vec3(overlap ? 1.5f : 2.f, 0.f, 0.f), 1.f, 0});  // 2: touching
-        s.planes.push_back(Plane{Vec3(0, 1, 0), -planeY, 0});
+        s.geometry.spheres.push_back(Sphere{Vec3(0.f), 1.f, 0});
+        s.geometry.spheres.push_back(Sphere{Vec3(overlap ? 1.5f : 2.f, 0.f, 0.f), 1.f, 0});  // 2: touching
+        s.geometry.planes.push_back(Plane{Vec3(0, 1, 0), -planeY, 0});
         s.build();
         const Ray in{Vec3(0, -5, 0), Vec3(0, 1, 0)};
         Hit h;
-        EXPECT_TRUE(s.intersect(in, h, Scene::kNoPrim));
-        const SurfaceInteraction si = s.interaction(in, h);
+        EXPECT_TRUE(s.geometry.intersect(in, h, SceneGeometry::kNoPrim));
+        const SurfaceInteraction si = s.geometry.interaction(in, h);
         // Refracted straight on, then turned towards +x, as a ray inside glass would be.
         const Vec3 d = glm::normalize(Vec3(0.8f, 1.f, 0.f));
         const Ray r{offsetRayOrigin(si.p, si.pError, si.ng, d), d};
         Hit h2;
-        EXPECT_TRUE(s.intersect(r, h2, s.skipFor(si, d)));
-        const bool blocked = s.occluded(r, 100.f, s.skipFor(si, d));
+        EXPECT_TRUE(s.geometry.intersect(r, h2, s.geometry.skipFor(si, d)));
+        const bool blocked = s.geometry.occluded(r, 100.f, s.geometry.skipFor(si, d));
         EXPECT_TRUE(blocked);
         return r.o + h2.t * r.d;
     };

@@ -20,13 +20,13 @@ struct ShadeProbe {
     Vec3 dir{0, -1, 0};
     explicit ShadeProbe(const Material& m, const Light& l) {
         scene.materials[0] = m;
-        scene.planes.push_back(Plane{Vec3(0, 1, 0), 0.f, 0});
+        scene.geometry.planes.push_back(Plane{Vec3(0, 1, 0), 0.f, 0});
         scene.lights.push_back(l);
         scene.build();
         Hit h;
         const Ray r{Vec3(0, 5, 0), dir};
-        EXPECT_TRUE(scene.intersect(r, h));
-        si = scene.interaction(r, h);
+        EXPECT_TRUE(scene.geometry.intersect(r, h));
+        si = scene.geometry.interaction(r, h);
     }
     Color shade(ShadingModel model = ShadingModel::Phong) {
         RenderSettings s;
@@ -135,8 +135,8 @@ TEST(Whitted, MirrorShowsTheBackgroundAndDepthAndPruningLimitRays) {
     mirror.reflection = 0.5f;
     s.materials[0] = mirror;
     s.background = Color(0.2f, 0.4f, 0.8f);
-    s.planes.push_back(Plane{Vec3(0, 1, 0), 0.f, 0});
-    s.planes.push_back(Plane{Vec3(0, -1, 0), 2.f, 0});
+    s.geometry.planes.push_back(Plane{Vec3(0, 1, 0), 0.f, 0});
+    s.geometry.planes.push_back(Plane{Vec3(0, -1, 0), 2.f, 0});
     s.camera.eye = Vec3(0, 1, 0);
     s.camera.target = Vec3(0, 0, -0.3f);
     s.camera.fovDeg = 10.f;
@@ -150,7 +150,7 @@ TEST(Whitted, MirrorShowsTheBackgroundAndDepthAndPruningLimitRays) {
     test::render(s, rs, &st);
     EXPECT_EQ(st.reflection, 16u * 3u);
     // One mirror looking at the sky: exactly the background times the reflectance.
-    s.planes.pop_back();
+    s.geometry.planes.pop_back();
     s.materials[0].reflection = 1.f;
     s.build();
     const Image img = test::render(s, test::smallSettings(4, 4));
@@ -165,7 +165,7 @@ TEST(Whitted, GlassOfIndexOneIsInvisible) {
     glass.ior = 1.f;
     s.materials[0] = glass;
     s.background = Color(0.3f, 0.5f, 0.7f);
-    s.spheres.push_back(Sphere{Vec3(0.f), 1.f, 0});
+    s.geometry.spheres.push_back(Sphere{Vec3(0.f), 1.f, 0});
     s.camera.eye = Vec3(0, 0, 4);
     s.camera.fovDeg = 40.f;
     s.build();
@@ -186,8 +186,8 @@ TEST(Whitted, NoSelfShadowingAtRange) {
     for (const Case c : {Case{false, 1.f, 1e6f}, Case{true, 1.f, 1e6f}, Case{true, 1e5f, 1e6f * 1e5f / 1e3f}}) {
         Scene s = test::emptyScene();
         s.materials[0] = matte(Color(0.8f), 0.1f, 0.9f);
-        if (c.mesh) s.meshes.push_back(test::gridMesh(6, c.scale));
-        else s.planes.push_back(Plane{Vec3(0, 1, 0), 0.f, 0});
+        if (c.mesh) s.geometry.meshes.push_back(test::gridMesh(6, c.scale));
+        else s.geometry.planes.push_back(Plane{Vec3(0, 1, 0), 0.f, 0});
         s.lights.push_back(pointLight(c.scale * Vec3(0.3f, 2.f, 0.2f)));
         const float elev = glm::radians(20.f);
         s.camera.eye = c.camDist * Vec3(0.f, std::sin(elev), std::cos(elev));
@@ -213,7 +213,7 @@ TEST(Whitted, SpawnedOriginsLieOnTheRightSide) {
     for (const Sphere sp : {Sphere{Vec3(0.f), 1.f, 0}, Sphere{Vec3(1e4f, -3e3f, 2e2f), 0.5f, 0},
                             Sphere{Vec3(1e-3f, 2e-3f, 0.f), 1e-3f, 0}, Sphere{Vec3(5e5f, 0.f, 0.f), 3e4f, 0}}) {
         Scene s = test::emptyScene();
-        s.spheres.push_back(sp);
+        s.geometry.spheres.push_back(sp);
         s.build();
         int tested = 0;
         for (int i = 0; i < 4000; ++i) {
@@ -223,8 +223,8 @@ TEST(Whitted, SpawnedOriginsLieOnTheRightSide) {
             r.o = inside ? sp.center + 0.5f * sp.radius * Vec3(u(rng), u(rng), u(rng)) : sp.center - 3.f * sp.radius * dirRnd;
             r.d = inside ? dirRnd : glm::normalize(sp.center + 0.9f * sp.radius * Vec3(u(rng), u(rng), u(rng)) * 0.57f - r.o);
             Hit h;
-            if (!s.intersect(r, h)) continue;
-            const SurfaceInteraction si = s.interaction(r, h);
+            if (!s.geometry.intersect(r, h)) continue;
+            const SurfaceInteraction si = s.geometry.interaction(r, h);
             Vec3 ng = si.ng;
             const bool entering = glm::dot(r.d, ng) < 0.f;
             if (!entering) ng = -ng;
@@ -254,8 +254,8 @@ TEST(Whitted, LightJustAboveTheFloorStillLightsIt) {
     for (bool mesh : {false, true}) {
         Scene s = test::emptyScene();
         s.materials[0] = matte(Color(0.8f), 0.1f, 0.9f);
-        if (mesh) s.meshes.push_back(test::gridMesh(4, 1.f));
-        else s.planes.push_back(Plane{Vec3(0, 1, 0), 0.f, 0});
+        if (mesh) s.geometry.meshes.push_back(test::gridMesh(4, 1.f));
+        else s.geometry.planes.push_back(Plane{Vec3(0, 1, 0), 0.f, 0});
         s.lights.push_back(pointLight(Vec3(0.01f, 1e-3f, 0.01f)));
         s.camera.eye = Vec3(0.01f, 1.f, 0.01f);
         s.camera.target = Vec3(0.01f, 0.f, 0.01f);
@@ -274,7 +274,7 @@ TEST(Whitted, LightJustAboveTheFloorStillLightsIt) {
 TEST(Whitted, NoShadowTerminatorOnLowPolySmoothMesh) {
     Scene s = test::emptyScene();
     s.materials[0] = matte(Color(1.f), 0.f, 1.f);
-    s.meshes.push_back(test::uvSphere(5, 6, 1.f, Vec3(0.f), true));
+    s.geometry.meshes.push_back(test::uvSphere(5, 6, 1.f, Vec3(0.f), true));
     Light l;
     l.type = LightType::Directional;
     l.direction = glm::normalize(Vec3(-1.f, -0.2f, 0.15f));
@@ -290,8 +290,8 @@ TEST(Whitted, NoShadowTerminatorOnLowPolySmoothMesh) {
         for (int x = 0; x < rs.width; ++x) {
             const Ray r = cam.generate(x + 0.5f, y + 0.5f);
             Hit h;
-            if (!s.intersect(r, h)) continue;
-            const SurfaceInteraction si = s.interaction(r, h);
+            if (!s.geometry.intersect(r, h)) continue;
+            const SurfaceInteraction si = s.geometry.interaction(r, h);
             const Vec3 L = -l.direction;
             const float nl = glm::dot(si.ns, L);
             if (nl < 0.02f) continue;  // keep clear of the smooth terminator itself
@@ -315,7 +315,7 @@ TEST(Whitted, BackFacingShadingNormalFallsBackOnGeometricNormal) {
     const Vec3 away = glm::normalize(Vec3(0.f, 0.8f, -0.6f));  // faces away from a viewer at +z
     m.normals = {away, away, away};
     m.indices = {0, 1, 2};
-    s.meshes.push_back(m);
+    s.geometry.meshes.push_back(m);
     Light l;
     l.type = LightType::Directional;
     l.direction = Vec3(0, 0, -1);

@@ -66,13 +66,13 @@ TEST(SceneLoader, LoadsEverySection) {
     EXPECT_NEAR(s.lights[2].outerCone, glm::radians(20.f), 1e-6f);
     EXPECT_EQ(s.lights[0].attenuation, Vec3(1.f, 0.1f, 0.01f));
     ASSERT_EQ(s.materials.size(), 3u);  // default + red + glass
-    EXPECT_EQ(s.spheres.size(), 1u);
-    EXPECT_EQ(s.planes.size(), 1u);
-    ASSERT_EQ(s.meshes.size(), 2u);
-    EXPECT_EQ(s.meshes[0].triangleCount(), 2u);
-    EXPECT_EQ(s.meshes[0].normals.size(), 4u);
-    EXPECT_FLOAT_EQ(s.materials[s.meshes[0].material].ior, 1.33f);
-    EXPECT_EQ(s.triangleCount(), 3u);
+    EXPECT_EQ(s.geometry.spheres.size(), 1u);
+    EXPECT_EQ(s.geometry.planes.size(), 1u);
+    ASSERT_EQ(s.geometry.meshes.size(), 2u);
+    EXPECT_EQ(s.geometry.meshes[0].triangleCount(), 2u);
+    EXPECT_EQ(s.geometry.meshes[0].normals.size(), 4u);
+    EXPECT_FLOAT_EQ(s.materials[s.geometry.meshes[0].material].ior, 1.33f);
+    EXPECT_EQ(s.geometry.triangleCount(), 3u);
     EXPECT_EQ(s.sourcePath, "x.json");
 }
 
@@ -145,10 +145,10 @@ TEST(SceneLoader, RebasesFarScenesToARenderOrigin) {
       "objects": [ { "type": "sphere", "center": [6400002.8, 1, -2.2], "radius": 1 },
                    { "type": "plane", "normal": [0, 1, 0], "point": [6400000, 0, 0] } ] })");
     EXPECT_EQ(s.renderOrigin, DVec3(6400000.0, 0.0, 0.0));
-    EXPECT_EQ(s.spheres[0].center, Vec3(2.8f, 1.f, -2.2f));
+    EXPECT_EQ(s.geometry.spheres[0].center, Vec3(2.8f, 1.f, -2.2f));
     EXPECT_EQ(s.lights[0].position, Vec3(10.5f, 12.f, -6.f));
     EXPECT_EQ(s.camera.eye, Vec3(0.f, 3.f, -8.f));
-    EXPECT_EQ(s.planes[0].d, 0.f);
+    EXPECT_EQ(s.geometry.planes[0].d, 0.f);
     EXPECT_EQ(chooseRenderOrigin(DVec3(100.0, -31.0, 33.0)), DVec3(128.0, -0.0, 64.0));
 }
 
@@ -177,15 +177,15 @@ TEST(SceneLoader, ModelMaterialOverridesTheFilesMaterials) {
     };
     const Scene own = loadWith("", "own.json");
     const Scene clay = loadWith("\"material\": \"floor\", ", "clay.json");
-    ASSERT_EQ(own.meshes.size(), clay.meshes.size());
-    ASSERT_FALSE(clay.meshes.empty());
+    ASSERT_EQ(own.geometry.meshes.size(), clay.geometry.meshes.size());
+    ASSERT_FALSE(clay.geometry.meshes.empty());
     // The file's materials and textures are not read: BoxTextured's image stays undecoded.
     EXPECT_FALSE(own.textures.empty());
     EXPECT_TRUE(clay.textures.empty());
     EXPECT_EQ(clay.materials.size(), 2u);  // default + floor
-    for (size_t i = 0; i < own.meshes.size(); ++i) {
-        EXPECT_TRUE(own.materials[size_t(own.meshes[i].material)].gltfPbr) << i;
-        const Material& m = clay.materials[size_t(clay.meshes[i].material)];
+    for (size_t i = 0; i < own.geometry.meshes.size(); ++i) {
+        EXPECT_TRUE(own.materials[size_t(own.geometry.meshes[i].material)].gltfPbr) << i;
+        const Material& m = clay.materials[size_t(clay.geometry.meshes[i].material)];
         EXPECT_EQ(m.name, "floor") << i;
         EXPECT_FALSE(m.gltfPbr) << i;
     }

@@ -17,7 +17,7 @@ Scene maskedFloor(const TextureTransform& transform) {
         m.uvs.emplace_back((p.x + 1.f) / 2.f, (p.z + 1.f) / 2.f);
         m.uvs1.push_back(m.uvs.back() + Vec2(0.5f, 0.f));
     }
-    s.meshes.push_back(m);
+    s.geometry.meshes.push_back(m);
     Texture t;
     t.width = 2;
     t.height = 1;
@@ -39,14 +39,14 @@ bool hitsAt(const Scene& s, float x) {
     r.o = Vec3(x, 1.f, 0.1f);
     r.d = Vec3(0.f, -1.f, 0.f);
     Hit h;
-    return s.intersect(r, h);
+    return s.geometry.intersect(r, h);
 }
 
 TEST(MaterialEval, AlphaMaskDuringTraversalAppliesTheTextureTransform) {
     TextureTransform shift;
     shift.offset = Vec2(0.5f, 0.f);  // u 0.25 reads the transparent texel, u 0.75 the opaque one
     const Scene s = maskedFloor(shift);
-    ASSERT_TRUE(s.usesBvh());
+    ASSERT_TRUE(s.geometry.usesBvh());
     EXPECT_FALSE(hitsAt(s, -0.5f));  // raw u = 0.25: opaque, but the shifted lookup is transparent
     EXPECT_TRUE(hitsAt(s, 0.5f));    // raw u = 0.75: transparent, shifted (1.25 → 0.25) opaque
 }
@@ -75,8 +75,8 @@ TEST(MaterialEval, TraversalAndShadingAgreeOnWhatIsCutOut) {
         r.o = Vec3(x, 1.f, 0.1f);
         r.d = Vec3(0.f, -1.f, 0.f);
         Hit h;
-        ASSERT_TRUE(opaque.intersect(r, h));
-        const SurfaceInteraction si = opaque.interaction(r, h);
+        ASSERT_TRUE(opaque.geometry.intersect(r, h));
+        const SurfaceInteraction si = opaque.geometry.interaction(r, h);
         float alpha = 0.f;
         baseColor(opaque, si, &alpha);  // what shading sees at the same point
         const bool shown = alpha >= s.materials[0].alphaCutoff;

@@ -26,7 +26,7 @@ Scene checkerFloor(float repeat, bool mips) {
     Scene s = test::emptyScene();
     TriangleMesh m = test::gridMesh(4, 1.f, 0);
     for (const Vec3& p : m.positions) m.uvs.emplace_back(repeat * (p.x + 1.f) / 2.f, repeat * (p.z + 1.f) / 2.f);
-    s.meshes.push_back(m);
+    s.geometry.meshes.push_back(m);
     Texture t = checker(8);
     if (!mips) t.mips.clear();
     s.textures.push_back(std::move(t));

@@ -15,7 +15,7 @@ namespace {
 Scene sphereScene() {
     Scene s = test::emptyScene();
     s.materials = {test::matte(Color(0.2f, 0.6f, 0.9f))};
-    s.spheres.push_back(Sphere{Vec3(0.f), 1.f, 0});
+    s.geometry.spheres.push_back(Sphere{Vec3(0.f), 1.f, 0});
     Light l;
     l.position = Vec3(3, 5, 5);
     s.lights.push_back(l);
@@ -37,7 +37,7 @@ TEST(Alpha, SummedCoverageIsTheSilhouetteArea) {
     s.transparentBackground = true;
     const RenderSettings rs = test::smallSettings(120, 120, 16);
     RayStats st;
-    const Image img = renderFrame(s, s.camera, rs, 0, 2, st);
+    const Image img = renderFrame(s, {s.camera, rs}, 0, 2, st);
     ASSERT_TRUE(img.hasAlpha());
     double sum = 0.0;
     int partial = 0;
@@ -61,12 +61,12 @@ TEST(Alpha, ColourIsPremultipliedByCoverage) {
     Scene s = sphereScene();
     const RenderSettings rs = test::smallSettings(64, 48, 4);
     RayStats st;
-    const Image overRed = renderFrame(s, s.camera, rs, 3, 2, st);
+    const Image overRed = renderFrame(s, {s.camera, rs}, 3, 2, st);
     s.background = Color(0.f);
-    const Image overBlack = renderFrame(s, s.camera, rs, 3, 2, st);
+    const Image overBlack = renderFrame(s, {s.camera, rs}, 3, 2, st);
     s.background = Color(0.8f, 0.1f, 0.1f);
     s.transparentBackground = true;
-    const Image clear = renderFrame(s, s.camera, rs, 3, 2, st);
+    const Image clear = renderFrame(s, {s.camera, rs}, 3, 2, st);
     ASSERT_FALSE(overBlack.hasAlpha());
     int full = 0;
     for (int i = 0; i < 64 * 48; ++i) {
@@ -85,10 +85,10 @@ TEST(Alpha, RenderTileWritesCoverageForItsRectangle) {
     s.transparentBackground = true;
     const RenderSettings rs = test::smallSettings(50, 40, 4);
     RayStats st;
-    const Image frame = renderFrame(s, s.camera, rs, 1, 1, st);
+    const Image frame = renderFrame(s, {s.camera, rs}, 1, 1, st);
     const TileRect rect{10, 8, 37, 30};
     std::vector<float> rgb(size_t(rect.pixels()) * 3), alpha(size_t(rect.pixels()), -1.f);
-    renderTile(s, s.camera, rect, rs, 1, rgb.data(), st, alpha.data());
+    renderTile(s, {s.camera, rs}, rect, 1, rgb.data(), st, alpha.data());
     for (int y = rect.y0; y < rect.y1; ++y)
         for (int x = rect.x0; x < rect.x1; ++x)
             ASSERT_EQ(alpha[size_t(y - rect.y0) * rect.width() + (x - rect.x0)], frame.alpha()[size_t(y) * 50 + x]);

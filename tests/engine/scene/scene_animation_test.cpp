@@ -1,4 +1,4 @@
-// Scene::applyNodeTransforms: what an animated node does to its mesh's vertex data.
+// SceneGeometry::applyNodeTransforms: what an animated node does to its mesh's vertex data.
 #include <gtest/gtest.h>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -21,7 +21,7 @@ Scene animatedTriangle() {
     m.objectPositions = m.positions;
     m.objectNormals = m.normals;
     m.objectTangents = m.tangents;
-    s.meshes.push_back(m);
+    s.geometry.meshes.push_back(m);
     s.build();
     return s;
 }
@@ -29,28 +29,28 @@ Scene animatedTriangle() {
 TEST(SceneAnimation, TangentsTurnWithTheirNode) {
     Scene s = animatedTriangle();
     // 90° about +Y: +X goes to −Z, the normal +Z to +X.
-    s.applyNodeTransforms(0, {glm::rotate(DMat4(1.0), glm::radians(90.0), glm::dvec3(0, 1, 0))});
+    s.geometry.applyNodeTransforms(0, {glm::rotate(DMat4(1.0), glm::radians(90.0), glm::dvec3(0, 1, 0))});
     for (int i = 0; i < 3; ++i) {
-        EXPECT_NEAR(s.meshes[0].normals[i].x, 1.f, 1e-6f);
-        EXPECT_NEAR(s.meshes[0].tangents[i].x, 0.f, 1e-6f);
-        EXPECT_NEAR(s.meshes[0].tangents[i].z, -1.f, 1e-6f);
-        EXPECT_EQ(s.meshes[0].tangents[i].w, 1.f);
+        EXPECT_NEAR(s.geometry.meshes[0].normals[i].x, 1.f, 1e-6f);
+        EXPECT_NEAR(s.geometry.meshes[0].tangents[i].x, 0.f, 1e-6f);
+        EXPECT_NEAR(s.geometry.meshes[0].tangents[i].z, -1.f, 1e-6f);
+        EXPECT_EQ(s.geometry.meshes[0].tangents[i].w, 1.f);
         // The tangent stays perpendicular to the normal it is paired with.
-        EXPECT_NEAR(glm::dot(Vec3(s.meshes[0].tangents[i]), s.meshes[0].normals[i]), 0.f, 1e-6f);
+        EXPECT_NEAR(glm::dot(Vec3(s.geometry.meshes[0].tangents[i]), s.geometry.meshes[0].normals[i]), 0.f, 1e-6f);
     }
 }
 
 TEST(SceneAnimation, ScaledTangentsStayUnitAndAMirrorFlipsTheirHandedness) {
     Scene s = animatedTriangle();
-    s.applyNodeTransforms(0, {glm::scale(DMat4(1.0), glm::dvec3(-3, 2, 1))});  // mirrors x
+    s.geometry.applyNodeTransforms(0, {glm::scale(DMat4(1.0), glm::dvec3(-3, 2, 1))});  // mirrors x
     for (int i = 0; i < 3; ++i) {
-        EXPECT_NEAR(s.meshes[0].tangents[i].x, -1.f, 1e-6f);
-        EXPECT_NEAR(glm::length(Vec3(s.meshes[0].tangents[i])), 1.f, 1e-6f);
-        EXPECT_EQ(s.meshes[0].tangents[i].w, -1.f);
+        EXPECT_NEAR(s.geometry.meshes[0].tangents[i].x, -1.f, 1e-6f);
+        EXPECT_NEAR(glm::length(Vec3(s.geometry.meshes[0].tangents[i])), 1.f, 1e-6f);
+        EXPECT_EQ(s.geometry.meshes[0].tangents[i].w, -1.f);
     }
     // Back to the rest pose: the object-space tangents again, not a second flip.
-    s.applyNodeTransforms(0, {DMat4(1.0)});
-    EXPECT_EQ(s.meshes[0].tangents[0], Vec4(1, 0, 0, 1));
+    s.geometry.applyNodeTransforms(0, {DMat4(1.0)});
+    EXPECT_EQ(s.geometry.meshes[0].tangents[0], Vec4(1, 0, 0, 1));
 }
 
 }  // namespace

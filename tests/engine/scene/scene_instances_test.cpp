@@ -27,17 +27,17 @@ TriangleMesh onNode(TriangleMesh m, int node) {
 /// morphed grid on node 2 (deforming: one target lifts its middle).
 Scene mixedScene() {
     Scene s = test::emptyScene();
-    s.meshes.push_back(test::gridMesh(12, 3.f));
-    s.meshes.push_back(onNode(test::uvSphere(12, 16, 0.6f, Vec3(0.f), true), 0));
-    s.meshes.push_back(onNode(test::uvSphere(8, 12, 0.3f, Vec3(0.f), true), 1));
+    s.geometry.meshes.push_back(test::gridMesh(12, 3.f));
+    s.geometry.meshes.push_back(onNode(test::uvSphere(12, 16, 0.6f, Vec3(0.f), true), 0));
+    s.geometry.meshes.push_back(onNode(test::uvSphere(8, 12, 0.3f, Vec3(0.f), true), 1));
     TriangleMesh bump = onNode(test::gridMesh(10, 1.f), 2);
     std::vector<Vec3> lift(bump.positions.size());
     for (size_t i = 0; i < lift.size(); ++i) lift[i] = Vec3(0.f, 1.f - glm::length(bump.positions[i]), 0.f);
     bump.morphPositions.push_back(lift);
-    s.meshes.push_back(bump);
+    s.geometry.meshes.push_back(bump);
     SceneGraph g;
     g.nodes.resize(3);
-    s.models.push_back(g);
+    s.geometry.models.push_back(g);
     s.build();
     return s;
 }
@@ -53,12 +53,12 @@ std::vector<DMat4> poseAt(double a) {
 /// The same geometry as `posed`, baked: every mesh static, so one tree over render space.
 Scene baked(const Scene& posed) {
     Scene s = test::emptyScene();
-    for (TriangleMesh m : posed.meshes) {
+    for (TriangleMesh m : posed.geometry.meshes) {
         m.node = -1;
         m.model = -1;
         m.objectPositions.clear();
         m.morphPositions.clear();
-        s.meshes.push_back(m);
+        s.geometry.meshes.push_back(m);
     }
     s.build();
     return s;
@@ -66,15 +66,15 @@ Scene baked(const Scene& posed) {
 
 TEST(SceneInstances, RigidMeshesAndAMorphedOneGetTheirOwnTrees) {
     Scene s = mixedScene();
-    ASSERT_TRUE(s.twoLevel());
-    ASSERT_EQ(s.instances().size(), 4u);
-    EXPECT_EQ(s.instances()[0].kind, SceneInstance::Kind::Static);
-    EXPECT_EQ(s.instances()[1].kind, SceneInstance::Kind::Rigid);
-    EXPECT_TRUE(s.instances()[1].transformed);
-    EXPECT_EQ(s.instances()[3].kind, SceneInstance::Kind::Deforming);
-    EXPECT_FALSE(s.instances()[3].transformed);
+    ASSERT_TRUE(s.geometry.twoLevel());
+    ASSERT_EQ(s.geometry.instances().size(), 4u);
+    EXPECT_EQ(s.geometry.instances()[0].kind, SceneInstance::Kind::Static);
+    EXPECT_EQ(s.geometry.instances()[1].kind, SceneInstance::Kind::Rigid);
+    EXPECT_TRUE(s.geometry.instances()[1].transformed);
+    EXPECT_EQ(s.geometry.instances()[3].kind, SceneInstance::Kind::Deforming);
+    EXPECT_FALSE(s.geometry.instances()[3].transformed);
     // A scene where nothing moves is one tree, with no top level.
-    EXPECT_FALSE(baked(s).twoLevel());
+    EXPECT_FALSE(baked(s).geometry.twoLevel());
 }
 
 TEST(SceneInstances, PosedInstancesHitWhatTheBakedGeometryHits) {
@@ -83,22 +83,23 @@ TEST(SceneInstances, PosedInstancesHitWhatTheBakedGeometryHits) {
     std::uniform_real_distribution<float> u(-1.f, 1.f);
     int hits = 0, instanced = 0;
     for (double a : {0.0, 0.7, 2.1}) {
-        s.applyNodeTransforms(0, poseAt(a), {{}, {}, {0.8}});
+        s.geometry.applyNodeTransforms(0, poseAt(a), {{}, {}, {0.8}});
         const Scene ref = baked(s);
         for (int i = 0; i < 4000; ++i) {
             Ray r{Vec3(4.f * u(rng), 3.f + u(rng), 4.f * u(rng)), glm::normalize(Vec3(u(rng), -1.f, u(rng)))};
             r.tMax = 100.f;
             Hit h, hr;
-            const bool got = s.intersect(r, h), want = ref.intersect(r, hr);
+            const bool got = s.geometry.intersect(r, h), want = ref.geometry.intersect(r, hr);
             ASSERT_EQ(got, want) << "pose " << a << " ray " << i;
             if (!got) continue;
             ++hits;
             // Scene-wide prim ids are the same in both (meshes in the same order).
             EXPECT_EQ(h.prim, hr.prim) << "pose " << a << " ray " << i;
             EXPECT_NEAR(h.t, hr.t, 2e-5f * hr.t) << "pose " << a << " ray " << i;
-            instanced += s.instances()[1].prims.front() <= h.prim && h.prim <= s.instances()[1].prims.back();
-            EXPECT_EQ(s.occluded(r, 100.f), ref.occluded(r, 100.f));
-            const SurfaceInteraction si = s.interaction(r, h), sr = ref.interaction(r, hr);
+            instanced +=
+                s.geometry.instances()[1].prims.front() <= h.prim && h.prim <= s.geometry.instances()[1].prims.back();
+            EXPECT_EQ(s.geometry.occluded(r, 100.f), ref.geometry.occluded(r, 100.f));
+            const SurfaceInteraction si = s.geometry.interaction(r, h), sr = ref.geometry.interaction(r, hr);
             EXPECT_NEAR(glm::length(si.p - sr.p), 0.f, 1e-4f);
             EXPECT_GE(glm::dot(si.ng, sr.ng), 0.999f);
         }
@@ -109,7 +110,7 @@ TEST(SceneInstances, PosedInstancesHitWhatTheBakedGeometryHits) {
 
 TEST(SceneInstances, CameraPacketsFindWhatSingleRaysFind) {
     Scene s = mixedScene();
-    s.applyNodeTransforms(0, poseAt(0.7), {{}, {}, {0.5}});
+    s.geometry.applyNodeTransforms(0, poseAt(0.7), {{}, {}, {0.5}});
     std::vector<Ray> packet;
     for (int y = 0; y < 8; ++y)
         for (int x = 0; x < 8; ++x) {
@@ -119,11 +120,11 @@ TEST(SceneInstances, CameraPacketsFindWhatSingleRaysFind) {
         }
     std::vector<Hit> hits(packet.size());
     bool met[Bvh::kPacketMax];
-    s.intersectPacket(packet.data(), int(packet.size()), hits.data(), met);
+    s.geometry.intersectPacket(packet.data(), int(packet.size()), hits.data(), met);
     int found = 0, ties = 0;
     for (size_t i = 0; i < packet.size(); ++i) {
         Hit alone;
-        ASSERT_EQ(met[i], s.intersect(packet[i], alone)) << i;
+        ASSERT_EQ(met[i], s.geometry.intersect(packet[i], alone)) << i;
         if (!met[i]) continue;
         ++found;
         // The same t; the same primitive unless two tie there (the grid's diagonals: the packet
@@ -143,13 +144,14 @@ TEST(SceneInstances, PosingNeverTouchesTheStaticOrRigidTrees) {
             out.insert(out.end(), {n.box.lo.x, n.box.lo.y, n.box.lo.z, n.box.hi.x, n.box.hi.y, n.box.hi.z});
         return out;
     };
-    const std::vector<float> staticBefore = boxes(s.instances()[0].bvh), rigidBefore = boxes(s.instances()[1].bvh);
-    const std::vector<float> deformBefore = boxes(s.instances()[3].bvh);
+    const std::vector<float> staticBefore = boxes(s.geometry.instances()[0].bvh),
+                             rigidBefore = boxes(s.geometry.instances()[1].bvh);
+    const std::vector<float> deformBefore = boxes(s.geometry.instances()[3].bvh);
     for (double a : {0.3, 1.9}) {
-        s.applyNodeTransforms(0, poseAt(a), {{}, {}, {1.0}});
-        EXPECT_EQ(boxes(s.instances()[0].bvh), staticBefore);
-        EXPECT_EQ(boxes(s.instances()[1].bvh), rigidBefore);  // object space: the matrix moves it
-        EXPECT_NE(boxes(s.instances()[3].bvh), deformBefore);  // refitted to the lifted grid
+        s.geometry.applyNodeTransforms(0, poseAt(a), {{}, {}, {1.0}});
+        EXPECT_EQ(boxes(s.geometry.instances()[0].bvh), staticBefore);
+        EXPECT_EQ(boxes(s.geometry.instances()[1].bvh), rigidBefore);  // object space: the matrix moves it
+        EXPECT_NE(boxes(s.geometry.instances()[3].bvh), deformBefore);  // refitted to the lifted grid
     }
 }
 
@@ -157,12 +159,12 @@ TEST(SceneInstances, ANodeScaledToNothingHidesItsInstance) {
     Scene s = mixedScene();
     std::vector<DMat4> pose = poseAt(0.0);
     pose[0] = glm::scale(DMat4(1.0), DVec3(0.0));
-    s.applyNodeTransforms(0, pose, {{}, {}, {0.0}});
-    EXPECT_TRUE(s.instances()[1].hidden);
+    s.geometry.applyNodeTransforms(0, pose, {{}, {}, {0.0}});
+    EXPECT_TRUE(s.geometry.instances()[1].hidden);
     Ray r{Vec3(1.2f, 5.f, -0.5f), Vec3(0.f, -1.f, 0.f)};
     Hit h;
-    ASSERT_TRUE(s.intersect(r, h));
-    EXPECT_LT(h.prim, s.meshes[0].triangleCount());  // through where the sphere was, onto the floor
+    ASSERT_TRUE(s.geometry.intersect(r, h));
+    EXPECT_LT(h.prim, s.geometry.meshes[0].triangleCount());  // through where the sphere was, onto the floor
 }
 
 /// One triangle in z = 0, front +z (counter-clockwise seen from +z), on node 0.
@@ -182,8 +184,8 @@ Scene triangleOnNode(bool skinned) {
         m.skinWeights = {1.f, 1.f, 1.f};
         g.skins.push_back(Skin{"", {0}, {DMat4(1.0)}});
     }
-    s.models.push_back(g);
-    s.meshes.push_back(m);
+    s.geometry.models.push_back(g);
+    s.geometry.meshes.push_back(m);
     s.build();
     return s;
 }
@@ -193,21 +195,21 @@ TEST(SceneInstances, AMirroringPoseTurnsTheFacetNormalWithTheFaces) {
         Scene s = triangleOnNode(skinned);
         // x mirrored: the triangle lies in the same plane, its front still faces +z, but its
         // corners now run clockwise seen from there.
-        s.applyNodeTransforms(0, {glm::scale(DMat4(1.0), DVec3(-1.0, 1.0, 1.0))});
+        s.geometry.applyNodeTransforms(0, {glm::scale(DMat4(1.0), DVec3(-1.0, 1.0, 1.0))});
         for (float dz : {-1.f, 1.f}) {
             Ray r{Vec3(-0.2f, 0.2f, -3.f * dz), Vec3(0.f, 0.f, dz)};
             Hit h;
-            ASSERT_TRUE(s.intersect(r, h)) << skinned;
-            const SurfaceInteraction si = s.interaction(r, h);
+            ASSERT_TRUE(s.geometry.intersect(r, h)) << skinned;
+            const SurfaceInteraction si = s.geometry.interaction(r, h);
             EXPECT_NEAR(si.ng.z, 1.f, 1e-6f) << (skinned ? "skinned" : "rigid") << ", ray from " << -dz;
             EXPECT_NEAR(si.ns.z, 1.f, 1e-6f) << (skinned ? "skinned" : "rigid");
         }
         // Back to the rest pose: not mirrored, the same front.
-        s.applyNodeTransforms(0, {DMat4(1.0)});
+        s.geometry.applyNodeTransforms(0, {DMat4(1.0)});
         Ray r{Vec3(0.2f, 0.2f, 3.f), Vec3(0.f, 0.f, -1.f)};
         Hit h;
-        ASSERT_TRUE(s.intersect(r, h));
-        EXPECT_NEAR(s.interaction(r, h).ng.z, 1.f, 1e-6f);
+        ASSERT_TRUE(s.geometry.intersect(r, h));
+        EXPECT_NEAR(s.geometry.interaction(r, h).ng.z, 1.f, 1e-6f);
     }
 }
 
@@ -246,8 +248,8 @@ void expectHitsAsBaked(const Scene& posed, unsigned seed) {
     for (int i = 0; i < 2000; ++i) {
         const Ray r{Vec3(u(rng), 3.f, -1.8f + u(rng)), glm::normalize(Vec3(0.1f * u(rng), -1.f, 0.1f * u(rng)))};
         Hit h, hr;
-        const bool met = posed.intersect(r, h);
-        ASSERT_EQ(met, ref.intersect(r, hr)) << i;
+        const bool met = posed.geometry.intersect(r, h);
+        ASSERT_EQ(met, ref.geometry.intersect(r, hr)) << i;
         if (met) {
             EXPECT_NEAR(h.t, hr.t, 1e-4f) << i;
         }
@@ -255,8 +257,8 @@ void expectHitsAsBaked(const Scene& posed, unsigned seed) {
 }
 
 /// A deforming grid whose one morph target lifts the middle, anchored at weights k / 4.
-Scene::PoseAnchor anchorAt(int k) {
-    Scene::PoseAnchor a;
+SceneGeometry::PoseAnchor anchorAt(int k) {
+    SceneGeometry::PoseAnchor a;
     a.clip = 0;
     a.index = k;
     a.pose = [k](std::vector<DMat4>& n, std::vector<std::vector<double>>& w) {
@@ -268,14 +270,14 @@ Scene::PoseAnchor anchorAt(int k) {
 
 TEST(SceneInstances, ADeformingTreeIsItsAnchorsRefittedWhateverCameBefore) {
     Scene direct = mixedScene(), after = mixedScene();
-    const Scene::PoseAnchor a1 = anchorAt(1), a3 = anchorAt(3);
+    const SceneGeometry::PoseAnchor a1 = anchorAt(1), a3 = anchorAt(3);
     // `after` has seen another anchor and pose first; `direct` goes straight to the frame.
-    after.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.7}}, &a3);
-    EXPECT_EQ(after.lastUpdateCost().anchorsBuilt, 1);
-    after.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.3}}, &a1);
-    direct.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.3}}, &a1);
-    const Bvh& x = after.instances()[3].bvh;
-    const Bvh& y = direct.instances()[3].bvh;
+    after.geometry.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.7}}, &a3);
+    EXPECT_EQ(after.geometry.lastUpdateCost().anchorsBuilt, 1);
+    after.geometry.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.3}}, &a1);
+    direct.geometry.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.3}}, &a1);
+    const Bvh& x = after.geometry.instances()[3].bvh;
+    const Bvh& y = direct.geometry.instances()[3].bvh;
     EXPECT_EQ(x.primIndex(), y.primIndex());
     ASSERT_EQ(x.nodes().size(), y.nodes().size());
     for (size_t i = 0; i < x.nodes().size(); ++i) {
@@ -283,8 +285,8 @@ TEST(SceneInstances, ADeformingTreeIsItsAnchorsRefittedWhateverCameBefore) {
         EXPECT_EQ(x.nodes()[i].box.hi, y.nodes()[i].box.hi);
     }
     // A second frame near anchor 1 reuses its tree: nothing built, and it still hits right.
-    direct.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.2}}, &a1);
-    EXPECT_EQ(direct.lastUpdateCost().anchorsBuilt, 0);
+    direct.geometry.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.2}}, &a1);
+    EXPECT_EQ(direct.geometry.lastUpdateCost().anchorsBuilt, 0);
     expectHitsAsBaked(direct, 3);
 }
 
@@ -315,28 +317,28 @@ TEST(SceneInstances, ARefitInPlaceGivesTheTreeOfAFreshCopy) {
     // Frames refitted from the same starting tree one after another rewrite the boxes in place
     // (no copy); the tree must be the one a scene going straight to the frame gets, 4-wide
     // shape included (collapsed from the starting tree's boxes, never the frame's).
-    const Scene::PoseAnchor a1 = anchorAt(1), a3 = anchorAt(3);
+    const SceneGeometry::PoseAnchor a1 = anchorAt(1), a3 = anchorAt(3);
     Scene chain = mixedScene(), direct = mixedScene(), back = mixedScene();
-    chain.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.9}}, &a1);
-    chain.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.2}}, &a1);  // in place
-    direct.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.2}}, &a1);
-    expectSameTree(chain.instances()[3].bvh, direct.instances()[3].bvh);
+    chain.geometry.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.9}}, &a1);
+    chain.geometry.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.2}}, &a1);  // in place
+    direct.geometry.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.2}}, &a1);
+    expectSameTree(chain.geometry.instances()[3].bvh, direct.geometry.instances()[3].bvh);
     // Through another anchor and back: copied again, the same tree.
-    back.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.9}}, &a1);
-    back.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.7}}, &a3);
-    back.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.2}}, &a1);
-    expectSameTree(back.instances()[3].bvh, direct.instances()[3].bvh);
+    back.geometry.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.9}}, &a1);
+    back.geometry.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.7}}, &a3);
+    back.geometry.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.2}}, &a1);
+    expectSameTree(back.geometry.instances()[3].bvh, direct.geometry.instances()[3].bvh);
     // (Anchor 1's topology is not build()'s nor anchor 3's, so a tree left uncopied would show.)
-    const SceneInstance& in = back.instances()[3];
+    const SceneInstance& in = back.geometry.instances()[3];
     ASSERT_NE(in.anchors.at({0, 1}).tree.primIndex(), in.built.primIndex());
     ASSERT_NE(in.anchors.at({0, 1}).tree.primIndex(), in.anchors.at({0, 3}).tree.primIndex());
     EXPECT_EQ(in.bvh.primIndex(), in.anchors.at({0, 1}).tree.primIndex());
     // Without anchors: build()'s tree refitted, in place the second time.
     Scene chainRest = mixedScene(), directRest = mixedScene();
-    chainRest.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {1.0}});
-    chainRest.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.4}});
-    directRest.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.4}});
-    expectSameTree(chainRest.instances()[3].bvh, directRest.instances()[3].bvh);
+    chainRest.geometry.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {1.0}});
+    chainRest.geometry.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.4}});
+    directRest.geometry.applyNodeTransforms(0, poseAt(0.0), {{}, {}, {0.4}});
+    expectSameTree(chainRest.geometry.instances()[3].bvh, directRest.geometry.instances()[3].bvh);
     // And the rays agree with the baked mesh.
     expectHitsAsBaked(chain, 5);
 }

@@ -13,13 +13,14 @@ namespace {
 // The rule, over every pair, in double: no plane cuts the sphere and no other sphere overlaps
 // it (touching is fine).
 std::vector<uint8_t> aloneByEveryPair(const Scene& s) {
-    std::vector<uint8_t> out(s.spheres.size(), 1);
-    for (size_t i = 0; i < s.spheres.size(); ++i) {
-        const Sphere& a = s.spheres[i];
-        for (const Plane& pl : s.planes)
+    std::vector<uint8_t> out(s.geometry.spheres.size(), 1);
+    for (size_t i = 0; i < s.geometry.spheres.size(); ++i) {
+        const Sphere& a = s.geometry.spheres[i];
+        for (const Plane& pl : s.geometry.planes)
             if (std::abs(glm::dot(DVec3(pl.n), DVec3(a.center)) + double(pl.d)) < double(a.radius)) out[i] = 0;
-        for (size_t j = 0; j < s.spheres.size(); ++j)
-            if (j != i && glm::length(DVec3(a.center) - DVec3(s.spheres[j].center)) < double(a.radius) + s.spheres[j].radius)
+        for (size_t j = 0; j < s.geometry.spheres.size(); ++j)
+            if (j != i && glm::length(DVec3(a.center) - DVec3(s.geometry.spheres[j].center)) <
+                              double(a.radius) + s.geometry.spheres[j].radius)
                 out[i] = 0;
     }
     return out;
@@ -27,7 +28,7 @@ std::vector<uint8_t> aloneByEveryPair(const Scene& s) {
 
 std::vector<uint8_t> aloneFlags(const Scene& s) {
     std::vector<uint8_t> out;
-    for (size_t i = 0; i < s.spheres.size(); ++i) out.push_back(s.sphereAlone(i));
+    for (size_t i = 0; i < s.geometry.spheres.size(); ++i) out.push_back(s.geometry.sphereAlone(i));
     return out;
 }
 
@@ -38,22 +39,23 @@ TEST(Scene, AloneSpheresMatchTheEveryPairRule) {
     std::uniform_real_distribution<float> pos(-40.f, 40.f), rad(0.05f, 3.f);
     for (int round = 0; round < 4; ++round) {
         Scene s;
-        for (int i = 0; i < 1500; ++i) s.spheres.push_back(Sphere{Vec3(pos(rng), pos(rng), pos(rng)), rad(rng), 0});
+        for (int i = 0; i < 1500; ++i)
+            s.geometry.spheres.push_back(Sphere{Vec3(pos(rng), pos(rng), pos(rng)), rad(rng), 0});
         // Touching exactly (alone), a hair closer (not), a big one holding small ones, two coincident.
-        s.spheres.push_back(Sphere{Vec3(100.f, 0.f, 0.f), 1.f, 0});
-        s.spheres.push_back(Sphere{Vec3(102.f, 0.f, 0.f), 1.f, 0});
-        s.spheres.push_back(Sphere{Vec3(100.f, 10.f, 0.f), 1.f, 0});
-        s.spheres.push_back(Sphere{Vec3(101.99999f, 10.f, 0.f), 1.f, 0});
-        s.spheres.push_back(Sphere{Vec3(0.f, 200.f, 0.f), 50.f, 0});
-        s.spheres.push_back(Sphere{Vec3(30.f, 200.f, 0.f), 0.5f, 0});
-        s.spheres.push_back(Sphere{Vec3(-300.f, 0.f, 0.f), 2.f, 0});
-        s.spheres.push_back(Sphere{Vec3(-300.f, 0.f, 0.f), 2.f, 0});
-        if (round % 2) s.planes.push_back(Plane{Vec3(0.f, 1.f, 0.f), 5.f, 0});
+        s.geometry.spheres.push_back(Sphere{Vec3(100.f, 0.f, 0.f), 1.f, 0});
+        s.geometry.spheres.push_back(Sphere{Vec3(102.f, 0.f, 0.f), 1.f, 0});
+        s.geometry.spheres.push_back(Sphere{Vec3(100.f, 10.f, 0.f), 1.f, 0});
+        s.geometry.spheres.push_back(Sphere{Vec3(101.99999f, 10.f, 0.f), 1.f, 0});
+        s.geometry.spheres.push_back(Sphere{Vec3(0.f, 200.f, 0.f), 50.f, 0});
+        s.geometry.spheres.push_back(Sphere{Vec3(30.f, 200.f, 0.f), 0.5f, 0});
+        s.geometry.spheres.push_back(Sphere{Vec3(-300.f, 0.f, 0.f), 2.f, 0});
+        s.geometry.spheres.push_back(Sphere{Vec3(-300.f, 0.f, 0.f), 2.f, 0});
+        if (round % 2) s.geometry.planes.push_back(Plane{Vec3(0.f, 1.f, 0.f), 5.f, 0});
         s.build();
         const std::vector<uint8_t> want = aloneByEveryPair(s), got = aloneFlags(s);
         ASSERT_EQ(got.size(), want.size());
         for (size_t i = 0; i < want.size(); ++i) EXPECT_EQ(got[i], want[i]) << "round " << round << " sphere " << i;
-        const size_t n = s.spheres.size();
+        const size_t n = s.geometry.spheres.size();
         EXPECT_TRUE(got[n - 8] && got[n - 7]);    // touching
         EXPECT_FALSE(got[n - 6] || got[n - 5]);  // overlapping by 1e-5
         EXPECT_FALSE(got[n - 4] || got[n - 3]);  // one inside the other
@@ -68,13 +70,13 @@ TEST(Scene, AloneSpheresOfALargeLatticeAreFoundPerSphere) {
     Scene s;
     for (int z = 0; z < 20; ++z)
         for (int y = 0; y < 100; ++y)
-            for (int x = 0; x < 100; ++x) s.spheres.push_back(Sphere{Vec3(2.f * x, 2.f * y, 2.f * z), 1.f, 0});
+            for (int x = 0; x < 100; ++x) s.geometry.spheres.push_back(Sphere{Vec3(2.f * x, 2.f * y, 2.f * z), 1.f, 0});
     const size_t poked = 5 + 100 * (7 + 100 * 3);
-    s.spheres.push_back(Sphere{s.spheres[poked].center + Vec3(0.f, 0.f, 0.5f), 0.25f, 0});
+    s.geometry.spheres.push_back(Sphere{s.geometry.spheres[poked].center + Vec3(0.f, 0.f, 0.5f), 0.25f, 0});
     s.build();
     size_t alone = 0;
-    for (size_t i = 0; i < s.spheres.size(); ++i) alone += s.sphereAlone(i);
-    EXPECT_EQ(alone, s.spheres.size() - 2);
-    EXPECT_FALSE(s.sphereAlone(poked));
-    EXPECT_FALSE(s.sphereAlone(s.spheres.size() - 1));
+    for (size_t i = 0; i < s.geometry.spheres.size(); ++i) alone += s.geometry.sphereAlone(i);
+    EXPECT_EQ(alone, s.geometry.spheres.size() - 2);
+    EXPECT_FALSE(s.geometry.sphereAlone(poked));
+    EXPECT_FALSE(s.geometry.sphereAlone(s.geometry.spheres.size() - 1));
 }

@@ -49,7 +49,7 @@ std::vector<uint8_t> stillThrough(const Camera& camera, int frame, int spp, int 
     s.width = width;
     s.height = height;
     RayStats rays;
-    return toRgb8(renderFrame(scene, camera, s, frame, 1, rays), s);
+    return toRgb8(renderFrame(scene, {camera, s}, frame, 1, rays), s);
 }
 
 struct Picture {

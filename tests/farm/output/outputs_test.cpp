@@ -36,7 +36,7 @@ std::string outDir(const std::string& name) {
 Scene transparentFarmScene() {
     Scene s = rf::testing::loadFarmScene();
     s.transparentBackground = true;
-    s.planes.clear();  // no floor: sky around the spheres
+    s.geometry.planes.clear();  // no floor: sky around the spheres
     s.build();
     return s;
 }
@@ -100,7 +100,7 @@ TEST(Outputs, ExrFramesHoldTheLinearFramebufferToHalfPrecision) {
     Scene ref = transparentFarmScene();
     anim::Timeline::fromScene(ref).applyFrame(ref, 2);
     RayStats st;
-    const Image img = renderFrame(ref, ref.camera, rs, 2, 2, st);
+    const Image img = renderFrame(ref, {ref.camera, rs}, 2, 2, st);
     const size_t n = size_t(rs.width) * rs.height;
     const std::vector<uint8_t> rgba8 = toRgba8(img, rs.toneMap);
     ASSERT_EQ(std::memcmp(frame.data(), rgba8.data(), n * 4), 0);

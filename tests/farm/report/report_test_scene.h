@@ -32,10 +32,10 @@ inline Scene edgeScene(bool glass, bool lights = true) {
     clear.ior = 1.5f;
     sc.materials = {floor, red, mirror};
     if (glass) sc.materials.push_back(clear);  // a material alone makes the scene "have glass"
-    sc.planes.push_back({Vec3(0, 1, 0), 0.f, 0});
-    sc.spheres.push_back({Vec3(-1.2f, 0.7f, 0.f), 0.7f, 1});
-    sc.spheres.push_back({Vec3(0.8f, 0.9f, 0.5f), 0.9f, 2});
-    if (glass) sc.spheres.push_back({Vec3(0.3f, 0.5f, -1.6f), 0.5f, 3});
+    sc.geometry.planes.push_back({Vec3(0, 1, 0), 0.f, 0});
+    sc.geometry.spheres.push_back({Vec3(-1.2f, 0.7f, 0.f), 0.7f, 1});
+    sc.geometry.spheres.push_back({Vec3(0.8f, 0.9f, 0.5f), 0.9f, 2});
+    if (glass) sc.geometry.spheres.push_back({Vec3(0.3f, 0.5f, -1.6f), 0.5f, 3});
     if (lights) {
         Light l;
         l.position = Vec3(4, 6, -4);

@@ -22,7 +22,7 @@ std::vector<std::vector<uint8_t>> movingFrames(int n, int w, int h) {
     for (int i = 0; i < n; ++i) {
         sc.camera.eye.x = 0.1f * i;
         RayStats rays;
-        out.push_back(toRgb8(renderFrame(sc, sc.camera, s, i, 2, rays), s.toneMap));
+        out.push_back(toRgb8(renderFrame(sc, {sc.camera, s}, i, 2, rays), s.toneMap));
     }
     return out;
 }

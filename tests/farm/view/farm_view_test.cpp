@@ -99,7 +99,7 @@ struct Farm {
 std::vector<uint8_t> stillOf(Scene scene, const RenderSettings& s, int frame) {
     anim::Timeline::fromScene(scene).applyFrame(scene, frame);
     RayStats rays;
-    return toRgb8(renderFrame(scene, scene.camera, s, frame, 1, rays), s);
+    return toRgb8(renderFrame(scene, {scene.camera, s}, frame, 1, rays), s);
 }
 
 class FarmViewRanks : public ::testing::TestWithParam<int> {};

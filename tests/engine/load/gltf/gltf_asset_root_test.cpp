@@ -46,7 +46,7 @@ size_t loadedMeshes(const std::string& path, const AssetOptions& assets) {
     DiskFileSource files;
     Scene scene;
     loadGltfModel(scene, path, DMat4(1.0), files, -1, assets);
-    return scene.meshes.size();
+    return scene.geometry.meshes.size();
 }
 
 /// Runs in `dir` as the current directory, then goes back.
@@ -129,7 +129,7 @@ TEST(GltfAssetRoot, SceneFileKeySetsTheRootAndTheCommandLineOverridesIt) {
         DiskFileSource files;  // a fresh one each time: it keeps what it read
         return loadScene(scene, files, o);
     };
-    EXPECT_EQ(load().meshes.size(), 1u);
+    EXPECT_EQ(load().geometry.meshes.size(), 1u);
     // Without the key the model's folder is the root: refused.
     writeFile(scene, json{{"objects", objects}}.dump());
     try {
@@ -143,6 +143,6 @@ TEST(GltfAssetRoot, SceneFileKeySetsTheRootAndTheCommandLineOverridesIt) {
     SceneOptions o;
     o.assets.root = l.root.path.string();
     o.rootFromCommandLine = true;
-    EXPECT_EQ(load(o).meshes.size(), 1u);
+    EXPECT_EQ(load(o).geometry.meshes.size(), 1u);
     EXPECT_THROW(load(), InputError);  // the key alone (models/) is too narrow
 }

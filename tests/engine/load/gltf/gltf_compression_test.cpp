@@ -41,7 +41,7 @@ Picture renderModel(const std::string& path, std::vector<std::string>* notes = n
     rs.autoExposure = false;
     rs.exposure = 0.f;
     RayStats stats;
-    const Image img = renderFrame(s, s.camera, rs, 0, 0, stats);
+    const Image img = renderFrame(s, {s.camera, rs}, 0, 0, stats);
     return {img.width(), img.height(), toRgb8(img, rs), img.alpha()};
 }
 

@@ -68,15 +68,15 @@ TEST(GltfGeometry, NodeHierarchyPlacesVerticesInRenderSpace) {
                   {{"translation", {0, 2, 0}}, {"rotation", {0, h, 0, h}}, {"mesh", 0}}};
     const Scene s = load(model(buf, acc, {{{"buffer", 0}, {"byteLength", 36}}}, {{"attributes", {{"POSITION", 0}}}}, nodes),
                          DVec3(64, 0, 0));
-    ASSERT_EQ(s.meshes.size(), 1u);
-    const TriangleMesh& m = s.meshes[0];
+    ASSERT_EQ(s.geometry.meshes.size(), 1u);
+    const TriangleMesh& m = s.geometry.meshes[0];
     expectNear(m.positions[0], Vec3(10 - 64, 2, -1));
     expectNear(m.positions[1], Vec3(10 - 64, 3, 0));
     expectNear(m.positions[2], Vec3(11 - 64, 2, 0));
     EXPECT_EQ(m.node, -1) << "nothing animates it: baked";
-    ASSERT_EQ(s.models.size(), 1u);
-    EXPECT_EQ(s.models[0].nodes[1].parent, 0);
-    EXPECT_DOUBLE_EQ(s.models[0].nodes[1].translation.y, 2.0);
+    ASSERT_EQ(s.geometry.models.size(), 1u);
+    EXPECT_EQ(s.geometry.models[0].nodes[1].parent, 0);
+    EXPECT_DOUBLE_EQ(s.geometry.models[0].nodes[1].translation.y, 2.0);
 }
 
 TEST(GltfGeometry, FarAwayModelKeepsItsPrecision) {
@@ -87,8 +87,8 @@ TEST(GltfGeometry, FarAwayModelKeepsItsPrecision) {
     json nodes = {{{"translation", {6.4e6, 0, 0}}, {"mesh", 0}}};
     const Scene s = load(model(buf, acc, {{{"buffer", 0}, {"byteLength", 36}}}, {{"attributes", {{"POSITION", 0}}}}, nodes),
                          DVec3(6.4e6, 0, 0));
-    ASSERT_EQ(s.meshes.size(), 1u);
-    expectNear(s.meshes[0].positions[1], Vec3(1e-3f, 0, 0), 1e-9f);
+    ASSERT_EQ(s.geometry.meshes.size(), 1u);
+    expectNear(s.geometry.meshes[0].positions[1], Vec3(1e-3f, 0, 0), 1e-9f);
 }
 
 TEST(GltfGeometry, MirroringFlipsWindingAndNonUniformScaleUsesInverseTranspose) {
@@ -103,10 +103,10 @@ TEST(GltfGeometry, MirroringFlipsWindingAndNonUniformScaleUsesInverseTranspose) 
     const Vec3 want = glm::normalize(Vec3(-0.5f, 1.f, 0.f));
     for (json scale : {json{-2, 1, 1}, json{2, 1, 1}}) {
         const Scene s = load(model(buf, acc, views, prim, {{{"scale", scale}, {"mesh", 0}}}));
-        ASSERT_EQ(s.meshes.size(), 1u);
+        ASSERT_EQ(s.geometry.meshes.size(), 1u);
         const Vec3 w = scale[0] == -2 ? want : glm::normalize(Vec3(0.5f, 1.f, 0.f));
-        expectNear(s.meshes[0].normals[0], w);
-        expectNear(faceNormal(s.meshes[0], 0), w);  // winding agrees with the normal
+        expectNear(s.geometry.meshes[0].normals[0], w);
+        expectNear(faceNormal(s.geometry.meshes[0], 0), w);  // winding agrees with the normal
     }
 }
 
@@ -119,14 +119,14 @@ TEST(GltfGeometry, StripsAndFansBecomeTrianglesWithOneWinding) {
         loadGltfModel(s, dir + "Mesh_PrimitiveMode_" + f + ".gltf", DMat4(1.0), files);
         size_t tris = 0;
         double area = 0.0;
-        for (const TriangleMesh& m : s.meshes)
+        for (const TriangleMesh& m : s.geometry.meshes)
             for (size_t t = 0; t < m.triangleCount(); ++t, ++tris) {
                 const Vec3 a = m.positions[m.indices[3 * t]], b = m.positions[m.indices[3 * t + 1]], c = m.positions[m.indices[3 * t + 2]];
                 const Vec3 cr = glm::cross(b - a, c - a);
                 area += 0.5 * glm::length(cr);
                 EXPECT_GT(cr.z, 0.f) << f << ": triangle " << t << " faces away";
             }
-        const Aabb b = s.bounds();
+        const Aabb b = s.geometry.bounds();
         EXPECT_EQ(tris, 2u) << f;
         EXPECT_NEAR(area, double(b.hi.x - b.lo.x) * (b.hi.y - b.lo.y), 1e-6) << f << ": the two triangles tile the square";
     }
@@ -137,7 +137,7 @@ TEST(GltfGeometry, PointsAndLinesAreSkippedWithOneNote) {
     DiskFileSource files;
     Scene s;
     loadGltfModel(s, dir + "Mesh_PrimitiveMode_01.gltf", DMat4(1.0), files);
-    EXPECT_TRUE(s.meshes.empty());
+    EXPECT_TRUE(s.geometry.meshes.empty());
     int notes = 0;
     for (const std::string& n : s.notes) notes += n.find("points and lines") != std::string::npos;
     EXPECT_EQ(notes, 1);
@@ -168,8 +168,8 @@ TEST(GltfGeometry, QuantizedNormalizedAndSparseAccessorsDecode) {
     g["extensionsUsed"] = {"KHR_mesh_quantization"};
     g["extensionsRequired"] = {"KHR_mesh_quantization"};
     const Scene s = load(g);
-    ASSERT_EQ(s.meshes.size(), 1u);
-    const TriangleMesh& m = s.meshes[0];
+    ASSERT_EQ(s.geometry.meshes.size(), 1u);
+    const TriangleMesh& m = s.geometry.meshes[0];
     expectNear(m.positions[0], Vec3(0, 0, 0));
     expectNear(m.positions[1], Vec3(4, 0, 0));
     expectNear(m.positions[2], Vec3(0, 2, 0));
@@ -191,20 +191,20 @@ TEST(GltfGeometry, MissingNormalsAreAreaWeightedWhenIndexedAndFlatOtherwise) {
     json acc = {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}},
                 {{"bufferView", 1}, {"componentType", 5123}, {"count", 6}, {"type", "SCALAR"}}};
     const Scene s = load(model(buf, acc, views, {{"attributes", {{"POSITION", 0}}}, {"indices", 1}}, {{{"mesh", 0}}}));
-    ASSERT_EQ(s.meshes.size(), 1u);
+    ASSERT_EQ(s.geometry.meshes.size(), 1u);
     const Vec3 shared = glm::normalize(Vec3(-2, 0, 1));
-    expectNear(s.meshes[0].normals[0], shared);
-    expectNear(s.meshes[0].normals[2], shared);
-    expectNear(s.meshes[0].normals[1], Vec3(0, 0, 1));
-    expectNear(s.meshes[0].normals[3], Vec3(-1, 0, 0));
+    expectNear(s.geometry.meshes[0].normals[0], shared);
+    expectNear(s.geometry.meshes[0].normals[2], shared);
+    expectNear(s.geometry.meshes[0].normals[1], Vec3(0, 0, 1));
+    expectNear(s.geometry.meshes[0].normals[3], Vec3(-1, 0, 0));
 
     // Non-indexed: each triangle owns its corners, so normals are flat.
     std::string flat;
     put<float>(flat, {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 1, 0, 0, 0, 0, 0, 0, 2});
     const Scene f = load(model(flat, {{{"bufferView", 0}, {"componentType", 5126}, {"count", 6}, {"type", "VEC3"}}},
                                {{{"buffer", 0}, {"byteLength", 72}}}, {{"attributes", {{"POSITION", 0}}}}, {{{"mesh", 0}}}));
-    for (int i = 0; i < 3; ++i) expectNear(f.meshes[0].normals[i], Vec3(0, 0, 1));
-    for (int i = 3; i < 6; ++i) expectNear(f.meshes[0].normals[i], Vec3(-1, 0, 0));
+    for (int i = 0; i < 3; ++i) expectNear(f.geometry.meshes[0].normals[i], Vec3(0, 0, 1));
+    for (int i = 3; i < 6; ++i) expectNear(f.geometry.meshes[0].normals[i], Vec3(-1, 0, 0));
 }
 
 TEST(GltfGeometry, DegenerateTrianglesAreDroppedAndCounted) {
@@ -215,8 +215,8 @@ TEST(GltfGeometry, DegenerateTrianglesAreDroppedAndCounted) {
     json acc = {{{"bufferView", 0}, {"componentType", 5126}, {"count", 4}, {"type", "VEC3"}},
                 {{"bufferView", 1}, {"componentType", 5123}, {"count", 9}, {"type", "SCALAR"}}};
     const Scene s = load(model(buf, acc, views, {{"attributes", {{"POSITION", 0}}}, {"indices", 1}}, {{{"mesh", 0}}}));
-    ASSERT_EQ(s.meshes.size(), 1u);
-    EXPECT_EQ(s.meshes[0].triangleCount(), 1u);
+    ASSERT_EQ(s.geometry.meshes.size(), 1u);
+    EXPECT_EQ(s.geometry.meshes[0].triangleCount(), 1u);
     bool noted = false;
     for (const std::string& n : s.notes) noted |= n.find("2 degenerate triangles dropped") != std::string::npos;
     EXPECT_TRUE(noted);
@@ -237,13 +237,13 @@ TEST(GltfGeometry, AnimatedNodesKeepModelSpaceDataForTheAnimator) {
     g["animations"] = {{{"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}}}},
                         {"samplers", {{{"input", 1}, {"output", 2}, {"interpolation", "STEP"}}}}}};
     Scene s = load(g);
-    ASSERT_EQ(s.meshes.size(), 1u);
-    EXPECT_EQ(s.meshes[0].node, 1);
-    EXPECT_EQ(s.meshes[0].model, 0);
-    ASSERT_EQ(s.meshes[0].objectPositions.size(), 3u);
-    expectNear(s.meshes[0].objectPositions[1], Vec3(1, 0, 0));
-    expectNear(s.meshes[0].positions[1], Vec3(1, 0, 3));
-    const AnimSampler& smp = s.models[0].animations[0].samplers[0];
+    ASSERT_EQ(s.geometry.meshes.size(), 1u);
+    EXPECT_EQ(s.geometry.meshes[0].node, 1);
+    EXPECT_EQ(s.geometry.meshes[0].model, 0);
+    ASSERT_EQ(s.geometry.meshes[0].objectPositions.size(), 3u);
+    expectNear(s.geometry.meshes[0].objectPositions[1], Vec3(1, 0, 0));
+    expectNear(s.geometry.meshes[0].positions[1], Vec3(1, 0, 3));
+    const AnimSampler& smp = s.geometry.models[0].animations[0].samplers[0];
     EXPECT_EQ(smp.interpolation, KeyInterpolation::Step);
     EXPECT_EQ(smp.components, 3);
     EXPECT_EQ(smp.values, (std::vector<float>{0, 0, 0, 5, 0, 0}));
@@ -251,8 +251,8 @@ TEST(GltfGeometry, AnimatedNodesKeepModelSpaceDataForTheAnimator) {
     const DMat4 n0 = glm::translate(DMat4(1.0), glm::dvec3(5, 0, 0));
     const DMat4 n1 = n0 * glm::translate(DMat4(1.0), glm::dvec3(0, 0, 3));
     s.build();
-    s.applyNodeTransforms(0, {n0, n1});
-    expectNear(s.meshes[0].positions[1], Vec3(6, 0, 3));
+    s.geometry.applyNodeTransforms(0, {n0, n1});
+    expectNear(s.geometry.meshes[0].positions[1], Vec3(6, 0, 3));
 }
 
 TEST(GltfGeometry, GeneratedTangentsFollowTheUvGradient) {

@@ -91,9 +91,9 @@ TEST(GltfInputChecks, VertexOutsideDeclaredBoundsIsDroppedAndNoted) {
     Scene s;
     loadGltfModel(s, dir / "m.gltf", DMat4(1.0), files);
     EXPECT_EQ(notesWith(s, "1 vertices lie outside POSITION's declared min/max"), 1);
-    ASSERT_EQ(s.meshes.size(), 1u);
-    EXPECT_EQ(s.meshes[0].indices.size(), 3u);  // the good triangle only
-    for (const Vec3& p : s.meshes[0].positions) EXPECT_LT(std::abs(p.x), 10.f);
+    ASSERT_EQ(s.geometry.meshes.size(), 1u);
+    EXPECT_EQ(s.geometry.meshes[0].indices.size(), 3u);  // the good triangle only
+    for (const Vec3& p : s.geometry.meshes[0].positions) EXPECT_LT(std::abs(p.x), 10.f);
 }
 
 TEST(GltfInputChecks, ModelEntirelyOutsideItsBoundsIsRefused) {
@@ -152,21 +152,21 @@ TEST(GltfInputChecks, QuantizedPositionsAreCheckedAgainstBoundsInStoredUnits) {
     const std::vector<std::array<uint16_t, 3>> good = {{0, 0, 0}, {1000, 0, 0}, {0, 1000, 0}};
     Scene ok = loadQuantized(good, {0, 0, 0}, {1000, 1000, 0});
     EXPECT_EQ(notesWith(ok, "min/max"), 0);
-    ASSERT_EQ(ok.meshes.size(), 1u);
-    EXPECT_EQ(ok.meshes[0].indices.size(), 3u);
+    ASSERT_EQ(ok.geometry.meshes.size(), 1u);
+    EXPECT_EQ(ok.geometry.meshes[0].indices.size(), 3u);
     // A corrupt vertex (a flipped high bit: 1000 became 33768) is outside the stored bounds.
     std::vector<std::array<uint16_t, 3>> two = good;
     two.insert(two.end(), {{0, 0, 0}, {33768, 0, 0}, {0, 1000, 0}});
     Scene bad = loadQuantized(two, {0, 0, 0}, {1000, 1000, 0});
     EXPECT_EQ(notesWith(bad, "1 vertices lie outside POSITION's declared min/max"), 1);
-    ASSERT_EQ(bad.meshes.size(), 1u);
-    EXPECT_EQ(bad.meshes[0].indices.size(), 3u);  // the good triangle only
-    for (const Vec3& p : bad.meshes[0].positions) EXPECT_LE(p.x, 1000.f / 65535.f + 1e-6f);
+    ASSERT_EQ(bad.geometry.meshes.size(), 1u);
+    EXPECT_EQ(bad.geometry.meshes[0].indices.size(), 3u);  // the good triangle only
+    for (const Vec3& p : bad.geometry.meshes[0].positions) EXPECT_LE(p.x, 1000.f / 65535.f + 1e-6f);
     // Bounds written in the normalized units (0–1) are wrong for this file: both vertices away
     // from the origin lie outside them, and no triangle is left.
     Scene wrong = loadQuantized(good, {0, 0, 0}, {1, 1, 0});
     EXPECT_EQ(notesWith(wrong, "2 vertices lie outside POSITION's declared min/max"), 1);
-    for (const auto& m : wrong.meshes) EXPECT_EQ(m.indices.size(), 0u);
+    for (const auto& m : wrong.geometry.meshes) EXPECT_EQ(m.indices.size(), 0u);
     // Quantized positions without min/max get the note float ones get.
     Scene none = loadQuantized(good, {}, {});
     EXPECT_EQ(notesWith(none, "POSITION has no min/max"), 1);
@@ -226,8 +226,8 @@ TEST(GltfInputChecks, LongNodeChainLoadsAndItsCycleIsFound) {
     doc["nodes"] = nodes;
     Scene s;
     ASSERT_EQ(load(doc, s), "");
-    ASSERT_EQ(s.meshes.size(), 1u);
-    EXPECT_FLOAT_EQ(s.meshes[0].positions[0].z, 0.5f * (n - 1));
+    ASSERT_EQ(s.geometry.meshes.size(), 1u);
+    EXPECT_FLOAT_EQ(s.geometry.meshes[0].positions[0].z, 0.5f * (n - 1));
 
     // Node 0 and 1 stay outside the loop: 1 → 2 → ... → n-1 → 2.
     doc["nodes"][n - 1]["children"] = {2};

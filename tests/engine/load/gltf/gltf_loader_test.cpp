@@ -60,7 +60,7 @@ Image render(const Scene& scene, const Camera& cam, int w, int h) {
     s.width = w;
     s.height = h;
     RayStats stats;
-    return renderFrame(scene, cam, s, 0, 1, stats);
+    return renderFrame(scene, {cam, s}, 0, 1, stats);
 }
 
 bool allFinite(const Image& img) {
@@ -131,12 +131,12 @@ TEST(GltfLoader, EngineLoadsEveryTriangleWithinItsNodeBounds) {
     for (const std::string& n : scene.notes)
         if (n.find("degenerate triangles dropped") != std::string::npos) dropped = std::stoul(n.substr(n.rfind(": ") + 2));
     std::printf("2CylinderEngine: %zu triangles loaded of %zu in the file; %zu dropped (%zu with a repeated index)\n",
-                scene.triangleCount(), expected, dropped, repeated);
+                scene.geometry.triangleCount(), expected, dropped, repeated);
     EXPECT_GT(expected, 100000u);
-    EXPECT_EQ(scene.triangleCount() + dropped, expected);
+    EXPECT_EQ(scene.geometry.triangleCount() + dropped, expected);
     EXPECT_GE(dropped, repeated);
     EXPECT_LE(dropped, repeated + expected / 1000);  // beyond repeated indices, only a few zero-area ones
-    const Aabb b = scene.bounds();
+    const Aabb b = scene.geometry.bounds();
     const glm::dvec3 blo = glm::dvec3(b.lo) + scene.renderOrigin, bhi = glm::dvec3(b.hi) + scene.renderOrigin;
     const double size = glm::length(hi - lo);
     for (int a = 0; a < 3; ++a) {
@@ -192,7 +192,7 @@ TEST(GltfLoader, BoxTexturedVariantsGiveTheSameImage) {
     for (const std::string& v : variants) {
         DiskFileSource files;
         const Scene scene = loadGltfScene(v, files);
-        EXPECT_EQ(scene.triangleCount(), 12u) << v;
+        EXPECT_EQ(scene.geometry.triangleCount(), 12u) << v;
         ASSERT_EQ(scene.textures.size(), 1u) << v;
         images.push_back(render(scene, scene.camera, 96, 72));
         ASSERT_TRUE(allFinite(images.back()));
@@ -283,7 +283,7 @@ TEST(TextureTransform, RotationTurnsUvsCounterClockwiseInVDownSpace) {
 TEST(GltfLoader, ClearCoatLoadsAndItsExtensionIsNotNoted) {
     DiskFileSource files;
     const Scene scene = loadGltfScene(kGltf2 + "ClearCoat-glTF/ClearCoatTest.gltf", files);
-    EXPECT_GT(scene.triangleCount(), 0u);
+    EXPECT_GT(scene.geometry.triangleCount(), 0u);
     EXPECT_FALSE(hasNote(scene, "KHR_materials_clearcoat"));  // supported since issue 29
     const Image img = render(scene, scene.camera, 64, 36);
     EXPECT_TRUE(allFinite(img));
@@ -294,8 +294,8 @@ TEST(GltfLoader, MorphCubeKeepsItsAnimationAndMovesWithWeights) {
     const json g = gltfJson(path);
     DiskFileSource files;
     Scene scene = loadGltfScene(path, files);
-    ASSERT_EQ(scene.models.size(), 1u);
-    const SceneGraph& model = scene.models[0];
+    ASSERT_EQ(scene.geometry.models.size(), 1u);
+    const SceneGraph& model = scene.geometry.models[0];
     ASSERT_EQ(model.animations.size(), 1u);
     const Animation& a = model.animations[0];
     ASSERT_EQ(a.channels.size(), 1u);
@@ -308,19 +308,20 @@ TEST(GltfLoader, MorphCubeKeepsItsAnimationAndMovesWithWeights) {
     EXPECT_EQ(s.values.size(), keys * 2);
     EXPECT_NEAR(a.duration(), g["accessors"][int(g["animations"][0]["samplers"][0]["input"])]["max"][0].get<double>(), 1e-6);
 
-    ASSERT_EQ(scene.meshes.size(), 1u);
-    const TriangleMesh before = scene.meshes[0];
+    ASSERT_EQ(scene.geometry.meshes.size(), 1u);
+    const TriangleMesh before = scene.geometry.meshes[0];
     EXPECT_EQ(before.node, 0);
     EXPECT_EQ(before.model, 0);
     ASSERT_EQ(before.morphPositions.size(), 2u);
     // Weight 1 on target 0 moves every vertex by its delta, through the node's transform.
     const glm::dmat4 renderFromNode = model.renderFromModel * nodeLocal(g["nodes"][0]);
-    scene.applyNodeTransforms(0, {renderFromNode}, {{1.0, 0.0}});
+    scene.geometry.applyNodeTransforms(0, {renderFromNode}, {{1.0, 0.0}});
     double maxMove = 0.0;
     for (size_t i = 0; i < before.objectPositions.size(); ++i) {
         const glm::dvec3 want(renderFromNode * glm::dvec4(glm::dvec3(before.objectPositions[i] + before.morphPositions[0][i]), 1.0));
-        EXPECT_NEAR(glm::length(glm::dvec3(scene.meshes[0].positions[i]) - want), 0.0, 1e-4) << i;
-        maxMove = std::max(maxMove, glm::length(glm::dvec3(scene.meshes[0].positions[i] - before.positions[i])));
+        EXPECT_NEAR(glm::length(glm::dvec3(scene.geometry.meshes[0].positions[i]) - want), 0.0, 1e-4) << i;
+        maxMove =
+            std::max(maxMove, glm::length(glm::dvec3(scene.geometry.meshes[0].positions[i] - before.positions[i])));
     }
     EXPECT_GT(maxMove, 1.0);  // the target visibly moves the cube (scaled by 100)
 }

@@ -150,7 +150,7 @@ TEST(GltfLights, LitFloorPixelMatchesTheHandComputedValue) {
     rs.spp = 1;  // one ray through each pixel centre, where the hand-computed value holds
     rs.width = rs.height = 65;
     RayStats stats;
-    const Image img = renderFrame(s, s.camera, rs, 0, 1, stats);
+    const Image img = renderFrame(s, {s.camera, rs}, 0, 1, stats);
     const double window = std::pow(1.0 - std::pow(5.0 / 20.0, 4), 2);
     const double want = 0.5 / M_PI * window;
     EXPECT_NEAR(img.pixel(32, 32)[0], want, 1e-5);
@@ -175,7 +175,7 @@ TEST(GltfLights, A683CandelaLightOneMetreFromWhiteLambertGivesOneOverPi) {
     rs.width = rs.height = 65;
     rs.exposure = 0.f;
     RayStats stats;
-    const Image img = renderFrame(s, s.camera, rs, 0, 1, stats);
+    const Image img = renderFrame(s, {s.camera, rs}, 0, 1, stats);
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(img.pixel(32, 32)[c], 1.0 / M_PI, 1e-5);
 }
 
@@ -224,7 +224,7 @@ Image renderColouredFloor(int componentType, const std::string& type, bool norma
     rs.width = rs.height = 65;
     rs.exposure = 0.f;
     RayStats stats;
-    return renderFrame(s, s.camera, rs, 0, 1, stats);
+    return renderFrame(s, {s.camera, rs}, 0, 1, stats);
 }
 
 }  // namespace

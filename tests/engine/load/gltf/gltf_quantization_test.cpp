@@ -103,8 +103,8 @@ TriangleMesh loadTriangle(const Attribute& a) {
     DiskFileSource files;
     Scene s;
     loadGltfModel(s, dir / "q.gltf", DMat4(1.0), files);
-    if (s.meshes.size() != 1) throw std::runtime_error("expected one mesh");
-    return s.meshes[0];
+    if (s.geometry.meshes.size() != 1) throw std::runtime_error("expected one mesh");
+    return s.geometry.meshes[0];
 }
 
 std::string caseName(const Attribute& a) {

@@ -40,7 +40,7 @@ Outcome loadAndRender(const std::string& path, std::string& message) {
         s.width = 48;
         s.height = 27;
         RayStats stats;
-        const Image img = renderFrame(scene, scene.camera, s, 0, 1, stats);
+        const Image img = renderFrame(scene, {scene.camera, s}, 0, 1, stats);
         for (int i = 0; i < img.width() * img.height() * 3; ++i)
             if (!std::isfinite(img.data()[i])) {
                 ADD_FAILURE() << path << ": non-finite pixel value at " << i;

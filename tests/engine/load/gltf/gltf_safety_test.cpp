@@ -90,7 +90,7 @@ TEST(GltfSafety, EscapingBufferUrisAreRefusedAndNothingOutsideIsRead) {
             EXPECT_EQ(std::string(e.what()).rfind(path, 0), 0u) << e.what();
         }
         for (const std::string& t : files.touched) EXPECT_TRUE(inside(t, modelDir)) << uris[i] << " made the loader touch " << t;
-        EXPECT_TRUE(scene.meshes.empty());
+        EXPECT_TRUE(scene.geometry.meshes.empty());
     }
     EXPECT_FALSE(fs::exists(modelDir / "PWNED"));
     EXPECT_FALSE(fs::exists(cwd / "PWNED"));
@@ -102,8 +102,8 @@ TEST(GltfSafety, EscapingBufferUrisAreRefusedAndNothingOutsideIsRead) {
     RecordingFileSource files;
     Scene scene;
     loadGltfModel(scene, okPath, DMat4(1.0), files);
-    ASSERT_EQ(scene.meshes.size(), 1u);
-    EXPECT_EQ(scene.meshes[0].positions[1], Vec3(1, 0, 0));
+    ASSERT_EQ(scene.geometry.meshes.size(), 1u);
+    EXPECT_EQ(scene.geometry.meshes[0].positions[1], Vec3(1, 0, 0));
     for (const std::string& t : files.touched) EXPECT_TRUE(inside(t, modelDir)) << t;
 }
 
@@ -185,8 +185,8 @@ TEST(GltfSafety, WorkerRanksLoadTheSameModelFromTheBundle) {
     EXPECT_EQ(disk.bundle().files.size(), 3u);  // .gltf, .bin and the texture
     BundleFileSource bundle(FileBundle::deserialize(disk.bundle().serialize()));
     const Scene b = loadGltfScene(path, bundle);
-    ASSERT_EQ(a.meshes.size(), b.meshes.size());
-    EXPECT_EQ(a.meshes[0].positions, b.meshes[0].positions);
+    ASSERT_EQ(a.geometry.meshes.size(), b.geometry.meshes.size());
+    EXPECT_EQ(a.geometry.meshes[0].positions, b.geometry.meshes[0].positions);
     EXPECT_EQ(a.textures.size(), 1u);
     ASSERT_EQ(b.textures.size(), 1u);
     EXPECT_EQ(a.textures[0].texels, b.textures[0].texels);

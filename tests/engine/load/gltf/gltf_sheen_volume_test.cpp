@@ -76,7 +76,7 @@ Color centrePixel(Scene& s) {
 Color throughSlab(float height, const Color& sigma, float thickness = 1.f) {
     Scene s = test::emptyScene();
     s.materials.push_back(clearVolume(sigma, thickness));
-    s.meshes.push_back(box(Vec3(-1.f, 0.f, -1.f), Vec3(1.f, height, 1.f), 1));
+    s.geometry.meshes.push_back(box(Vec3(-1.f, 0.f, -1.f), Vec3(1.f, height, 1.f), 1));
     s.environment = uniformEnvironment(1.f);
     s.camera.eye = Vec3(0.f, 10.f, 0.f);
     s.camera.target = Vec3(0.f);
@@ -264,8 +264,8 @@ TEST(Volume, ShadowRaysThroughAVolumeKeepExpMinusSigmaTimesTheWayInside) {
         floor.specularWeight = 0.f;
         s.materials[0] = floor;
         s.materials.push_back(clearVolume(sigma, 1.f));
-        s.meshes.push_back(test::gridMesh(1, 10.f, 0));
-        s.meshes.push_back(box(Vec3(-1.f, 1.f, -1.f), Vec3(1.f, 3.f, 1.f), 1));
+        s.geometry.meshes.push_back(test::gridMesh(1, 10.f, 0));
+        s.geometry.meshes.push_back(box(Vec3(-1.f, 1.f, -1.f), Vec3(1.f, 3.f, 1.f), 1));
         Light L;
         L.type = LightType::Point;
         L.position = Vec3(0.f, 6.f, 0.f);

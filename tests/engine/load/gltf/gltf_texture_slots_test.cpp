@@ -103,7 +103,7 @@ Image renderFromAbove(Scene s) {
     rs.exposure = 0.f;
     rs.autoExposure = false;
     RayStats stats;
-    return renderFrame(s, s.camera, rs, 0, 1, stats);
+    return renderFrame(s, {s.camera, rs}, 0, 1, stats);
 }
 
 }  // namespace

@@ -36,7 +36,7 @@ Scene floorWith(const std::string& variant, const std::function<void(json&)>& ed
     return loadFloor(colour(0.5, 0.5, 0.5, "grey"), {}, edit, o);
 }
 
-Color floorColour(const Scene& s) { return s.materials[size_t(s.meshes.at(0).material)].color; }
+Color floorColour(const Scene& s) { return s.materials[size_t(s.geometry.meshes.at(0).material)].color; }
 
 std::string errorOf(const std::function<void()>& f) {
     try {
@@ -139,7 +139,7 @@ TEST(MaterialVariants, AFileBlendersExporterWrote) {
         o.assets.variant = variant;
         const Scene s = loadGltfScene(kBlenderVariants, files, o);
         std::vector<Color> colours;
-        for (const TriangleMesh& m : s.meshes) colours.push_back(s.materials[size_t(m.material)].color);
+        for (const TriangleMesh& m : s.geometry.meshes) colours.push_back(s.materials[size_t(m.material)].color);
         return colours;
     };
     const std::vector<Color> plain = cubeColour(""), ruby = cubeColour("Ruby"), jade = cubeColour("Jade");
