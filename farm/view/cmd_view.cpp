@@ -123,11 +123,12 @@ void checkDisplayAndOutputs(view::ViewOptions& o, const ArgParser& p) {
 }
 
 /// The settings every rank renders with: the scene's, the picture options over them.
-RenderSettings pictureSettings(const ArgParser& p, const Scene& scene) {
+RenderSettings pictureSettings(const ArgParser& p, const Scene& scene, const std::shared_ptr<SceneCacheSlot>& bounceSlot) {
     RenderSettings settings = scene.settings;
     applyQualityOptions(p, settings);
     // One EV for the whole session, the same on every rank (the meter is deterministic).
-    resolveAutoExposure(scene, anim::Timeline::fromScene(scene), settings, 0);
+    // The metering frames fill the window's bounce cache, which its views then use.
+    resolveAutoExposure(scene, anim::Timeline::fromScene(scene), settings, 0, {}, bounceSlot);
     return settings;
 }
 
@@ -137,7 +138,7 @@ int runWindow(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job, Scen
     applyBackground(job.background, scene);
     const anim::Timeline timeline = anim::Timeline::fromScene(scene);
     o.startFrame = p.intValue("--frame", 0, 0, view::filmOf(timeline).frames - 1);
-    const RenderSettings settings = pictureSettings(p, scene);
+    const RenderSettings settings = pictureSettings(p, scene, o.bounceSlot);
     if (p.has("--camera")) {
         o.gltfCamera = p.intValue("--camera", 0, 0, 1 << 20);
         chosenGltfCamera(scene, o.gltfCamera);  // throws for a missing or unusable one
@@ -187,7 +188,7 @@ int runFarmView(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job) {
             t, o.scenePath, [&] { checkDisplayAndOutputs(o, p); },
             [&](Scene& scene, const FileBundle&) {
                 applyBackground(job.background, scene);  // as the window will: the meter sees it
-                job.settings = pictureSettings(p, scene);
+                job.settings = pictureSettings(p, scene, o.bounceSlot);
                 return view::encodeViewJob(job);
             },
             sceneOptions(p));

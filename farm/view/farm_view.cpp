@@ -45,10 +45,11 @@ std::string lostRankLine(int rank, const std::string& master, bool signalled) {
 }  // namespace
 
 FarmView::FarmView(farm::Transport* t, Scene scene, RenderSettings settings, int threads, Publish publish,
-                   std::function<void(const SessionEnd&)> onEnd)
+                   std::function<void(const SessionEnd&)> onEnd, std::shared_ptr<SceneCacheSlot> bounceSlot)
     : hub_(t ? nullptr : std::make_unique<farm::LoopbackHub>(1)),
       alone_(t ? nullptr : std::make_unique<farm::LoopbackTransport>(*hub_, 0)), t_(t ? *t : *alone_),
-      scene_(std::move(scene)), settings_(settings), threads_(threads > 0 ? threads : hardwareThreads()), ranks_(t_.size()),
+      scene_(std::move(scene)), settings_(settings),
+      bounceSlot_(bounceSlot ? std::move(bounceSlot) : std::make_shared<SceneCacheSlot>()), threads_(threads > 0 ? threads : hardwareThreads()), ranks_(t_.size()),
       publish_(std::move(publish)), onEnd_(std::move(onEnd)) {
     timelineJson_ = scene_.timeline ? scene_.timeline->dump() : std::string();
     thread_ = std::thread([this] { farmLoop(); });
@@ -160,6 +161,7 @@ void FarmView::sendTimeline() {
 void FarmView::runSession() {
     farm::SharedScene shared;
     shared.scene = scene_;
+    shared.bounceSlot = bounceSlot_;  // a new session (after a key, after a film) finds the cache built
     {
         std::lock_guard<std::mutex> lock(mutex_);
         shared.scene.timeline = timelineJson_.empty() ? nullptr : std::make_shared<const nlohmann::json>(nlohmann::json::parse(timelineJson_));
@@ -215,6 +217,7 @@ void FarmView::runFilm() {
         film_.reset();
         timelineJson_ = film->first.timelineJson;
     }
+    film->first.bounceSlot = bounceSlot_;
     for (int r = 1; r < t_.size(); ++r) t_.send(r, farm::kTagViewTimeline, film->first.timelineJson);
     FilmEnd end;
     try {

@@ -38,8 +38,9 @@ public:
     /// t: rank 0's transport with ranks 1…N−1 in runViewWorker, or null to render alone on
     /// `threads` threads. scene: as loaded (the picture options applied); publish: where
     /// pictures go; onEnd: called once (on the farm's thread) if the session stops for good.
+    /// bounceSlot: the bounce cache every session and film shares (null: one of the view's own).
     FarmView(farm::Transport* t, Scene scene, RenderSettings settings, int threads, Publish publish,
-             std::function<void(const SessionEnd&)> onEnd);
+             std::function<void(const SessionEnd&)> onEnd, std::shared_ptr<SceneCacheSlot> bounceSlot = nullptr);
     /// Ends the session (and a film, its frames kept), then tells every rank to stop.
     ~FarmView();
     FarmView(const FarmView&) = delete;
@@ -78,6 +79,7 @@ private:
     farm::Transport& t_;
     const Scene scene_;  ///< as loaded: every session and film starts from a copy
     const RenderSettings settings_;
+    const std::shared_ptr<SceneCacheSlot> bounceSlot_;  ///< built once, kept across sessions and films
     const int threads_, ranks_;
     Publish publish_;
     std::function<void(const SessionEnd&)> onEnd_;

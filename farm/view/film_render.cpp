@@ -57,6 +57,7 @@ FilmEnd renderFilm(farm::Transport& t, FilmRequest& r, const FilmCallbacks& cb, 
 
     farm::SharedScene shared;
     shared.scene = std::move(r.scene);
+    shared.bounceSlot = r.bounceSlot;
     farm::FarmOptions opts;
     opts.threads = job.threads;
     opts.cancel = &cancel;

@@ -11,6 +11,7 @@
 
 #include "farm/cluster/render_job.h"
 #include "engine/scene/scene.h"
+#include "engine/scene/scene_cache.h"
 #include "engine/util/settings.h"
 #include "farm/cluster/transport.h"
 
@@ -26,6 +27,8 @@ struct FilmRequest {
     std::string output, framesDir;
     bool resume = false;  ///< keep the frames a cancelled run left in framesDir
     int threads = 1;      ///< rank 0's render threads
+    /// The window's bounce cache, which the film's frames use as the views' did (null: its own).
+    std::shared_ptr<SceneCacheSlot> bounceSlot;
 };
 
 struct FilmEnd {

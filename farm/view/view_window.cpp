@@ -115,7 +115,8 @@ void ViewWindow::startRenderer() {
         }
         QMetaObject::invokeMethod(this, [this, end] { sessionEnded(end); }, Qt::QueuedConnection);
     };
-    renderer_ = std::make_unique<FarmView>(options_.transport, scene_, settings_, options_.threads, publish, onEnd);
+    renderer_ = std::make_unique<FarmView>(options_.transport, scene_, settings_, options_.threads, publish, onEnd,
+                                           options_.bounceSlot);
     dirty_ = true;
     pump();
     sendRest();

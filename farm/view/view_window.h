@@ -12,6 +12,7 @@
 #include "farm/view/film_render.h"
 #include "farm/view/farm_view.h"
 #include "farm/view/view_stats.h"
+#include "engine/scene/scene_cache.h"
 
 class QHBoxLayout;
 class QLabel;
@@ -41,6 +42,9 @@ struct ViewOptions {
     /// Under mpirun: rank 0's transport; the other ranks render (runViewWorker). Null: this
     /// process renders alone.
     farm::Transport* transport = nullptr;
+    /// The window's bounce cache (bounce_cache.h): the exposure metering, every view session
+    /// and every film share it, as the frames of one render job do.
+    std::shared_ptr<SceneCacheSlot> bounceSlot = std::make_shared<SceneCacheSlot>();
 };
 
 class ViewWindow : public QWidget {

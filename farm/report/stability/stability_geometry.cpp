@@ -1,4 +1,4 @@
-// Geometric cases of the catalogue: rays against spheres and meshes through Scene::intersect,
+// Geometric cases of the catalogue: rays against spheres and meshes through SceneGeometry::intersect,
 // the way the tracer casts them, each measured against an exact or double-precision answer.
 #include <algorithm>
 #include <cmath>
