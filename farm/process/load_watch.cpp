@@ -16,7 +16,7 @@ std::string loadInterruptedLine(int sig, const std::string& file, const std::str
 
 LoadWatch::LoadWatch(std::string file, bool speak, std::function<void()> beforeExit)
     : file_(std::move(file)), speak_(speak), beforeExit_(std::move(beforeExit)),
-      deadline_(kGraceSeconds, [this] { return lastWords(); }) {}
+      deadline_(speak_ ? kGraceSeconds : kQuietGraceSeconds, [this] { return lastWords(); }) {}
 
 void LoadWatch::done() {
     if (!deadline_.claim()) deadline_.waitForEnd();

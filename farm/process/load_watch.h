@@ -22,6 +22,11 @@ public:
     /// Short: what comes after it (the line, freeing a large scene's memory at exit) must fit in
     /// the second as well, on a machine that is busy.
     static constexpr double kGraceSeconds = 0.3;
+    /// The same for a rank that ends quietly (a worker): longer, so that rank 0 has said its
+    /// line first. mpirun kills every rank the moment one of them ends, and a worker whose
+    /// watch fired at the same 0.3 s as rank 0's (both held in a step that cannot poll) took
+    /// the line with it in about one Ctrl-C of three. Still well inside mpirun's second.
+    static constexpr double kQuietGraceSeconds = 0.6;
 
     /// file: what is being loaded, for the line. speak: this process tells the user (rank 0;
     /// the others end quietly). beforeExit: on the watch's thread, just before the process
