@@ -58,16 +58,16 @@ void applyLight(const LightTracks& lt, const Light& rest, Light& l, double t) {
 }  // namespace
 
 
-Timeline Timeline::fromScene(const Scene& scene, double fps) {
+Timeline Timeline::fromScene(const Scene& scene, const TimelineSource& source, double fps) {
     Timeline tl;
     ParsedTimeline p;
-    if (scene.timeline) {
-        p = parseTimeline(scene, fps);
+    if (source.sections) {
+        p = parseTimeline(scene, source, fps);
     } else if (isGltfPath(scene.sourcePath)) {
         p.spec.restLights = scene.lights;
         TurntableSettings s = defaultModelTurntable();
         if (fps > 0.0) s.fps = fps;
-        p.spec.players = defaultPlayers(scene);
+        p.spec.players = defaultPlayers(scene, source.animation);
         // One orbit over a whole number of plays of the clip: the film loops seamlessly.
         s.seconds = filmSecondsForClip(longestPeriod(p.spec.players), s.seconds);
         p.spec.turntable = framedOnFilm(s, scene, p.spec.players);
@@ -75,7 +75,7 @@ Timeline Timeline::fromScene(const Scene& scene, double fps) {
         p.fps = s.fps;
     } else {
         // One still frame; a model's own animation is still posed at t = 0.
-        p.spec.players = defaultPlayers(scene);
+        p.spec.players = defaultPlayers(scene, source.animation);
     }
     tl.frames_ = p.frames;
     tl.fps_ = p.fps;

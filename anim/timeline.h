@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/load/loaded_scene.h"
 #include "engine/scene/scene.h"
 
 namespace rf::anim {
@@ -13,11 +14,13 @@ struct TimelineSpec;
 
 class Timeline {
 public:
-    /// Interprets scene.timeline (its "timeline" / "turntable" sections). A JSON scene without
-    /// one is a single still frame; a bare glTF model (.gltf/.glb) gets the default turntable
-    /// (4 s at 30 fps = 120 frames). fps > 0 replaces the rate of the sections or of the default
-    /// turntable (render --fps). Throws InputError naming the scene file and the key.
-    static Timeline fromScene(const Scene& scene, double fps = 0.0);
+    /// Interprets what the loader found beside the scene (its "timeline" / "turntable"
+    /// sections, --animation). A JSON scene without sections is a single still frame; a bare
+    /// glTF model (.gltf/.glb) gets the default turntable (4 s at 30 fps = 120 frames). fps > 0
+    /// replaces the rate of the sections or of the default turntable (render --fps). Throws
+    /// InputError naming the scene file and the key.
+    static Timeline fromScene(const Scene& scene, const TimelineSource& source, double fps = 0.0);
+    static Timeline fromScene(const LoadedScene& loaded, double fps = 0.0) { return fromScene(loaded.scene, loaded.timeline, fps); }
 
     int frameCount() const { return frames_; }
     double fps() const { return fps_; }

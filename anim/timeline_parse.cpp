@@ -1,4 +1,4 @@
-// The timeline format (scene.timeline = {"timeline": {...}} or {"turntable": {...}}):
+// The timeline format (TimelineSource::sections = {"timeline": {...}} or {"turntable": {...}}):
 //
 //   "timeline": {
 //     "fps": 30, "duration": 4, "start": 0,   // seconds; duration defaults to the last key
@@ -37,8 +37,8 @@ using nlohmann::json;
 /// The timeline section's reader: the scene reader's typed reads, plus tracks and keys.
 class Parser : public JsonReader {
 public:
-    Parser(std::string file, std::string prefix, const Scene& scene)
-        : JsonReader(std::move(file), std::move(prefix)), scene_(scene) {}
+    Parser(std::string file, std::string prefix, const Scene& scene, const std::optional<std::string>& animation)
+        : JsonReader(std::move(file), std::move(prefix)), scene_(scene), animation_(animation) {}
 
     DVec3 vec3(const json& j, const std::string& w) const { return dvec3(j, w); }
     /// obj["fps"] (def when absent), within the rates a film can have.
@@ -195,11 +195,11 @@ public:
     /// "animation": absent → every animated model plays its first animation, looped.
     std::vector<GltfAnimationPlayer> animations(const json& o, const std::string& w) const {
         // The command line's --animation wins over the file's choice.
-        if (!o.contains("animation") || scene_.animation) return defaultPlayers(scene_);
+        if (!o.contains("animation") || animation_) return defaultPlayers(scene_, animation_);
         const json& a = o["animation"];
         const std::string aw = join(w, "animation");
         std::vector<GltfAnimationPlayer> players;
-        if (a.is_boolean()) return a.get<bool>() ? defaultPlayers(scene_) : players;
+        if (a.is_boolean()) return a.get<bool>() ? defaultPlayers(scene_, animation_) : players;
         if (a.is_string() && a.get<std::string>() == "none") return players;
         if (a.is_string()) return chosen(a.get<std::string>(), aw);
         if (a.is_number_integer()) return chosen(std::to_string(a.get<long long>()), aw);
@@ -290,6 +290,7 @@ public:
 
 private:
     const Scene& scene_;
+    const std::optional<std::string>& animation_;  ///< --animation, over the file's choice
 };
 
 double maxEnd(const std::optional<KeyTrack>& t, double d) { return t ? std::max(d, t->endTime()) : d; }
@@ -306,8 +307,8 @@ TurntableSettings defaultModelTurntable() {
     return s;
 }
 
-std::vector<GltfAnimationPlayer> defaultPlayers(const Scene& scene) {
-    if (scene.animation) return chosenPlayers(scene, *scene.animation, "", "--animation");
+std::vector<GltfAnimationPlayer> defaultPlayers(const Scene& scene, const std::optional<std::string>& animation) {
+    if (animation) return chosenPlayers(scene, *animation, "", "--animation");
     std::vector<GltfAnimationPlayer> players;
     for (size_t m = 0; m < scene.geometry.models.size(); ++m)
         if (!scene.geometry.models[m].animations.empty())
@@ -367,17 +368,17 @@ Turntable framedOnFilm(const TurntableSettings& s, const Scene& scene, const std
     return Turntable::framed(s, scene, bounds, true, &posed);
 }
 
-ParsedTimeline parseTimeline(const Scene& scene, double fps) {
+ParsedTimeline parseTimeline(const Scene& scene, const TimelineSource& source, double fps) {
     ParsedTimeline out;
     out.spec.restLights = scene.lights;
-    if (!scene.timeline) return out;
-    const json& root = *scene.timeline;
+    if (!source.sections) return out;
+    const json& root = *source.sections;
     if (!root.is_object()) throw InputError(scene.sourcePath, "timeline: expected an object");
     if (root.contains("timeline") && root.contains("turntable"))
         throw InputError(scene.sourcePath, "turntable: give either a timeline or a turntable, not both");
 
     if (root.contains("turntable")) {
-        const Parser p(scene.sourcePath, "", scene);
+        const Parser p(scene.sourcePath, "", scene, source.animation);
         TurntableSettings s = p.turntable(root["turntable"], "turntable", fps);
         out.spec.players = p.animations(root["turntable"], "turntable");
         if (!root["turntable"].contains("seconds")) s.seconds = filmSecondsForClip(longestPeriod(out.spec.players), s.seconds);
@@ -390,7 +391,7 @@ ParsedTimeline parseTimeline(const Scene& scene, double fps) {
     // A timeline in its own file was inlined by the scene loader, which names the file.
     const bool external = root.contains("timeline_file") && root["timeline_file"].is_string();
     const std::string file = external ? root["timeline_file"].get<std::string>() : scene.sourcePath;
-    const Parser p(file, external ? "" : "timeline.", scene);
+    const Parser p(file, external ? "" : "timeline.", scene, source.animation);
     const json& j = root["timeline"];
     p.allowKeys(j, "", {"fps", "duration", "frames", "start", "loop", "camera", "lights", "animation", "comment"});
     out.fps = fps > 0.0 ? fps : p.frameRate(j, "", 30.0);

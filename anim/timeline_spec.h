@@ -8,6 +8,7 @@
 #include "anim/gltf_animation.h"
 #include "anim/keyframes.h"
 #include "anim/turntable.h"
+#include "engine/load/loaded_scene.h"
 
 namespace rf::anim {
 
@@ -52,9 +53,9 @@ struct ParsedTimeline {
 /// auto fitted to the model's silhouette over the orbit, lights following the camera.
 TurntableSettings defaultModelTurntable();
 
-/// Interprets scene.timeline (see timeline_parse.cpp for the format). fps > 0 replaces the
+/// Interprets source.sections (see timeline_parse.cpp for the format). fps > 0 replaces the
 /// sections' frame rate. Throws InputError naming the file and the key.
-ParsedTimeline parseTimeline(const Scene& scene, double fps = 0.0);
+ParsedTimeline parseTimeline(const Scene& scene, const TimelineSource& source, double fps = 0.0);
 
 /// The scene's bounds grown by where the players move the animated meshes over a film of
 /// `frames` frames at `fps` (sampled at up to 256 of its frames).
@@ -66,8 +67,9 @@ Aabb filmBounds(const Scene& scene, const std::vector<GltfAnimationPlayer>& play
 Turntable framedOnFilm(const TurntableSettings& s, const Scene& scene, const std::vector<GltfAnimationPlayer>& players);
 constexpr int kMaxFramedFrames = 4096;
 
-/// Every model with animations plays its first one, looped (or the one scene.animation names).
-std::vector<GltfAnimationPlayer> defaultPlayers(const Scene& scene);
+/// Every model with animations plays its first one, looped (or the one `animation`, the
+/// command line's --animation, names).
+std::vector<GltfAnimationPlayer> defaultPlayers(const Scene& scene, const std::optional<std::string>& animation = {});
 
 /// Every model with animations plays the one `choice` names (chooseAnimation), looped. Throws
 /// InputError(file, where: …) when a model lacks it (listing what it has) or none has any.

@@ -63,9 +63,10 @@ Scene gridModel(int n, bool animated) {
     return s;
 }
 
-void measure(const char* what, Scene s, size_t vertices) {
+void measure(const char* what, LoadedScene loaded, size_t vertices) {
+    Scene& s = loaded.scene;
     const double t0 = now();
-    const anim::Timeline tl = anim::Timeline::fromScene(s);
+    const anim::Timeline tl = anim::Timeline::fromScene(loaded);
     const double setup = now() - t0;
     const int frames = std::min(tl.frameCount(), 120);
     double pose = 0.0, tree = 0.0, ratio = 0.0;
@@ -120,8 +121,9 @@ double renderSeconds(const Scene& s, int w, int h) {
 /// SAH ratio and render times; and the ratio a refit of the rest pose's tree would have had.
 void measureRule(const std::string& file, int samples, int w, int h) {
     DiskFileSource fs;
-    const Scene loaded = loadScene(file, fs);
-    const anim::Timeline tl = anim::Timeline::fromScene(loaded);
+    const LoadedScene model = loadScene(file, fs);
+    const Scene& loaded = model.scene;
+    const anim::Timeline tl = anim::Timeline::fromScene(model);
     std::printf("%s: %d frames, %dx%d, %d spp, one thread; per sampled frame: SAH ratio of the refit (anchor | rest pose), "
                 "render ms refit vs fresh build, pose/refit/rebuild ms\n",
                 file.c_str(), tl.frameCount(), w, h, loaded.settings.spp);
@@ -191,17 +193,17 @@ int main(int argc, char** argv) {
             continue;
         }
         if (!models) continue;
-        Scene s = loadScene(argv[i], fs);
+        LoadedScene s = loadScene(argv[i], fs);
         size_t v = 0;
-        for (const TriangleMesh& m : s.geometry.meshes) v += m.positions.size();
+        for (const TriangleMesh& m : s.scene.geometry.meshes) v += m.positions.size();
         measure(argv[i], std::move(s), v);
     }
     if (models) return 0;
     measure("whitted.json (camera orbit)", loadScene(std::string(RAYFARM_SOURCE_DIR) + "/scenes/whitted.json", fs), 0);
     measure("flight.json (camera + light keys)", loadScene(std::string(RAYFARM_SOURCE_DIR) + "/scenes/flight.json", fs), 0);
     const size_t v = size_t(n) * size_t(n);
-    measure("static grid model (turntable)", gridModel(n, false), v);
-    measure("animated grid model (turntable)", gridModel(n, true), v);
+    measure("static grid model (turntable)", {gridModel(n, false), {}}, v);
+    measure("animated grid model (turntable)", {gridModel(n, true), {}}, v);
     // The engine's share of that: the BVH refit alone (applyNodeTransforms ends with it).
     Scene g = gridModel(n, true);
     const double t0 = now();

@@ -63,7 +63,7 @@ int main(int argc, char** argv) {
             scene.build();
         } else {
             DiskFileSource fs;
-            scene = loadScene(path, fs);
+            scene = loadScene(path, fs).scene;
         }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "bvh_bench: error: %s\n", e.what());

@@ -141,8 +141,9 @@ int main(int argc, char** argv) {
     try {
         const auto t0 = std::chrono::steady_clock::now();
         DiskFileSource fs;
-        Scene scene = loadScene(path, fs);
-        const anim::Timeline timeline = anim::Timeline::fromScene(scene);
+        LoadedScene loaded = loadScene(path, fs);
+        Scene& scene = loaded.scene;
+        const anim::Timeline timeline = anim::Timeline::fromScene(loaded);
         if (timeline.animatesGeometry()) throw std::runtime_error("the orbit must not move geometry");
         // Embree gets the triangle meshes alone: spheres and planes would be left out of its
         // picture but not of rayfarm's.

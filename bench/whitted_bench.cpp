@@ -36,8 +36,9 @@ int main(int argc, char** argv) {
     try {
         DiskFileSource fs;
         const auto tLoad = std::chrono::steady_clock::now();
-        Scene scene = loadScene(path, fs);
-        const anim::Timeline timeline = anim::Timeline::fromScene(scene);
+        LoadedScene loaded = loadScene(path, fs);
+        Scene& scene = loaded.scene;
+        const anim::Timeline timeline = anim::Timeline::fromScene(loaded);
         // Until the scene's timeline carries the orbit, drive POV-Ray's camera path ourselves:
         // eye (8 sin 2πc, 3, −8 cos 2πc) with c = i / (frames − 1), as whitted.pov's clock.
         const bool ownOrbit = timeline.frameCount() < frames;

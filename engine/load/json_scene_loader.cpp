@@ -203,8 +203,9 @@ public:
     JsonSceneLoader(const std::string& path, FileSource& fs, const SceneOptions& options)
         : path_(path), fs_(fs), rd_(path), options_(options) {}
 
-    Scene load() {
-        Scene s;
+    LoadedScene load() {
+        LoadedScene loaded;
+        Scene& s = loaded.scene;
         std::optional<EnvironmentSpec> environment;
         bool fileGround = false;
         {
@@ -221,7 +222,8 @@ public:
         attachEnvironment(s, environment, options_, fs_);
         s.build();
         if (fileGround) placeGround(s, Ground::Shadow);  // the command line's --ground, if any, comes after
-        return s;
+        loaded.timeline.sections = std::move(timeline_);
+        return loaded;
     }
 
 private:
@@ -290,7 +292,7 @@ private:
             anim["timeline"] = root["timeline"];
         }
         if (root.contains("turntable")) anim["turntable"] = root["turntable"];
-        if (!anim.empty()) s.timeline = std::make_shared<const json>(std::move(anim));
+        if (!anim.empty()) timeline_ = std::make_shared<const json>(std::move(anim));
     }
 
 private:
@@ -448,11 +450,12 @@ private:
     AssetOptions assets_;  ///< options_.assets with the file's "asset_root"
     size_t modelVariants_ = 0;  ///< material variants of all the scene's models
     std::map<std::string, int> materialIds_;
+    std::shared_ptr<const json> timeline_;  ///< the animation sections, for the LoadedScene
 };
 
 }  // namespace
 
-Scene loadJsonScene(const std::string& path, FileSource& fs, const SceneOptions& options) {
+LoadedScene loadJsonScene(const std::string& path, FileSource& fs, const SceneOptions& options) {
     return JsonSceneLoader(path, fs, options).load();
 }
 

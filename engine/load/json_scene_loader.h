@@ -4,13 +4,13 @@
 #include <string>
 
 #include "engine/util/file_source.h"
-#include "engine/scene/scene.h"
+#include "engine/load/loaded_scene.h"
 #include "engine/scene/scene_options.h"
 
 namespace rf {
 
 /// Loads a JSON scene file; it is ready to render (built). Errors throw InputError naming the
 /// file and the JSON path.
-Scene loadJsonScene(const std::string& path, FileSource& fs, const SceneOptions& options = {});
+LoadedScene loadJsonScene(const std::string& path, FileSource& fs, const SceneOptions& options = {});
 
 }  // namespace rf

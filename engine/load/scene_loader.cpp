@@ -9,16 +9,16 @@
 
 namespace rf {
 
-Scene loadScene(const std::string& path, FileSource& fs, const SceneOptions& options) {
+LoadedScene loadScene(const std::string& path, FileSource& fs, const SceneOptions& options) {
     LoadStep step("reading the scene");
     try {
-        Scene s;
-        if (lowerExtension(path) == ".json") s = loadJsonScene(path, fs, options);
-        else if (isGltfPath(path)) s = loadGltfScene(path, fs, options);
+        LoadedScene loaded;
+        if (lowerExtension(path) == ".json") loaded = loadJsonScene(path, fs, options);
+        else if (isGltfPath(path)) loaded.scene = loadGltfScene(path, fs, options);
         else throw InputError(path, "unknown scene type (expected .json, .gltf or .glb)");
-        if (options.ground) placeGround(s, *options.ground);
-        s.animation = options.animation;
-        return s;
+        if (options.ground) placeGround(loaded.scene, *options.ground);
+        loaded.timeline.animation = options.animation;
+        return loaded;
     } catch (LoadCancelled& c) {
         if (c.file.empty()) c.file = path;
         throw;

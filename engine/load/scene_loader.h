@@ -4,13 +4,14 @@
 #include <string>
 
 #include "engine/util/file_source.h"
-#include "engine/scene/scene.h"
+#include "engine/load/loaded_scene.h"
 #include "engine/scene/scene_options.h"
 
 namespace rf {
 
 /// Loads path through fs, choosing the loader by the extension (json_scene_loader.h,
-/// gltf_loader.h): the one place that knows both. The scene is ready to render (built).
-Scene loadScene(const std::string& path, FileSource& fs, const SceneOptions& options = {});
+/// gltf_loader.h): the one place that knows both. The scene is ready to render (built); its
+/// timeline source carries the file's animation sections and options.animation.
+LoadedScene loadScene(const std::string& path, FileSource& fs, const SceneOptions& options = {});
 
 }  // namespace rf

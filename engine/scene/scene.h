@@ -1,13 +1,12 @@
 #pragma once
 /// The scene in render space: its geometry (scene_geometry.h: primitives, the acceleration
-/// structure and ray queries), materials, textures, lights, environment and camera. World
+/// structure and ray queries), materials, textures, lights, environment and camera. What a
+/// scene file says about time travels beside it (engine/load/loaded_scene.h). World
 /// position = render position + renderOrigin (kept in double, so a model far from the world
 /// origin keeps its float precision).
 #include <memory>
 #include <optional>
 #include <string>
-
-#include <nlohmann/json_fwd.hpp>
 #include <vector>
 
 #include "engine/geometry/camera.h"
@@ -62,14 +61,7 @@ public:
     RenderSettings settings;  ///< defaults from the scene file; the CLI may override
     DVec3 renderOrigin{0.0};
     std::string sourcePath;
-    /// The scene file's animation sections as parsed JSON, null without any:
-    /// {"timeline": {...}, "timeline_file": path if it came from its own file, "turntable": {...}}.
-    /// anim::Timeline interprets it; nothing parses or rewrites it as text again.
-    std::shared_ptr<const nlohmann::json> timeline;
     std::vector<std::string> notes;  ///< warnings met while loading
-    /// --animation NAME|INDEX (SceneOptions::animation): the animation every animated model
-    /// plays, over the scene file's "animation"; anim::Timeline resolves it.
-    std::optional<std::string> animation;
 
     /// Spheres, planes, meshes and models, the acceleration structure over them and every ray
     /// query (scene_geometry.h).

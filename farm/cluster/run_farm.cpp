@@ -391,7 +391,7 @@ FarmOutcome FarmRun::run(SharedScene& shared) {
     else  // a chunk open per renderer and one more: as many encoders at work as ranks
         sched = makeChunkTileScheduler(plan_, plan.kept, width, height, pixelTile(job_, renderers, cfg.credits), renderers + 1);
     FrameAssembler assembler(job_.settings.width, job_.settings.height, plan.order, plan.kept, job_.layout());
-    anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, job_.fpsOption);
+    anim::Timeline timeline = anim::Timeline::fromScene(shared, job_.fpsOption);
     std::unique_ptr<RenderEngine> local;
     if (rank0Renders_)
         local = std::make_unique<RenderEngine>(std::move(shared.scene), timeline, job_.settings, opts_.threads, job_.exrFrames,
@@ -572,7 +572,7 @@ int runFarmWorker(Transport& t, SharedScene& shared, double fpsOption, int threa
         // The background as rank 0 decided it: the broadcast carries the scene's files, not rank 0's scene.
         applyBackground(outputs.background, shared.scene);
         // Every rank parsed the same options, so the worker's timeline matches rank 0's.
-        anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, fpsOption);
+        anim::Timeline timeline = anim::Timeline::fromScene(shared, fpsOption);
         RenderEngine engine(std::move(shared.scene), timeline, settings, threads, outputs.linear != 0,
                             benchFreeWorkRenderer(outputs.linear != 0), shared.bounceSlot);
         if (chunkVideo.empty()) return runWorker(t, engine, masterTimeout);

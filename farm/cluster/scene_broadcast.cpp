@@ -61,8 +61,8 @@ FileBundle filesSince(const FileBundle& all, const std::set<std::string>& sent) 
 }  // namespace
 
 SharedScene shareScene(Transport& t, const std::string& path, const std::function<void()>& preLoad,
-                       const std::function<std::string(Scene&, const FileBundle&)>& makeJob, const SceneOptions& options,
-                       const std::function<void(Scene&)>& headStart, std::shared_ptr<SceneCacheSlot> bounceSlot) {
+                       const std::function<std::string(LoadedScene&, const FileBundle&)>& makeJob, const SceneOptions& options,
+                       const std::function<void(LoadedScene&)>& headStart, std::shared_ptr<SceneCacheSlot> bounceSlot) {
     const auto t0 = std::chrono::steady_clock::now();
     SharedScene out;
     out.bounceSlot = bounceSlot ? std::move(bounceSlot) : std::make_shared<SceneCacheSlot>();
@@ -90,9 +90,9 @@ SharedScene shareScene(Transport& t, const std::string& path, const std::functio
             if (preLoad) preLoad();
             SceneOptions opts = options;
             opts.inputsRead = shareFiles;
-            out.scene = loadScene(path, fs, opts);
+            out.loaded() = loadScene(path, fs, opts);
             shareFiles();  // a loader that has no such point shares them here
-            out.job = makeJob ? makeJob(out.scene, fs.bundle()) : std::string();
+            out.job = makeJob ? makeJob(out, fs.bundle()) : std::string();
             out.bundleBytes = fs.bundle().totalBytes();
             payload = packOk(out.job, filesSince(fs.bundle(), sent).serialize());
         } catch (const InputError&) {
@@ -118,14 +118,14 @@ SharedScene shareScene(Transport& t, const std::string& path, const std::functio
         {
             BuildBeats beats(t);  // rank 0 hears this rank builds; joined before the next MPI call
             try {
-                out.scene = loadScene(path, fs, options);
+                out.loaded() = loadScene(path, fs, options);
                 testBuildDelay();
             } catch (...) {
                 failed = std::current_exception();
             }
             if (!failed && headStart) {
                 try {
-                    headStart(out.scene);
+                    headStart(out);
                 } catch (...) {
                     // Only a head start: the job, when it comes, decides.
                 }
@@ -144,7 +144,7 @@ SharedScene shareScene(Transport& t, const std::string& path, const std::functio
             // Rank 0's loader read more after it shared the files: load again with all of them.
             fs.add(std::move(late));
             BuildBeats beats(t);
-            out.scene = loadScene(path, fs, options);
+            out.loaded() = loadScene(path, fs, options);
         } else if (failed) {
             std::rethrow_exception(failed);
         }

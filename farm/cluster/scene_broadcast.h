@@ -10,7 +10,7 @@
 #include <string>
 
 #include "engine/util/file_source.h"
-#include "engine/scene/scene.h"
+#include "engine/load/loaded_scene.h"
 #include "engine/scene/scene_cache.h"
 #include "engine/scene/scene_options.h"
 #include "farm/cluster/transport.h"
@@ -27,14 +27,16 @@ private:
     int code_;
 };
 
-struct SharedScene {
-    Scene scene;
+/// The scene and its timeline source (LoadedScene), as every rank loaded them.
+struct SharedScene : LoadedScene {
     /// The job's bounce cache (RenderView::bounceSlot): a worker's head start and rank 0's
     /// metering fill it before the job, and the rank's RenderEngine renders every frame with it.
     std::shared_ptr<SceneCacheSlot> bounceSlot;
     std::string job;          ///< rank 0's job description, opaque here
     size_t bundleBytes = 0;   ///< the scene's files that travel: their paths' and contents' bytes
     double loadSeconds = 0.0; ///< reading, broadcast and loading on this rank
+
+    LoadedScene& loaded() { return *this; }
 };
 
 /// Collective over all ranks. On rank 0: runs preLoad (output checks), loads path from disk,
@@ -47,8 +49,8 @@ struct SharedScene {
 /// exception from it is dropped). bounceSlot: the one makeJob and headStart fill, handed back
 /// as SharedScene::bounceSlot (null: a new one).
 SharedScene shareScene(Transport& t, const std::string& path, const std::function<void()>& preLoad,
-                       const std::function<std::string(Scene&, const FileBundle&)>& makeJob,
-                       const SceneOptions& options = {}, const std::function<void(Scene&)>& headStart = nullptr,
+                       const std::function<std::string(LoadedScene&, const FileBundle&)>& makeJob,
+                       const SceneOptions& options = {}, const std::function<void(LoadedScene&)>& headStart = nullptr,
                        std::shared_ptr<SceneCacheSlot> bounceSlot = nullptr);
 
 }  // namespace rf::farm

@@ -75,7 +75,7 @@ MasterConfig ViewSession::masterConfig() {
 FarmOutcome ViewSession::run(SharedScene& shared) {
     layout_ = PixelLayout{shared.scene.transparentBackground ? 4 : 3, false};
     if (rank0Renders_) {
-        anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, job_.fpsOption);
+        anim::Timeline timeline = anim::Timeline::fromScene(shared, job_.fpsOption);
         local_ = std::make_unique<RenderEngine>(std::move(shared.scene), timeline, job_.settings,
                                                 std::max(1, opts_.threads), false, nullptr, shared.bounceSlot);
     }

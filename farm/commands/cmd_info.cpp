@@ -270,8 +270,9 @@ int runInfo(const std::vector<std::string>& args) {
     SceneOptions opts = sceneOptions(p);
     // The whole load first: a file the renderer refuses is refused here with the same line.
     DiskFileSource fs;
-    const Scene scene = loadScene(path, fs, opts);
-    const anim::Timeline tl = anim::Timeline::fromScene(scene, fps);
+    const LoadedScene loaded = loadScene(path, fs, opts);
+    const Scene& scene = loaded.scene;
+    const anim::Timeline tl = anim::Timeline::fromScene(loaded, fps);
     const GltfInfo info = inspectGltf(path, fs, opts.assets);
     const json j = infoJson(path, info, turntableJson(scene, tl, info.lights.size()));
     const std::string out = p.has("--json") ? j.dump(2) + "\n" : infoText(j);

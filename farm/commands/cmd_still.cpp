@@ -66,8 +66,7 @@ const char* kStillHelp =
 
 /// Sets the scene to the still's moment and returns its frame index (the noise seed). The still
 /// is one frame of the scene's film: frame 0 unless --frame or --time says otherwise.
-int applyStillTime(const ArgParser& p, Scene& scene) {
-    const anim::Timeline timeline = anim::Timeline::fromScene(scene);
+int applyStillTime(const ArgParser& p, const anim::Timeline& timeline, Scene& scene) {
     if (p.has("--frame") && p.has("--time")) throw UsageError("still: give --frame or --time, not both");
     int frame = p.intValue("--frame", 0, 0, timeline.frameCount() - 1);
     if (p.has("--time")) {
@@ -138,11 +137,12 @@ int runStill(const std::vector<std::string>& args) {
 
     const auto t0 = std::chrono::steady_clock::now();
     DiskFileSource fs;
-    Scene scene;
+    LoadedScene loaded;
+    Scene& scene = loaded.scene;
     {
         farm::LoadWatch watch(scenePath, true);
         try {
-            scene = loadScene(scenePath, fs, sceneOptions(p));
+            loaded = loadScene(scenePath, fs, sceneOptions(p));
         } catch (const LoadCancelled& c) {
             return watch.interrupted(c);
         }
@@ -157,8 +157,8 @@ int runStill(const std::vector<std::string>& args) {
     for (const std::string& note : scene.notes) printLine("note", note);
     applyBackground(background, scene);
     // Built before posing: auto exposure meters the film's own frames.
-    const anim::Timeline timeline = anim::Timeline::fromScene(scene);
-    const int frame = applyStillTime(p, scene);
+    const anim::Timeline timeline = anim::Timeline::fromScene(loaded);
+    const int frame = applyStillTime(p, timeline, scene);
     // A glTF camera replaces the timeline's camera; the rest of the frame (model animation,
     // lights) still follows the timeline.
     if (p.has("--camera")) useGltfCamera(scene, p.intValue("--camera", 0, 0, 1 << 20));

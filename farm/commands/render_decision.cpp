@@ -79,11 +79,12 @@ void claimOutputs(const RenderJob& job, const ArgParser& p, std::vector<OutputLo
     if (!job.framesDir.empty() && !job.resume && !p.has("--overwrite")) refuseEarlierFrames(job.framesDir);
 }
 
-void decideJob(RenderJob& job, const ArgParser& p, Scene& scene, const std::shared_ptr<SceneCacheSlot>& bounceSlot,
+void decideJob(RenderJob& job, const ArgParser& p, LoadedScene& loaded, const std::shared_ptr<SceneCacheSlot>& bounceSlot,
                const FileBundle& inputs, int ranks, const std::string& threadsNote, bool filmOfSeveral) {
+    Scene& scene = loaded.scene;
     job.settings = scene.settings;
     applyQualityOptions(p, job.settings);
-    const anim::Timeline tl = anim::Timeline::fromScene(scene, job.fpsOption);
+    const anim::Timeline tl = anim::Timeline::fromScene(loaded, job.fpsOption);
     job.timelineFrames = tl.frameCount();
     job.timelineFps = tl.fps();
     job.first = 0;

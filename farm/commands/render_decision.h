@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "engine/util/file_source.h"
+#include "engine/load/loaded_scene.h"
 #include "engine/scene/scene.h"
 #include "farm/cli/cli.h"
 #include "farm/cluster/render_job.h"
@@ -24,7 +25,7 @@ void claimOutputs(const farm::RenderJob& job, const ArgParser& p, std::vector<Ou
 
 /// Rank 0's part of makeJob: everything decided from the options and the loaded scene, checked
 /// before any rendering.
-void decideJob(farm::RenderJob& job, const ArgParser& p, Scene& scene, const std::shared_ptr<SceneCacheSlot>& bounceSlot,
+void decideJob(farm::RenderJob& job, const ArgParser& p, LoadedScene& loaded, const std::shared_ptr<SceneCacheSlot>& bounceSlot,
                const FileBundle& inputs, int ranks, const std::string& threadsNote, bool filmOfSeveral);
 
 }  // namespace rf::cli

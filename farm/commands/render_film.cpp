@@ -71,7 +71,7 @@ int runRank0(MpiTransport& t, const RenderJob& job, SharedScene& shared, const s
     int code = 0;
     opts.onEnd = [&](const FarmOutcome& o) { code = reportOutcome(t.size(), job, o, args); };
     StopWorkersOnThrow setUp(t);  // opening the video can fail (a full disk), after the workers started
-    const anim::Timeline timeline = anim::Timeline::fromScene(shared.scene, job.fpsOption);
+    const anim::Timeline timeline = anim::Timeline::fromScene(shared, job.fpsOption);
     FarmSinks sinks = sinksForJob(job, [timeline](int f) { return timeline.frameTime(f); });
     setUp.dismiss();  // runFarm guards its own set-up
     FarmOutcome o;
@@ -105,15 +105,15 @@ int renderFilm(MpiTransport& t, const ArgParser& p, const std::vector<std::strin
         try {
             shared = shareScene(
                 t, job.scenePath, [&] { claimOutputs(job, p, locks); },
-                [&](Scene& scene, const FileBundle& inputs) {
+                [&](LoadedScene& loaded, const FileBundle& inputs) {
                     std::vector<std::string> read;
                     for (const auto& [path, bytes] : inputs.files) read.push_back(path);
                     checkOutputPaths(renderOutputs(job), read);  // the model's buffers and textures too
-                    decideJob(job, p, scene, bounceSlot, inputs, t.size(), threadsNote, film != nullptr);
+                    decideJob(job, p, loaded, bounceSlot, inputs, t.size(), threadsNote, film != nullptr);
                     return encodeWorkerJob(job);
                 },
                 sceneOptions(p),
-                [&](Scene& scene) { workerHeadStart(scene, *bounceSlot, p, job, threadsForRank(job, t)); }, bounceSlot);
+                [&](LoadedScene& loaded) { workerHeadStart(loaded, *bounceSlot, p, job, threadsForRank(job, t)); }, bounceSlot);
         } catch (const LoadCancelled& c) {
             const int code = watch.interrupted(c);
             // A worker gets here only when rank 0 loaded and waits for it: say why it will not hear.

@@ -16,10 +16,11 @@ void prebuildBounceCache(const Scene& scene, const anim::Timeline& tl, const Ren
     bounceCache(posed, settings, &bounceSlot, threads > 0 ? threads : hardwareThreads());
 }
 
-void workerHeadStart(Scene& scene, SceneCacheSlot& bounceSlot, const ArgParser& p, const RenderJob& job, int threads) {
+void workerHeadStart(const LoadedScene& loaded, SceneCacheSlot& bounceSlot, const ArgParser& p, const RenderJob& job, int threads) {
+    const Scene& scene = loaded.scene;
     RenderSettings settings = scene.settings;
     applyQualityOptions(p, settings);
-    const anim::Timeline tl = anim::Timeline::fromScene(scene, job.fpsOption);
+    const anim::Timeline tl = anim::Timeline::fromScene(loaded, job.fpsOption);
     int first = 0, last = tl.frameCount() - 1;
     if (auto f = p.value("--frames")) parseFrameRange(*f, tl.frameCount(), first, last);
     prebuildBounceCache(scene, tl, settings, first, threads, bounceSlot);

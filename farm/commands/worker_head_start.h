@@ -3,6 +3,7 @@
 /// its exposure, and on rank 0 before the meter when it renders too.
 #include "farm/cli/cli.h"
 #include "farm/cluster/render_job.h"
+#include "engine/load/loaded_scene.h"
 #include "engine/scene/scene.h"
 #include "anim/timeline.h"
 
@@ -18,6 +19,6 @@ void prebuildBounceCache(const Scene& scene, const anim::Timeline& tl, const Ren
 
 /// A worker's head start (shareScene) while rank 0 decides the job and meters its exposure: the
 /// bounce cache for the settings and first frame the same command line gives rank 0.
-void workerHeadStart(Scene& scene, SceneCacheSlot& bounceSlot, const ArgParser& p, const farm::RenderJob& job, int threads);
+void workerHeadStart(const LoadedScene& loaded, SceneCacheSlot& bounceSlot, const ArgParser& p, const farm::RenderJob& job, int threads);
 
 }  // namespace rf::cli

@@ -230,17 +230,18 @@ Scene sceneAtFrame(const ArgParser& p, const std::string& scenePath, anim::Timel
     if (background.kind == BackgroundChoice::Transparent)
         throw UsageError("--background: report scores an opaque picture; give a colour, not transparent");
     DiskFileSource fs;
-    Scene scene = loadScene(scenePath, fs, sceneOptions(p));
+    LoadedScene loaded = loadScene(scenePath, fs, sceneOptions(p));
+    Scene& scene = loaded.scene;
     for (const std::string& note : scene.notes) std::fprintf(stderr, "rayfarm: note: %s\n", note.c_str());
     applyBackground(background, scene);
-    timeline = anim::Timeline::fromScene(scene);
+    timeline = anim::Timeline::fromScene(loaded);
     frame = p.intValue("--frame", 0, 0, 1 << 30);
     if (frame >= timeline.frameCount())
         throw UsageError("--frame: " + scenePath + " has " + std::to_string(timeline.frameCount()) +
                          " frame(s), numbered from 0; got " + std::to_string(frame));
     timeline.applyFrame(scene, frame);
     if (const auto pose = cameraPose(p)) pose(scene);
-    return scene;
+    return std::move(scene);
 }
 
 /// The default setting the sweep is centred on; with --reference, at the reference's size.

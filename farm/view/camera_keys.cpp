@@ -96,8 +96,16 @@ Film filmOf(const anim::Timeline& tl) {
     return {121, 30.0};
 }
 
-json keyedTimeline(const CameraKeys& keys, const Scene& scene, const Film& film) {
-    json base = scene.timeline ? *scene.timeline : json::object();
+std::string sectionsText(const TimelineSource& source) { return source.sections ? source.sections->dump() : std::string(); }
+
+TimelineSource withSections(const TimelineSource& base, const std::string& text) {
+    TimelineSource out = base;
+    out.sections = text.empty() ? nullptr : std::make_shared<const json>(json::parse(text));
+    return out;
+}
+
+json keyedTimeline(const CameraKeys& keys, const TimelineSource& source, const Film& film) {
+    json base = source.sections ? *source.sections : json::object();
     json tl;
     if (base.contains("timeline")) {
         tl = base["timeline"];

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json_fwd.hpp>
 
+#include "engine/load/loaded_scene.h"
 #include "engine/scene/scene.h"
 #include "anim/timeline.h"
 
@@ -43,10 +44,15 @@ struct Film {
 };
 Film filmOf(const anim::Timeline& tl);
 
-/// The "timeline" section for the keys: the scene's own timeline with its camera replaced by
-/// position/target/fov tracks (catmull-rom through the keys), or for a turntable or none, a new
-/// one with the film's fps and frame count and the same model animation.
-nlohmann::json keyedTimeline(const CameraKeys& keys, const Scene& scene, const Film& film);
+/// The "timeline" section for the keys: the scene's own timeline (source) with its camera
+/// replaced by position/target/fov tracks (catmull-rom through the keys), or for a turntable or
+/// none, a new one with the film's fps and frame count and the same model animation.
+nlohmann::json keyedTimeline(const CameraKeys& keys, const TimelineSource& source, const Film& film);
+
+/// A timeline as it travels to the view's ranks: its sections serialised ("" for none).
+std::string sectionsText(const TimelineSource& source);
+/// base with the sections of sectionsText's text in place (the command line's --animation kept).
+TimelineSource withSections(const TimelineSource& base, const std::string& text);
 
 /// The scene file to save: a JSON scene keeps everything but its timeline; a bare glTF model
 /// becomes a scene holding the model (absolute path), its camera, background and light rig.

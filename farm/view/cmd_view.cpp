@@ -123,22 +123,24 @@ void checkDisplayAndOutputs(view::ViewOptions& o, const ArgParser& p) {
 }
 
 /// The settings every rank renders with: the scene's, the picture options over them.
-RenderSettings pictureSettings(const ArgParser& p, const Scene& scene, const std::shared_ptr<SceneCacheSlot>& bounceSlot) {
+RenderSettings pictureSettings(const ArgParser& p, const LoadedScene& loaded, const std::shared_ptr<SceneCacheSlot>& bounceSlot) {
+    const Scene& scene = loaded.scene;
     RenderSettings settings = scene.settings;
     applyQualityOptions(p, settings);
     // One EV for the whole session, the same on every rank (the meter is deterministic).
     // The metering frames fill the window's bounce cache, which its views then use.
-    resolveAutoExposure(scene, anim::Timeline::fromScene(scene), settings, 0, {}, bounceSlot);
+    resolveAutoExposure(scene, anim::Timeline::fromScene(loaded), settings, 0, {}, bounceSlot);
     return settings;
 }
 
 /// Rank 0 (or the only process): the window. Returns the exit status.
-int runWindow(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job, Scene scene) {
+int runWindow(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job, LoadedScene loaded) {
+    Scene& scene = loaded.scene;
     for (const std::string& note : scene.notes) std::cerr << "rayfarm: note: " << note << "\n";
     applyBackground(job.background, scene);
-    const anim::Timeline timeline = anim::Timeline::fromScene(scene);
+    const anim::Timeline timeline = anim::Timeline::fromScene(loaded);
     o.startFrame = p.intValue("--frame", 0, 0, view::filmOf(timeline).frames - 1);
-    const RenderSettings settings = pictureSettings(p, scene, o.bounceSlot);
+    const RenderSettings settings = pictureSettings(p, loaded, o.bounceSlot);
     if (p.has("--camera")) {
         o.gltfCamera = p.intValue("--camera", 0, 0, 1 << 20);
         chosenGltfCamera(scene, o.gltfCamera);  // throws for a missing or unusable one
@@ -148,7 +150,7 @@ int runWindow(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job, Scen
     char name[] = "rayfarm";
     char* argv[] = {name, nullptr};
     QApplication app(argc, argv);
-    view::ViewWindow window(std::move(scene), timeline, settings, o);
+    view::ViewWindow window(std::move(loaded), timeline, settings, o);
     window.show();
     const auto destroyed = view::endWhenWindowDestroyed(app, window);
     const int status = app.exec();
@@ -186,9 +188,9 @@ int runFarmView(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job) {
     try {
         shared = farm::shareScene(
             t, o.scenePath, [&] { checkDisplayAndOutputs(o, p); },
-            [&](Scene& scene, const FileBundle&) {
-                applyBackground(job.background, scene);  // as the window will: the meter sees it
-                job.settings = pictureSettings(p, scene, o.bounceSlot);
+            [&](LoadedScene& loaded, const FileBundle&) {
+                applyBackground(job.background, loaded.scene);  // as the window will: the meter sees it
+                job.settings = pictureSettings(p, loaded, o.bounceSlot);
                 return view::encodeViewJob(job);
             },
             sceneOptions(p));
@@ -202,7 +204,7 @@ int runFarmView(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job) {
     if (t.rank() != 0) {
         const view::ViewJob j = view::decodeViewJob(shared.job);
         applyBackground(j.background, shared.scene);
-        const int code = view::runViewWorker(t, std::move(shared.scene), j.settings, j.threads);
+        const int code = view::runViewWorker(t, std::move(shared.loaded()), j.settings, j.threads);
         if (code == farm::kMasterSilentExit) std::_Exit(1);  // MPI_Finalize would wait for rank 0
         return code;
     }
@@ -210,7 +212,7 @@ int runFarmView(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job) {
     o.threads = job.threads;
     view::setSessionEnd([&t](int code) { t.abort(code); });  // the display gone: every rank goes
     farm::installInterruptHandlers();  // mpirun's SIGTERM: the farm names the dead rank first
-    const int status = runWindow(p, o, job, std::move(shared.scene));
+    const int status = runWindow(p, o, job, std::move(shared.loaded()));
     // A lost rank cannot be stopped politely and MPI_Finalize would wait for it: end them all.
     if (status != 0) t.abort(status);
     return status;
@@ -265,8 +267,7 @@ int runViewParsed(const std::vector<std::string>& args) {
 
     checkDisplayAndOutputs(o, p);
     DiskFileSource fs;
-    Scene scene = loadScene(o.scenePath, fs, sceneOptions(p));
-    return runWindow(p, o, job, std::move(scene));
+    return runWindow(p, o, job, loadScene(o.scenePath, fs, sceneOptions(p)));
 }
 }  // namespace
 

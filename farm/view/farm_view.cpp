@@ -44,14 +44,14 @@ std::string lostRankLine(int rank, const std::string& master, bool signalled) {
 
 }  // namespace
 
-FarmView::FarmView(farm::Transport* t, Scene scene, RenderSettings settings, int threads, Publish publish,
+FarmView::FarmView(farm::Transport* t, LoadedScene loaded, RenderSettings settings, int threads, Publish publish,
                    std::function<void(const SessionEnd&)> onEnd, std::shared_ptr<SceneCacheSlot> bounceSlot)
     : hub_(t ? nullptr : std::make_unique<farm::LoopbackHub>(1)),
       alone_(t ? nullptr : std::make_unique<farm::LoopbackTransport>(*hub_, 0)), t_(t ? *t : *alone_),
-      scene_(std::move(scene)), settings_(settings),
+      scene_(std::move(loaded.scene)), source_(std::move(loaded.timeline)), settings_(settings),
       bounceSlot_(bounceSlot ? std::move(bounceSlot) : std::make_shared<SceneCacheSlot>()), threads_(threads > 0 ? threads : hardwareThreads()), ranks_(t_.size()),
       publish_(std::move(publish)), onEnd_(std::move(onEnd)) {
-    timelineJson_ = scene_.timeline ? scene_.timeline->dump() : std::string();
+    timelineJson_ = sectionsText(source_);
     thread_ = std::thread([this] { farmLoop(); });
 }
 
@@ -164,7 +164,7 @@ void FarmView::runSession() {
     shared.bounceSlot = bounceSlot_;  // a new session (after a key, after a film) finds the cache built
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        shared.scene.timeline = timelineJson_.empty() ? nullptr : std::make_shared<const nlohmann::json>(nlohmann::json::parse(timelineJson_));
+        shared.timeline = withSections(source_, timelineJson_);
         sessionCancel_ = closing_ || film_.has_value() || timelineChanged_;
         // The last request, if it is not answered yet, is asked again of the new session (an
         // answered one again would count its input's latency twice).

@@ -15,6 +15,7 @@
 #include <string>
 #include <thread>
 
+#include "farm/view/camera_keys.h"
 #include "farm/view/film_render.h"
 #include "farm/cluster/run_farm.h"
 #include "farm/cluster/transport.h"
@@ -39,7 +40,7 @@ public:
     /// `threads` threads. scene: as loaded (the picture options applied); publish: where
     /// pictures go; onEnd: called once (on the farm's thread) if the session stops for good.
     /// bounceSlot: the bounce cache every session and film shares (null: one of the view's own).
-    FarmView(farm::Transport* t, Scene scene, RenderSettings settings, int threads, Publish publish,
+    FarmView(farm::Transport* t, LoadedScene loaded, RenderSettings settings, int threads, Publish publish,
              std::function<void(const SessionEnd&)> onEnd, std::shared_ptr<SceneCacheSlot> bounceSlot = nullptr);
     /// Ends the session (and a film, its frames kept), then tells every rank to stop.
     ~FarmView();
@@ -49,7 +50,7 @@ public:
     /// Replaces whatever is pending or rendering; returns the request's epoch (ViewFrame::epoch).
     uint64_t request(const ViewRequest& r);
     /// Plays another timeline from the next request on (timelineJson: {"timeline": …} as in
-    /// Scene::timeline, serialised, or "" for none), over the scene as loaded.
+    /// TimelineSource::sections, serialised, or "" for none), over the scene as loaded.
     void setTimeline(const std::string& timelineJson);
     /// Renders the film through runFarm on this session's ranks; no views meanwhile.
     void startFilm(FilmRequest r, FilmCallbacks cb);
@@ -78,6 +79,7 @@ private:
     std::unique_ptr<farm::Transport> alone_;
     farm::Transport& t_;
     const Scene scene_;  ///< as loaded: every session and film starts from a copy
+    const TimelineSource source_;  ///< the scene's timeline as loaded (its --animation stays)
     const RenderSettings settings_;
     const std::shared_ptr<SceneCacheSlot> bounceSlot_;  ///< built once, kept across sessions and films
     const int threads_, ranks_;

@@ -21,7 +21,7 @@ farm::RenderJob filmJob(const FilmRequest& r, int ranks, std::string& note) {
     job.settings = r.settings;
     job.resume = r.resume;
     job.threads = r.threads;
-    const anim::Timeline tl = anim::Timeline::fromScene(r.scene);
+    const anim::Timeline tl = anim::Timeline::fromScene(r.scene, r.timeline);
     job.timelineFrames = tl.frameCount();
     job.timelineFps = tl.fps();
     job.first = 0;
@@ -57,6 +57,7 @@ FilmEnd renderFilm(farm::Transport& t, FilmRequest& r, const FilmCallbacks& cb, 
 
     farm::SharedScene shared;
     shared.scene = std::move(r.scene);
+    shared.timeline = std::move(r.timeline);
     shared.bounceSlot = r.bounceSlot;
     farm::FarmOptions opts;
     opts.threads = job.threads;

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "farm/cluster/render_job.h"
+#include "engine/load/loaded_scene.h"
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_cache.h"
 #include "engine/util/settings.h"
@@ -21,8 +22,9 @@ struct FilmRequest {
     /// The scene file render would read (the saved scene when there are keys): it names the
     /// frames directory's manifest and the digests that a later --resume compares.
     std::string scenePath;
-    Scene scene;               ///< what the window renders, its timeline in place
-    std::string timelineJson;  ///< that timeline ({"timeline": …} or ""), for the other ranks
+    Scene scene;               ///< what the window renders
+    TimelineSource timeline;   ///< with this timeline
+    std::string timelineJson;  ///< that timeline's sections ({"timeline": …} or ""), for the other ranks
     RenderSettings settings;
     std::string output, framesDir;
     bool resume = false;  ///< keep the frames a cancelled run left in framesDir

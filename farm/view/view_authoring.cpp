@@ -58,11 +58,11 @@ void ViewWindow::refreshKeys() {
     }
 }
 
-Scene ViewWindow::keyedScene(std::string& timelineJson) const {
-    Scene keyed = scene_;
+TimelineSource ViewWindow::keyedSource(std::string& timelineJson) const {
+    TimelineSource keyed = source_;
     if (!keys_.empty())
-        keyed.timeline = std::make_shared<const nlohmann::json>(nlohmann::json{{"timeline", keyedTimeline(keys_, scene_, film_)}});
-    timelineJson = keyed.timeline ? keyed.timeline->dump() : std::string();
+        keyed.sections = std::make_shared<const nlohmann::json>(nlohmann::json{{"timeline", keyedTimeline(keys_, source_, film_)}});
+    timelineJson = sectionsText(keyed);
     return keyed;
 }
 
@@ -72,9 +72,9 @@ void ViewWindow::rebuildTimeline() {
     std::string json;
     if (keys_.empty()) {
         timeline_ = sceneTimeline_;
-        json = scene_.timeline ? scene_.timeline->dump() : std::string();
+        json = sectionsText(source_);
     } else {
-        timeline_ = anim::Timeline::fromScene(keyedScene(json));
+        timeline_ = anim::Timeline::fromScene(scene_, keyedSource(json));
     }
     renderer_->setTimeline(json);
     followFrame_ = -1;  // the camera at a frame may differ now
@@ -88,7 +88,7 @@ void ViewWindow::save() {
         message_ = "nothing to save: K adds a camera key first";
     } else {
         try {
-            writeSceneFile(options_.savePath, sceneDocument(scene_, settings_, keyedTimeline(keys_, scene_, film_)));
+            writeSceneFile(options_.savePath, sceneDocument(scene_, settings_, keyedTimeline(keys_, source_, film_)));
             message_ = "saved " + options_.savePath;
             std::fprintf(stderr, "rayfarm: view: saved %s (%zu camera keys)\n", options_.savePath.c_str(), keys_.keys().size());
         } catch (const std::exception& e) {
@@ -119,7 +119,8 @@ void ViewWindow::renderFilm() {
         if (message_.rfind("saved ", 0) != 0) return;
         req.scenePath = options_.savePath;
     }
-    req.scene = keyedScene(req.timelineJson);
+    req.timeline = keyedSource(req.timelineJson);
+    req.scene = scene_;
     req.settings = settings_;
     const std::filesystem::path base = std::filesystem::path(options_.savePath).replace_extension();
     renderOutput_ = req.output = base.string() + ".mp4";

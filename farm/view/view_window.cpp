@@ -77,8 +77,8 @@ private:
     QPointF last_;
 };
 
-ViewWindow::ViewWindow(Scene scene, anim::Timeline timeline, RenderSettings settings, ViewOptions options)
-    : scene_(std::move(scene)), timeline_(timeline), sceneTimeline_(std::move(timeline)), settings_(settings), options_(std::move(options)),
+ViewWindow::ViewWindow(LoadedScene loaded, anim::Timeline timeline, RenderSettings settings, ViewOptions options)
+    : scene_(std::move(loaded.scene)), source_(std::move(loaded.timeline)), timeline_(timeline), sceneTimeline_(std::move(timeline)), settings_(settings), options_(std::move(options)),
       start_(Clock::now()) {
     film_ = filmOf(timeline_);
     bounds_ = scene_.geometry.bounds();
@@ -115,7 +115,7 @@ void ViewWindow::startRenderer() {
         }
         QMetaObject::invokeMethod(this, [this, end] { sessionEnded(end); }, Qt::QueuedConnection);
     };
-    renderer_ = std::make_unique<FarmView>(options_.transport, scene_, settings_, options_.threads, publish, onEnd,
+    renderer_ = std::make_unique<FarmView>(options_.transport, LoadedScene{scene_, source_}, settings_, options_.threads, publish, onEnd,
                                            options_.bounceSlot);
     dirty_ = true;
     pump();

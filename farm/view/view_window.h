@@ -50,7 +50,7 @@ struct ViewOptions {
 class ViewWindow : public QWidget {
 public:
     /// scene: loaded, posed at no particular frame; settings: the target picture.
-    ViewWindow(Scene scene, anim::Timeline timeline, RenderSettings settings, ViewOptions options);
+    ViewWindow(LoadedScene loaded, anim::Timeline timeline, RenderSettings settings, ViewOptions options);
     ~ViewWindow() override;
 
     /// True once the rendering stopped on an error (a render failure, a lost rank).
@@ -95,7 +95,7 @@ private:
     void rebuildTimeline();
     /// scene_ with the keys' timeline in place (the scene's own without keys), and that
     /// timeline as JSON for the other ranks.
-    Scene keyedScene(std::string& timelineJson) const;
+    TimelineSource keyedSource(std::string& timelineJson) const;
     void renderFilm();
     void cancelRender();
     void renderEnded(const FilmEnd& end);
@@ -106,6 +106,7 @@ private:
     std::string ranksText() const;
 
     Scene scene_;  ///< as loaded; the renderer owns its own copy
+    TimelineSource source_;  ///< the scene's timeline as loaded (sections, --animation)
     anim::Timeline timeline_;        ///< what the window plays: the scene's, or the keys'
     anim::Timeline sceneTimeline_;   ///< the scene's own, back when the last key goes
     Film film_;

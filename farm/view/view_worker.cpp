@@ -9,6 +9,7 @@
 #include "farm/cluster/messages.h"
 #include "farm/cluster/render_engine.h"
 #include "farm/cluster/worker.h"
+#include "farm/view/camera_keys.h"
 
 namespace rf::view {
 
@@ -18,17 +19,17 @@ namespace {
 constexpr double kMasterTimeout = 20.0;
 }  // namespace
 
-int runViewWorker(farm::Transport& t, Scene scene, RenderSettings settings, int threads) {
+int runViewWorker(farm::Transport& t, LoadedScene loaded, RenderSettings settings, int threads) {
     farm::installInterruptHandlers();
     try {
-        const Scene pristine = scene;
-        farm::RenderEngine engine(std::move(scene), anim::Timeline::fromScene(pristine), settings, std::max(1, threads));
+        const Scene pristine = loaded.scene;
+        farm::RenderEngine engine(std::move(loaded.scene), anim::Timeline::fromScene(pristine, loaded.timeline), settings,
+                                  std::max(1, threads));
         auto retime = [&](const farm::Message& m) {
             if (m.tag != farm::kTagViewTimeline) return;
-            Scene keyed = pristine;  // a new timeline poses the scene as loaded, not as the old one left it
-            keyed.timeline = m.bytes.empty() ? nullptr : std::make_shared<const nlohmann::json>(nlohmann::json::parse(m.bytes));
-            anim::Timeline timeline = anim::Timeline::fromScene(keyed);
-            engine.setScene(std::move(keyed), std::move(timeline));
+            // A new timeline poses the scene as loaded, not as the old one left it.
+            anim::Timeline timeline = anim::Timeline::fromScene(pristine, view::withSections(loaded.timeline, m.bytes));
+            engine.setScene(Scene(pristine), std::move(timeline));
         };
         return farm::runWorker(t, engine, kMasterTimeout, retime);
     } catch (const std::exception& e) {

@@ -49,8 +49,9 @@ Footprint brightestFloorPoint(const Scene& s, const Image& img) {
 
 TEST(Flight, LightFootprintFollowsItsKeys) {
     DiskFileSource fs;
-    const Scene loaded = loadScene(std::string(RAYFARM_SOURCE_DIR) + "/scenes/flight.json", fs);
-    const Timeline tl = Timeline::fromScene(loaded);
+    const LoadedScene loadedLoaded = loadScene(std::string(RAYFARM_SOURCE_DIR) + "/scenes/flight.json", fs);
+    const Scene& loaded = loadedLoaded.scene;
+    const Timeline tl = Timeline::fromScene(loadedLoaded);
     ASSERT_EQ(tl.frameCount(), 97);  // 4 s at 24 fps, both ends
     RenderSettings settings = loaded.settings;
     settings.width = 200;

@@ -35,21 +35,23 @@ std::string outDir() {
     return d;
 }
 
-Scene load(const std::string& path) {
+LoadedScene load(const std::string& path) {
     DiskFileSource fs;
     return loadScene(path, fs);
 }
 
 /// Skips (with the reason) only when the build's glTF loader refuses glTF altogether.
+/// Declares var##Loaded (the LoadedScene) and var, its scene.
 #define LOAD_OR_SKIP(var, path)                                                                  \
-    Scene var;                                                                                   \
+    LoadedScene var##Loaded;                                                                     \
     try {                                                                                        \
-        var = load(path);                                                                        \
+        var##Loaded = load(path);                                                                \
     } catch (const InputError& e) {                                                              \
         if (std::string(e.what()).find("not supported by this build") != std::string::npos)      \
             GTEST_SKIP() << "the glTF loader is not in this build: " << e.what();                \
         throw;                                                                                   \
-    }
+    }                                                                                            \
+    [[maybe_unused]] Scene& var = var##Loaded.scene
 
 // Case 26: keys at 0 and 2 s, values 0 and 16, tangents 8 per second: v(0.5 s) = 4.0.
 TEST(GltfSampler, CubicSplineTangentsAreScaledByTheKeyInterval) {
@@ -202,7 +204,7 @@ TEST(AnimatedNodeGltf, NodeTransformsMatchTheHandComputedPoses) {
     ASSERT_EQ(s.geometry.models.size(), 1u);
     ASSERT_EQ(s.geometry.models[0].animations.size(), 2u);
     // A bare model gets the default turntable (120 frames) and plays its first animation, looped.
-    const Timeline tl = Timeline::fromScene(s);
+    const Timeline tl = Timeline::fromScene(sLoaded);
     EXPECT_EQ(tl.frameCount(), 120);
     EXPECT_TRUE(tl.animatesGeometry());
     for (double t : {0.5, 1.0, 1.5}) {
@@ -228,7 +230,7 @@ TEST(AnimatedNodeGltf, NodeTransformsMatchTheHandComputedPoses) {
 // cube stays in the picture while it travels to x = 4 and back.
 TEST(AnimatedNodeGltf, DefaultTurntableKeepsTheMovingModelInView) {
     LOAD_OR_SKIP(s, sourceFile("scenes/animated_node.gltf"));
-    const Timeline tl = Timeline::fromScene(s);
+    const Timeline tl = Timeline::fromScene(sLoaded);
     for (int f = 0; f < tl.frameCount(); f += 5) {
         tl.applyFrame(s, f);
         const CameraRays cam(s.camera, s.settings.width, s.settings.height);
@@ -249,8 +251,9 @@ TEST(AnimatedNodeGltf, ExplicitTurntableOnABareModelKeepsTheModelDefaults) {
     LOAD_OR_SKIP(s, sourceFile("scenes/animated_node.gltf"));
     ASSERT_FALSE(s.lights.empty());
     Scene a = s, b = s;
-    b.timeline = std::make_shared<const nlohmann::json>(nlohmann::json::parse(R"({"turntable": {"fps": 30}})"));
-    const Timeline ta = Timeline::fromScene(a), tb = Timeline::fromScene(b);
+    TimelineSource turntable;
+    turntable.sections = std::make_shared<const nlohmann::json>(nlohmann::json::parse(R"({"turntable": {"fps": 30}})"));
+    const Timeline ta = Timeline::fromScene(a, sLoaded.timeline), tb = Timeline::fromScene(b, turntable);
     ASSERT_EQ(ta.frameCount(), tb.frameCount());
     ta.applyFrame(a, 10);
     tb.applyFrame(b, 10);
@@ -266,7 +269,7 @@ TEST(AnimatedNodeGltf, AnimationSelectedByNameClampsAndRefitsTheBvh) {
       "objects": [{"type": "model", "path": ")" << sourceFile("scenes/animated_node.gltf") << R"("}],
       "timeline": {"fps": 10, "duration": 2, "animation": {"name": "lift", "mode": "clamp"}}})";
     LOAD_OR_SKIP(s, path);
-    const Timeline tl = Timeline::fromScene(s);
+    const Timeline tl = Timeline::fromScene(sLoaded);
     EXPECT_EQ(tl.frameCount(), 21);
     tl.apply(s, 5.0);  // clamped at the end of "lift": carrier at (0, 3, 0), cube at rest
     expectMeshAt(s, glm::translate(DMat4(1.0), DVec3(0, 3, 0)), "lift, clamped");
@@ -293,15 +296,14 @@ TEST(AnimatedNodeGltf, AnimationSelectedByNameClampsAndRefitsTheBvh) {
 TEST(GltfAnimation, StaticModelsDoNotPayForAnimation) {
     LOAD_OR_SKIP(s, kAssimp + "BoxTextured-glTF/BoxTextured.gltf");
     for (const TriangleMesh& m : s.geometry.meshes) EXPECT_LT(m.node, 0);
-    const Timeline tl = Timeline::fromScene(s);
+    const Timeline tl = Timeline::fromScene(sLoaded);
     EXPECT_FALSE(tl.animatesGeometry());
     EXPECT_EQ(tl.frameCount(), 120);  // still a turntable
     // An animated model told not to play does not pay either.
     const std::string path = outDir() + "/still_model.json";
     std::ofstream(path) << R"({"objects": [{"type": "model", "path": ")" << sourceFile("scenes/animated_node.gltf") << R"("}],
       "timeline": {"animation": false}})";
-    LOAD_OR_SKIP(a, path);
-    EXPECT_FALSE(Timeline::fromScene(a).animatesGeometry());
+    EXPECT_FALSE(Timeline::fromScene(load(path)).animatesGeometry());
 }
 
 // Khronos' AnimatedMorphCube: one node (rotation, scale 100) whose two morph weights follow a
@@ -316,7 +318,7 @@ TEST(RealGltf, AnimatedMorphCubeWeightsMoveTheVertices) {
     const AnimSampler& smp = an.samplers[0];
     ASSERT_EQ(smp.times.size(), 127u);
     ASSERT_EQ(smp.components, 2);
-    const Timeline tl = Timeline::fromScene(s);
+    const Timeline tl = Timeline::fromScene(sLoaded);
     ASSERT_TRUE(tl.animatesGeometry());
     // The node's matrix, typed from the file: rotation (0, 0.7071067, −0.7071068, 0), scale 100.
     const DMat4 node = glm::scale(glm::mat4_cast(glm::normalize(DQuat(0.0, 0.0, 0.7071067, -0.7071068))), DVec3(100.0));
@@ -374,7 +376,7 @@ TEST(RealGltf, SimpleSkinIsPosedByItsAnimatedJoint) {
     ASSERT_EQ(s.geometry.models.size(), 1u);
     ASSERT_EQ(s.geometry.models[0].skins.size(), 1u);
     ASSERT_EQ(s.geometry.meshes.size(), 1u);
-    const Timeline tl = Timeline::fromScene(s);
+    const Timeline tl = Timeline::fromScene(sLoaded);
     EXPECT_TRUE(tl.animatesGeometry());
     for (const auto& [t, theta] : std::vector<std::pair<double, double>>{{0.0, 0.0}, {1.0, 90.0}, {4.0, -90.0}, {0.5, 45.0}}) {
         Scene a = s;
@@ -408,7 +410,7 @@ bool insideTriangle(const glm::dvec2& p, const glm::dvec2& a, const glm::dvec2& 
 // hand-worked posed strip rasterized here, at 0 s and 1 s; and the two poses differ.
 TEST(RealGltf, SimpleSkinSilhouetteFollowsThePose) {
     LOAD_OR_SKIP(s, kAssimp + "simple_skin/simple_skin.gltf");
-    const Timeline tl = Timeline::fromScene(s);
+    const Timeline tl = Timeline::fromScene(sLoaded);
     const int W = 160, H = 160;
     std::vector<std::vector<uint8_t>> masks;
     for (const auto& [t, theta] : std::vector<std::pair<double, double>>{{0.0, 0.0}, {1.0, 90.0}}) {
@@ -463,7 +465,7 @@ TEST(RealGltf, SimpleSkinSilhouetteFollowsThePose) {
 namespace rf::anim {
 namespace {
 
-Scene loadWith(const std::string& path, const std::string& animation) {
+LoadedScene loadWith(const std::string& path, const std::string& animation) {
     DiskFileSource fs;
     SceneOptions o;
     o.animation = animation;
@@ -471,8 +473,9 @@ Scene loadWith(const std::string& path, const std::string& animation) {
 }
 
 /// Vertex positions of every mesh of s posed at t by its timeline.
-std::vector<std::vector<Vec3>> posedAt(Scene s, double t) {
-    Timeline::fromScene(s).apply(s, t);
+std::vector<std::vector<Vec3>> posedAt(LoadedScene loaded, double t) {
+    Scene& s = loaded.scene;
+    Timeline::fromScene(loaded).apply(s, t);
     std::vector<std::vector<Vec3>> out;
     for (const TriangleMesh& m : s.geometry.meshes) out.push_back(m.positions);
     return out;
@@ -481,7 +484,7 @@ std::vector<std::vector<Vec3>> posedAt(Scene s, double t) {
 // scenes/animated_node.gltf has "move" (2 s) and "lift" (1 s, node 0's translation only).
 TEST(AnimationChoice, ByNameOrIndexPlaysThatClip) {
     const std::string model = sourceFile("scenes/animated_node.gltf");
-    const Scene first = load(model), lift = loadWith(model, "lift"), one = loadWith(model, "1"), zero = loadWith(model, "0");
+    const LoadedScene first = load(model), lift = loadWith(model, "lift"), one = loadWith(model, "1"), zero = loadWith(model, "0");
     EXPECT_EQ(posedAt(lift, 0.5), posedAt(one, 0.5));
     EXPECT_EQ(posedAt(first, 0.5), posedAt(zero, 0.5));  // the default stays the first
     EXPECT_NE(posedAt(first, 0.5), posedAt(lift, 0.5));
@@ -514,7 +517,7 @@ TEST(AnimationChoice, TheSceneFileKeyNamesAClipAndTheCommandLineWins) {
     std::ofstream(path) << R"({"objects": [{"type": "model", "path": ")" << model << R"("}],
       "turntable": {"animation": "lift"}})";
     // The key plays lift, exactly as --animation lift does, and not the first clip.
-    const Scene byKey = load(path);
+    const LoadedScene byKey = load(path);
     const std::string cliPath = outDir() + "/choose_default.json";
     std::ofstream(cliPath) << R"({"objects": [{"type": "model", "path": ")" << model << R"("}], "turntable": {}})";
     EXPECT_EQ(posedAt(byKey, 0.5), posedAt(loadWith(cliPath, "lift"), 0.5));
@@ -532,7 +535,7 @@ TEST(AnimationChoice, TheSceneFileKeyNamesAClipAndTheCommandLineWins) {
     DiskFileSource fs;
     SceneOptions o;
     o.animation = "move";
-    const Scene overridden = loadScene(bad, fs, o);
+    const LoadedScene overridden = loadScene(bad, fs, o);
     EXPECT_NO_THROW(Timeline::fromScene(overridden));
 }
 
@@ -545,9 +548,9 @@ TEST(AnimationChoice, ABareModelsFilmLastsWholePlaysOfItsClip) {
     EXPECT_DOUBLE_EQ(filmSecondsForClip(0.0, 4.0), 4.0);
     EXPECT_DOUBLE_EQ(filmSecondsForClip(7200.0, 4.0), 4.0);
     LOAD_OR_SKIP(skin, kAssimp + "simple_skin/simple_skin.gltf");  // a 5.5 s clip
-    EXPECT_EQ(Timeline::fromScene(skin).frameCount(), 165);
+    EXPECT_EQ(Timeline::fromScene(skinLoaded).frameCount(), 165);
     LOAD_OR_SKIP(box, kAssimp + "BoxTextured-glTF/BoxTextured.gltf");  // no animation
-    EXPECT_EQ(Timeline::fromScene(box).frameCount(), 120);
+    EXPECT_EQ(Timeline::fromScene(boxLoaded).frameCount(), 120);
     // A turntable section without seconds plays "move" (2 s) at speed 0.6: 3⅓ s a play, two plays.
     const std::string path = outDir() + "/slow_move.json";
     std::ofstream(path) << R"({"objects": [{"type": "model", "path": ")" << sourceFile("scenes/animated_node.gltf")
@@ -555,7 +558,7 @@ TEST(AnimationChoice, ABareModelsFilmLastsWholePlaysOfItsClip) {
     const Timeline slow = Timeline::fromScene(load(path));
     EXPECT_EQ(slow.frameCount(), 200);
     // The clip and the orbit both close: the last frame's successor is frame 0's pose.
-    Scene a = load(path), b = load(path);
+    Scene a = load(path).scene, b = load(path).scene;
     slow.apply(a, 0.0);
     slow.apply(b, slow.frameCount() / slow.fps());
     for (size_t m = 0; m < a.geometry.meshes.size(); ++m)

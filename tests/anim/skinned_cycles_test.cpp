@@ -33,7 +33,8 @@ struct Rgba {
 /// with the file's first animation posed at t, at the reference's size.
 Rgba renderAt(const std::string& name, double t, int w, int h) {
     DiskFileSource fs;
-    Scene scene = loadScene(kDir + name + ".gltf", fs);
+    LoadedScene sceneLoaded = loadScene(kDir + name + ".gltf", fs);
+    Scene& scene = sceneLoaded.scene;
     const anim::GltfAnimationPlayer player(scene.geometry.models[0], 0, 0, true);
     player.apply(scene, t);
     useGltfCamera(scene, 0);

@@ -36,7 +36,7 @@ std::string writeScene(const std::string& name, const std::string& extra) {
     return path;
 }
 
-Scene load(const std::string& path) {
+LoadedScene load(const std::string& path) {
     DiskFileSource fs;
     return loadScene(path, fs);
 }
@@ -53,9 +53,10 @@ std::string timelineError(const std::string& name, const std::string& extra) {
 }
 
 TEST(Timeline, JsonSceneWithoutTimelineIsOneStillFrame) {
-    Scene s = load(writeScene("still.json", ""));
+    LoadedScene sLoaded = load(writeScene("still.json", ""));
+    Scene& s = sLoaded.scene;
     const Camera before = s.camera;
-    const Timeline tl = Timeline::fromScene(s);
+    const Timeline tl = Timeline::fromScene(sLoaded);
     EXPECT_EQ(tl.frameCount(), 1);
     EXPECT_TRUE(tl.isStill());
     tl.applyFrame(s, 0);
@@ -125,8 +126,9 @@ TEST(Timeline, FilmsIncludeBothEndsLoopsDoNot) {
 // 31 frames (POV's +KFI0 +KFF30 +KI0 +KF1), so frame 30 repeats frame 0.
 TEST(Timeline, WhittedOrbitMatchesPovRayClock) {
     const std::string path = std::string(RAYFARM_SOURCE_DIR) + "/scenes/whitted.json";
-    const Scene loaded = load(path);
-    const Timeline tl = Timeline::fromScene(loaded);
+    const LoadedScene loadedLoaded = load(path);
+    const Scene& loaded = loadedLoaded.scene;
+    const Timeline tl = Timeline::fromScene(loadedLoaded);
     ASSERT_EQ(tl.frameCount(), 31);
     Scene s = loaded;
     tl.applyFrame(s, 0);
@@ -155,8 +157,9 @@ TEST(Timeline, LightTracksByNameAndIndexAreAbsolute) {
          "outer_angle": [{"time": 0, "value": 30}, {"time": 2, "value": 50}],
          "direction": [{"time": 0, "value": [0, -2, 0]}, {"time": 2, "value": [2, 0, 0]}]},
         {"light": 0, "intensity": [{"time": 0, "value": 1}, {"time": 1, "value": 3, "interpolation": "step"}, {"time": 2, "value": 0}]}]})";
-    const Scene loaded = load(writeScene("lights.json", extra));
-    const Timeline tl = Timeline::fromScene(loaded);
+    const LoadedScene loadedLoaded = load(writeScene("lights.json", extra));
+    const Scene& loaded = loadedLoaded.scene;
+    const Timeline tl = Timeline::fromScene(loadedLoaded);
     Scene s = loaded;
     tl.apply(s, 1.0);
     EXPECT_NEAR(glm::length(s.lights[1].position - Vec3(2, 4, 0)), 0.f, 1e-6f);
@@ -178,8 +181,9 @@ TEST(Timeline, OrientationTrackSetsTargetAndUp) {
     const std::string extra = R"("timeline": {"camera": {"position": [{"time": 0, "value": [0, 2, 10]}],
         "orientation": [{"time": 0, "value": [0, 0, 0, 1]}, {"time": 1, "value": [0, )" +
                               std::to_string(h) + ", 0, " + std::to_string(h) + "]}]}}";
-    Scene s = load(writeScene("orient.json", extra));
-    const Timeline tl = Timeline::fromScene(s);
+    LoadedScene sLoaded = load(writeScene("orient.json", extra));
+    Scene& s = sLoaded.scene;
+    const Timeline tl = Timeline::fromScene(sLoaded);
     tl.apply(s, 1.0);
     const Vec3 fwd = s.camera.target - s.camera.eye;
     EXPECT_NEAR(glm::length(fwd - Vec3(-1, 0, 0)), 0.f, 1e-5f);
@@ -194,9 +198,10 @@ TEST(Timeline, WorldPositionsAreRebasedToTheRenderOrigin) {
     std::ofstream(path) << R"({"camera": {"eye": [100000, 2, 10], "target": [100000, 1, 0]},
       "objects": [{"type": "sphere", "center": [100000, 1, 0], "radius": 1}],
       "timeline": {"camera": {"position": [{"time": 0, "value": [100000, 2, 10]}, {"time": 1, "value": [100004, 2, 10]}]}}})";
-    Scene s = load(path);
+    LoadedScene sLoaded = load(path);
+    Scene& s = sLoaded.scene;
     ASSERT_NE(s.renderOrigin.x, 0.0);
-    const Timeline tl = Timeline::fromScene(s);
+    const Timeline tl = Timeline::fromScene(sLoaded);
     tl.apply(s, 0.25);
     EXPECT_NEAR(double(s.camera.eye.x) + s.renderOrigin.x, 100001.0, 1e-6);
 }
@@ -208,12 +213,12 @@ TEST(Timeline, SeparateTimelineFileTravelsInTheBundleAndNamesItself) {
     std::ofstream(tlPath) << R"({"fps": 10, "duration": 2, "camera": {"orbit": {"radius": 5, "height": 2, "period": 2}}})";
     const std::string scenePath = writeScene("with_file.json", R"("timeline": "orbit_timeline.json")");
     DiskFileSource disk;
-    const Scene s = loadScene(scenePath, disk);
-    EXPECT_EQ(Timeline::fromScene(s).frameCount(), 21);
+    EXPECT_EQ(Timeline::fromScene(loadScene(scenePath, disk)).frameCount(), 21);
     // A worker that only has the bundle loads the same film.
     BundleFileSource bundle(disk.bundle());
-    Scene w = loadScene(scenePath, bundle);
-    const Timeline tl = Timeline::fromScene(w);
+    LoadedScene wLoaded = loadScene(scenePath, bundle);
+    Scene& w = wLoaded.scene;
+    const Timeline tl = Timeline::fromScene(wLoaded);
     tl.applyFrame(w, 5);  // c = 0.25: eye at (5, 2, 0)
     EXPECT_NEAR(glm::length(DVec3(w.camera.eye) + w.renderOrigin - DVec3(5, 2, 0)), 0.0, 1e-5);
 
@@ -229,8 +234,9 @@ TEST(Timeline, SeparateTimelineFileTravelsInTheBundleAndNamesItself) {
 
 TEST(Timeline, TurntableSectionOrbitsTheBounds) {
     const char* extra = R"("turntable": {"seconds": 2, "fps": 10, "elevation": 0, "distance": 6, "lights": "follow-camera"})";
-    Scene s = load(writeScene("turn.json", extra));
-    const Timeline tl = Timeline::fromScene(s);
+    LoadedScene sLoaded = load(writeScene("turn.json", extra));
+    Scene& s = sLoaded.scene;
+    const Timeline tl = Timeline::fromScene(sLoaded);
     ASSERT_EQ(tl.frameCount(), 20);
     tl.applyFrame(s, 5);  // a quarter turn: camera on +x of the sphere centre (0, 1, 0)
     EXPECT_NEAR(glm::length(DVec3(s.camera.eye) + s.renderOrigin - DVec3(6, 1, 0)), 0.0, 1e-5);

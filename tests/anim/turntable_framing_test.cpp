@@ -47,9 +47,10 @@ void addFrame(const Image& img, Fill& f) {
     f.clippedFrames += x0 == 0 || y0 == 0 || x1 == w - 1 || y1 == h - 1;
 }
 
+/// A bare model: its timeline is the default turntable (an empty TimelineSource).
 Scene loadTransparent(const std::string& path, int w, int h) {
     DiskFileSource fs;
-    Scene s = loadScene(path, fs);
+    Scene s = loadScene(path, fs).scene;
     s.transparentBackground = true;
     s.settings.width = w;  // the framing fits the render's own aspect ratio
     s.settings.height = h;
@@ -59,7 +60,7 @@ Scene loadTransparent(const std::string& path, int w, int h) {
 /// Renders every frame of the scene's default timeline (1 spp: coverage is hit or miss at the
 /// pixel centre) and measures it.
 Fill filmFill(Scene s) {
-    const Timeline tl = Timeline::fromScene(s);
+    const Timeline tl = Timeline::fromScene(s, {});
     Fill f;
     RenderSettings rs = s.settings;
     rs.spp = 1;
@@ -110,7 +111,7 @@ TEST_P(DefaultTurntableFill, FillsEightyFivePercentAndClipsInNoFrame) {
                 now.clippedFrames);
     EXPECT_GE(now.widest, 0.85) << c.file;
     EXPECT_EQ(now.clippedFrames, 0) << c.file;
-    if (Timeline::fromScene(s).animatesGeometry()) return;  // the sphere below ignores the animation
+    if (Timeline::fromScene(s, {}).animatesGeometry()) return;  // the sphere below ignores the animation
     const Fill before = sphereFill(s);
     std::printf("%s at %dx%d: bounding sphere fills %.3f (%d frames clipped)\n", c.file, c.width, c.height,
                 before.widest, before.clippedFrames);
@@ -123,7 +124,7 @@ TEST(SkinnedTurntable, FramingOnTheBindPoseAloneWouldClip) {
     const std::string path = kAssimp + "simple_skin/simple_skin.gltf";
     if (!std::filesystem::exists(path)) GTEST_FAIL() << path << " missing (package assimp-testmodels)";
     Scene s = loadTransparent(path, 192, 108);
-    const Timeline tl = Timeline::fromScene(s);
+    const Timeline tl = Timeline::fromScene(s, {});
     ASSERT_TRUE(tl.animatesGeometry());
     TurntableSettings ts = defaultModelTurntable();
     ts.seconds = tl.frameCount() / tl.fps();

@@ -36,9 +36,10 @@ TEST(DefaultTurntableSampling, EngineFinsDoNotAliasAtTheDefaultSamples) {
     SceneOptions opts;
     opts.width = 320;
     opts.height = 180;
-    Scene s = loadScene(kEngine, fs, opts);
+    LoadedScene sLoaded = loadScene(kEngine, fs, opts);
+    Scene& s = sLoaded.scene;
     ASSERT_EQ(s.settings.spp, 4) << "the glTF default";
-    const Timeline tl = Timeline::fromScene(s);
+    const Timeline tl = Timeline::fromScene(sLoaded);
     const int frame = 10;  // the fins run across the picture, a few pixels apart
     tl.applyFrame(s, frame);
     RenderSettings rs = s.settings;

@@ -132,8 +132,9 @@ TEST(FrameTime, Frame100000At30FpsIsExact) {
     // Through a timeline too: a 30 fps film long enough to have frame 100000.
     Scene s;
     s.sourcePath = "long.json";
-    s.timeline = std::make_shared<const nlohmann::json>(nlohmann::json::parse(R"({"timeline": {"fps": 30, "duration": 4000, "start": 0}})"));
-    const Timeline tl = Timeline::fromScene(s);
+    TimelineSource source;
+    source.sections = std::make_shared<const nlohmann::json>(nlohmann::json::parse(R"({"timeline": {"fps": 30, "duration": 4000, "start": 0}})"));
+    const Timeline tl = Timeline::fromScene(s, source);
     ASSERT_GT(tl.frameCount(), 100000);
     EXPECT_EQ(tl.frameTime(100000), 3333.3333333333333);
     EXPECT_EQ(tl.frameTime(100000), 100000.0 / 30.0);

@@ -37,15 +37,16 @@ inline FileBundle farmSceneBundle() {
     return b;
 }
 
-inline Scene loadFarmScene() {
+inline LoadedScene loadFarmScene() {
     BundleFileSource fs(farmSceneBundle());
     return loadScene("farm_test.json", fs);
 }
 
 // The reference: each frame rendered whole, on one thread, by the function every mode reduces to.
 inline std::map<int, std::vector<uint8_t>> referenceFarmFrames() {
-    Scene scene = loadFarmScene();
-    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    LoadedScene sceneLoaded = loadFarmScene();
+    Scene& scene = sceneLoaded.scene;
+    const anim::Timeline tl = anim::Timeline::fromScene(sceneLoaded);
     const RenderSettings s = scene.settings;
     std::map<int, std::vector<uint8_t>> out;
     int applied = -1;

@@ -19,8 +19,9 @@ namespace {
 
 void train(const std::string& path, const SceneOptions& options, std::vector<int> frames, int spp, int width = 160) {
     DiskFileSource fs;
-    Scene scene = loadScene(path, fs, options);
-    const anim::Timeline timeline = anim::Timeline::fromScene(scene);
+    LoadedScene loaded = loadScene(path, fs, options);
+    Scene& scene = loaded.scene;
+    const anim::Timeline timeline = anim::Timeline::fromScene(loaded);
     RenderSettings settings = scene.settings;
     settings.width = width;
     settings.height = width * 9 / 16;

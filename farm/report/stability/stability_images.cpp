@@ -40,7 +40,7 @@ Scene loadFromText(const std::string& name, const std::string& text) {
     FileBundle b;
     b.files[name] = text;
     BundleFileSource fs(b);
-    return loadJsonScene(name, fs);
+    return loadJsonScene(name, fs).scene;
 }
 }  // namespace
 

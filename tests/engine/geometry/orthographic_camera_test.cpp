@@ -51,7 +51,7 @@ Image renderCamera(const Scene& scene, int w, int h) {
     return renderFrame(scene, {scene.camera, st}, 0, 1, rays);
 }
 
-Scene loadJson(const std::string& text) {
+LoadedScene loadJson(const std::string& text) {
     FileBundle b;
     b.files["o.json"] = text;
     BundleFileSource fs(b);
@@ -166,16 +166,18 @@ TEST(OrthographicCamera, GltfOrthographicCameraOnDebiansCamerasFile) {
 }
 
 TEST(OrthographicCamera, SceneFileKeys) {
-    const Scene s = loadJson(R"({"camera": {"eye": [0, 0, 5], "target": [0, 0, 0], "type": "orthographic", "ymag": 2.5},
+    const LoadedScene sLoaded = loadJson(R"({"camera": {"eye": [0, 0, 5], "target": [0, 0, 0], "type": "orthographic", "ymag": 2.5},
                                  "objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 1}]})");
+    const Scene& s = sLoaded.scene;
     EXPECT_TRUE(s.camera.orthographic);
     EXPECT_FLOAT_EQ(s.camera.orthoHalf, 2.5f);
     EXPECT_FALSE(s.camera.fovHorizontal);
-    const Scene x = loadJson(R"({"camera": {"type": "orthographic", "xmag": 3}, "objects": []})");
+    const LoadedScene xLoaded = loadJson(R"({"camera": {"type": "orthographic", "xmag": 3}, "objects": []})");
+    const Scene& x = xLoaded.scene;
     EXPECT_TRUE(x.camera.orthographic);
     EXPECT_FLOAT_EQ(x.camera.orthoHalf, 3.f);
     EXPECT_TRUE(x.camera.fovHorizontal);
-    EXPECT_FALSE(loadJson(R"({"camera": {"fov": 30}, "objects": []})").camera.orthographic);
+    EXPECT_FALSE(loadJson(R"({"camera": {"fov": 30}, "objects": []})").scene.camera.orthographic);
 
     EXPECT_EQ(jsonError(R"({"camera": {"type": "fisheye"}})"), "o.json: camera.type: expected \"perspective\" or \"orthographic\"");
     EXPECT_EQ(jsonError(R"({"camera": {"type": "orthographic"}})"),
@@ -192,10 +194,11 @@ TEST(OrthographicCamera, SceneFileKeys) {
 
 TEST(OrthographicCamera, SceneFileCameraRendersTheSameSizeAtAnyDistance) {
     auto coverOf = [](double z) {
-        Scene s = loadJson(R"({"camera": {"eye": [0, 0, )" + std::to_string(z) +
+        LoadedScene sLoaded = loadJson(R"({"camera": {"eye": [0, 0, )" + std::to_string(z) +
                            R"(], "target": [0, 0, 0], "type": "orthographic", "ymag": 2},
                                "background": "transparent",
                                "objects": [{"type": "sphere", "center": [0, 0, 0], "radius": 1}]})");
+        Scene& s = sLoaded.scene;
         return covered(test::render(s, test::smallSettings(64, 64))).count;
     };
     EXPECT_LE(std::abs(coverOf(4.0) - coverOf(400.0)), 2);

@@ -77,7 +77,8 @@ ImageErrorMetrics scoreAgainstCycles(const std::string& name, const std::string&
         options.environment =
             EnvironmentSpec{std::string(RAYFARM_SOURCE_DIR) + "/scenes/environments/" + environment, 0.f, 1.f};
     DiskFileSource fs;
-    Scene scene = loadScene(kDir + name + ".gltf", fs, options);
+    LoadedScene sceneLoaded = loadScene(kDir + name + ".gltf", fs, options);
+    Scene& scene = sceneLoaded.scene;
     useGltfCamera(scene, 0);
     int w = 0, h = 0;
     const std::vector<uint8_t> ref = readImageRgb8(kDir + name + ".cycles.png", w, h);
@@ -154,7 +155,8 @@ TEST(CyclesScenes, ClearcoatSheenAndVolumeMatchCyclesOnEachSphere) {
     courtyard += "/scenes/environments/courtyard.exr";
     options.environment = EnvironmentSpec{courtyard, 0.f, 1.f};
     DiskFileSource fs;
-    Scene scene = loadScene(kDir + "coat_sheen_volume.gltf", fs, options);
+    LoadedScene sceneLoaded = loadScene(kDir + "coat_sheen_volume.gltf", fs, options);
+    Scene& scene = sceneLoaded.scene;
     useGltfCamera(scene, 0);
     for (const std::string& n : scene.notes)
         for (const char* ext : {"clearcoat", "sheen", "volume"}) EXPECT_EQ(n.find(ext), std::string::npos) << n;

@@ -27,7 +27,8 @@ class ImageRegression : public ::testing::TestWithParam<const char*> {};
 TEST_P(ImageRegression, MatchesReference) {
     const std::string name = GetParam();
     DiskFileSource fs;
-    const Scene scene = loadScene(std::string(RAYFARM_SOURCE_DIR) + "/scenes/" + name + ".json", fs);
+    const LoadedScene sceneLoaded = loadScene(std::string(RAYFARM_SOURCE_DIR) + "/scenes/" + name + ".json", fs);
+    const Scene& scene = sceneLoaded.scene;
     RenderSettings rs = scene.settings;
     rs.width = kWidth;
     rs.height = kHeight;

@@ -29,7 +29,8 @@ ImageErrorMetrics renderAndCompare(const std::string& name, const SceneOptions& 
                                    double minSsim, double minPsnr, int indirect = 0, int spp = 1,
                                    int bounce = kDefaultBounce) {
     DiskFileSource fs;
-    Scene scene = loadScene(kDir + "pbr_grid.gltf", fs, options);
+    LoadedScene sceneLoaded = loadScene(kDir + "pbr_grid.gltf", fs, options);
+    Scene& scene = sceneLoaded.scene;
     useGltfCamera(scene, 0);
     RenderSettings s = scene.settings;
     s.width = 640;

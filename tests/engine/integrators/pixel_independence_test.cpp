@@ -84,14 +84,16 @@ TEST(PixelIndependence, EngineModelIsTheSameAtEveryTilingPacketAndCache) {
     DiskFileSource fs;
     SceneOptions o;
     o.ground = Ground::Shadow;
-    const Scene scene = loadScene(kAssimp + "2CylinderEngine-glTF-Binary/2CylinderEngine.glb", fs, o);
+    const LoadedScene sceneLoaded = loadScene(kAssimp + "2CylinderEngine-glTF-Binary/2CylinderEngine.glb", fs, o);
+    const Scene& scene = sceneLoaded.scene;
     expectIdenticalAcrossVariants("2CylinderEngine", scene, small(scene, 4));
 }
 
 // The flat quads that self-shadowed per tile, textured, with their decals.
 TEST(PixelIndependence, FlatTexturedQuadsAreTheSameAtEveryTilingPacketAndCache) {
     DiskFileSource fs;
-    const Scene scene = loadScene(kAssimp + "textureTransform/TextureTransformTest.gltf", fs);
+    const LoadedScene sceneLoaded = loadScene(kAssimp + "textureTransform/TextureTransformTest.gltf", fs);
+    const Scene& scene = sceneLoaded.scene;
     expectIdenticalAcrossVariants("TextureTransformTest", scene, small(scene, 4));
 }
 
@@ -121,7 +123,8 @@ TEST(PixelIndependence, WhittedAndSampledIndirectAreTheSameAtEveryTilingPacketAn
     const Scene demo = stability::demoScene(1.f);
     expectIdenticalAcrossVariants("demo scene", demo, small(demo, 4));
     DiskFileSource fs;
-    Scene grid = loadScene(std::string(RAYFARM_SOURCE_DIR) + "/scenes/pbr_grid/pbr_grid.gltf", fs);
+    LoadedScene gridLoaded = loadScene(std::string(RAYFARM_SOURCE_DIR) + "/scenes/pbr_grid/pbr_grid.gltf", fs);
+    Scene& grid = gridLoaded.scene;
     useGltfCamera(grid, 0);
     RenderSettings s = small(grid, 1);
     s.indirectSamples = 2;
@@ -132,7 +135,8 @@ TEST(PixelIndependence, WhittedAndSampledIndirectAreTheSameAtEveryTilingPacketAn
 // spheres, the same at every tiling and whichever thread count built the cache.
 TEST(PixelIndependence, BounceLightIsTheSameAtEveryTilingPacketAndCache) {
     DiskFileSource fs;
-    Scene grid = loadScene(std::string(RAYFARM_SOURCE_DIR) + "/scenes/pbr_grid/pbr_grid.gltf", fs);
+    LoadedScene gridLoaded = loadScene(std::string(RAYFARM_SOURCE_DIR) + "/scenes/pbr_grid/pbr_grid.gltf", fs);
+    Scene& grid = gridLoaded.scene;
     useGltfCamera(grid, 0);
     const RenderSettings s = small(grid, 1);
     ASSERT_GT(s.bounce, 0);

@@ -53,7 +53,8 @@ double meanLevel(const std::vector<uint8_t>& px) {
 // exposure) and the frame was black.
 TEST(Pruning, DimLightSceneKeepsItsLightAtTheDefaultMinWeight) {
     DiskFileSource fs;
-    Scene scene = loadScene(kDim, fs);
+    LoadedScene sceneLoaded = loadScene(kDim, fs);
+    Scene& scene = sceneLoaded.scene;
     useGltfCamera(scene, 0);
     const RenderSettings defaults;
     const std::vector<uint8_t> pruned = render8(scene, 9.7f, defaults.minWeight);
@@ -67,7 +68,8 @@ TEST(Pruning, DimLightSceneKeepsItsLightAtTheDefaultMinWeight) {
 // pruning keeps as much of it.
 TEST(Pruning, LightUnitsScaledAwayByExposureGiveTheSamePicture) {
     DiskFileSource fs;
-    Scene scene = loadScene(kDim, fs);
+    LoadedScene sceneLoaded = loadScene(kDim, fs);
+    Scene& scene = sceneLoaded.scene;
     useGltfCamera(scene, 0);
     const std::vector<uint8_t> ref = render8(scene, 9.7f, 1e-3f);
     for (Light& l : scene.lights) l.intensity *= 1e-6f;

@@ -11,7 +11,7 @@
 using namespace rf;
 
 namespace {
-Scene whitted() {
+LoadedScene whitted() {
     DiskFileSource fs;
     return loadScene(std::string(RAYFARM_SOURCE_DIR) + "/scenes/whitted.json", fs);
 }
@@ -22,7 +22,8 @@ bool sameBits(const Image& a, const Image& b) {
 }  // namespace
 
 TEST(Render, BitIdenticalForAnyThreadCountAndTileSize) {
-    const Scene s = whitted();
+    const LoadedScene sLoaded = whitted();
+    const Scene& s = sLoaded.scene;
     RenderSettings rs = test::smallSettings(97, 61, 4, 5);  // odd sizes: partial tiles at the edges
     RayStats s1, s2, s3;
     rs.tileSize = 16;
@@ -81,7 +82,8 @@ TEST(Render, PacketsGiveTheSamePixelsForAnyTiling) {
 }
 
 TEST(Render, RenderTileMatchesTheFrameRegion) {
-    const Scene s = whitted();
+    const LoadedScene sLoaded = whitted();
+    const Scene& s = sLoaded.scene;
     const RenderSettings rs = test::smallSettings(64, 40, 1, 5);
     RayStats st;
     const Image frame = renderFrame(s, {s.camera, rs}, 0, 2, st);

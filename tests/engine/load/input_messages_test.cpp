@@ -20,7 +20,8 @@ float kA[3] = {0, 0, 0}, kB[3] = {1, 0, 0}, kC[3] = {0, 1, 0};
 std::string loadError(const std::string& path, Scene* out = nullptr) {
     DiskFileSource fs;
     try {
-        Scene s = loadScene(path, fs);
+        LoadedScene sLoaded = loadScene(path, fs);
+        Scene& s = sLoaded.scene;
         if (out) *out = std::move(s);
     } catch (const InputError& e) {
         return e.what();

@@ -13,7 +13,7 @@ using namespace rf;
 
 namespace {
 
-Scene loadText(const std::string& text, const std::string& name = "x.json") {
+LoadedScene loadText(const std::string& text, const std::string& name = "x.json") {
     FileBundle b;
     b.files[name] = text;
     BundleFileSource fs(b);
@@ -50,7 +50,8 @@ const char* kGood = R"({
 }  // namespace
 
 TEST(SceneLoader, LoadsEverySection) {
-    const Scene s = loadText(kGood);
+    const LoadedScene sLoaded = loadText(kGood);
+    const Scene& s = sLoaded.scene;
     EXPECT_EQ(s.settings.width, 64);
     EXPECT_EQ(s.settings.spp, 4);
     EXPECT_EQ(s.settings.maxDepth, 3);
@@ -139,11 +140,12 @@ TEST(SceneLoader, MissingFileAndUnknownExtension) {
 // Catalogue 22 (loader half): positions are rebased to a render origin near the camera target,
 // in double, so a model at x = 6.4e6 arrives with small, exact render-space coordinates.
 TEST(SceneLoader, RebasesFarScenesToARenderOrigin) {
-    const Scene s = loadText(R"({
+    const LoadedScene sLoaded = loadText(R"({
       "camera": { "eye": [6400000, 3, -8], "target": [6400000, 1, 0] },
       "lights": [ { "position": [6400010.5, 12, -6] } ],
       "objects": [ { "type": "sphere", "center": [6400002.8, 1, -2.2], "radius": 1 },
                    { "type": "plane", "normal": [0, 1, 0], "point": [6400000, 0, 0] } ] })");
+    const Scene& s = sLoaded.scene;
     EXPECT_EQ(s.renderOrigin, DVec3(6400000.0, 0.0, 0.0));
     EXPECT_EQ(s.geometry.spheres[0].center, Vec3(2.8f, 1.f, -2.2f));
     EXPECT_EQ(s.lights[0].position, Vec3(10.5f, 12.f, -6.f));
@@ -173,7 +175,7 @@ TEST(SceneLoader, ModelMaterialOverridesTheFilesMaterials) {
         const std::string path = dir + "/" + name;
         std::ofstream(path) << t;
         DiskFileSource fs;
-        return loadScene(path, fs);
+        return loadScene(path, fs).scene;
     };
     const Scene own = loadWith("", "own.json");
     const Scene clay = loadWith("\"material\": \"floor\", ", "clay.json");
@@ -199,10 +201,12 @@ TEST(SceneLoader, ModelMaterialOverridesTheFilesMaterials) {
 
 // "background" is a colour or "transparent" (misses get alpha 0); any other word names the key.
 TEST(SceneLoader, BackgroundMayBeTransparent) {
-    const Scene clear = loadText(R"({"background": "transparent"})");
+    const LoadedScene clearLoaded = loadText(R"({"background": "transparent"})");
+    const Scene& clear = clearLoaded.scene;
     EXPECT_TRUE(clear.transparentBackground);
     EXPECT_EQ(clear.background, Color(0.f));
-    const Scene red = loadText(R"({"background": [1, 0, 0]})");
+    const LoadedScene redLoaded = loadText(R"({"background": [1, 0, 0]})");
+    const Scene& red = redLoaded.scene;
     EXPECT_FALSE(red.transparentBackground);
     EXPECT_EQ(red.background, Color(1.f, 0.f, 0.f));
     EXPECT_NE(errorOf(R"({"background": "clear"})").find("background: expected [r, g, b] or \"transparent\""), std::string::npos);
@@ -228,10 +232,12 @@ TEST(SceneLoader, DeepNestingIsRefusedBeforeParsing) {
 }
 
 TEST(SceneLoader, CameraUpParallelToTheViewGivesANote) {
-    const Scene s = loadText(R"({"camera": {"eye": [0, 5, 0], "target": [0, 0, 0], "up": [0, 1, 0]}})");
+    const LoadedScene sLoaded = loadText(R"({"camera": {"eye": [0, 5, 0], "target": [0, 0, 0], "up": [0, 1, 0]}})");
+    const Scene& s = sLoaded.scene;
     int notes = 0;
     for (const std::string& n : s.notes) notes += n.find("camera.up is parallel to the view direction") != std::string::npos;
     EXPECT_EQ(notes, 1);
-    const Scene ok = loadText(R"({"camera": {"eye": [0, 5, 5], "target": [0, 0, 0], "up": [0, 1, 0]}})");
+    const LoadedScene okLoaded = loadText(R"({"camera": {"eye": [0, 5, 5], "target": [0, 0, 0], "up": [0, 1, 0]}})");
+    const Scene& ok = okLoaded.scene;
     EXPECT_TRUE(ok.notes.empty());
 }

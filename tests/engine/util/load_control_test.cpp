@@ -63,7 +63,7 @@ TEST(LoadControl, LoadSceneStopsAndNamesTheFile) {
     TempDir dir;
     writeFile(dir / "s.json", spheresScene(5000));
     DiskFileSource fs;
-    EXPECT_EQ(loadScene(dir / "s.json", fs).geometry.spheres.size(), 5000u);
+    EXPECT_EQ(loadScene(dir / "s.json", fs).scene.geometry.spheres.size(), 5000u);
     Cancelled c;
     DiskFileSource fs2;
     const LoadCancelled got = cancelOf([&] { loadScene(dir / "s.json", fs2); });

@@ -27,8 +27,9 @@ ChunkVideoSpec testSpec() {
 }
 
 RenderEngine testEngine() {
-    Scene scene = rf::testing::loadFarmScene();
-    anim::Timeline tl = anim::Timeline::fromScene(scene);
+    LoadedScene sceneLoaded = rf::testing::loadFarmScene();
+    Scene& scene = sceneLoaded.scene;
+    anim::Timeline tl = anim::Timeline::fromScene(sceneLoaded);
     const RenderSettings s = scene.settings;
     return RenderEngine(std::move(scene), std::move(tl), s, 1);
 }
@@ -47,8 +48,9 @@ ChunkOrder chunkZero() { return chunkOf2(0); }
 
 /// frame's tiles of 16x16, rendered alone, for assembling rank `assembler`.
 std::vector<TileResult> tilesOf(int frame, int assembler) {
-    Scene scene = rf::testing::loadFarmScene();
-    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    LoadedScene sceneLoaded = rf::testing::loadFarmScene();
+    Scene& scene = sceneLoaded.scene;
+    const anim::Timeline tl = anim::Timeline::fromScene(sceneLoaded);
     std::vector<TileResult> tiles;
     int applied = -1;
     for (const TileRect& r : makeTiles(40, 30, 16)) {
@@ -112,8 +114,9 @@ TEST(ChunkWorkshop, AssemblesAChunkFromTilesInAnyOrderAsFromWholeFrames) {
         EXPECT_TRUE(decodePngFrame(png, "frame", 40, 30, 3) == frames.at(f)) << "whole frame " << f << " assembled wrong";
 
     // The same chunk from 16x16 tiles of frames 0 and 1, shuffled; one arrives before the order.
-    Scene scene = rf::testing::loadFarmScene();
-    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    LoadedScene sceneLoaded = rf::testing::loadFarmScene();
+    Scene& scene = sceneLoaded.scene;
+    const anim::Timeline tl = anim::Timeline::fromScene(sceneLoaded);
     std::vector<TileResult> tiles;
     int applied = -1;
     for (int f : {0, 1})
@@ -140,8 +143,9 @@ TEST(ChunkWorkshop, RefusesATileThatDoesNotFitItsFrame) {
     RenderEngine idle = testEngine();
     ChunkWorkshop shop(idle, testSpec(), 1);
     shop.submitAssembly(chunkZero());
-    Scene scene = rf::testing::loadFarmScene();
-    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    LoadedScene sceneLoaded = rf::testing::loadFarmScene();
+    Scene& scene = sceneLoaded.scene;
+    const anim::Timeline tl = anim::Timeline::fromScene(sceneLoaded);
     int applied = -1;
     const TileResult tile = RenderEngine::render(scene, tl, scene.settings, 1, WorkItem{0, {0, 0, 16, 16}}, applied);
     shop.addTile(tile);

@@ -37,8 +37,9 @@ struct FarmRun {
 // ranks: 1 = rank 0 alone (renders locally); more: workers 1..n-1 on threads.
 FarmRun runFarm(int ranks, Mode mode, bool rank0Renders, int threads = 1) {
     LoopbackHub hub(ranks);
-    Scene scene = rf::testing::loadFarmScene();
-    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    LoadedScene sceneLoaded = rf::testing::loadFarmScene();
+    Scene& scene = sceneLoaded.scene;
+    const anim::Timeline tl = anim::Timeline::fromScene(sceneLoaded);
     const RenderSettings settings = scene.settings;
     const anim::FrameRanges frames = anim::FrameRanges::span(0, tl.frameCount() - 1);
 
@@ -46,8 +47,9 @@ FarmRun runFarm(int ranks, Mode mode, bool rank0Renders, int threads = 1) {
     for (int r = 1; r < ranks; ++r)
         workers.emplace_back([&hub, r, threads] {
             LoopbackTransport t(hub, r);
-            Scene s = rf::testing::loadFarmScene();
-            const anim::Timeline wtl = anim::Timeline::fromScene(s);
+            LoadedScene sLoaded = rf::testing::loadFarmScene();
+            Scene& s = sLoaded.scene;
+            const anim::Timeline wtl = anim::Timeline::fromScene(sLoaded);
             const RenderSettings st = s.settings;
             RenderEngine engine(std::move(s), wtl, st, threads);
             runWorker(t, engine);
@@ -84,8 +86,7 @@ FarmRun runFarm(int ranks, Mode mode, bool rank0Renders, int threads = 1) {
 }  // namespace
 
 TEST(Master, TestSceneIsAnAnimatedTimeline) {
-    Scene scene = rf::testing::loadFarmScene();
-    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    const anim::Timeline tl = anim::Timeline::fromScene(rf::testing::loadFarmScene());
     ASSERT_EQ(tl.frameCount(), 6);
     const auto ref = rf::testing::referenceFarmFrames();
     EXPECT_NE(ref.at(0), ref.at(3));  // the camera moved: frames differ, so mix-ups would show
@@ -130,14 +131,16 @@ TEST(Master, SilentWorkerStopsTheRunNamingRankAndFrame) {
     LoopbackHub hub(3);
     std::thread worker([&hub] {
         LoopbackTransport t(hub, 1);
-        Scene s = rf::testing::loadFarmScene();
-        const anim::Timeline tl = anim::Timeline::fromScene(s);
+        LoadedScene sLoaded = rf::testing::loadFarmScene();
+        Scene& s = sLoaded.scene;
+        const anim::Timeline tl = anim::Timeline::fromScene(sLoaded);
         const RenderSettings st = s.settings;
         RenderEngine engine(std::move(s), tl, st, 1);
         runWorker(t, engine);
     });
-    Scene scene = rf::testing::loadFarmScene();
-    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    LoadedScene sceneLoaded = rf::testing::loadFarmScene();
+    Scene& scene = sceneLoaded.scene;
+    const anim::Timeline tl = anim::Timeline::fromScene(sceneLoaded);
     LoopbackTransport t(hub, 0);
     auto sched = makeFrameScheduler({0, 1, 2, 3, 4, 5}, scene.settings.width, scene.settings.height, 8);
     FrameAssembler assembler(scene.settings.width, scene.settings.height, {0, 1, 2, 3, 4, 5}, {});
@@ -160,7 +163,8 @@ TEST(Master, SilentWorkerStopsTheRunNamingRankAndFrame) {
 // (a huge scene or environment, a slower host) was declared dead. Its build beats keep it alive
 // past the timeout; a worker that goes silent while building is still found, and named so.
 TEST(Master, AWorkerBuildingItsSceneIsAliveAndNamedSoIfItGoesSilent) {
-    Scene scene = rf::testing::loadFarmScene();
+    LoadedScene sceneLoaded = rf::testing::loadFarmScene();
+    Scene& scene = sceneLoaded.scene;
     const int w = scene.settings.width, h = scene.settings.height;
     MasterConfig cfg;
     cfg.quiet = true;
@@ -169,12 +173,13 @@ TEST(Master, AWorkerBuildingItsSceneIsAliveAndNamedSoIfItGoesSilent) {
         LoopbackHub hub(2);
         std::thread worker([&hub] {
             LoopbackTransport t(hub, 1);
-            Scene s = rf::testing::loadFarmScene();
+            LoadedScene sLoaded = rf::testing::loadFarmScene();
+            Scene& s = sLoaded.scene;
             {
                 BuildBeats beats(t);
                 std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // three timeouts of building
             }
-            const anim::Timeline tl = anim::Timeline::fromScene(s);
+            const anim::Timeline tl = anim::Timeline::fromScene(sLoaded);
             const RenderSettings st = s.settings;
             RenderEngine engine(std::move(s), tl, st, 1);
             runWorker(t, engine);
@@ -241,12 +246,12 @@ TEST(SceneBroadcast, WorkersLoadTheSceneFromRankZerosBytesOnly) {
     for (int r = 0; r < 3; ++r)
         ranks.emplace_back([&, r] {
             LoopbackTransport t(hub, r);
-            SharedScene s = shareScene(t, path, nullptr, [&](Scene&, const FileBundle&) {
+            SharedScene s = shareScene(t, path, nullptr, [&](LoadedScene&, const FileBundle&) {
                 std::filesystem::remove(path);
                 return std::string("job-bytes");
             });
             jobs[size_t(r)] = s.job;
-            const anim::Timeline tl = anim::Timeline::fromScene(s.scene);
+            const anim::Timeline tl = anim::Timeline::fromScene(s);
             int applied = -1;
             const RenderSettings st = s.scene.settings;
             frames[size_t(r)] = RenderEngine::render(s.scene, tl, st, 1, {4, {0, 0, st.width, st.height}}, applied).rgb;
@@ -281,12 +286,14 @@ TEST(SceneBroadcast, GltfModelLoadsFromTheBundleAsFromDisk) {
     // A real binary glTF through the path the workers take: disk on rank 0, bundle elsewhere.
     const std::string glb = "/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb";
     DiskFileSource disk;
-    Scene a = loadScene(glb, disk);
+    LoadedScene aLoaded = loadScene(glb, disk);
+    Scene& a = aLoaded.scene;
     BundleFileSource mem(FileBundle::deserialize(disk.bundle().serialize()));
-    Scene b = loadScene(glb, mem);
+    LoadedScene bLoaded = loadScene(glb, mem);
+    Scene& b = bLoaded.scene;
     EXPECT_EQ(a.geometry.triangleCount(), b.geometry.triangleCount());
     EXPECT_GT(a.geometry.triangleCount(), 100000u);
-    const anim::Timeline ta = anim::Timeline::fromScene(a), tb = anim::Timeline::fromScene(b);
+    const anim::Timeline ta = anim::Timeline::fromScene(aLoaded), tb = anim::Timeline::fromScene(bLoaded);
     EXPECT_EQ(ta.frameCount(), tb.frameCount());
     RenderSettings s = a.settings;
     s.width = 32;
@@ -328,7 +335,7 @@ TEST(SceneBroadcast, WorkersBuildFromTheFilesWhileRankZeroBuildsItsOwn) {
             LoopbackTransport t(hub, r);
             SharedScene s = shareScene(
                 t, glb, nullptr,
-                [&](Scene&, const FileBundle& files) {
+                [&](LoadedScene&, const FileBundle& files) {
                     EXPECT_EQ(files.files.size(), 2u);
                     std::filesystem::remove(glb);
                     std::filesystem::remove(exr);
@@ -340,7 +347,7 @@ TEST(SceneBroadcast, WorkersBuildFromTheFilesWhileRankZeroBuildsItsOwn) {
             st.width = 48;
             st.height = 27;
             int applied = -1;
-            frames[size_t(r)] = RenderEngine::render(s.scene, anim::Timeline::fromScene(s.scene), st, 1, {7, {0, 0, 48, 27}}, applied).rgb;
+            frames[size_t(r)] = RenderEngine::render(s.scene, anim::Timeline::fromScene(s), st, 1, {7, {0, 0, 48, 27}}, applied).rgb;
         });
     for (auto& th : ranks) th.join();
     EXPECT_TRUE(rankZeroSawWorkerRead) << "the files did not reach the worker before rank 0 built its scene";
@@ -367,7 +374,7 @@ TEST(SceneBroadcast, AFailureAfterTheFilesWentOutStopsTheWorkers) {
         }
     });
     LoopbackTransport t(hub, 0);
-    EXPECT_THROW(shareScene(t, glb, nullptr, [](Scene&, const FileBundle&) -> std::string { throw UsageError("--frames 9:3: empty"); }),
+    EXPECT_THROW(shareScene(t, glb, nullptr, [](LoadedScene&, const FileBundle&) -> std::string { throw UsageError("--frames 9:3: empty"); }),
                  UsageError);
     worker.join();
     EXPECT_EQ(workerCode, 2);

@@ -24,8 +24,9 @@ std::map<std::pair<int, int>, std::vector<uint8_t>> takeAll(RenderEngine& engine
 }  // namespace
 
 TEST(RenderEngine, RendersSmallTilesOfAFrameTogetherWithTheirOwnPixels) {
-    Scene scene = rf::testing::loadFarmScene();
-    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    LoadedScene sceneLoaded = rf::testing::loadFarmScene();
+    Scene& scene = sceneLoaded.scene;
+    const anim::Timeline tl = anim::Timeline::fromScene(sceneLoaded);
     const RenderSettings s = scene.settings;
     std::vector<WorkItem> items;
     for (const TileRect& r : makeTiles(s.width, s.height, 8)) items.push_back(WorkItem{2, r});  // 8x8: one sub-tile each
@@ -40,15 +41,17 @@ TEST(RenderEngine, RendersSmallTilesOfAFrameTogetherWithTheirOwnPixels) {
     EXPECT_EQ(engine.largestBatch(), 16);
 
     int applied = -1;
-    Scene alone = rf::testing::loadFarmScene();
+    LoadedScene aloneLoaded = rf::testing::loadFarmScene();
+    Scene& alone = aloneLoaded.scene;
     for (const WorkItem& i : items)
         EXPECT_TRUE(got.at({i.frame, i.rect.y0 * 1000 + i.rect.x0}) == RenderEngine::render(alone, tl, s, 1, i, applied).rgb)
             << "frame " << i.frame << " tile at " << i.rect.x0 << "," << i.rect.y0;
 }
 
 TEST(RenderEngine, LargeItemsStillRenderOneByOne) {
-    Scene scene = rf::testing::loadFarmScene();
-    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    LoadedScene sceneLoaded = rf::testing::loadFarmScene();
+    Scene& scene = sceneLoaded.scene;
+    const anim::Timeline tl = anim::Timeline::fromScene(sceneLoaded);
     RenderSettings s = scene.settings;
     s.width = 200;
     s.height = 100;  // each item 200x100, above the small-tile size

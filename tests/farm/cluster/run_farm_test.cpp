@@ -49,11 +49,11 @@ std::string writeSceneFile() {
 }
 
 /// The job rank 0 decides for the test scene: every frame, the given mode, no files.
-RenderJob jobFor(const Scene& scene, Mode mode) {
+RenderJob jobFor(const LoadedScene& loaded, Mode mode) {
     RenderJob job;
     job.output = "memory.mp4";
-    job.settings = scene.settings;
-    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    job.settings = loaded.scene.settings;
+    const anim::Timeline tl = anim::Timeline::fromScene(loaded);
     job.timelineFrames = tl.frameCount();
     job.first = 0;
     job.last = tl.frameCount() - 1;
@@ -83,7 +83,7 @@ LoopbackRun runLoopbackFarm(int ranks, Mode mode, int cancelAfter = 0) {
         });
     LoopbackTransport t(hub, 0);
     RenderJob job;
-    SharedScene shared = shareScene(t, path, nullptr, [&](Scene& scene, const FileBundle&) {
+    SharedScene shared = shareScene(t, path, nullptr, [&](LoadedScene& scene, const FileBundle&) {
         job = jobFor(scene, mode);
         return encodeWorkerJob(job);
     });
@@ -157,8 +157,8 @@ TEST(RunFarm, MissingVideoSinkIsRefused) {
     LoopbackHub hub(1);
     LoopbackTransport t(hub, 0);
     SharedScene shared;
-    shared.scene = rf::testing::loadFarmScene();
-    const RenderJob job = jobFor(shared.scene, Mode::Frame);
+    shared.loaded() = rf::testing::loadFarmScene();
+    const RenderJob job = jobFor(shared, Mode::Frame);
     EXPECT_THROW(runFarm(t, job, shared, FarmSinks{}, FarmOptions{}), std::invalid_argument);
 }
 
@@ -191,7 +191,7 @@ std::string failedRunMessage(std::unique_ptr<FrameSink> video, std::unique_ptr<F
     });
     LoopbackTransport t(hub, 0);
     RenderJob job;
-    SharedScene shared = shareScene(t, path, nullptr, [&](Scene& scene, const FileBundle&) {
+    SharedScene shared = shareScene(t, path, nullptr, [&](LoadedScene& scene, const FileBundle&) {
         job = jobFor(scene, Mode::Frame);
         return encodeWorkerJob(job);
     });
@@ -267,7 +267,7 @@ ChunkedRun runChunkedFarm(int ranks, Mode mode, bool onRanks = true) {
         });
     LoopbackTransport t(hub, 0);
     RenderJob job;
-    SharedScene shared = shareScene(t, path, nullptr, [&](Scene& scene, const FileBundle&) {
+    SharedScene shared = shareScene(t, path, nullptr, [&](LoadedScene& scene, const FileBundle&) {
         job = jobFor(scene, mode);
         job.output = out;
         job.mp4.chunkFrames = 2;

@@ -42,8 +42,9 @@ Camera freeCamera(const Scene& scene) {
 
 /// still's pixels of `frame` through `camera` at spp (the scene posed by its timeline).
 std::vector<uint8_t> stillThrough(const Camera& camera, int frame, int spp, int width, int height) {
-    Scene scene = rf::testing::loadFarmScene();
-    anim::Timeline::fromScene(scene).applyFrame(scene, frame);
+    LoadedScene sceneLoaded = rf::testing::loadFarmScene();
+    Scene& scene = sceneLoaded.scene;
+    anim::Timeline::fromScene(sceneLoaded).applyFrame(scene, frame);
     RenderSettings s = scene.settings;
     s.spp = spp;
     s.width = width;
@@ -79,8 +80,8 @@ struct Session {
             });
         LoopbackTransport t(hub, 0);
         RenderJob job;
-        SharedScene shared = shareScene(t, path, nullptr, [&](Scene& scene, const FileBundle&) {
-            job.settings = scene.settings;
+        SharedScene shared = shareScene(t, path, nullptr, [&](LoadedScene& scene, const FileBundle&) {
+            job.settings = scene.scene.settings;
             job.settings.spp = spp;
             job.workerTimeout = 10.0;
             return encodeWorkerJob(job);
@@ -123,7 +124,7 @@ class ViewSessionRanks : public ::testing::TestWithParam<int> {};
 
 TEST_P(ViewSessionRanks, EveryPassIsTheStillThroughTheViewsCamera) {
     const int ranks = GetParam();
-    const Camera cam = freeCamera(rf::testing::loadFarmScene());
+    const Camera cam = freeCamera(rf::testing::loadFarmScene().scene);
     Session s;
     s.run(ranks, 4, [&](Session& self, ViewInbox& inbox, std::atomic<bool>& cancel) {
         ViewOrder v;
@@ -164,8 +165,9 @@ TEST(ViewSession, TheTimelinesCameraWhenFollowingIt) {
         EXPECT_TRUE(self.waitFor(1, 0, 60.0));
         cancel = true;
     });
-    Scene scene = rf::testing::loadFarmScene();
-    anim::Timeline::fromScene(scene).applyFrame(scene, 4);
+    LoadedScene sceneLoaded = rf::testing::loadFarmScene();
+    Scene& scene = sceneLoaded.scene;
+    anim::Timeline::fromScene(sceneLoaded).applyFrame(scene, 4);
     ASSERT_FALSE(s.pictures.empty());
     EXPECT_TRUE(s.pictures.back().rgb == stillThrough(scene.camera, 4, 1, 40, 30));
 }
@@ -180,7 +182,7 @@ TEST(ViewSession, ANewerViewCancelsTheWorkInFlightOnEveryRank) {
         ViewOrder slow;
         slow.id = 1;
         slow.passes = {{4096, 120, 120}};
-        slow.camera = rf::testing::loadFarmScene().camera;
+        slow.camera = rf::testing::loadFarmScene().scene.camera;
         inbox.post(slow);
         std::this_thread::sleep_for(std::chrono::milliseconds(300));  // its tiles are on the ranks
         ViewOrder quick = slow;
@@ -205,8 +207,9 @@ TEST(ViewSession, ANewerViewCancelsTheWorkInFlightOnEveryRank) {
 }
 
 TEST(ViewSession, ARenderEngineDropsEveryOtherEpochTheItemRenderingIncluded) {
-    Scene scene = rf::testing::loadFarmScene();
-    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    LoadedScene sceneLoaded = rf::testing::loadFarmScene();
+    Scene& scene = sceneLoaded.scene;
+    const anim::Timeline tl = anim::Timeline::fromScene(sceneLoaded);
     RenderSettings s = scene.settings;
     RenderEngine engine(scene, tl, s, 1);
     // 120x120 at 1024 spp: 15 M samples, seconds on one thread; 16x16 sub-tiles of 0.26 M.
@@ -241,8 +244,9 @@ TEST(ViewSession, ARenderEngineDropsEveryOtherEpochTheItemRenderingIncluded) {
 
 TEST(ViewSession, JobFramesAreUntouchedByViews) {
     // Epoch 0 is the job's own frame: a view set on the engine changes nothing for it.
-    Scene scene = rf::testing::loadFarmScene();
-    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    LoadedScene sceneLoaded = rf::testing::loadFarmScene();
+    Scene& scene = sceneLoaded.scene;
+    const anim::Timeline tl = anim::Timeline::fromScene(sceneLoaded);
     RenderEngine engine(scene, tl, scene.settings, 1);
     ViewSpec v;
     v.epoch = 5;
@@ -286,9 +290,9 @@ TEST(ViewSession, ALateResultOfAnEarlierRunIsDropped) {
         });
     LoopbackTransport t(hub, 0);
     RenderJob job;
-    SharedScene shared = shareScene(t, path, nullptr, [&](Scene& scene, const FileBundle&) {
+    SharedScene shared = shareScene(t, path, nullptr, [&](LoadedScene& scene, const FileBundle&) {
         job.output = "memory.mp4";
-        job.settings = scene.settings;
+        job.settings = scene.scene.settings;
         const anim::Timeline tl = anim::Timeline::fromScene(scene);
         job.timelineFrames = tl.frameCount();
         job.first = 0;

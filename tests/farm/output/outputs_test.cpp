@@ -33,17 +33,19 @@ std::string outDir(const std::string& name) {
     return d;
 }
 
-Scene transparentFarmScene() {
-    Scene s = rf::testing::loadFarmScene();
+LoadedScene transparentFarmScene() {
+    LoadedScene loaded = rf::testing::loadFarmScene();
+    Scene& s = loaded.scene;
     s.transparentBackground = true;
     s.geometry.planes.clear();  // no floor: sky around the spheres
     s.build();
-    return s;
+    return loaded;
 }
 
 /// Frame `frame` through the farm's path: RenderEngine::render on tiles of 16, assembled.
-std::vector<uint8_t> farmFrame(Scene& scene, const RenderSettings& rs, int frame, PixelLayout layout) {
-    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+std::vector<uint8_t> farmFrame(LoadedScene& loaded, const RenderSettings& rs, int frame, PixelLayout layout) {
+    Scene& scene = loaded.scene;
+    const anim::Timeline tl = anim::Timeline::fromScene(loaded);
     FrameAssembler a(rs.width, rs.height, {frame}, {}, layout);
     int applied = -1;
     for (const TileRect& t : makeTiles(rs.width, rs.height, 16)) {
@@ -89,16 +91,17 @@ TEST(Outputs, AssemblerRefusesAnotherLayout) {
 // from toRgba8, and the linear plane bit for bit; written as EXR it reads back equal to half
 // precision (rounding to nearest: relative error ≤ 2^-11).
 TEST(Outputs, ExrFramesHoldTheLinearFramebufferToHalfPrecision) {
-    Scene scene = transparentFarmScene();
-    RenderSettings rs = scene.settings;
+    LoadedScene scene = transparentFarmScene();
+    RenderSettings rs = scene.scene.settings;
     rs.width = 48;
     rs.height = 36;
     rs.spp = 4;
     const PixelLayout layout{4, true};
     const std::vector<uint8_t> frame = farmFrame(scene, rs, 2, layout);
 
-    Scene ref = transparentFarmScene();
-    anim::Timeline::fromScene(ref).applyFrame(ref, 2);
+    LoadedScene refLoaded = transparentFarmScene();
+    Scene& ref = refLoaded.scene;
+    anim::Timeline::fromScene(refLoaded).applyFrame(ref, 2);
     RayStats st;
     const Image img = renderFrame(ref, {ref.camera, rs}, 2, 2, st);
     const size_t n = size_t(rs.width) * rs.height;

@@ -16,7 +16,7 @@ namespace {
 
 const char* kBox = "/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb";
 
-Scene load(const std::string& path) {
+LoadedScene load(const std::string& path) {
     DiskFileSource fs;
     return loadScene(path, fs);
 }
@@ -37,8 +37,9 @@ TEST(CameraKeys, KeysStaySortedAndOnePerTime) {
 /// Saves keys for scenePath into dir, loads the saved file, and checks its timeline puts the
 /// camera on each key bit for bit, with the film's frame count.
 void checkSavedPath(const std::string& scenePath, const std::string& saved) {
-    Scene scene = load(scenePath);
-    const anim::Timeline tl = anim::Timeline::fromScene(scene);
+    LoadedScene sceneLoaded = load(scenePath);
+    Scene& scene = sceneLoaded.scene;
+    const anim::Timeline tl = anim::Timeline::fromScene(sceneLoaded);
     const Film film = filmOf(tl);
     Scene posed = scene;
     tl.applyFrame(posed, 0);
@@ -51,9 +52,10 @@ void checkSavedPath(const std::string& scenePath, const std::string& saved) {
     s.width = 120;
     s.height = 90;
     s.spp = 4;
-    writeSceneFile(saved, sceneDocument(scene, s, keyedTimeline(keys, scene, film)));
+    writeSceneFile(saved, sceneDocument(scene, s, keyedTimeline(keys, sceneLoaded.timeline, film)));
 
-    Scene back = load(saved);
+    LoadedScene backLoaded = load(saved);
+    Scene& back = backLoaded.scene;
     EXPECT_EQ(back.renderOrigin, scene.renderOrigin);
     EXPECT_EQ(back.settings.width, 120);
     EXPECT_EQ(back.settings.spp, 4);
@@ -61,7 +63,7 @@ void checkSavedPath(const std::string& scenePath, const std::string& saved) {
     EXPECT_EQ(back.environment != nullptr, scene.environment != nullptr);
     EXPECT_EQ(back.settings.toneMap, scene.settings.toneMap);
     EXPECT_EQ(back.settings.autoExposure, scene.settings.autoExposure);
-    const anim::Timeline btl = anim::Timeline::fromScene(back);
+    const anim::Timeline btl = anim::Timeline::fromScene(backLoaded);
     EXPECT_EQ(btl.frameCount(), film.frames);
     EXPECT_DOUBLE_EQ(btl.fps(), film.fps);
     for (auto [frame, cam] : {std::pair{0, a}, std::pair{6, b}}) {
@@ -90,10 +92,11 @@ TEST(CameraKeys, SavedBareModelBecomesASceneThatReplaysTheKeys) {
 }
 
 TEST(CameraKeys, ModelPathsOfAJsonSceneBecomeAbsolute) {
-    Scene scene = load(std::string(RAYFARM_SOURCE_DIR) + "/scenes/model_on_floor.json");
+    LoadedScene sceneLoaded = load(std::string(RAYFARM_SOURCE_DIR) + "/scenes/model_on_floor.json");
+    Scene& scene = sceneLoaded.scene;
     CameraKeys keys;
     keys.add(keyFromCamera(scene.camera, scene.renderOrigin, 0.0));
-    const nlohmann::json doc = sceneDocument(scene, scene.settings, keyedTimeline(keys, scene, filmOf(anim::Timeline::fromScene(scene))));
+    const nlohmann::json doc = sceneDocument(scene, scene.settings, keyedTimeline(keys, sceneLoaded.timeline, filmOf(anim::Timeline::fromScene(sceneLoaded))));
     for (const auto& o : doc["objects"]) {
         if (o["type"] == "model") {
             EXPECT_TRUE(std::filesystem::path(o["path"].get<std::string>()).is_absolute());

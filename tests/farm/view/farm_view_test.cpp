@@ -22,7 +22,7 @@
 namespace rf::view {
 namespace {
 
-Scene whitted() {
+LoadedScene whitted() {
     DiskFileSource fs;
     return loadScene(std::string(RAYFARM_SOURCE_DIR) + "/scenes/whitted.json", fs);
 }
@@ -79,7 +79,7 @@ struct Farm {
     Inbox inbox;
     std::unique_ptr<FarmView> view;
 
-    Farm(int ranks, const Scene& scene, const RenderSettings& s, int threads = 1, bool serve = true)
+    Farm(int ranks, const LoadedScene& scene, const RenderSettings& s, int threads = 1, bool serve = true)
         : hub(ranks), t0(hub, 0), status(size_t(ranks), -1) {
         for (int r = 1; r < ranks && serve; ++r) {
             ts.push_back(std::make_unique<farm::LoopbackTransport>(hub, r));
@@ -96,8 +96,9 @@ struct Farm {
 };
 
 /// still's picture of frame `frame` through the timeline's camera.
-std::vector<uint8_t> stillOf(Scene scene, const RenderSettings& s, int frame) {
-    anim::Timeline::fromScene(scene).applyFrame(scene, frame);
+std::vector<uint8_t> stillOf(LoadedScene loaded, const RenderSettings& s, int frame) {
+    Scene& scene = loaded.scene;
+    anim::Timeline::fromScene(loaded).applyFrame(scene, frame);
     RayStats rays;
     return toRgb8(renderFrame(scene, {scene.camera, s}, frame, 1, rays), s);
 }
@@ -106,8 +107,8 @@ class FarmViewRanks : public ::testing::TestWithParam<int> {};
 
 TEST_P(FarmViewRanks, PictureAtRestIsTheStillBitForBit) {
     const int ranks = GetParam();
-    Scene scene = whitted();
-    const RenderSettings s = sized(scene, 150, 70, 4);  // 150: not a multiple of the work items
+    const LoadedScene scene = whitted();
+    const RenderSettings s = sized(scene.scene, 150, 70, 4);  // 150: not a multiple of the work items
     Farm farm(ranks, scene, s, 2);
     ViewRequest q;
     q.frame = 5;
@@ -134,8 +135,8 @@ TEST_P(FarmViewRanks, PictureAtRestIsTheStillBitForBit) {
 
 TEST_P(FarmViewRanks, ANewRequestCancelsTheWorkInFlight) {
     const int ranks = GetParam();
-    Scene scene = whitted();
-    const RenderSettings s = sized(scene, 320, 180, 1024);  // seconds of work at rest: it must not run to the end
+    const LoadedScene scene = whitted();
+    const RenderSettings s = sized(scene.scene, 320, 180, 1024);  // seconds of work at rest: it must not run to the end
     Farm farm(ranks, scene, s, 2);
     ViewRequest rest;
     rest.followTimeline = true;
@@ -164,8 +165,8 @@ INSTANTIATE_TEST_SUITE_P(View, FarmViewRanks, ::testing::Values(1, 3));
 TEST(FarmView, ATimelineChangeReachesEveryRank) {
     // The window's keys replace the timeline: the next picture is posed by the new one on every
     // rank (here: the scene without its timeline, i.e. its camera as loaded).
-    Scene scene = whitted();
-    const RenderSettings s = sized(scene, 96, 54, 1);
+    const LoadedScene scene = whitted();
+    const RenderSettings s = sized(scene.scene, 96, 54, 1);
     Farm farm(3, scene, s);
     farm.view->setTimeline("");
     ViewRequest q;
@@ -173,8 +174,8 @@ TEST(FarmView, ATimelineChangeReachesEveryRank) {
     q.followTimeline = true;
     const uint64_t e = farm.view->request(q);
     ASSERT_TRUE(farm.inbox.waitFinal(e, 60.0)) << farm.view->error();
-    Scene still = scene;
-    still.timeline = nullptr;
+    LoadedScene still = scene;
+    still.timeline.sections = nullptr;
     {
         std::lock_guard<std::mutex> lock(farm.inbox.m);
         EXPECT_TRUE(farm.inbox.lastComplete(e)->rgb == stillOf(still, s, 7));
@@ -184,8 +185,8 @@ TEST(FarmView, ATimelineChangeReachesEveryRank) {
 }
 
 TEST(FarmView, ASilentRankIsReported) {
-    Scene scene = whitted();
-    const RenderSettings s = sized(scene, 256, 64, 1);  // four 64-pixel tiles: both ranks get some
+    const LoadedScene scene = whitted();
+    const RenderSettings s = sized(scene.scene, 256, 64, 1);  // four 64-pixel tiles: both ranks get some
     // Rank 1 never answers: no worker runs on it.
     Farm farm(2, scene, s, 1, false);
     ViewRequest q;

@@ -127,7 +127,7 @@ TEST(GltfAssetRoot, SceneFileKeySetsTheRootAndTheCommandLineOverridesIt) {
     writeFile(scene, json{{"asset_root", "."}, {"objects", objects}}.dump());
     auto load = [&](const SceneOptions& o = {}) {
         DiskFileSource files;  // a fresh one each time: it keeps what it read
-        return loadScene(scene, files, o);
+        return loadScene(scene, files, o).scene;
     };
     EXPECT_EQ(load().geometry.meshes.size(), 1u);
     // Without the key the model's folder is the root: refused.

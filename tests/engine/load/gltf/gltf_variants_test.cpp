@@ -111,7 +111,7 @@ TEST(MaterialVariants, SceneFileKeyAndTheCommandLineOverIt) {
         SceneOptions o;
         o.assets.variant = cli;
         DiskFileSource files;
-        return loadScene(dir / "s.json", files, o);
+        return loadScene(dir / "s.json", files, o).scene;
     };
     EXPECT_EQ(floorColour(scene("", "")), Color(0.5f));
     EXPECT_EQ(floorColour(scene("green", "")), Color(0.f, 1.f, 0.f));

@@ -1,0 +1,31 @@
+#pragma once
+/// What a loader hands back: the scene to render, and beside it what the file says about
+/// time, which anim::Timeline interprets (the scene itself holds no timeline).
+#include <memory>
+#include <optional>
+#include <string>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "engine/scene/scene.h"
+
+namespace rf {
+
+/// A scene file's animation sections and the command line's choice of animation. Empty: the
+/// default timeline (a turntable for a bare model, each model's first animation looped).
+struct TimelineSource {
+    /// The scene file's animation sections as parsed JSON, null without any:
+    /// {"timeline": {...}, "timeline_file": path if it came from its own file, "turntable": {...}}.
+    /// Nothing parses or rewrites it as text again.
+    std::shared_ptr<const nlohmann::json> sections;
+    /// --animation NAME|INDEX (SceneOptions::animation): the animation every animated model
+    /// plays, over the scene file's "animation".
+    std::optional<std::string> animation;
+};
+
+struct LoadedScene {
+    Scene scene;
+    TimelineSource timeline;
+};
+
+}  // namespace rf
