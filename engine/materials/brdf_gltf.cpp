@@ -269,6 +269,14 @@ Color specularAlbedo(const Surface& s, Vec2 ab) {
     return s.metallic * (s.baseColor * ab.x + Color(ab.y)) + Color((1.f - s.metallic) * dielectric);
 }
 
+Vec3 dominantDirection(const Vec3& n, const Vec3& r, float roughness) {
+    if (!(roughness > 0.f)) return r;
+    const float a = std::min(alphaFromRoughness(roughness), 1.f);
+    const Vec3 m = glm::mix(n, r, (1.f - a) * (std::sqrt(1.f - a) + a));
+    const float len = glm::length(m);
+    return len > 1e-6f ? m / len : n;
+}
+
 Color metalMultipleScatteringAlbedo(const Surface& s, Vec2 ab) {
     if (!(s.metallic > 0.f)) return Color(0.f);
     const float eAvg = dielectricAlbedoAverage(1.f, s.roughness);

@@ -93,6 +93,13 @@ Color metalMultipleScattering(const Color& f0, float eAvg);
 /// E_ss of the lobe for F = 1, from the split sum: A + B.
 inline float singleScatterAlbedo(Vec2 scaleBias) { return scaleBias.x + scaleBias.y; }
 
+/// Where to read the environment prefiltered with n = v = r for a GGX lobe about n seen along the
+/// mirror direction r: a rough lobe leans from r towards n (Lagarde and de Rousiers 2014, the
+/// "dominant direction" of Frostbite and Filament): normalize(mix(n, r, (1 − α)(√(1 − α) + α))),
+/// r itself for a mirror and n at roughness 1. rayfarm reads metals there (the rough ones came
+/// out tinted by the environment's far side), dielectrics at r (measured worse against Cycles).
+Vec3 dominantDirection(const Vec3& n, const Vec3& r, float roughness);
+
 /// Split-sum scale and bias (Karis 2013): the GGX lobe's directional albedo is f0·A + B for
 /// Schlick's Fresnel. Tabulated once, interpolated in (n·v, roughness).
 Vec2 specularScaleBias(float nv, float roughness);

@@ -148,6 +148,22 @@ TEST(BrdfGltf, DielectricsKeepTheirEnvironmentLightToTheBit) {
         }
 }
 
+TEST(BrdfGltf, DominantDirectionLeansFromTheMirrorToTheNormalWithRoughness) {
+    const Vec3 n(0, 0, 1), r = glm::normalize(Vec3(1, 0, 0.3f));
+    EXPECT_EQ(dominantDirection(n, r, 0.f), r);
+    const Vec3 full = dominantDirection(n, r, 1.f);
+    EXPECT_NEAR(glm::length(full - n), 0.f, 1e-6f);
+    float last = 0.f;
+    for (float roughness : {0.25f, 0.5f, 0.75f, 1.f}) {
+        const Vec3 d = dominantDirection(n, r, roughness);
+        EXPECT_NEAR(glm::length(d), 1.f, 1e-5f);
+        EXPECT_EQ(d.y, 0.f);  // in the plane of n and r
+        const float towardsN = d.z;
+        EXPECT_GT(towardsN, last) << roughness;
+        last = towardsN;
+    }
+}
+
 TEST(BrdfGltf, MirrorMetalReflectsExactlyFresnel) {
     Surface gold;
     gold.baseColor = Color(1.f, 0.78f, 0.34f);
