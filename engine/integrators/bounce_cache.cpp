@@ -176,9 +176,10 @@ std::vector<GatherHit> gatherPoint(const Scene& scene, const BouncePoint& bp, ui
             if (!scene.geometry.intersect(r, hit, skip)) break;
             const SurfaceInteraction hs = scene.geometry.interaction(r, hit);
             const Material& m = scene.materials[size_t(hs.material)];
-            if (m.gltfPbr && m.transmission > 0.f && crossing < kGlassCrossings) {
+            const float transmission = m.gltfPbr && m.transmission > 0.f ? gltfTransmission(scene, hs) : 0.f;
+            if (transmission > 0.f && crossing < kGlassCrossings) {
                 // Looked through, unbent: glass passes the bounce on as its shadows pass light.
-                g.through *= m.transmission * baseColor(scene, hs);
+                g.through *= transmission * baseColor(scene, hs);
                 skip = scene.geometry.skipFor(hs, dir);
                 r.o = skip == hs.prim ? hs.p : offsetRayOrigin(hs.p, hs.pError, hs.ng, dir);
                 continue;

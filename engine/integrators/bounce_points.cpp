@@ -108,7 +108,7 @@ bool bounceSurface(const Scene& scene, int mesh) {
     const int mat = scene.geometry.meshes[size_t(mesh)].material;
     if (mat < 0 || size_t(mat) >= scene.materials.size()) return false;
     const Material& m = scene.materials[size_t(mat)];
-    return m.gltfPbr && !m.unlit && m.transmission < 1.f;
+    return m.gltfPbr && !m.unlit && (m.transmission < 1.f || m.metallic > 0.f);  // not all glass
 }
 
 /// The surface at barycentrics b of triangle (p0, p1, p2) of a bounce mesh, seen from the side

@@ -41,8 +41,9 @@ GltfSample gltfSample(const Scene& scene, const SurfaceInteraction& si) {
         s.occlusion = std::clamp(pbr::occlusionFromTexel(m.occlusionStrength, texel(m.occlusionTexture, m.occlusionTransform)), 0.f, 1.f);
     g.emission = m.emission;
     if (m.emissiveTexture >= 0 && m.emission != Color(0.f)) g.emission *= Color(texel(m.emissiveTexture, m.emissiveTransform));
-    g.transmission = m.transmission;
-    s.transmission = m.transmission;
+    // The metal has no transmission (the glTF mixing: mix(dielectric, metal, metallic)).
+    g.transmission = m.specularGlossiness || !(m.transmission > 0.f) ? m.transmission : m.transmission * (1.f - s.metallic);
+    s.transmission = g.transmission;
     g.unlit = m.unlit;
     s.clearcoat = m.clearcoat;
     s.clearcoatRoughness = m.clearcoatRoughness;
@@ -57,6 +58,19 @@ GltfSample gltfSample(const Scene& scene, const SurfaceInteraction& si) {
             s.sheenRoughness = std::clamp(s.sheenRoughness * texel(m.sheenRoughnessTexture, m.sheenRoughnessTransform).a, 0.f, 1.f);
     }
     return g;
+}
+
+float gltfTransmission(const Scene& scene, const SurfaceInteraction& si) {
+    const Material& m = scene.materials[si.material];
+    if (!(m.transmission > 0.f) || m.specularGlossiness) return m.transmission;
+    float metallic = m.metallic;
+    if (m.metallicRoughnessTexture >= 0) {
+        const TextureTransform& t = m.metallicRoughnessTransform;
+        const Vec4 texel = sampleTexture(scene.textures[size_t(m.metallicRoughnessTexture)], textureUv(t, si.uv, si.uv1),
+                                         textureFootprint(t, si.uvArea));
+        metallic = std::clamp(pbr::metallicRoughnessFromTexel(m.metallic, m.roughness, texel).metallic, 0.f, 1.f);
+    }
+    return m.transmission * (1.f - metallic);
 }
 
 float gltfThickness(const Scene& scene, const SurfaceInteraction& si) {

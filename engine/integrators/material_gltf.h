@@ -21,6 +21,12 @@ struct GltfSample {
 /// its own texCoord set through its own KHR_texture_transform.
 GltfSample gltfSample(const Scene& scene, const SurfaceInteraction& si);
 
+/// KHR_materials_transmission at si as the specification mixes it: the dielectric part lets
+/// light through and the metal does not, transmissionFactor × (1 − metallic), metallic the
+/// factor × the metallicRoughness texture's B (specular-glossiness materials have no metallic:
+/// the factor as it is). gltfSample's transmission is the same number.
+float gltfTransmission(const Scene& scene, const SurfaceInteraction& si);
+
 /// KHR_materials_volume's thickness at si: factor × the thickness texture's G (0: thin-walled).
 float gltfThickness(const Scene& scene, const SurfaceInteraction& si);
 

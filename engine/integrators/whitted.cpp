@@ -182,7 +182,9 @@ Color WhittedTracer::traceHit(const Ray& r, const Hit& hit, int depth, const Col
     if (glm::dot(ns, ng) < 0.f) ns = -ns;
     if (!(glm::dot(r.d, ns) < 0.f)) ns = ng;
     Vec3 refrDir(0.f);
-    if (m.transmission > 0.f) {
+    // glTF: the metal part does not transmit (gltfTransmission).
+    const float transmission = gltf && m.transmission > 0.f ? gltfTransmission(scene_, si) : m.transmission;
+    if (transmission > 0.f) {
         const float etaI = entering ? 1.f : m.ior, etaT = entering ? m.ior : 1.f;
         float F = fresnelDielectric(-glm::dot(r.d, ns), etaT / etaI);
         bool through = F < 1.f && refract(r.d, ns, etaI / etaT, refrDir);
@@ -190,8 +192,8 @@ Color WhittedTracer::traceHit(const Ray& r, const Hit& hit, int depth, const Col
             F = fresnelDielectric(-glm::dot(r.d, ng), etaT / etaI);
             through = F < 1.f && refract(r.d, ng, etaI / etaT, refrDir);
         }
-        kr += m.transmission * F;
-        if (through) kt = m.transmission * (1.f - F);
+        kr += transmission * F;
+        if (through) kt = transmission * (1.f - F);
     }
     if (kr > 0.f) {
         const Color w = weight * kr;

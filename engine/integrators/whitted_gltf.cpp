@@ -110,7 +110,8 @@ Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int 
     const float glossy = (1.f - traced) * (1.f - s.transmission);
     IndirectRadiance ind;
     if (scene_.environment) {
-        ind.specular = scene_.environment->specular(R, s.roughness);
+        ind.specular = scene_.environment->specular(s.metallic > 0.f ? pbr::dominantDirection(frame.ns, R, s.roughness) : R,
+                                                    s.roughness);
         ind.diffuse = scene_.environment->diffuse(frame.ns);
     }
     if (sampled) {

@@ -39,6 +39,11 @@ Color schlickFresnel(const Color& f0, float vh) {
     return f0 + (Color(1.f) - f0) * (m2 * m2 * m);
 }
 
+Color metalMultipleScattering(const Color& f0, float eAvg) {
+    const Color fAvg = f0 + (Color(1.f) - f0) * (1.f / 21.f);
+    return fAvg * fAvg * eAvg / (Color(1.f) - fAvg * (1.f - eAvg));
+}
+
 ViewTerms viewTerms(const Surface& s, const Vec3& n, const Vec3& v) {
     ViewTerms vt;
     const float nv = glm::dot(n, v);
@@ -264,13 +269,31 @@ Color specularAlbedo(const Surface& s, Vec2 ab) {
     return s.metallic * (s.baseColor * ab.x + Color(ab.y)) + Color((1.f - s.metallic) * dielectric);
 }
 
+Vec3 dominantDirection(const Vec3& n, const Vec3& r, float roughness) {
+    if (!(roughness > 0.f)) return r;
+    const float a = std::min(alphaFromRoughness(roughness), 1.f);
+    const Vec3 m = glm::mix(n, r, (1.f - a) * (std::sqrt(1.f - a) + a));
+    const float len = glm::length(m);
+    return len > 1e-6f ? m / len : n;
+}
+
+Color metalMultipleScatteringAlbedo(const Surface& s, Vec2 ab) {
+    if (!(s.metallic > 0.f)) return Color(0.f);
+    const float eAvg = dielectricAlbedoAverage(1.f, s.roughness);
+    if (!(eAvg < 1.f - 1e-4f)) return Color(0.f);  // a mirror loses nothing
+    return s.metallic * std::max(0.f, 1.f - singleScatterAlbedo(ab)) * metalMultipleScattering(s.baseColor, eAvg);
+}
+
 Color environmentLight(const Surface& s, float nv, const Color& specularRadiance, const Color& diffuseRadiance) {
     return environmentLight(s, specularScaleBias(nv, s.roughness), specularRadiance, diffuseRadiance);
 }
 
 Color environmentLight(const Surface& s, Vec2 ab, const Color& specularRadiance, const Color& diffuseRadiance) {
     const float ed = s.specular * (f0FromIor(s.ior) * ab.x + ab.y);
-    const Color spec = specularAlbedo(s, ab) * specularRadiance;
+    Color spec = specularAlbedo(s, ab) * specularRadiance;
+    // The metal's multiple scattering leaves in all directions, as its lobe (1 − E(n·l)) is
+    // nearly a cosine one: lit by the irradiance, not by the prefiltered mirror direction.
+    if (s.metallic > 0.f) spec += metalMultipleScatteringAlbedo(s, ab) * diffuseRadiance;
     // The coupled diffuse layer under light arriving evenly: (1 − E(n·v))·c times irradiance/π.
     const Color diffuse = (1.f - s.metallic) * (1.f - s.transmission) * (1.f - ed) * s.baseColor * diffuseRadiance;
     return s.occlusion * (spec + diffuse);

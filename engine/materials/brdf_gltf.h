@@ -44,9 +44,10 @@ Color schlickFresnel(const Color& f0, float vh);
 float schlickFresnel(float f0, float vh);
 
 /// The BRDF f(v, l) (without the cosine) for unit n, v, l on the same side of the surface.
-/// Zero when either direction lies below it. The diffuse layer receives what the specular
-/// layer's directional albedo E leaves, on the way in and out (Kelemen and Szirmay-Kalos 2001):
-/// (1 − E(n·v))(1 − E(n·l))/(1 − E_avg) · c/π, which is reciprocal and conserves energy. The
+/// Zero when either direction lies below it. The metal's lobe scatters once here (as Blender
+/// 3.4's default GGX, which the light-lit Cycles references use); environmentLight gives its
+/// multiple scattering back. The diffuse layer receives what the specular layer's directional
+/// albedo E leaves, on the way in and out (Kelemen and Szirmay-Kalos 2001): (1 − E(n·v))(1 − E(n·l))/(1 − E_avg) · c/π, which is reciprocal and conserves energy. The
 /// spec's per-microfacet (1 − F(v·h)) makes a smooth white dielectric reflect 1.55 times the
 /// light it receives at n·v = 0.1, and a white furnace must not glow.
 Color evalBrdf(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l);
@@ -85,18 +86,39 @@ MetallicRoughness metallicRoughnessFromTexel(float metallicFactor, float roughne
 /// glTF's occlusionTexture: 1 + strength · (R − 1).
 float occlusionFromTexel(float strength, const Vec4& texel);
 
+/// Kulla and Conty's F_ms per channel: the share of the light that the further bounces between
+/// microfacets of a metal of reflectance f0 give back, for a lobe of mean albedo E_avg (F = 1):
+/// its further bounces weigh F_avg each (1 for a white metal, whose F_ms is then 1).
+Color metalMultipleScattering(const Color& f0, float eAvg);
+/// E_ss of the lobe for F = 1, from the split sum: A + B.
+inline float singleScatterAlbedo(Vec2 scaleBias) { return scaleBias.x + scaleBias.y; }
+
+/// Where to read the environment prefiltered with n = v = r for a GGX lobe about n seen along the
+/// mirror direction r: a rough lobe leans from r towards n (Lagarde and de Rousiers 2014, the
+/// "dominant direction" of Frostbite and Filament): normalize(mix(n, r, (1 − α)(√(1 − α) + α))),
+/// r itself for a mirror and n at roughness 1. rayfarm reads metals there (the rough ones came
+/// out tinted by the environment's far side), dielectrics at r (measured worse against Cycles).
+Vec3 dominantDirection(const Vec3& n, const Vec3& r, float roughness);
+
 /// Split-sum scale and bias (Karis 2013): the GGX lobe's directional albedo is f0·A + B for
 /// Schlick's Fresnel. Tabulated once, interpolated in (n·v, roughness).
 Vec2 specularScaleBias(float nv, float roughness);
-/// The share of light a surface reflects specularly from a uniform environment, per channel.
+/// The share of light a surface reflects specularly from a uniform environment, per channel, in
+/// one scattering: f0·A + B for the metal and the dielectric's Fresnel layer, mixed by metallic.
 Color specularAlbedo(const Surface& s, float nv);
 /// The same from specularScaleBias(n·v, s.roughness), for a caller that needs it more than once.
 Color specularAlbedo(const Surface& s, Vec2 scaleBias);
+/// What the metal's microfacets give back in further bounces under a uniform environment
+/// (Kulla and Conty 2017): metallic·F_ms·(1 − E(n·v)), E the single-scattering albedo for F = 1;
+/// the integral of their lobe F_ms·(1 − E(n·v))(1 − E(n·l))/(π(1 − E_avg)). With specularAlbedo,
+/// 1 in all for a white metal at every roughness.
+Color metalMultipleScatteringAlbedo(const Surface& s, Vec2 scaleBias);
 /// The dielectric layer's specular albedo E(μ) and its cosine-weighted mean E_avg = 2∫E(μ)μ dμ.
 float dielectricAlbedo(float f0, float roughness, float nv);
 float dielectricAlbedoAverage(float f0, float roughness);
 /// Reflected radiance under environment light: prefiltered specular radiance (GGX lobe around
-/// the mirror direction) and diffuse irradiance/π, weighted by the split sum and the occlusion.
+/// the mirror direction) and diffuse irradiance/π, weighted by the split sum and the occlusion;
+/// the metal's multiple scattering (metalMultipleScatteringAlbedo) reflects the irradiance.
 Color environmentLight(const Surface& s, float nv, const Color& specularRadiance, const Color& diffuseRadiance);
 Color environmentLight(const Surface& s, Vec2 scaleBias, const Color& specularRadiance, const Color& diffuseRadiance);
 

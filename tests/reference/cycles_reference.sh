@@ -4,6 +4,7 @@
 # A developer tool: no test needs it.
 #   tests/reference/cycles_reference.sh MODEL.gltf -o OUT.png [--size 320x180] [--samples 256]
 #       [--camera N] [--environment FILE.exr] [--environment-strength K] [--bounces N] [--threads N]
+#       [--multiscatter]
 # Everything after the model goes to the script (see its --help). Runs under nice -n 19
 # (CYCLES_NICE=0 for timings).
 set -euo pipefail

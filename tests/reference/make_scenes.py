@@ -2,7 +2,7 @@
 # Writes the small glTF test scenes of tests/reference/ (CC0, made for rayfarm): their geometry is
 # generated here (spheres, boxes, a floor) so that each material is exactly what it says, and
 # cycles_reference.sh renders their references. Plain Python 3, no packages:
-#   python3 tests/reference/make_scenes.py            (writes beside this script)
+#   python3 tests/reference/make_scenes.py [SCENE ...]   (writes beside this script; all by default)
 # - metals_glass.gltf: a copper box, a chrome, a glass and a blue plastic sphere on a checker floor
 #   (baseColor texture through KHR_texture_transform), a sun; rendered under courtyard.exr.
 # - textured_spot.gltf: a box with a baseColor texture and a normal map, a sphere with a
@@ -291,6 +291,30 @@ def coat_sheen_volume():
     g.write("coat_sheen_volume.gltf")
 
 
-metals_glass()
-textured_spot()
-coat_sheen_volume()
+def rough_metals():
+    g = Gltf()
+    sph = sphere(64, 32)
+    top = [g.material(pbr("white metal r%.2f" % r, (1, 1, 1), 1.0, r)) for r in (0.0, 0.25, 0.5, 0.75, 1.0)]
+    g.use("KHR_materials_transmission")
+    bottom = [g.material({"name": "default material", "pbrMetallicRoughness": {}}),
+              g.material(pbr("gold r0.5", (1.0, 0.77, 0.34), 1.0, 0.5)),
+              g.material(pbr("copper r0.8", (0.95, 0.64, 0.54), 1.0, 0.8)),
+              g.material({"name": "metal with transmission", "pbrMetallicRoughness": {"roughnessFactor": 0.3},
+                          "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}}),
+              g.material(pbr("white plastic r1", (0.8, 0.8, 0.8), 0.0, 1.0))]
+    for row, (y, mats) in enumerate(((0.55, top), (-0.55, bottom))):
+        for i, m in enumerate(mats):
+            name = g.doc["materials"][m]["name"]
+            g.node({"name": name, "mesh": g.mesh(name, sph, m), "translation": [1.05 * (i - 2), y, 0.0],
+                    "scale": [0.47, 0.47, 0.47]})
+    eye = (0.0, 0.0, 6.5)
+    g.camera(30, 16 / 9, {"name": "camera", "translation": list(eye), "rotation": look_at(eye, (0.0, 0.0, 0.0))})
+    g.write("rough_metals.gltf")
+
+
+SCENES = {"metals_glass": metals_glass, "textured_spot": textured_spot, "coat_sheen_volume": coat_sheen_volume,
+          "rough_metals": rough_metals}
+if __name__ == "__main__":
+    import sys
+    for name in sys.argv[1:] or SCENES:
+        SCENES[name]()

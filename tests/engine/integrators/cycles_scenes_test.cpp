@@ -8,7 +8,9 @@
 // measured, and the images and error images are written on failure.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 #include "engine/geometry/camera.h"
@@ -202,4 +204,79 @@ TEST(CyclesScenes, ClearcoatSheenAndVolumeMatchCyclesOnEachSphere) {
                           << " dB (want >= " << sp.minPsnr << "); images in " << out;
         }
     }
+}
+
+namespace {
+
+/// One byte a pixel: 1 where the pixel's centre ray first meets a surface of `material`.
+std::vector<uint8_t> materialMask(const Scene& scene, int w, int h, const std::string& material) {
+    const CameraRays rays(scene.camera, w, h);
+    std::vector<uint8_t> mask(size_t(w) * h, 0);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const Ray r = rays.generate(x + 0.5f, y + 0.5f);
+            Hit hit;
+            if (!scene.geometry.intersect(r, hit)) continue;
+            const SurfaceInteraction si = scene.geometry.interaction(r, hit);
+            mask[size_t(y) * w + x] = scene.materials[si.material].name == material;
+        }
+    return mask;
+}
+
+/// The mean 8-bit colour (as 0..1) of the pixels under mask.
+Color maskedMean(const std::vector<uint8_t>& rgb, const std::vector<uint8_t>& mask) {
+    double sum[3] = {0, 0, 0};
+    size_t n = 0;
+    for (size_t i = 0; i < mask.size(); ++i)
+        if (mask[i]) {
+            for (int c = 0; c < 3; ++c) sum[c] += rgb[3 * i + c];
+            ++n;
+        }
+    return n ? Color(float(sum[0] / n / 255), float(sum[1] / n / 255), float(sum[2] / n / 255)) : Color(0.f);
+}
+
+}  // namespace
+
+TEST(CyclesScenes, DefaultMaterialAndRoughMetalsMatchCyclesOnEachSphere) {
+    // tests/reference/rough_metals.gltf under the courtyard: white metal at roughness 0, 0.25,
+    // 0.5, 0.75 and 1 above glTF's default material (pbrMetallicRoughness: {}), gold, copper, a
+    // metal with KHR_materials_transmission (opaque: the metal part does not transmit) and a
+    // rough white plastic. The reference is Cycles' Multiscatter GGX (cycles_reference.sh
+    // --multiscatter): Blender 3.4's default GGX scatters once and loses what rayfarm now gives
+    // back under an environment (docs/pictures.md, Materials). Each sphere's pixels: masked SSIM >= 0.93 and the
+    // mean colour within 3% per channel (issue 43). Not met yet (tests/reference/README.md has
+    // the figures): it runs only under the shortfall label (ctest -L shortfall).
+    if (!std::getenv("RAYFARM_SHORTFALL_RUN")) GTEST_SKIP() << "a known shortfall: runs under the shortfall label (ctest -L shortfall)";
+    SceneOptions options;
+    std::string courtyard = RAYFARM_SOURCE_DIR;
+    courtyard += "/scenes/environments/courtyard.exr";
+    options.environment = EnvironmentSpec{courtyard, 0.f, 1.f};
+    DiskFileSource fs;
+    Scene scene = loadScene(kDir + "rough_metals.gltf", fs, options);
+    useGltfCamera(scene, 0);
+    int w = 0, h = 0;
+    const std::vector<uint8_t> ref = readImageRgb8(kDir + "rough_metals.cycles.png", w, h);
+    const RenderSettings s = referenceSettings(scene, w, h);
+    RayStats rays;
+    const std::vector<uint8_t> ours = toRgb8(renderFrame(scene, {scene.camera, s}, 0, 0, rays), s);
+    const std::string out = std::string(RAYFARM_TEST_OUT) + "/cycles_scenes";
+    std::filesystem::create_directories(out);
+    writePng(out + "/rough_metals.png", w, h, ours);
+    const char* spheres[] = {"white metal r0.00", "white metal r0.25", "white metal r0.50", "white metal r0.75",
+                             "white metal r1.00", "default material", "gold r0.5", "copper r0.8",
+                             "metal with transmission", "white plastic r1"};
+    bool failed = false;
+    for (const char* material : spheres) {
+        const std::vector<uint8_t> mask = materialMask(scene, w, h, material);
+        ASSERT_GT(std::count(mask.begin(), mask.end(), uint8_t(1)), 600) << material;
+        const double ssim = ssimRgb8Masked(ours, ref, w, h, mask);
+        const Color a = maskedMean(ours, mask), b = maskedMean(ref, mask);
+        std::printf("rough_metals %-24s SSIM %.4f, mean (%.3f, %.3f, %.3f) against Cycles (%.3f, %.3f, %.3f)\n", material,
+                    ssim, a.r, a.g, a.b, b.r, b.g, b.b);
+        EXPECT_GE(ssim, 0.93) << material;
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(a[c], b[c], 0.03f * b[c]) << material << " channel " << c;
+        failed |= ssim < 0.93 || std::abs(a.r - b.r) > 0.03f * b.r || std::abs(a.g - b.g) > 0.03f * b.g ||
+                  std::abs(a.b - b.b) > 0.03f * b.b;
+    }
+    if (failed) writePng(out + "/rough_metals_error.png", w, h, falseColorErrorRgb8(ours, ref, w, h, 0.25));
 }
