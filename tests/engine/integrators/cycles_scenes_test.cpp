@@ -252,7 +252,7 @@ TEST(CyclesScenes, DefaultMaterialAndRoughMetalsMatchCyclesOnEachSphere) {
     courtyard += "/scenes/environments/courtyard.exr";
     options.environment = EnvironmentSpec{courtyard, 0.f, 1.f};
     DiskFileSource fs;
-    Scene scene = loadScene(kDir + "rough_metals.gltf", fs, options);
+    Scene scene = loadScene(kDir + "rough_metals.gltf", fs, options).scene;
     useGltfCamera(scene, 0);
     int w = 0, h = 0;
     const std::vector<uint8_t> ref = readImageRgb8(kDir + "rough_metals.cycles.png", w, h);
