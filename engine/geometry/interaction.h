@@ -11,7 +11,7 @@ namespace rf {
 /// Closest hit found by traversal; resolved into a SurfaceInteraction only for shading.
 struct Hit {
     float t = kInf;
-    uint32_t prim = 0;  ///< see Scene::PrimKind for the id ranges
+    uint32_t prim = 0;  ///< triangles first, then spheres (SceneGeometry numbers them)
     TriangleHit tri;
     Vec3 sphereRel{0.f};
 };

@@ -113,8 +113,13 @@ void renderRect(const Scene& scene, const RenderView& view, int frame, const Til
     renderRects(scene, view, frame, {RectJob{rect, out, &stats}}, threads, subTile, cancel);
 }
 
-void renderRects(const Scene& scene, const RenderView& view, int frame, const std::vector<RectJob>& jobs, int threads,
+void renderRects(const Scene& scene, const RenderView& given, int frame, const std::vector<RectJob>& jobs, int threads,
                  int subTile, const std::atomic<bool>* cancel) {
+    // A view whose slot was reset to null: one slot for this call, so that its tiles share one
+    // cache instead of each building its own.
+    RenderView local;
+    if (!given.bounceSlot) local = {given.camera, given.settings, std::make_shared<SceneCacheSlot>()};
+    const RenderView& view = given.bounceSlot ? given : local;
     const RenderSettings& settings = view.settings;
     struct Sub {
         TileRect t;

@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "engine/integrators/bounce_cache.h"
+#include "engine/integrators/render.h"
 #include "tests/engine/engine_test_util.h"
 
 using namespace rf;
@@ -124,7 +125,7 @@ TEST(BounceCache, ATurntableOfTheCameraBuildsItOnceAndEveryFrameSeesTheSameBounc
 // A farm worker builds the cache on a copy of its scene while rank 0 decides the job
 // (farm/commands/worker_head_start.h): the copy fills the job's slot, which the scene the worker
 // then renders shares, so it finds the cache built and traces nothing more for it.
-TEST(BounceCache, ACopyOfTheSceneSharesItsCache) {
+TEST(BounceCache, ACopyOfTheSceneFillsTheJobsSlotForTheOriginal) {
     const auto slot = std::make_shared<SceneCacheSlot>();  // the job's bounce cache
     const Scene s = floorScene();
     const RenderSettings rs = smallSettings(48, 27);
@@ -136,6 +137,21 @@ TEST(BounceCache, ACopyOfTheSceneSharesItsCache) {
     RayStats onScene;
     EXPECT_EQ(bounceCache(s, rs, slot.get(), 2, &onScene).get(), built.get());
     EXPECT_EQ(onScene.bounce, 0u) << "built again for the scene the copy came from";
+}
+
+// A view whose slot was reset to null still builds the cache once for all its tiles (one slot
+// for the call), not once per tile: the same rays and the same picture as a view with a slot.
+TEST(BounceCache, AViewWithoutASlotBuildsOneCacheForAllItsTiles) {
+    const Scene s = floorScene();
+    const RenderSettings rs = smallSettings(64, 36);
+    const TileRect all{0, 0, rs.width, rs.height};
+    std::vector<float> a(size_t(rs.width) * rs.height * 3), b(a.size());
+    RayStats withSlot, without;
+    renderRect(s, {s.camera, rs}, 0, all, 2, 8, RectBuffers{a.data()}, withSlot);
+    renderRect(s, {s.camera, rs, nullptr}, 0, all, 2, 8, RectBuffers{b.data()}, without);
+    ASSERT_GT(withSlot.bounce, 0u) << "the scene has no bounce light: nothing tested";
+    EXPECT_EQ(without.bounce, withSlot.bounce) << "each of the 40 tiles built its own cache";
+    EXPECT_EQ(a, b);
 }
 
 TEST(BounceCache, LightsOrbitingWithTheCameraDoNotMakeItFlicker) {
