@@ -110,6 +110,25 @@ std::string changedInputs(const nlohmann::json& had, const std::map<std::string,
     return out;
 }
 
+/// The settings that differ between two identities (RenderJob::identity()), each as "NAME was
+/// OLD, now NEW", a setting left out at its default as "not given"; "" when either is not an
+/// object.
+std::string changedSettings(const std::string& had, const std::string& now) {
+    const auto a = nlohmann::ordered_json::parse(had, nullptr, false), b = nlohmann::ordered_json::parse(now, nullptr, false);
+    if (!a.is_object() || !b.is_object()) return "";
+    auto shown = [](const nlohmann::ordered_json& o, const std::string& key) { return o.contains(key) ? o[key].dump() : "not given"; };
+    std::vector<std::string> keys;
+    for (auto it = b.begin(); it != b.end(); ++it) keys.push_back(it.key());
+    for (auto it = a.begin(); it != a.end(); ++it)
+        if (!b.contains(it.key())) keys.push_back(it.key());
+    std::string out;
+    for (const std::string& k : keys) {
+        if (a.contains(k) && b.contains(k) && a[k] == b[k]) continue;
+        out += (out.empty() ? "" : ", ") + k + " was " + shown(a, k) + ", now " + shown(b, k);
+    }
+    return out;
+}
+
 }  // namespace
 
 void checkFramesManifest(const std::string& dir, const std::string& identity, const std::map<std::string, std::string>& inputs) {
@@ -122,9 +141,12 @@ void checkFramesManifest(const std::string& dir, const std::string& identity, co
     if (!j.is_object() || !j.contains("identity") || !j["identity"].is_string() || !j.contains("inputs") || !j["inputs"].is_object())
         throw UsageError(path + ": not a manifest this rayfarm can resume from (it has no input digests); run without --resume");
     const std::string have = j["identity"].get<std::string>();
-    if (have != identity)
-        throw UsageError(dir + ": its frames were rendered from a different scene or settings (" + have +
-                              "; now " + identity + "); use another --frames-dir or run without --resume");
+    if (have != identity) {
+        const std::string settings = changedSettings(have, identity);
+        throw UsageError(dir + ": cannot resume: its frames were rendered with other settings (" +
+                         (settings.empty() ? have + "; now " + identity : settings) +
+                         "); resume with the first run's settings, or use --overwrite or another --frames-dir");
+    }
     const std::string changed = changedInputs(j["inputs"], inputs);
     if (!changed.empty())
         throw UsageError(dir + ": the scene changed since its frames were rendered (" + changed +
