@@ -3,6 +3,10 @@
 #   identity  12 frames, the last 6 deleted: --resume with --environment-rotation 90 is refused
 #             naming the setting with its old and new values, the kept frames and the video
 #             untouched; the same options resume to the frames of a run never interrupted
+#   fifo      a FIFO and a directory in place of kept PNGs, a FIFO in place of a kept EXR: the
+#             resume neither hangs nor fails; each is noted, rendered again (the directory moved
+#             aside, its contents kept), and the frames are an uninterrupted run's; a FIFO in
+#             place of the checksum list is refused
 # Usage: kept_frames_test.sh RAYFARM SOURCE_DIR WORK_DIR CASE
 set -euo pipefail
 RAYFARM=$1 SRC=$2 WORK=$3 CASE=$4
@@ -45,6 +49,32 @@ identity)
     [ "$(pngs a.frames)" = "$(pngs full.frames)" ] || fail "the resumed frames differ from an uninterrupted run's"
     cmp -s a.mp4 full.mp4 || fail "the resumed video differs from an uninterrupted run's"
     echo "identity: a resume with another picture setting refused naming it, old and new; the same options complete"
+    ;;
+fifo)
+    "${r[@]}" -o full.mp4 --frames-format exr 2> full.log || { cat full.log; fail "the uninterrupted run failed"; }
+    "${r[@]}" -o a.mp4 --frames-format exr 2> a.log || { cat a.log; fail "the first run failed"; }
+    rm a.frames/frame_000006.png a.frames/frame_000009.png a.frames/frame_000003.exr
+    mkfifo a.frames/frame_000006.png a.frames/frame_000003.exr
+    mkdir -p a.frames/frame_000009.png/inside
+    echo keep > a.frames/frame_000009.png/inside/note.txt
+    # Without the check the resume waits for a writer on the FIFO for good (and ignores SIGTERM).
+    set +e
+    timeout -s KILL 60 "${r[@]}" -o a.mp4 --frames-format exr --resume 2> resume.log
+    status=$?
+    set -e
+    [ "$status" -eq 0 ] || { cat resume.log; fail "the resume over a FIFO and a directory exited $status"; }
+    grep -qF "note: a.frames/frame_000006.png: is a FIFO, not a frame (removed); rendering it again" resume.log || { cat resume.log; fail "no note on the FIFO"; }
+    grep -qF "note: a.frames/frame_000009.png: is a directory, not a frame (moved to a.frames/frame_000009.png.not-a-frame); rendering it again" resume.log ||
+        { cat resume.log; fail "no note on the directory"; }
+    grep -qF "note: a.frames/frame_000003.exr: is a FIFO, not a frame (removed); rendering it again" resume.log || { cat resume.log; fail "no note on the EXR FIFO"; }
+    grep -q "resume: 9 of 12 frames kept in a.frames, 3 to render" resume.log || { cat resume.log; fail "did not render the 3 damaged frames"; }
+    [ "$(cat a.frames/frame_000009.png.not-a-frame/inside/note.txt)" = keep ] || fail "the directory's contents were lost"
+    [ "$(pngs a.frames)" = "$(pngs full.frames)" ] || fail "the resumed frames differ from an uninterrupted run's"
+    cmp -s a.frames/frame_000003.exr full.frames/frame_000003.exr || fail "the EXR frame rendered again differs"
+    cmp -s a.mp4 full.mp4 || fail "the resumed video differs from an uninterrupted run's"
+    rm a.frames/rayfarm-frames.sha256 && mkfifo a.frames/rayfarm-frames.sha256
+    expect_refusal "a.frames/rayfarm-frames.sha256: is a FIFO, not the frames' checksum list" "${r[@]}" -o a.mp4 --frames-format exr --resume
+    echo "fifo: a FIFO or a directory in place of a kept frame is noted and rendered again, no hang"
     ;;
 *)
     fail "unknown case $CASE"
