@@ -7,6 +7,9 @@
 #             resume neither hangs nor fails; each is noted, rendered again (the directory moved
 #             aside, its contents kept), and the frames are an uninterrupted run's; a FIFO in
 #             place of the checksum list is refused
+#   own-files outputs named after the run's own files (a kept frame, the manifest, the locks, the
+#             remux's temporary file) refused with exit 2 and one line before anything renders:
+#             the frames, the manifest and the video untouched, no lock left; then a resume runs
 # Usage: kept_frames_test.sh RAYFARM SOURCE_DIR WORK_DIR CASE
 set -euo pipefail
 RAYFARM=$1 SRC=$2 WORK=$3 CASE=$4
@@ -75,6 +78,29 @@ fifo)
     rm a.frames/rayfarm-frames.sha256 && mkfifo a.frames/rayfarm-frames.sha256
     expect_refusal "a.frames/rayfarm-frames.sha256: is a FIFO, not the frames' checksum list" "${r[@]}" -o a.mp4 --frames-format exr --resume
     echo "fifo: a FIFO or a directory in place of a kept frame is noted and rendered again, no hang"
+    ;;
+own-files)
+    "${r[@]}" -o a.mp4 2> a.log || { cat a.log; fail "the first run failed"; }
+    rm a.frames/frame_000011.png
+    kept=$(cd a.frames && sha256sum frame_*.png rayfarm-frames.json rayfarm-frames.sha256) video=$(sha256sum < a.mp4)
+    expect_refusal "a.frames/frame_000003.png: --stats names a frame kept in the frames folder (a.frames); choose another name" \
+        "${r[@]}" -o a.mp4 --stats a.frames/frame_000003.png --overwrite
+    expect_refusal "a.frames/rayfarm-frames.json: --stats names the frames folder's manifest (a.frames); choose another name" \
+        "${r[@]}" -o a.mp4 --stats a.frames/rayfarm-frames.json --resume
+    expect_refusal "a.mp4.lock: --stats names the lock this run holds on -o (a.mp4); choose another name" \
+        "${r[@]}" -o a.mp4 --stats a.mp4.lock --resume
+    expect_refusal "a.mp4.remux: --frames-dir names the temporary file the video (a.mp4) is remuxed through; choose another name" \
+        "${r[@]}" -o a.mp4 --frames-dir a.mp4.remux --overwrite
+    expect_refusal "a.frames/frame_000001.png: --poster names a frame kept in the frames folder (a.frames)" \
+        "${r[@]}" -o a.mp4 --poster a.frames/frame_000001.png --resume
+    expect_refusal "a.frames.lock: --stats names the lock this run holds on its frames folder (a.frames)" \
+        "${r[@]}" -o a.mp4 --stats a.frames.lock --resume
+    [ "$(cd a.frames && sha256sum frame_*.png rayfarm-frames.json rayfarm-frames.sha256)" = "$kept" ] || fail "a refused run touched the frames folder"
+    [ "$(sha256sum < a.mp4)" = "$video" ] || fail "a refused run touched the video"
+    for f in a.mp4.lock a.frames.lock a.mp4.remux; do [ ! -e "$f" ] || fail "a refused run left $f"; done
+    "${r[@]}" -o a.mp4 --resume --stats a.frames/stats.json 2> resume.log || { cat resume.log; fail "the resume after the refusals failed"; }
+    grep -q "resume: 11 of 12 frames kept in a.frames, 1 to render" resume.log || { cat resume.log; fail "the resume did not find the kept frames"; }
+    echo "own-files: outputs naming the run's own files refused before rendering, nothing touched"
     ;;
 *)
     fail "unknown case $CASE"
