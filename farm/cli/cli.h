@@ -24,6 +24,12 @@ public:
     bool has(const std::string& name) const { return values_.count(name) > 0; }
     std::optional<std::string> value(const std::string& name) const;
     const std::vector<std::string>& positional() const { return positional_; }
+    /// Every option and flag declared, by name, in order of name.
+    std::vector<std::string> declared() const {
+        std::vector<std::string> out;
+        for (const auto& [name, takesValue] : takesValue_) out.push_back(name);
+        return out;
+    }
 
     int intValue(const std::string& name, int def, int lo, int hi) const;
     double doubleValue(const std::string& name, double def) const;

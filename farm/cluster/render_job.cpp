@@ -33,6 +33,22 @@ std::string RenderJob::identity() const {
     // Frames kept before bounce light were rendered without it: they do not resume into a film with it.
     j["bounce"] = settings.bounce;
     if (settings.bounceMoving) j["bounce_moving"] = true;
+    if (settings.shading != ShadingModel::Phong) j["shading"] = "blinn-phong";
+    // Not here, as they change no pixel: tileSize, packets and blockerCache (speed-ups shown
+    // bit-exact by the tests), autoExposure (resolved into exposure above), integrator (one kind).
+    // The scene options of the command line, over the scene file's own (whose bytes are in the
+    // manifest's input digests).
+    const SceneOptions& o = sceneOptions;
+    if (o.environment) {
+        const auto env = std::filesystem::weakly_canonical(o.environment->file, ec);
+        j["environment"] = ec ? o.environment->file : env.string();
+    }
+    if (o.environmentRotation) j["environment_rotation"] = *o.environmentRotation;
+    if (o.environmentIntensity) j["environment_intensity"] = *o.environmentIntensity;
+    if (o.ground) j["ground"] = *o.ground == Ground::Shadow ? "shadow" : "none";
+    if (o.animation) j["animation"] = *o.animation;
+    if (!o.assets.variant.empty()) j["variant"] = o.assets.variant;
+    if (o.assets.maxTextureSize != AssetOptions{}.maxTextureSize) j["max_texture_size"] = o.assets.maxTextureSize;
     return j.dump();
 }
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "engine/scene/background.h"
+#include "engine/scene/scene_options.h"
 #include "anim/frame_ranges.h"
 #include "farm/cluster/messages.h"
 #include "farm/output/video_options.h"
@@ -29,6 +30,9 @@ struct RenderJob {
     bool resume = false;
     Mp4Options mp4;              ///< the video's options, read per format by videoFormatOf
     BackgroundChoice background;  ///< --background
+    /// The command line's scene options (--environment, --environment-rotation, --ground, ...),
+    /// as every rank loads the scene with them: part of identity().
+    SceneOptions sceneOptions;
     bool transparent = false;    ///< decided: the background is transparent (RGBA frames)
     bool exrFrames = false;      ///< --frames-format exr: linear half-float EXR frames too
     std::string contactSheet;    ///< --contact-sheet FILE.png, "" if not asked for
@@ -46,7 +50,12 @@ struct RenderJob {
     anim::FrameRanges frames() const { return anim::FrameRanges::span(first, last); }
     /// How every rank lays out the pixels of this job's tiles and frames.
     PixelLayout layout() const { return {transparent ? 4 : 3, exrFrames}; }
-    /// Identifies what a frames directory holds, for --resume.
+    /// Identifies what a frames directory holds, for --resume: a JSON object of everything that
+    /// changes a kept frame's pixels or which picture a frame index is (the scene file, the
+    /// resolved render settings, the timeline, the scene options, the frames' formats); the
+    /// input files' contents are in the manifest's digests beside it. A setting at its default
+    /// is left out where earlier manifests did not have it, so their frames still resume.
+    /// render_identity_test checks that every render option is either here or changes no pixel.
     std::string identity() const;
 };
 

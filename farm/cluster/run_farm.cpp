@@ -58,8 +58,7 @@ FramePlan planFrames(const RenderJob& job, const std::function<void(const std::s
     if (job.resume) {
         std::vector<int> corrupt;
         p.kept = keptFramesForJob(job, &corrupt);
-        for (int f : corrupt)
-            log("note: " + framePngPath(job.framesDir, f) + ": does not match the checksum recorded when it was written; rendering it again");
+        for (const std::string& note : damagedFrameNotes(job.framesDir, corrupt, p.order, job.exrFrames)) log("note: " + note);
         log("resume: " + std::to_string(p.kept.count()) + " of " + std::to_string(p.order.count()) + " frames kept in " +
             job.framesDir + ", " + std::to_string(p.order.count() - p.kept.count()) + " to render");
     }

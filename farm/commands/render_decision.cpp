@@ -14,6 +14,7 @@
 #include "farm/output/gif_sink.h"
 #include "farm/output/output_check.h"
 #include "farm/output/png_sink.h"
+#include "farm/output/run_files.h"
 #include "farm/output/video_format.h"
 #include "farm/process/interrupt.h"
 #include "farm/process/usage_error.h"
@@ -66,6 +67,7 @@ void claimOutputs(const RenderJob& job, const ArgParser& p, std::vector<OutputLo
     std::vector<std::string> inputs = {job.scenePath};
     if (auto env = p.value("--environment")) inputs.push_back(*env);
     checkOutputPaths(renderOutputs(job), inputs);
+    checkOutputsAgainstRunFiles(renderOutputs(job), job.output, job.framesDir);
     checkWritableFile(job.output);
     if (containerFor(job.output) == Container::Gif) requireGifFilters(job.output);
     for (const std::string* f : {&job.statsPath, &job.contactSheet, &job.poster})

@@ -89,6 +89,54 @@ void declareRenderOptions(ArgParser& p) {
     declareSceneOptions(p);
 }
 
+const std::vector<OptionRole>& renderOptionRoles() {
+    static const std::vector<OptionRole> roles = {
+        // The picture: each reaches the identity, resolved (the scene's own value when not given).
+        {"--size", "width height", "applyQualityOptions, over the scene's size"},
+        {"--spp", "spp", "applyQualityOptions"},
+        {"--depth", "depth", "applyQualityOptions"},
+        {"--min-weight", "min_weight", "applyQualityOptions"},
+        {"--indirect", "indirect", "applyQualityOptions"},
+        {"--bounce", "bounce bounce_moving", "applyQualityOptions"},
+        {"--tonemap", "tonemap", "applyQualityOptions"},
+        {"--exposure", "exposure", "the EV given, or the one metered for the film with auto"},
+        {"--fps", "timeline_fps", "the timeline's rate: which instant a frame index shows"},
+        {"--background", "background", "transparent or a colour: the frames' pixels and alpha"},
+        {"--frames-format", "frames_format", "exr: a linear frame kept beside each PNG, which --resume needs"},
+        {"--environment", "environment", "the environment image (its bytes are in the input digests too)"},
+        {"--environment-rotation", "environment_rotation", "SceneOptions"},
+        {"--environment-intensity", "environment_intensity", "SceneOptions"},
+        {"--ground", "ground", "SceneOptions"},
+        {"--animation", "animation", "SceneOptions: which animation plays"},
+        {"--variant", "variant", "SceneOptions: the materials shown"},
+        {"--max-texture-size", "max_texture_size", "SceneOptions: textures downsampled on load"},
+        // No pixel changes: where files go, how the video is encoded, how the work is spread.
+        {"-o", nullptr, "the video: encoded again from the frames on every run"},
+        {"--mode", nullptr, "a frame is bit-identical in pixel and frame mode"},
+        {"--frames", nullptr, "which frames are rendered; a frame's file is named by its timeline index"},
+        {"--frames-dir", nullptr, "where the frames are kept"},
+        {"--no-frames", nullptr, "keeps no frames (and refuses --resume)"},
+        {"--crf", nullptr, "the video's encoding only"},
+        {"--preset", nullptr, "the video's encoding only"},
+        {"--codec", nullptr, "the video's encoding only"},
+        {"--lossless", nullptr, "the video's encoding only"},
+        {"--chunk-frames", nullptr, "the video's encoding only"},
+        {"--stats", nullptr, "a report of the run"},
+        {"--contact-sheet", nullptr, "made from the frames"},
+        {"--poster", nullptr, "made from a frame"},
+        {"--poster-frame", nullptr, "which frame the poster shows"},
+        {"--threads", nullptr, "a frame is bit-identical at any thread count"},
+        {"--timeout", nullptr, "how long a silent worker is waited for"},
+        {"--asset-root", nullptr, "only limits where files may come from; the files read are in the input digests"},
+        {"--preview", nullptr, "a window on the frames"},
+        {"--resume", nullptr, "how the run starts"},
+        {"--overwrite", nullptr, "how the run starts"},
+        {"--help", nullptr, "prints the help"},
+        {"-h", nullptr, "prints the help"},
+    };
+    return roles;
+}
+
 namespace {
 
 /// An option's value with {name} replaced by the film's name ("" when the option is not given).
@@ -143,7 +191,7 @@ farm::RenderJob jobFromOptions(const ArgParser& p, const std::string& scene, con
         j.framesDir = p.has("--frames-dir") ? forFilm(p, "--frames-dir", name)
                                              : std::filesystem::path(j.output).replace_extension(".frames").string();
     j.statsPath = forFilm(p, "--stats", name);
-    sceneOptions(p);  // checked here, where every rank parses, before the scene is shared
+    j.sceneOptions = sceneOptions(p);  // checked here, where every rank parses, before the scene is shared
     j.modeOption = p.value("--mode").value_or("auto");
     if (j.modeOption != "auto" && j.modeOption != "pixel" && j.modeOption != "frame")
         throw UsageError("--mode: expected pixel, frame or auto, got \"" + j.modeOption + "\"");

@@ -21,6 +21,17 @@ farm::RenderJob jobFromOptions(const ArgParser& p, const std::string& scene, con
 std::vector<farm::RenderJob> jobsFromOptions(const ArgParser& p);
 /// A film's name: its scene file's name without the extension.
 std::string filmName(const std::string& scenePath);
+/// What one of render's options does to the kept frames, for --resume. An option that changes a
+/// pixel of a frame, or which picture a frame index shows, reaches RenderJob::identity() under
+/// `identityKeys`; one that does not says why. render_identity_test requires every declared
+/// option here, and each of the first kind to change the identity.
+struct OptionRole {
+    const char* option;
+    const char* identityKeys;  ///< the identity's keys its value reaches ("width height"); nullptr: no pixel changes
+    const char* why;           ///< how its value gets there, or why it changes no pixel
+};
+const std::vector<OptionRole>& renderOptionRoles();
+
 /// Parses "A:B", "A:", ":B" or "A" against a timeline of n frames (inclusive, 0-based).
 void parseFrameRange(const std::string& text, int n, int& first, int& last);
 

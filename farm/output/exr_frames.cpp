@@ -63,6 +63,7 @@ anim::FrameRanges findKeptExrFrames(const std::string& dir, const anim::FrameRan
     anim::FrameRanges kept;
     for (int f : framesInDir(dir, "exr", frames)) {
         const std::string path = frameExrPath(dir, f);
+        if (!notRegularFile(path).empty()) continue;  // a FIFO would block the reader: rendered again
         try {
             Imf::RgbaInputFile in(path.c_str(), 1);
             const Imath::Box2i dw = in.dataWindow();

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <nlohmann/json.hpp>
@@ -27,21 +28,45 @@ const char* kChecksums = "rayfarm-frames.sha256";  ///< "HEX  frame_NNNNNN.png" 
 
 uint32_t bigEndian(const unsigned char* p) { return uint32_t(p[0]) << 24 | uint32_t(p[1]) << 16 | uint32_t(p[2]) << 8 | p[3]; }
 
-bool isCompletePng(const std::string& path, int width, int height, int channels) {
-    std::ifstream f(path, std::ios::binary);
-    if (!f) return false;
-    unsigned char head[26];
-    if (!f.read(reinterpret_cast<char*>(head), sizeof head)) return false;
+bool isCompletePng(const std::string& png, int width, int height, int channels) {
+    if (png.size() < 26 + 12) return false;
+    const auto* head = reinterpret_cast<const unsigned char*>(png.data());
     static const unsigned char sig[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
     if (std::memcmp(head, sig, 8) != 0 || std::memcmp(head + 12, "IHDR", 4) != 0) return false;
     if (bigEndian(head + 16) != uint32_t(width) || bigEndian(head + 20) != uint32_t(height)) return false;
     if (head[24] != 8 || head[25] != (channels == 4 ? 6 : 2)) return false;  // 8-bit RGB (2) or RGBA (6)
-    unsigned char tail[12];
-    f.seekg(-12, std::ios::end);
-    if (!f.read(reinterpret_cast<char*>(tail), sizeof tail)) return false;
-    return std::memcmp(tail + 4, "IEND", 4) == 0;
+    return png.compare(png.size() - 8, 4, "IEND") == 0;
+}
+
+/// A kept frame's bytes, if it is a regular file: opened without blocking (a FIFO in its place
+/// would otherwise wait for a writer for good) and checked before it is read.
+bool readRegularFile(const std::string& path, std::string& bytes) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) return false;
+    struct stat st {};
+    bool ok = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
+    bytes.clear();
+    if (ok) bytes.reserve(size_t(st.st_size));
+    char buf[1 << 16];
+    for (ssize_t n; ok && (n = ::read(fd, buf, sizeof buf)) != 0;) {
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) ok = false;
+        else bytes.append(buf, size_t(n));
+    }
+    ::close(fd);
+    return ok;
 }
 }  // namespace
+
+std::string notRegularFile(const std::string& path) {
+    struct stat st {};
+    if (::stat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode)) return "";
+    if (S_ISDIR(st.st_mode)) return "a directory";
+    if (S_ISFIFO(st.st_mode)) return "a FIFO";
+    if (S_ISSOCK(st.st_mode)) return "a socket";
+    if (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode)) return "a device";
+    return "not a regular file";
+}
 
 std::string framePngPath(const std::string& dir, int frame) {
     char name[32];
@@ -110,10 +135,36 @@ std::string changedInputs(const nlohmann::json& had, const std::map<std::string,
     return out;
 }
 
+/// The settings that differ between two identities (RenderJob::identity()), each as "NAME was
+/// OLD, now NEW", a setting left out at its default as "not given"; "" when either is not an
+/// object.
+std::string changedSettings(const std::string& had, const std::string& now) {
+    const auto a = nlohmann::ordered_json::parse(had, nullptr, false), b = nlohmann::ordered_json::parse(now, nullptr, false);
+    if (!a.is_object() || !b.is_object()) return "";
+    auto shown = [](const nlohmann::ordered_json& o, const std::string& key) { return o.contains(key) ? o[key].dump() : "not given"; };
+    std::vector<std::string> keys;
+    for (auto it = b.begin(); it != b.end(); ++it) keys.push_back(it.key());
+    for (auto it = a.begin(); it != a.end(); ++it)
+        if (!b.contains(it.key())) keys.push_back(it.key());
+    std::string out;
+    for (const std::string& k : keys) {
+        if (a.contains(k) && b.contains(k) && a[k] == b[k]) continue;
+        out += (out.empty() ? "" : ", ") + k + " was " + shown(a, k) + ", now " + shown(b, k);
+    }
+    return out;
+}
+
 }  // namespace
 
 void checkFramesManifest(const std::string& dir, const std::string& identity, const std::map<std::string, std::string>& inputs) {
     const std::string path = (std::filesystem::path(dir) / kManifest).string();
+    // Read without blocking: a FIFO in their place would wait for a writer for good.
+    for (const char* name : {kManifest, kChecksums}) {
+        const std::string p = (std::filesystem::path(dir) / name).string();
+        if (const std::string what = notRegularFile(p); !what.empty())
+            throw UsageError(p + ": is " + what + ", not the frames' " + (name == kManifest ? "manifest" : "checksum list") +
+                             "; use another --frames-dir or run without --resume");
+    }
     std::ifstream f(path);
     if (!f) throw UsageError(dir + ": nothing to resume (no " + kManifest + " here; run without --resume)");
     std::stringstream ss;
@@ -122,9 +173,12 @@ void checkFramesManifest(const std::string& dir, const std::string& identity, co
     if (!j.is_object() || !j.contains("identity") || !j["identity"].is_string() || !j.contains("inputs") || !j["inputs"].is_object())
         throw UsageError(path + ": not a manifest this rayfarm can resume from (it has no input digests); run without --resume");
     const std::string have = j["identity"].get<std::string>();
-    if (have != identity)
-        throw UsageError(dir + ": its frames were rendered from a different scene or settings (" + have +
-                              "; now " + identity + "); use another --frames-dir or run without --resume");
+    if (have != identity) {
+        const std::string settings = changedSettings(have, identity);
+        throw UsageError(dir + ": cannot resume: its frames were rendered with other settings (" +
+                         (settings.empty() ? have + "; now " + identity : settings) +
+                         "); resume with the first run's settings, or use --overwrite or another --frames-dir");
+    }
     const std::string changed = changedInputs(j["inputs"], inputs);
     if (!changed.empty())
         throw UsageError(dir + ": the scene changed since its frames were rendered (" + changed +
@@ -141,11 +195,6 @@ std::map<std::string, std::string> recordedDigests(const std::string& dir) {
     while (std::getline(f, line))
         if (line.size() > 66 && line.compare(64, 2, "  ") == 0) out[line.substr(66)] = line.substr(0, 64);
     return out;
-}
-
-std::string readAll(const std::string& path) {
-    std::ifstream f(path, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(f), {});
 }
 
 }  // namespace
@@ -184,11 +233,48 @@ anim::FrameRanges findKeptFrames(const std::string& dir, const anim::FrameRanges
         const std::string path = framePngPath(dir, f);
         const auto it = recorded.find(std::filesystem::path(path).filename().string());
         // A middle bit flipped keeps header and IEND intact: only the digest tells.
-        const bool good = isCompletePng(path, width, height, channels) && it != recorded.end() && sha256Hex(readAll(path)) == it->second;
+        std::string png;
+        const bool good = it != recorded.end() && readRegularFile(path, png) && isCompletePng(png, width, height, channels) &&
+                          sha256Hex(png) == it->second;
         if (good) kept.insert(f);
         else if (corrupt) corrupt->push_back(f);
     }
     return kept;
+}
+
+std::vector<std::string> damagedFrameNotes(const std::string& dir, const std::vector<int>& corrupt, const anim::FrameRanges& frames,
+                                           bool exr) {
+    std::vector<std::string> notes;
+    auto clear = [&](const std::string& path, const std::string& what) {
+        std::error_code ec;
+        std::string where = "removed";
+        if (what == "a directory") {
+            // Someone's folder: kept, out of the frame's way (a file cannot be renamed over it).
+            std::string aside = path + ".not-a-frame";
+            for (int i = 2; std::filesystem::exists(std::filesystem::symlink_status(aside)); ++i)
+                aside = path + ".not-a-frame-" + std::to_string(i);
+            std::filesystem::rename(path, aside, ec);
+            where = "moved to " + aside;
+        } else {
+            std::filesystem::remove(path, ec);
+        }
+        if (ec) throw std::runtime_error(path + ": is " + what + " in place of a frame, and cannot be moved: " + ec.message());
+        notes.push_back(path + ": is " + what + ", not a frame (" + where + "); rendering it again");
+    };
+    for (int f : corrupt) {
+        const std::string path = framePngPath(dir, f);
+        const std::string what = notRegularFile(path);
+        if (what.empty()) notes.push_back(path + ": does not match the checksum recorded when it was written; rendering it again");
+        else clear(path, what);
+    }
+    if (exr)
+        for (int f : framesInDir(dir, "exr", frames)) {
+            char name[32];
+            std::snprintf(name, sizeof name, "frame_%06d.exr", f);
+            const std::string path = (std::filesystem::path(dir) / name).string();
+            if (const std::string what = notRegularFile(path); !what.empty()) clear(path, what);
+        }
+    return notes;
 }
 
 namespace {

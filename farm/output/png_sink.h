@@ -75,4 +75,17 @@ std::vector<int> framesInDir(const std::string& dir, const std::string& extensio
 anim::FrameRanges findKeptFrames(const std::string& dir, const anim::FrameRanges& frames, int width, int height,
                                  std::vector<int>* corrupt = nullptr, int channels = 3);
 
+/// What lies at path when it is not a regular file ("a FIFO", "a directory", "a socket", "a
+/// device"), "" when it is one or is absent. It does not open the file.
+std::string notRegularFile(const std::string& path);
+
+/// The notes for the damaged frames a resume renders again, one line each: a PNG of `corrupt`
+/// that does not match its checksum, or anything but a regular file in place of a PNG (of
+/// `corrupt`) or, with exr, of an EXR frame of `frames`. Such a thing is moved out of the
+/// frame's way first: a directory renamed FRAME.not-a-frame (its contents kept), anything else
+/// (a FIFO, a socket, a device node) removed from the frames directory. Throws
+/// std::runtime_error naming it if it cannot be moved.
+std::vector<std::string> damagedFrameNotes(const std::string& dir, const std::vector<int>& corrupt, const anim::FrameRanges& frames,
+                                           bool exr);
+
 }  // namespace rf::farm

@@ -18,6 +18,30 @@ Vec3 nodeAxis(const DMat4& renderFromNode, const glm::dvec3& a) {
 
 }  // namespace
 
+void checkPunctualLight(const tinygltf::Light& gl, bool rangeGiven, const std::string& file, int index) {
+    // As a scene file's lights are checked (json_scene_loader.cpp): a value out of range is
+    // refused, never clamped into a light that shines black.
+    const std::string where = "KHR_lights_punctual.lights[" + std::to_string(index) + "]" + (gl.name.empty() ? "" : " (\"" + gl.name + "\")");
+    auto shown = [](double v) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%g", v);
+        return std::string(text);
+    };
+    auto refuse = [&](const std::string& field, const std::string& value, const std::string& expected) {
+        throw InputError(file, where + "." + field + " " + value + ": " + expected);
+    };
+    if (gl.color.size() == 3 && (gl.color[0] < 0.0 || gl.color[1] < 0.0 || gl.color[2] < 0.0))
+        refuse("color", "[" + shown(gl.color[0]) + ", " + shown(gl.color[1]) + ", " + shown(gl.color[2]) + "]", "colour components must be ≥ 0");
+    if (gl.intensity < 0.0) refuse("intensity", shown(gl.intensity), "expected a number ≥ 0");
+    if (rangeGiven && !(gl.range > 0.0)) refuse("range", shown(gl.range), "expected a positive distance (leave range out for no limit)");
+    if (gl.type == "spot") {
+        if (gl.spot.innerConeAngle < 0.0) refuse("spot.innerConeAngle", shown(gl.spot.innerConeAngle), "expected radians ≥ 0");
+        if (!(gl.spot.outerConeAngle > 0.0)) refuse("spot.outerConeAngle", shown(gl.spot.outerConeAngle), "expected radians > 0");
+        if (gl.spot.innerConeAngle > gl.spot.outerConeAngle)
+            refuse("spot.innerConeAngle", shown(gl.spot.innerConeAngle), "must not exceed outerConeAngle " + shown(gl.spot.outerConeAngle));
+    }
+}
+
 Light punctualLight(const tinygltf::Light& gl, const DMat4& renderFromNode, const std::string& file, int index) {
     Light L;
     L.name = gl.name;

@@ -16,6 +16,12 @@ namespace rf::gltf {
 /// (candela) become intensity/π with inverse-square attenuation, so a Lambertian surface of
 /// albedo ρ at distance d facing the light shows ρ·cd/d² as the physical radiance·π would;
 /// directional lights (lux) become lux/π. Throws InputError(file, …) on non-finite values.
+/// Throws InputError(file, "KHR_lights_punctual.lights[N] (\"NAME\").FIELD VALUE: expected ...")
+/// for a value a scene file would refuse too: a negative colour component or intensity, a range
+/// given as 0 or less (rangeGiven: the file has the key; tinygltf reads a missing range as 0), a
+/// negative or zero cone angle, an inner cone angle past the outer one.
+void checkPunctualLight(const tinygltf::Light& light, bool rangeGiven, const std::string& file, int index);
+
 Light punctualLight(const tinygltf::Light& light, const DMat4& renderFromNode, const std::string& file, int index);
 
 /// Engine camera for a glTF camera on a node, looking down the node's −z with +y up (the node's

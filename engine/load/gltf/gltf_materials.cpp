@@ -1,5 +1,6 @@
 #include "engine/load/gltf/gltf_materials.h"
 
+#include <cstdio>
 #include <limits>
 
 #include "engine/util/errors.h"
@@ -20,6 +21,13 @@ double number(const tinygltf::Value& v, const char* key, double fallback) {
     if (!x.IsNumber()) return fallback;
     const double d = x.GetNumberAsDouble();
     return std::isfinite(d) ? d : fallback;
+}
+
+/// What a number looks like in a message (%g).
+std::string shown(double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return text;
 }
 
 double element(const tinygltf::Value& arr, int i, double fallback) {
@@ -112,6 +120,16 @@ void applyAlphaMode(const tinygltf::Material& gm, Material& m) {
 
 }  // namespace
 
+double MaterialBuilder::checkedIor(const tinygltf::Value& ext, const std::string& where, const std::string& name) const {
+    const double ior = number(ext, "ior", 1.5);
+    // KHR_materials_ior's schema: 1 or more, or exactly 0; an IOR below 1 would be refused by a
+    // scene file ("ior": expected a positive number) and is no medium a model describes.
+    if (!(ior >= 1.0 || ior == 0.0))
+        throw InputError(file_, where + (name.empty() ? "" : " (\"" + name + "\")") + ".extensions.KHR_materials_ior.ior " + shown(ior) +
+                                    ": expected an index of refraction of 1 or more (or 0)");
+    return ior;
+}
+
 Material MaterialBuilder::convert(const tinygltf::Material& gm, const std::string& where) {
     Material m;
     m.name = gm.name;
@@ -157,7 +175,7 @@ Material MaterialBuilder::convert(const tinygltf::Material& gm, const std::strin
     for (const auto& [name, value] : gm.extensions) {
         if (name == "KHR_materials_emissive_strength") emissiveStrength = float(std::max(0.0, number(value, "emissiveStrength", 1.0)));
         else if (name == "KHR_materials_transmission") transmission = clamp01(number(value, "transmissionFactor", 0.0));
-        else if (name == "KHR_materials_ior") m.ior = float(std::clamp(number(value, "ior", 1.5), 1.0, 10.0));
+        else if (name == "KHR_materials_ior") m.ior = float(std::clamp(checkedIor(value, where, gm.name), 1.0, 10.0));
         else if (name == "KHR_materials_specular") m.specularWeight = clamp01(number(value, "specularFactor", 1.0));
         else if (name == "KHR_materials_unlit") m.unlit = true;
         else if (name == "KHR_materials_clearcoat") readClearcoat(value, m, where + ".extensions.KHR_materials_clearcoat");

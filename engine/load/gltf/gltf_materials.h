@@ -48,6 +48,9 @@ private:
     void readSheen(const tinygltf::Value& v, Material& m, const std::string& where);
     void readVolume(const tinygltf::Value& v, Material& m, const std::string& where);
     void readSpecularGlossiness(const tinygltf::Value& v, Material& m, const std::string& where);
+    /// KHR_materials_ior's ior (1.5 when absent); throws InputError naming the material (where,
+    /// and its name) and the value when it is below 1 and not 0.
+    double checkedIor(const tinygltf::Value& ext, const std::string& where, const std::string& name) const;
     void note(const std::string& text);
 
     Scene& scene_;

@@ -215,6 +215,15 @@ void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel, int materialOve
     std::vector<uint8_t> dynamic(model_.nodes.size(), 0);
     for (int i : order_) dynamic[size_t(i)] = animatedNode_[size_t(i)] || (parent_[size_t(i)] >= 0 && dynamic[size_t(parent_[size_t(i)])]);
 
+    // Every light of the file, as a scene file's are, before anything is built from it.
+    const tinygltf::Value* rawLights = nullptr;
+    if (auto e = model_.extensions.find("KHR_lights_punctual"); e != model_.extensions.end() && e->second.Has("lights"))
+        rawLights = &e->second.Get("lights");
+    for (size_t i = 0; i < model_.lights.size(); ++i) {
+        const bool rangeGiven = rawLights && rawLights->IsArray() && i < rawLights->ArrayLen() && rawLights->Get(int(i)).Has("range");
+        checkPunctualLight(model_.lights[i], rangeGiven, path_, int(i));
+    }
+
     LoadStep step("building its meshes and materials");
     MaterialBuilder materials(scene, model_, path_, assets_);
     DropCounts dropped;

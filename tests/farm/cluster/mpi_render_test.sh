@@ -138,7 +138,7 @@ resume)
     cmp -s <(video_md5 full.mp4) <(video_md5 part.mp4) || fail "resumed video decodes differently"
     # A different size must not resume from these frames.
     if mpi 2 "${args[@]}" -o part.mp4 --resume --size 32x24 2> wrong.log; then fail "resume with other settings accepted"; fi
-    grep -q "different scene or settings" wrong.log || { cat wrong.log; fail "no clear message for mismatched resume"; }
+    grep -q "rendered with other settings (width was 64, now 32, height was 48, now 24)" wrong.log || { cat wrong.log; fail "no clear message for mismatched resume"; }
     echo "resume: 3 frames re-rendered, video identical"
     # Issue 14 #9: a kept PNG with a corrupt middle (header and IEND intact) is rendered again.
     printf 'Z' | dd of=part.frames/frame_000005.png bs=1 seek=60 conv=notrunc status=none

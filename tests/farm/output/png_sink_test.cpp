@@ -80,6 +80,23 @@ TEST(PngSink, ManifestMustMatchToResume) {
     EXPECT_NE(messageFor({{"s.json", "aa"}, {"m.glb", "bb"}, {"t.png", "cc"}}).find("t.png is new"), std::string::npos);
 }
 
+// Issue 46 #1: a resume with other settings names each setting that differs, old and new.
+TEST(PngSink, ResumeWithOtherSettingsNamesThem) {
+    const std::string dir = freshDir("farm_manifest_settings");
+    writeFramesManifest(dir, R"({"spp":1,"exposure":0.0})", {});
+    std::string message;
+    try {
+        checkFramesManifest(dir, R"({"spp":1,"exposure":0.5,"environment_rotation":90.0})", {});
+    } catch (const UsageError& e) {
+        message = e.what();
+    }
+    EXPECT_NE(message.find(dir + ": cannot resume: its frames were rendered with other settings (exposure was 0.0, now 0.5, "
+                           "environment_rotation was not given, now 90.0); resume with the first run's settings"),
+              std::string::npos)
+        << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos);
+}
+
 TEST(PngSink, InputDigestsAreSha256OfEachBundleFile) {
     FileBundle b;
     b.files["a.json"] = "abc";
