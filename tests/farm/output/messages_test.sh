@@ -2,6 +2,9 @@
 # Issue 46 #7: messages that name the file and the real problem. Real files on the real binary.
 #   lock-dir   a folder left at OUT.mp4.lock: refused, exit 2, one line naming the folder as such
 #              (not "basic_filebuf::underflow error reading the file: Is a directory")
+#   checksums  the frames folder's checksum list deleted: the resume says it is missing, in one
+#              note, renders the frames again and exits 0 (not "does not match the checksum
+#              recorded" for every frame)
 #   fifo-out   -o or --stats on a FIFO with no reader, render and still: refused at once, exit 2,
 #              one line naming the FIFO (not blocked until a signal)
 # Usage: messages_test.sh RAYFARM SOURCE_DIR WORK_DIR CASE
@@ -38,6 +41,18 @@ lock-dir)
     expect_refusal "OUT2.frames.lock: is a directory, not a lock file; remove it if no render is writing OUT2.frames" \
         "${r[@]}" -o OUT2.mp4
     echo "lock-dir: a folder at the video's or the frames' lock is named as a folder, exit 2"
+    ;;
+checksums)
+    "${r[@]}" -o a.mp4 2> a.log || { cat a.log; fail "the first run failed"; }
+    rm a.frames/rayfarm-frames.sha256
+    "${r[@]}" -o a.mp4 --resume 2> resume.log || { cat resume.log; fail "the resume failed"; }
+    grep -qx "rayfarm: note: a.frames/rayfarm-frames.sha256: missing, so the 4 kept frames cannot be checked; rendering them again" \
+        resume.log || { cat resume.log; fail "no note that the checksum list is missing"; }
+    [ "$(grep -c '^rayfarm: note:' resume.log)" -eq 1 ] || { cat resume.log; fail "expected one note"; }
+    grep -q "does not match the checksum" resume.log && { cat resume.log; fail "a frame was said to mismatch a checksum that does not exist"; }
+    grep -q "resume: 0 of 4 frames kept in a.frames, 4 to render" resume.log || { cat resume.log; fail "the frames were not rendered again"; }
+    [ -s a.frames/rayfarm-frames.sha256 ] || fail "the checksum list was not written again"
+    echo "checksums: a missing checksum list is named as missing, once; the frames are rendered again"
     ;;
 fifo-out)
     mkfifo pipe.mp4 pipe.json pipe.png
