@@ -5,6 +5,8 @@
 #   checksums  the frames folder's checksum list deleted: the resume says it is missing, in one
 #              note, renders the frames again and exits 0 (not "does not match the checksum
 #              recorded" for every frame)
+#   stats-full --stats /dev/full fails after the film: the resume command printed leaves out
+#              --stats /dev/full, says so, and works as printed
 #   fifo-out   -o or --stats on a FIFO with no reader, render and still: refused at once, exit 2,
 #              one line naming the FIFO (not blocked until a signal)
 # Usage: messages_test.sh RAYFARM SOURCE_DIR WORK_DIR CASE
@@ -53,6 +55,24 @@ checksums)
     grep -q "resume: 0 of 4 frames kept in a.frames, 4 to render" resume.log || { cat resume.log; fail "the frames were not rendered again"; }
     [ -s a.frames/rayfarm-frames.sha256 ] || fail "the checksum list was not written again"
     echo "checksums: a missing checksum list is named as missing, once; the frames are rendered again"
+    ;;
+stats-full)
+    set +e
+    "${r[@]}" -o a.mp4 --stats /dev/full 2> full.log
+    status=$?
+    set -e
+    [ "$status" -eq 1 ] || { cat full.log; fail "exit status $status, expected 1"; }
+    line=$(grep '^rayfarm: error: ' full.log) || { cat full.log; fail "no error line"; }
+    case "$line" in
+    "rayfarm: error: /dev/full: cannot write: No space left on device; finished frames are in a.frames; to resume without the --stats that could not be written: "*) ;;
+    *) fail "unexpected message: $line" ;;
+    esac
+    cmd=${line##*could not be written: }
+    case "$cmd" in *"/dev/full"*) fail "the resume command repeats the output that failed: $cmd" ;; esac
+    case "$cmd" in *" -o a.mp4 --resume") ;; *) fail "unexpected resume command: $cmd" ;; esac
+    eval "$cmd" 2> resume.log || { cat resume.log; fail "the printed resume command failed"; }
+    grep -q "resume: 4 of 4 frames kept in a.frames, 0 to render" resume.log || { cat resume.log; fail "the resume rendered again"; }
+    echo "stats-full: the resume command leaves out --stats /dev/full, says so, and works"
     ;;
 fifo-out)
     mkfifo pipe.mp4 pipe.json pipe.png
