@@ -4,7 +4,7 @@
 #              (not "basic_filebuf::underflow error reading the file: Is a directory")
 #   checksums  the frames folder's checksum list deleted: the resume says it is missing, in one
 #              note, renders the frames again and exits 0 (not "does not match the checksum
-#              recorded" for every frame)
+#              recorded" for every frame); a frame the list does not name is said to have none
 #   stats-full --stats /dev/full fails after the film: the resume command printed leaves out
 #              --stats /dev/full, says so, and works as printed
 #   fifo-out   -o or --stats on a FIFO with no reader, render and still: refused at once, exit 2,
@@ -54,7 +54,14 @@ checksums)
     grep -q "does not match the checksum" resume.log && { cat resume.log; fail "a frame was said to mismatch a checksum that does not exist"; }
     grep -q "resume: 0 of 4 frames kept in a.frames, 4 to render" resume.log || { cat resume.log; fail "the frames were not rendered again"; }
     [ -s a.frames/rayfarm-frames.sha256 ] || fail "the checksum list was not written again"
-    echo "checksums: a missing checksum list is named as missing, once; the frames are rendered again"
+    # One frame the list does not name (a run killed between writing it and listing it).
+    "${r[@]}" -o b.mp4 2> b.log || { cat b.log; fail "the second run failed"; }
+    grep -v ' frame_000002\.png$' b.frames/rayfarm-frames.sha256 > sums && mv sums b.frames/rayfarm-frames.sha256
+    "${r[@]}" -o b.mp4 --resume 2> resume_b.log || { cat resume_b.log; fail "the resume of b failed"; }
+    grep -qx "rayfarm: note: b.frames/frame_000002.png: no checksum recorded for it in b.frames/rayfarm-frames.sha256 (its run stopped before listing it); rendering it again" \
+        resume_b.log || { cat resume_b.log; fail "no note that frame 2 has no checksum"; }
+    grep -q "resume: 3 of 4 frames kept in b.frames, 1 to render" resume_b.log || { cat resume_b.log; fail "frame 2 was not rendered again"; }
+    echo "checksums: a missing checksum list is named as missing, once, and a frame not listed as such; they are rendered again"
     ;;
 stats-full)
     set +e
