@@ -29,6 +29,13 @@ std::string getBytes(const std::string& in, size_t& pos, uint64_t n) {
     pos += n;
     return s;
 }
+/// What a file that is not a regular one is, for a message.
+std::string kindOf(mode_t mode) {
+    if (S_ISDIR(mode)) return "a directory";
+    if (S_ISFIFO(mode)) return "a FIFO";
+    if (S_ISSOCK(mode)) return "a socket";
+    return "a device";
+}
 }  // namespace
 
 std::string FileBundle::serialize() const {
@@ -71,7 +78,7 @@ std::string DiskFileSource::read(const std::string& path, uint64_t maxBytes) {
     if (auto it = bundle_.files.find(path); it != bundle_.files.end()) return it->second;
     struct stat st {};
     if (::stat(path.c_str(), &st) != 0) throw InputError(path, std::string("cannot open: ") + std::strerror(errno));
-    if (!S_ISREG(st.st_mode)) throw InputError(path, "not a regular file");
+    if (!S_ISREG(st.st_mode)) throw InputError(path, "not a regular file but " + kindOf(st.st_mode));
     if (static_cast<uint64_t>(st.st_size) > maxBytes)
         throw InputError(path, "file is " + std::to_string(st.st_size) + " bytes, over the limit of " + std::to_string(maxBytes));
     std::ifstream f(path, std::ios::binary);
@@ -85,7 +92,7 @@ std::string DiskFileSource::read(const std::string& path, uint64_t maxBytes) {
 
 bool DiskFileSource::exists(const std::string& path) {
     struct stat st {};
-    return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+    return ::stat(path.c_str(), &st) == 0;
 }
 
 std::string BundleFileSource::read(const std::string& path, uint64_t maxBytes) {

@@ -25,6 +25,8 @@ public:
     virtual ~FileSource() = default;
     /// Whole file; throws InputError(path, …) if it cannot be read or exceeds maxBytes.
     virtual std::string read(const std::string& path, uint64_t maxBytes = kDefaultMaxBytes) = 0;
+    /// Whether anything is at path, a regular file or not: read() says what is wrong with it
+    /// (so a FIFO or a folder is reported as one, not as missing).
     virtual bool exists(const std::string& path) = 0;
     /// The path with symbolic links resolved, for confinement checks (gltf_safety.h); nullopt
     /// where no disk answers. Default: the local file system.

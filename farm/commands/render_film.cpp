@@ -80,8 +80,14 @@ int runRank0(MpiTransport& t, const RenderJob& job, SharedScene& shared, const s
     } catch (const std::exception& e) {
         // A failed write (a full disk) keeps the frames done so far: say how to go on.
         if (job.framesDir.empty()) throw;
-        throw std::runtime_error(std::string(e.what()) + "; finished frames are in " + job.framesDir +
-                                 "; to resume: " + resumeCommand(args, t.size()));
+        // An extra output that failed (--stats /dev/full) would fail the resume again: left out.
+        const std::string what = e.what();
+        std::string failed;
+        for (const auto& [option, path] : renderOutputs(job))
+            if (option != "-o" && option != "--frames-dir" && !path.empty() && what.rfind(path + ":", 0) == 0) failed = option;
+        throw std::runtime_error(what + "; finished frames are in " + job.framesDir + "; to resume" +
+                                 (failed.empty() ? "" : " without the " + failed + " that could not be written") + ": " +
+                                 resumeCommand(args, t.size(), failed));
     }
     if (o.abortRanks) t.abort(code);  // a lost worker cannot be stopped politely, and mpirun waits for it
     return code;

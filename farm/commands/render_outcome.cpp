@@ -45,13 +45,19 @@ void recordInterruption(const RenderJob& job, const FarmOutcome& o, int sig, con
 
 }  // namespace
 
-std::string resumeCommand(const std::vector<std::string>& args, int ranks) {
+std::string resumeCommand(const std::vector<std::string>& args, int ranks, const std::string& leaveOut) {
     // Under mpirun, mpirun's own options (--oversubscribe, --hostfile, --mca ...) come along.
     const std::string launcher = launcherPrefix(ranks);
     std::string cmd = (launcher.empty() ? std::string() : launcher + " ") + shellQuote(invokedAs()) + " render";
     bool hasResume = false;
-    for (const std::string& a : args) {
+    for (size_t i = 0; i < args.size(); ++i) {
+        const std::string& a = args[i];
         if (a == "--overwrite") continue;  // it would throw away the frames the resume keeps
+        if (!leaveOut.empty() && a == leaveOut) {  // "--stats FILE": the option and its value
+            ++i;
+            continue;
+        }
+        if (!leaveOut.empty() && a.rfind(leaveOut + "=", 0) == 0) continue;
         cmd += ' ';
         cmd += shellQuote(a);
         hasResume = hasResume || a == "--resume";

@@ -15,6 +15,12 @@ namespace rf {
 void checkWritableFile(const std::string& path) {
     const bool existed = ::access(path.c_str(), F_OK) == 0;
     if (existed && std::filesystem::is_directory(path)) throw UsageError(path + ": cannot write: is a directory");
+    // Opening a FIFO for writing waits for a reader, for good if none comes; a socket cannot be
+    // opened at all. Devices (/dev/null, /dev/full) are written in place.
+    struct stat st {};
+    if (existed && ::stat(path.c_str(), &st) == 0 && (S_ISFIFO(st.st_mode) || S_ISSOCK(st.st_mode)))
+        throw UsageError(path + ": cannot write: is " + (S_ISFIFO(st.st_mode) ? "a FIFO" : "a socket") +
+                         ", not a regular file (an output is written as a file; name one)");
     const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT, 0644);
     if (fd < 0) throw UsageError(path + ": cannot write: " + std::strerror(errno));
     ::close(fd);

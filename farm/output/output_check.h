@@ -7,7 +7,8 @@
 namespace rf {
 
 /// Throws UsageError ("PATH: cannot write: reason") unless path can be created or
-/// overwritten. Leaves no file behind that was not there before.
+/// overwritten. A directory, a FIFO (opening it would wait for a reader) and a socket are
+/// refused without being opened. Leaves no file behind that was not there before.
 void checkWritableFile(const std::string& path);
 
 /// Creates the directory (and parents) if needed; throws UsageError if it cannot.

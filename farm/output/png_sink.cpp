@@ -261,12 +261,24 @@ std::vector<std::string> damagedFrameNotes(const std::string& dir, const std::ve
         if (ec) throw std::runtime_error(path + ": is " + what + " in place of a frame, and cannot be moved: " + ec.message());
         notes.push_back(path + ": is " + what + ", not a frame (" + where + "); rendering it again");
     };
+    // Without the checksum list no frame can be checked: one note says so, not one a frame.
+    const std::string sums = (std::filesystem::path(dir) / kChecksums).string();
+    std::error_code ec;
+    const bool haveSums = std::filesystem::exists(std::filesystem::symlink_status(sums, ec));
+    const std::map<std::string, std::string> recorded = haveSums ? recordedDigests(dir) : std::map<std::string, std::string>();
+    int unchecked = 0;
     for (int f : corrupt) {
         const std::string path = framePngPath(dir, f);
         const std::string what = notRegularFile(path);
-        if (what.empty()) notes.push_back(path + ": does not match the checksum recorded when it was written; rendering it again");
-        else clear(path, what);
+        if (!what.empty()) clear(path, what);
+        else if (!haveSums) ++unchecked;
+        else if (!recorded.count(std::filesystem::path(path).filename().string()))
+            notes.push_back(path + ": no checksum recorded for it in " + sums + " (its run stopped before listing it); rendering it again");
+        else notes.push_back(path + ": does not match the checksum recorded when it was written; rendering it again");
     }
+    if (unchecked)
+        notes.push_back(sums + ": missing, so the " + std::to_string(unchecked) + " kept frame" + (unchecked == 1 ? "" : "s") +
+                        " cannot be checked; rendering " + (unchecked == 1 ? "it" : "them") + " again");
     if (exr)
         for (int f : framesInDir(dir, "exr", frames)) {
             char name[32];

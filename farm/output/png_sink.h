@@ -80,7 +80,8 @@ anim::FrameRanges findKeptFrames(const std::string& dir, const anim::FrameRanges
 std::string notRegularFile(const std::string& path);
 
 /// The notes for the damaged frames a resume renders again, one line each: a PNG of `corrupt`
-/// that does not match its checksum, or anything but a regular file in place of a PNG (of
+/// that does not match its checksum or has none recorded (one line for them all when the
+/// checksum list itself is missing), or anything but a regular file in place of a PNG (of
 /// `corrupt`) or, with exr, of an EXR frame of `frames`. Such a thing is moved out of the
 /// frame's way first: a directory renamed FRAME.not-a-frame (its contents kept), anything else
 /// (a FIFO, a socket, a device node) removed from the frames directory. Throws

@@ -45,8 +45,20 @@ tinygltf::Model parseGltf(const std::string& path, FileSource& fs, const AssetOp
     if (!ok) {
         // tinygltf says "File not found : NAME"; say which kind of file is missing, and where.
         std::string msg = firstLine(err);
-        const std::string nf = "File not found : ";
+        const std::string nf = "File not found : ", re = "File read error : ";
         if (msg.rfind(nf, 0) == 0) msg = "cannot find \"" + msg.substr(nf.size()) + "\" in the model's folder";
+        // "File read error : FILE : FILE: not a regular file but a FIFO": the file and what is
+        // wrong with it, as FileSource::read said, with the model that names it.
+        if (msg.rfind(re, 0) == 0) {
+            const std::string rest = msg.substr(re.size());
+            const size_t sep = rest.find(" : ");
+            if (sep != std::string::npos) {
+                const std::string file = rest.substr(0, sep);
+                std::string why = rest.substr(sep + 3);
+                if (why.rfind(file + ": ", 0) == 0) why = why.substr(file.size() + 2);
+                throw InputError(file, why + " (named by " + path + ")");
+            }
+        }
         throw InputError(path, msg);
     }
     if (!warn.empty()) notes.push_back(firstLine(warn));
