@@ -13,28 +13,18 @@ cd "$WORK"
 cp "$BOX"/* .
 rm BoxTextured0.bin
 
-fail() { echo "FAIL: $*" >&2; exit 1; }
-expect_refusal() {  # pattern command...
-    local pattern=$1 err status
-    shift
-    set +e
-    err=$(timeout 20 "$@" 2>&1 >/dev/null)
-    status=$?
-    set -e
-    [ "$status" -eq 2 ] || fail "$*: exit status $status, expected 2 ($err)"
-    [ "$(printf '%s\n' "$err" | wc -l)" -eq 1 ] || fail "$*: expected one error line, got: $err"
-    [ "$err" = "rayfarm: error: $pattern" ] || fail "$*: unexpected message: $err"
-}
+. "$(dirname "$0")/../../lib/refusal.sh"  # fail, expect_refusal
+export REFUSAL_TIMEOUT=20
 still=("$RAYFARM" still BoxTextured.gltf --size 32x24 -o box.png)
 render=("$RAYFARM" render BoxTextured.gltf --size 32x24 --frames 0:1 -o box.mp4)
 
 mkfifo BoxTextured0.bin
-expect_refusal "BoxTextured0.bin: not a regular file but a FIFO (named by BoxTextured.gltf)" "${still[@]}"
-expect_refusal "BoxTextured0.bin: not a regular file but a FIFO (named by BoxTextured.gltf)" "${render[@]}"
+expect_refusal --exact "BoxTextured0.bin: not a regular file but a FIFO (named by BoxTextured.gltf)" "${still[@]}"
+expect_refusal --exact "BoxTextured0.bin: not a regular file but a FIFO (named by BoxTextured.gltf)" "${render[@]}"
 rm BoxTextured0.bin
 mkdir BoxTextured0.bin
-expect_refusal "BoxTextured0.bin: not a regular file but a directory (named by BoxTextured.gltf)" "${still[@]}"
+expect_refusal --exact "BoxTextured0.bin: not a regular file but a directory (named by BoxTextured.gltf)" "${still[@]}"
 rmdir BoxTextured0.bin
-expect_refusal "BoxTextured.gltf: cannot find \"BoxTextured0.bin\" in the model's folder" "${still[@]}"
+expect_refusal --exact "BoxTextured.gltf: cannot find \"BoxTextured0.bin\" in the model's folder" "${still[@]}"
 [ ! -e box.png ] && [ ! -e box.mp4 ] || fail "an output was written"
 echo "a FIFO or a folder as a glTF buffer is named as one, exit 2; a missing one is missing"

@@ -11,18 +11,7 @@ mkdir -p "$WORK"
 cd "$WORK"
 cp "$BOX"/* .
 
-fail() { echo "FAIL: $*" >&2; exit 1; }
-expect_refusal() {  # pattern command...
-    local pattern=$1 err status
-    shift
-    set +e
-    err=$(timeout 60 "$@" 2>&1 >/dev/null)
-    status=$?
-    set -e
-    [ "$status" -eq 2 ] || fail "$*: exit status $status, expected 2 ($err)"
-    [ "$(printf '%s\n' "$err" | wc -l)" -eq 1 ] || fail "$*: expected one error line, got: $err"
-    case "$err" in "rayfarm: error: "*"$pattern"*) ;; *) fail "$*: unexpected message: $err" ;; esac
-}
+. "$(dirname "$0")/../../lib/refusal.sh"  # fail, expect_refusal
 # variant NAME 'LIGHT JSON' ['MATERIAL EXTENSIONS JSON']: BoxTextured lit by LIGHT, as NAME.gltf.
 variant() {
     python3 - "$1" "$2" "${3:-}" <<'PY'

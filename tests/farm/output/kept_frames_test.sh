@@ -18,19 +18,7 @@ rm -rf "$WORK"
 mkdir -p "$WORK"
 cd "$WORK"
 
-fail() { echo "FAIL: $*" >&2; exit 1; }
-# A usage error: exactly one line "rayfarm: error: ...PATTERN..." and exit status 2.
-expect_refusal() {  # pattern command...
-    local pattern=$1 err status
-    shift
-    set +e
-    err=$(timeout 60 "$@" 2>&1 >/dev/null)
-    status=$?
-    set -e
-    [ "$status" -eq 2 ] || fail "$*: exit status $status, expected 2 ($err)"
-    [ "$(printf '%s\n' "$err" | wc -l)" -eq 1 ] || fail "$*: expected one error line, got: $err"
-    case "$err" in "rayfarm: error: "*"$pattern"*) ;; *) fail "$*: unexpected message: $err" ;; esac
-}
+. "$(dirname "$0")/../../lib/refusal.sh"  # fail, expect_refusal
 pngs() { (cd "$1" && sha256sum frame_*.png); }
 
 r=("$RAYFARM" render "$SCENE" --size 32x18 --frames 0:11)

@@ -17,30 +17,19 @@ rm -rf "$WORK"
 mkdir -p "$WORK"
 cd "$WORK"
 
-fail() { echo "FAIL: $*" >&2; exit 1; }
-# A usage error: exactly one line "rayfarm: error: PATTERN..." and exit status 2, within 20 s.
-expect_refusal() {  # pattern command...
-    local pattern=$1 err status
-    shift
-    set +e
-    err=$(timeout 20 "$@" 2>&1 >/dev/null)
-    status=$?
-    set -e
-    [ "$status" -eq 2 ] || fail "$*: exit status $status, expected 2 ($err)"
-    [ "$(printf '%s\n' "$err" | wc -l)" -eq 1 ] || fail "$*: expected one error line, got: $err"
-    case "$err" in "rayfarm: error: $pattern"*) ;; *) fail "$*: unexpected message: $err" ;; esac
-}
+. "$(dirname "$0")/../../lib/refusal.sh"  # fail, expect_refusal
+export REFUSAL_TIMEOUT=20
 
 r=("$RAYFARM" render "$SCENE" --size 32x18 --frames 0:3)
 
 case "$CASE" in
 lock-dir)
     mkdir OUT.mp4.lock
-    expect_refusal "OUT.mp4.lock: is a directory, not a lock file; remove it if no render is writing OUT.mp4" "${r[@]}" -o OUT.mp4
+    expect_refusal --prefix "OUT.mp4.lock: is a directory, not a lock file; remove it if no render is writing OUT.mp4" "${r[@]}" -o OUT.mp4
     [ -d OUT.mp4.lock ] || fail "the folder at the lock was removed"
     [ ! -e OUT.mp4 ] || fail "a video was written"
     mkdir OUT2.frames.lock
-    expect_refusal "OUT2.frames.lock: is a directory, not a lock file; remove it if no render is writing OUT2.frames" \
+    expect_refusal --prefix "OUT2.frames.lock: is a directory, not a lock file; remove it if no render is writing OUT2.frames" \
         "${r[@]}" -o OUT2.mp4
     echo "lock-dir: a folder at the video's or the frames' lock is named as a folder, exit 2"
     ;;
@@ -83,10 +72,10 @@ stats-full)
     ;;
 fifo-out)
     mkfifo pipe.mp4 pipe.json pipe.png
-    expect_refusal "pipe.mp4: cannot write: is a FIFO, not a regular file" "${r[@]}" -o pipe.mp4
-    expect_refusal "pipe.json: cannot write: is a FIFO, not a regular file" "${r[@]}" -o a.mp4 --stats pipe.json
-    expect_refusal "pipe.png: cannot write: is a FIFO, not a regular file" "$RAYFARM" still "$SCENE" --size 32x18 -o pipe.png
-    expect_refusal "pipe.json: cannot write: is a FIFO, not a regular file" "$RAYFARM" still "$SCENE" --size 32x18 -o a.png --stats pipe.json
+    expect_refusal --prefix "pipe.mp4: cannot write: is a FIFO, not a regular file" "${r[@]}" -o pipe.mp4
+    expect_refusal --prefix "pipe.json: cannot write: is a FIFO, not a regular file" "${r[@]}" -o a.mp4 --stats pipe.json
+    expect_refusal --prefix "pipe.png: cannot write: is a FIFO, not a regular file" "$RAYFARM" still "$SCENE" --size 32x18 -o pipe.png
+    expect_refusal --prefix "pipe.json: cannot write: is a FIFO, not a regular file" "$RAYFARM" still "$SCENE" --size 32x18 -o a.png --stats pipe.json
     [ -p pipe.mp4 ] && [ -p pipe.json ] && [ -p pipe.png ] || fail "a FIFO was replaced"
     [ ! -e a.mp4 ] && [ ! -e a.png ] || fail "an output was written"
     echo "fifo-out: -o and --stats on a FIFO refused at once, exit 2, by render and still"
