@@ -20,8 +20,9 @@ namespace rffuzz {
 inline void loadAndAnimate(rf::FileBundle bundle, const std::string& path) {
     try {
         rf::BundleFileSource fs(std::move(bundle));
-        rf::Scene scene = rf::loadScene(path, fs);
-        const rf::anim::Timeline tl = rf::anim::Timeline::fromScene(scene);
+        rf::LoadedScene loaded = rf::loadScene(path, fs);
+        rf::Scene& scene = loaded.scene;
+        const rf::anim::Timeline tl = rf::anim::Timeline::fromScene(loaded);
         tl.applyFrame(scene, 0);
         tl.applyFrame(scene, tl.frameCount() - 1);
     } catch (const rf::InputError&) {
