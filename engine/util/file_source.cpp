@@ -34,9 +34,17 @@ std::string kindOf(mode_t mode) {
     if (S_ISDIR(mode)) return "a directory";
     if (S_ISFIFO(mode)) return "a FIFO";
     if (S_ISSOCK(mode)) return "a socket";
+    if (S_ISLNK(mode)) return "a symbolic link";
     return "a device";
 }
 }  // namespace
+
+std::string notRegularFile(const std::string& path, bool followLinks) {
+    struct stat st {};
+    const int rc = followLinks ? ::stat(path.c_str(), &st) : ::lstat(path.c_str(), &st);
+    if (rc != 0 || S_ISREG(st.st_mode)) return "";
+    return kindOf(st.st_mode);
+}
 
 std::string FileBundle::serialize() const {
     std::string out;

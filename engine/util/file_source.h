@@ -9,6 +9,11 @@
 
 namespace rf {
 
+/// What lies at path when it is not a regular file, for a message: "a directory", "a FIFO",
+/// "a socket", "a device", and without followLinks "a symbolic link"; "" when it is a regular
+/// file or nothing is there. It never opens the file (a FIFO would block).
+std::string notRegularFile(const std::string& path, bool followLinks = true);
+
 /// Files by path, as read by a loader.
 struct FileBundle {
     std::map<std::string, std::string> files;

@@ -8,6 +8,7 @@
 #include <OpenEXR/ImfArray.h>
 #include <OpenEXR/ImfRgbaFile.h>
 
+#include "engine/util/file_source.h"
 #include "farm/output/png_sink.h"
 
 namespace rf::farm {

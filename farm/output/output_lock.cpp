@@ -13,6 +13,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "engine/util/file_source.h"
 #include "farm/process/usage_error.h"
 
 namespace rf {
@@ -123,18 +124,6 @@ bool isStale(const Holder& h, const std::string& host, const std::string& boot, 
     return false;
 }
 
-/// What lies at a lock file's path when it is not a regular file ("a directory", "a FIFO", ...);
-/// "" when it is one or nothing is there. Not followed: a lock is never a link.
-std::string notALockFile(const std::string& path) {
-    struct stat st {};
-    if (::lstat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode)) return "";
-    if (S_ISDIR(st.st_mode)) return "a directory";
-    if (S_ISFIFO(st.st_mode)) return "a FIFO";
-    if (S_ISLNK(st.st_mode)) return "a symbolic link";
-    if (S_ISSOCK(st.st_mode)) return "a socket";
-    return "a device";
-}
-
 /// Creates `path` holding `content`, failing if it exists (errno EEXIST).
 bool createExclusive(const std::string& path, const std::string& content) {
     const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
@@ -203,8 +192,8 @@ OutputLock::OutputLock(const std::string& path, std::string* note) {
             return;
         }
         // A directory (or a FIFO, ...) where the lock goes is no lock: reading it would fail
-        // ("Is a directory") or wait for a writer for good.
-        if (const std::string what = notALockFile(lockPath); !what.empty())
+        // ("Is a directory") or wait for a writer for good. Not followed: a lock is never a link.
+        if (const std::string what = notRegularFile(lockPath, /*followLinks=*/false); !what.empty())
             throw UsageError(lockPath + ": is " + what + ", not a lock file; remove it if no render is writing " + path);
         bool ok = false;
         const std::string theirs = readAll(lockPath, ok);

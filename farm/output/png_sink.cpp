@@ -58,16 +58,6 @@ bool readRegularFile(const std::string& path, std::string& bytes) {
 }
 }  // namespace
 
-std::string notRegularFile(const std::string& path) {
-    struct stat st {};
-    if (::stat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode)) return "";
-    if (S_ISDIR(st.st_mode)) return "a directory";
-    if (S_ISFIFO(st.st_mode)) return "a FIFO";
-    if (S_ISSOCK(st.st_mode)) return "a socket";
-    if (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode)) return "a device";
-    return "not a regular file";
-}
-
 std::string framePngPath(const std::string& dir, int frame) {
     char name[32];
     std::snprintf(name, sizeof name, "frame_%06d.png", frame);

@@ -75,10 +75,6 @@ std::vector<int> framesInDir(const std::string& dir, const std::string& extensio
 anim::FrameRanges findKeptFrames(const std::string& dir, const anim::FrameRanges& frames, int width, int height,
                                  std::vector<int>* corrupt = nullptr, int channels = 3);
 
-/// What lies at path when it is not a regular file ("a FIFO", "a directory", "a socket", "a
-/// device"), "" when it is one or is absent. It does not open the file.
-std::string notRegularFile(const std::string& path);
-
 /// The notes for the damaged frames a resume renders again, one line each: a PNG of `corrupt`
 /// that does not match its checksum or has none recorded (one line for them all when the
 /// checksum list itself is missing), or anything but a regular file in place of a PNG (of
