@@ -176,10 +176,11 @@ std::vector<GatherHit> gatherPoint(const Scene& scene, const BouncePoint& bp, ui
             if (!scene.geometry.intersect(r, hit, skip)) break;
             const SurfaceInteraction hs = scene.geometry.interaction(r, hit);
             const Material& m = scene.materials[size_t(hs.material)];
-            const float transmission = m.gltfPbr && m.transmission > 0.f ? gltfTransmission(scene, hs) : 0.f;
-            if (transmission > 0.f && crossing < kGlassCrossings) {
-                // Looked through, unbent: glass passes the bounce on as its shadows pass light.
-                g.through *= transmission * baseColor(scene, hs);
+            const Color passing = m.gltfPbr && m.seesThrough() ? gltfPassing(scene, hs, 0.f) : Color(0.f);
+            if (passing != Color(0.f) && crossing < kGlassCrossings) {
+                // Looked through, unbent: glass (and a blended surface's uncovered share) passes
+                // the bounce on as its shadows pass light.
+                g.through *= passing;
                 skip = scene.geometry.skipFor(hs, dir);
                 r.o = skip == hs.prim ? hs.p : offsetRayOrigin(hs.p, hs.pError, hs.ng, dir);
                 continue;
@@ -362,7 +363,7 @@ void BounceCache::light(const Scene& scene, int threads) {
     const size_t n = g.points.size();
     std::vector<Color> direct(n);
     bool seeThrough = false;
-    for (const Material& m : scene.materials) seeThrough |= m.gltfPbr && m.transmission > 0.f;
+    for (const Material& m : scene.materials) seeThrough |= m.gltfPbr && m.seesThrough();
     // The radiance leaving one place on a surface: emission and the diffuse reflection of the
     // lights that reach it.
     auto leavingAt = [&](const BouncePoint& bp, RayStats& stats, ShadowBlockers& blockers) {

@@ -128,8 +128,10 @@ bool castOnto(const Scene& scene, const Vec3& p0, const Vec3& p1, const Vec3& p2
     if (bp.si.mesh < 0 || !bounceSurface(scene, bp.si.mesh)) return false;
     bp.frame = shadingFrame(scene, bp.si, ng);
     const GltfSample gs = gltfSample(scene, bp.si);
-    bp.albedo = gs.surface.baseColor * (1.f - gs.surface.metallic) * (1.f - gs.transmission);
-    bp.emission = gs.emission;
+    // A blended surface (alphaMode BLEND) reflects and glows with its covered share only.
+    const float cover = gltfCoverage(scene, bp.si);
+    bp.albedo = gs.surface.baseColor * (1.f - gs.surface.metallic) * (1.f - gs.transmission) * cover;
+    bp.emission = gs.emission * cover;
     return true;
 }
 

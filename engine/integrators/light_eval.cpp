@@ -84,15 +84,15 @@ Color ShadowRays::transmittance(const Light& L, const LightIncidence& li, bool b
         if (!scene_.geometry.intersect(sr, hit, skip)) return t;
         const SurfaceInteraction hs = scene_.geometry.interaction(sr, hit);
         const Material& m = scene_.materials[hs.material];
-        const float transmission = m.gltfPbr && m.transmission > 0.f ? gltfTransmission(scene_, hs) : 0.f;
-        if (!(transmission > 0.f)) return Color(0.f);  // opaque, or metal (no transmission)
+        if (!m.gltfPbr || !m.seesThrough()) return Color(0.f);  // opaque
         // Fresnel at the smooth surface the shading normal describes (as refraction uses it),
         // the facet's where the two disagree about which side the ray comes from.
         const bool entering = glm::dot(sr.d, hs.ng) < 0.f;
         const float cosNs = glm::dot(sr.d, hs.ns);
         const float cosI = (cosNs < 0.f) == entering && cosNs != 0.f ? std::abs(cosNs) : std::abs(glm::dot(sr.d, hs.ng));
-        const float F = fresnelDielectric(cosI, entering ? m.ior : 1.f / m.ior);
-        t *= transmission * (1.f - F) * baseColor(scene_, hs);
+        const float F = m.transmission > 0.f ? fresnelDielectric(cosI, entering ? m.ior : 1.f / m.ior) : 0.f;
+        // Metal transmits nothing; a blended surface passes its uncovered share untinted.
+        t *= gltfPassing(scene_, hs, F);
         // Leaving a volume (KHR_materials_volume): Beer–Lambert over the way inside, from the
         // surface the ray entered by (or the shading point, inside) to here.
         if (!entering && m.volume() && m.attenuation != Color(0.f) && gltfThickness(scene_, hs) > 0.f)

@@ -73,6 +73,23 @@ float gltfTransmission(const Scene& scene, const SurfaceInteraction& si) {
     return m.transmission * (1.f - metallic);
 }
 
+float gltfCoverage(const Scene& scene, const SurfaceInteraction& si) {
+    const Material& m = scene.materials[si.material];
+    if (m.alphaMode != AlphaMode::Blend) return 1.f;
+    float alpha = 1.f;
+    baseColor(scene, si, &alpha);
+    return std::isfinite(alpha) ? std::clamp(alpha, 0.f, 1.f) : 1.f;
+}
+
+Color gltfPassing(const Scene& scene, const SurfaceInteraction& si, float F) {
+    const Material& m = scene.materials[si.material];
+    const float cover = gltfCoverage(scene, si);
+    const float transmission = m.transmission > 0.f ? gltfTransmission(scene, si) : 0.f;
+    Color through(1.f - cover);
+    if (transmission > 0.f) through += cover * transmission * (1.f - F) * baseColor(scene, si);
+    return through;
+}
+
 float gltfThickness(const Scene& scene, const SurfaceInteraction& si) {
     const Material& m = scene.materials[si.material];
     if (m.thicknessTexture < 0 || !(m.thickness > 0.f)) return m.thickness;

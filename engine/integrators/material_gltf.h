@@ -27,6 +27,16 @@ GltfSample gltfSample(const Scene& scene, const SurfaceInteraction& si);
 /// the factor as it is). gltfSample's transmission is the same number.
 float gltfTransmission(const Scene& scene, const SurfaceInteraction& si);
 
+/// alphaMode BLEND at si: the share of the surface that is there, alpha factor × base-colour
+/// texture alpha × vertex alpha in [0, 1]; the rest (1 − coverage) lets light pass unbent and
+/// untinted, as blending over what is behind it does. 1 for OPAQUE and MASK materials.
+float gltfCoverage(const Scene& scene, const SurfaceInteraction& si);
+
+/// What a ray passing si straight on (a shadow ray, a bounce ray looking through) keeps: the
+/// blended-away share (1 − coverage), plus on the covered share the transmission (Fresnel F at
+/// the surface taken away) tinted by the base colour. 0 for an opaque surface.
+Color gltfPassing(const Scene& scene, const SurfaceInteraction& si, float F);
+
 /// KHR_materials_volume's thickness at si: factor × the thickness texture's G (0: thin-walled).
 float gltfThickness(const Scene& scene, const SurfaceInteraction& si);
 

@@ -27,7 +27,7 @@ void placeGround(Scene& scene, Ground ground) {
 }
 
 ShadowCatcher::ShadowCatcher(const Scene& scene) : scene_(scene), y_(scene.shadowCatcherHeight.value_or(0.f)) {
-    for (const Material& m : scene.materials) seeThrough_ |= m.gltfPbr && m.transmission > 0.f;
+    for (const Material& m : scene.materials) seeThrough_ |= m.gltfPbr && m.seesThrough();
     const Aabb b = scene.geometry.bounds();
     if (!b.empty()) {
         const Vec3 e = b.extent();

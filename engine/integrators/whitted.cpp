@@ -20,7 +20,8 @@ WhittedTracer::WhittedTracer(const Scene& scene, const RenderSettings& settings,
     for (const Material& m : scene.materials)
         specFloor_.push_back(m.shininess > 0.f ? std::exp2(-40.f / m.shininess) : 0.f);
     displayScale_ = exposureScale(settings.exposure);
-    for (const Material& m : scene.materials) seeThroughShadows_ |= m.gltfPbr && m.transmission > 0.f;
+    for (const Material& m : scene.materials) seeThroughShadows_ |= m.gltfPbr && m.seesThrough();
+    for (const Material& m : scene.materials) blending_ |= m.gltfPbr && m.alphaMode == AlphaMode::Blend;
     if (scene.shadowCatcherHeight) catcher_.emplace(scene);
     // renderRect built it on all its threads already; a tracer made alone builds its own.
     SceneCacheSlot own;
@@ -125,7 +126,7 @@ Color WhittedTracer::primaryLi(const Ray& r, bool met, const Hit& h, uint64_t se
     if (catcher_ && catcher_->hit(r, met ? h.t : kInf, tGround)) return groundLi(r, tGround, stats, coverage);
     if (coverage) *coverage = met ? 1.f : 0.f;
     if (!met) return scene_.transparentBackground ? Color(0.f) : primaryMiss(r.d);
-    return traceHit(r, h, 1, Color(1.f), stats, seed);
+    return traceHit(r, h, 1, Color(1.f), stats, seed, coverage);
 }
 
 Color WhittedTracer::groundLi(const Ray& r, float t, RayStats& stats, float* coverage) const {
@@ -162,8 +163,43 @@ Color WhittedTracer::volumeTransmittance(const SurfaceInteraction& si, float t) 
 }
 
 Color WhittedTracer::traceHit(const Ray& r, const Hit& hit, int depth, const Color& weight, RayStats& stats,
-                              uint64_t seed) const {
-    const SurfaceInteraction si = scene_.geometry.interaction(r, hit);
+                              uint64_t seed, float* coverage) const {
+    if (coverage) *coverage = 1.f;
+    if (!blending_) return surfaceHit(r, scene_.geometry.interaction(r, hit), depth, weight, stats, seed);
+    // alphaMode BLEND: each blended surface along the ray's straight way adds its covered share
+    // (gltfCoverage) and lets the rest on to what lies behind, unbent and untinted, until a
+    // surface covers all, the ray leaves, or what is left would not show. Passing costs no
+    // depth, so a stack of cut-outs (leaves) shows whole; it is bounded by what the line meets.
+    Ray ray = r;
+    Hit h = hit;
+    Color c(0.f);
+    float pass = 1.f;  // the share of the ray not covered yet
+    for (int crossing = 0;; ++crossing) {
+        const SurfaceInteraction si = scene_.geometry.interaction(ray, h);
+        const float cover = crossing < kBlendCrossings ? gltfCoverage(scene_, si) : 1.f;
+        const uint64_t s = crossing == 0 ? seed : childSeed(seed, 16 + uint64_t(crossing));
+        if (cover > 0.f) c += (pass * cover) * surfaceHit(ray, si, depth, weight * (pass * cover), stats, s);
+        pass *= 1.f - cover;
+        if (!(pass > 0.f) || maxComponent(weight) * pass <= settings_.minWeight) {
+            if (coverage) *coverage = 1.f - pass;
+            return c;
+        }
+        const uint32_t skip = scene_.geometry.skipFor(si, ray.d);
+        ray.o = spawnOrigin(si.p, si, si.ng, ray.d, skip);
+        ray.coneWidth = si.coneWidth;
+        ray.coneSpread = si.coneSpread;
+        ++stats.refraction;
+        h = Hit();
+        if (!scene_.geometry.intersect(ray, h, skip)) {
+            if (coverage) *coverage = 1.f - pass;
+            const Color behind = depth > 1 ? missRadiance(ray.d) : scene_.transparentBackground ? Color(0.f) : primaryMiss(ray.d);
+            return c + pass * behind;
+        }
+    }
+}
+
+Color WhittedTracer::surfaceHit(const Ray& r, const SurfaceInteraction& si, int depth, const Color& weight, RayStats& stats,
+                                uint64_t seed) const {
     const bool gltf = scene_.materials[si.material].gltfPbr;
     Color c = gltf ? shadeGltf(si, r.d, depth, weight, stats, childSeed(seed, 0)) : shade(si, r.d, stats, weight);
     if (depth >= settings_.maxDepth) return c;

@@ -45,8 +45,16 @@ private:
     Color volumeTransmittance(const SurfaceInteraction& si, float t) const;
     /// Li once the primary ray's closest hit is known (met: whether it has one).
     Color primaryLi(const Ray& r, bool met, const Hit& h, uint64_t seed, RayStats& stats, float* coverage) const;
-    /// trace() once the ray's closest hit is known.
-    Color traceHit(const Ray& r, const Hit& hit, int depth, const Color& weight, RayStats& stats, uint64_t seed) const;
+    /// trace() once the ray's closest hit is known: through blended surfaces (alphaMode BLEND)
+    /// to what lies behind them; *coverage (if given) gets the share of the ray they covered.
+    Color traceHit(const Ray& r, const Hit& hit, int depth, const Color& weight, RayStats& stats, uint64_t seed,
+                   float* coverage = nullptr) const;
+    /// One surface's light at si, met by r: its shading, then its mirror and refracted rays.
+    Color surfaceHit(const Ray& r, const SurfaceInteraction& si, int depth, const Color& weight, RayStats& stats,
+                     uint64_t seed) const;
+    /// Blended surfaces one ray passes before the rest counts as covered (a bound on the work
+    /// of a line through very many of them; each leaves its uncovered share to the next).
+    static constexpr int kBlendCrossings = 64;
     /// The mirror ray from si along dir (on the side of ng it leaves to), traced at depth + 1
     /// and counted as a reflection ray; tHit as trace()'s.
     Color traceReflection(const SurfaceInteraction& si, const Vec3& ng, const Vec3& dir, int depth, const Color& weight,
@@ -90,6 +98,7 @@ private:
     /// prune all of its light away.
     float displayScale_ = 1.f;
     bool seeThroughShadows_ = false;  ///< some material transmits: shadow rays filter through it
+    bool blending_ = false;           ///< some material blends (alphaMode BLEND): rays pass through it
     std::optional<ShadowCatcher> catcher_;  ///< --ground shadow
     std::shared_ptr<const BounceCache> bounce_;  ///< the default look's bounce light (null: none)
     /// An integrator serves one thread (renderTile makes one per tile), so its shading points

@@ -94,6 +94,9 @@ struct Material {
     Color attenuation{0.f};
     /// True where the material is a volume at all (thickness factor > 0 with transmission).
     bool volume() const { return gltfPbr && transmission > 0.f && thickness > 0.f; }
+    /// True where light can pass the surface at all: it transmits, or it blends (alpha BLEND),
+    /// so that shadow rays and the bounce light's rays must look at what it lets through.
+    bool seesThrough() const { return transmission > 0.f || alphaMode == AlphaMode::Blend; }
 };
 
 }  // namespace rf

@@ -6,7 +6,7 @@ SceneFeatures Scene::features() const {
     SceneFeatures f;
     for (const Material& m : materials) {
         f.reflection |= m.reflection > 0.f;
-        f.transmission |= m.transmission > 0.f;
+        f.transmission |= m.seesThrough();
         f.textures |= m.baseColorTexture >= 0 || m.normalTexture >= 0;
     }
     for (const Light& l : lights) f.shadows |= l.castShadows;

@@ -130,6 +130,7 @@ def dim_light():
     export("dim_light.gltf")
 
 
-showcase()
-backdrop()
-dim_light()
+if __name__ == "__main__":  # Blender runs --python scripts as __main__; make_blend_alpha.py imports the helpers
+    showcase()
+    backdrop()
+    dim_light()

@@ -8,7 +8,8 @@
 ///   (model, node) link for SceneGeometry::applyNodeTransforms; all others are baked.
 /// - KHR_lights_punctual: point/spot intensity in candela becomes intensity/π with inverse-square
 ///   attenuation (1/d² of a Lambertian surface's radiance, exposure 1); directional lux/π.
-/// - alphaMode BLEND: see-through without bending (transmission 1 − alpha at ior 1).
+/// - alphaMode BLEND: blended over what is behind it, unbent, with alpha = factor × texture alpha ×
+///   vertex alpha per hit (material_gltf.h, gltfCoverage), in the picture and in shadow rays.
 /// - glTF cameras (perspective and orthographic, in node order) go to Scene::gltfCameras;
 ///   useGltfCamera() picks one.
 #include <string>

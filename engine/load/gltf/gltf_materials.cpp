@@ -98,23 +98,14 @@ void MaterialBuilder::readTransform(const tinygltf::ExtensionMap& ext, int texCo
 
 namespace {
 
-/// glTF's alphaMode: MASK cuts at alphaCutoff; BLEND becomes see-through without bending.
+/// glTF's alphaMode: MASK cuts at alphaCutoff; BLEND lays the surface over what is behind it
+/// with its alpha (factor × texture × vertex alpha, per hit: gltfCoverage), without bending.
 void applyAlphaMode(const tinygltf::Material& gm, Material& m) {
     if (gm.alphaMode == "MASK") {
         m.alphaMode = AlphaMode::Mask;
         m.alphaCutoff = float(std::isfinite(gm.alphaCutoff) ? gm.alphaCutoff : 0.5);
     } else if (gm.alphaMode == "BLEND") {
-        // BLEND as see-through without bending: a transmission of (1 − alpha) at ior 1, with
-        // the surface's own light scaled by alpha. Per-texel alpha does not change the weight.
         m.alphaMode = AlphaMode::Blend;
-        const float a = m.alpha;
-        m.ambient *= a;
-        m.diffuse *= a;
-        m.specular *= a;
-        if (a < 1.f && m.transmission == 0.f) {
-            m.transmission = 1.f - a;
-            m.ior = 1.f;
-        }
     }
 }
 

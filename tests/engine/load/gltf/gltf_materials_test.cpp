@@ -80,11 +80,12 @@ TEST(GltfMaterials, TransmissionIorEmissionAndAlphaModes) {
     EXPECT_FLOAT_EQ(m.alphaCutoff, 0.3f);
     EXPECT_FLOAT_EQ(m.alpha, 0.2f);
 
-    // BLEND: see-through without bending, the surface's own light scaled by alpha.
+    // BLEND: blended per hit with its alpha (gltfCoverage); nothing turns into transmission.
     m = only({{"alphaMode", "BLEND"}, {"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 0.25}}, {"metallicFactor", 0}}}});
     EXPECT_EQ(m.alphaMode, AlphaMode::Blend);
-    EXPECT_FLOAT_EQ(m.transmission, 0.75f);
-    EXPECT_FLOAT_EQ(m.ior, 1.f);
+    EXPECT_FLOAT_EQ(m.alpha, 0.25f);
+    EXPECT_FLOAT_EQ(m.transmission, 0.f);
+    EXPECT_FLOAT_EQ(m.ior, 1.5f);
 
     m = only({{"doubleSided", true}});
     EXPECT_TRUE(m.doubleSided);
