@@ -40,6 +40,10 @@ struct AssetOptions {
     std::string variant;
     std::string variantSource = "--variant";
     bool variantRequired = true;
+    /// glTF points and lines (modes 0–3) are drawn this many pixels wide at a bare model's
+    /// default framing in a 640×360 picture (a fixed share of the model's size, so a bigger
+    /// picture shows them proportionally wider, as it does the rest of the model).
+    float pointSize = 1.5f;
 };
 
 struct SceneOptions {

@@ -125,7 +125,7 @@ void applyQualityOptions(const ArgParser& p, RenderSettings& s) {
 
 void declareSceneOptions(ArgParser& p) {
     for (const char* o : {"--environment", "--environment-rotation", "--environment-intensity", "--ground", "--animation",
-                          "--asset-root", "--max-texture-size", "--variant"})
+                          "--asset-root", "--max-texture-size", "--variant", "--point-size"})
         p.option(o);
 }
 
@@ -161,6 +161,11 @@ SceneOptions sceneOptions(const ArgParser& p) {
         o.assets.variant = *v;
     }
     o.assets.maxTextureSize = p.intValue("--max-texture-size", o.assets.maxTextureSize, 16, 16384);
+    if (auto v = p.value("--point-size")) {
+        const double px = p.doubleValue("--point-size", o.assets.pointSize);
+        if (!(px > 0.0 && px <= 100.0)) throw UsageError("--point-size: expected a width in pixels above 0 and up to 100, got \"" + *v + "\"");
+        o.assets.pointSize = float(px);
+    }
     return o;
 }
 

@@ -49,6 +49,7 @@ std::string RenderJob::identity() const {
     if (o.animation) j["animation"] = *o.animation;
     if (!o.assets.variant.empty()) j["variant"] = o.assets.variant;
     if (o.assets.maxTextureSize != AssetOptions{}.maxTextureSize) j["max_texture_size"] = o.assets.maxTextureSize;
+    if (o.assets.pointSize != AssetOptions{}.pointSize) j["point_size"] = o.assets.pointSize;
     return j.dump();
 }
 

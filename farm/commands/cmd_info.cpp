@@ -85,6 +85,8 @@ json infoJson(const std::string& path, const GltfInfo& info, const json& turntab
         const GltfInfo::Mesh& m = info.meshes[i];
         json o = {{"index", i}, {"name", m.name}, {"primitives", m.primitives}, {"triangles", m.triangles},
                   {"vertices", m.vertices}, {"instances", m.instances}, {"skinned", m.skinned}, {"morph_targets", m.morphTargets}};
+        if (m.points) o["points"] = m.points;
+        if (m.lineSegments) o["line_segments"] = m.lineSegments;
         o["bounds"] = m.hasBounds ? json{{"min", vec3f(m.min)}, {"max", vec3f(m.max)}} : json(nullptr);
         meshes.push_back(o);
     }
@@ -190,6 +192,8 @@ std::string infoText(const json& j) {
         s += "  " + std::to_string(m["index"].get<int>()) + " " + quoted(m["name"]) + ": " + std::to_string(m["triangles"].get<uint64_t>()) +
              " triangles, " + std::to_string(m["vertices"].get<uint64_t>()) + " vertices, " + std::to_string(m["primitives"].get<int>()) +
              " primitives, drawn " + std::to_string(m["instances"].get<int>()) + "x";
+        if (m.contains("points")) s += ", " + std::to_string(m["points"].get<uint64_t>()) + " points";
+        if (m.contains("line_segments")) s += ", " + std::to_string(m["line_segments"].get<uint64_t>()) + " line segments";
         if (m["skinned"].get<bool>()) s += ", skinned";
         if (m["morph_targets"].get<int>()) s += ", " + std::to_string(m["morph_targets"].get<int>()) + " morph targets";
         s += m["bounds"].is_null() ? "; no bounds" : "; bounds " + point(m["bounds"]["min"]) + " to " + point(m["bounds"]["max"]);

@@ -61,6 +61,8 @@ const char* kStillHelp =
     "  --asset-root DIR  folder a glTF model's relative URIs may reach beyond its own (default:\n"
     "                    the current directory when the model lies under it, else its folder)\n"
     "  --max-texture-size N   textures larger on a side are downsampled on load (default 8192)\n"
+    "  --point-size PX   glTF points and lines drawn PX pixels wide at a 640x360 default framing\n"
+    "                    (default 1.5; a share of the model's size, so it scales with the picture)\n"
     "  --variant NAME    show the model's KHR_materials_variants variant NAME (the scene file's\n"
     "                    model \"variant\"); unknown: refused, listing the file's variants\n";
 

@@ -36,6 +36,7 @@ const char* kRenderHelp =
     "  --animation A     play the model's animation named A (or numbered A, from 0) instead of\n"
     "                    its first; as for still\n"
     "  --asset-root DIR, --max-texture-size N   glTF asset folder and texture size, as for still\n"
+    "  --point-size PX   how wide glTF points and lines are drawn, as for still\n"
     "  --variant NAME    the model's material variant NAME (KHR_materials_variants), as for still\n"
     "  --depth N         maximum ray depth; --min-weight W, --tonemap clamp|reinhard|pbr-neutral,\n"
     "                    --exposure EV|auto as for still (auto: one EV metered for the whole film)\n"
@@ -110,6 +111,7 @@ const std::vector<OptionRole>& renderOptionRoles() {
         {"--animation", "animation", "SceneOptions: which animation plays"},
         {"--variant", "variant", "SceneOptions: the materials shown"},
         {"--max-texture-size", "max_texture_size", "SceneOptions: textures downsampled on load"},
+        {"--point-size", "point_size", "SceneOptions: how wide glTF points and lines are drawn"},
         // No pixel changes: where files go, how the video is encoded, how the work is spread.
         {"-o", nullptr, "the video: encoded again from the frames on every run"},
         {"--mode", nullptr, "a frame is bit-identical in pixel and frame mode"},

@@ -53,6 +53,7 @@ const char* kReportHelpHead =
     "  --animation A\n"
     "                          the picture, as rayfarm still takes them (--background: a colour)\n"
     "  --asset-root DIR, --max-texture-size N   glTF asset folder and texture size, as for still\n"
+    "  --point-size PX   how wide glTF points and lines are drawn, as for still\n"
     "  --variant NAME          the model's material variant NAME, as for still\n"
     "  --grid ofat|full        one factor at a time around the default (ofat, default) or every\n"
     "                          combination (full: the product of the lists' lengths)\n";

@@ -57,6 +57,7 @@ const char* kViewHelp =
     "  --ground G        shadow: an invisible shadow catcher under the model; none (as still)\n"
     "  --animation A     the model's animation to play, by name or index (as still)\n"
     "  --asset-root DIR, --max-texture-size N   glTF asset folder and texture size (as still)\n"
+    "  --point-size PX   how wide glTF points and lines are drawn (as still)\n"
     "  --variant NAME    the model's material variant NAME (as still)\n"
     "  --threads N       render threads (default: all cores)\n"
     "  --frame N         start at frame N of the scene's timeline (default 0)\n"

@@ -332,22 +332,143 @@ void keepGoodTriangles(const std::vector<uint32_t>& tris, const std::vector<uint
     }
 }
 
+/// POINTS' dots, or LINES' (pairs), LINE_STRIP's (each vertex to the next) and LINE_LOOP's (and
+/// the last back to the first) segments, from the vertex order; a segment with a non-finite end
+/// is dropped (counted) and one of zero length is drawn as its dot. Every end of a segment is a
+/// dot, once, so the tubes join into capsules.
+void wireElements(const std::vector<uint32_t>& order, int mode, const std::vector<uint8_t>& finite, PrimitiveGeometry& out) {
+    out.wire = true;
+    const std::vector<Vec3>& pos = out.mesh.positions;
+    std::vector<uint8_t> dot(pos.size(), 0);
+    auto addDot = [&](uint32_t v) {
+        if (!dot[v]) dot[v] = 1, out.wirePoints.push_back(v);
+    };
+    if (mode == TINYGLTF_MODE_POINTS) {
+        for (uint32_t v : order) {
+            if (finite[v]) addDot(v);
+            else ++out.droppedNonFinite;
+        }
+        return;
+    }
+    auto addSegment = [&](uint32_t a, uint32_t b) {
+        if (!finite[a] || !finite[b]) {
+            ++out.droppedNonFinite;
+            return;
+        }
+        addDot(a);
+        addDot(b);
+        if (a != b && pos[a] != pos[b]) out.wireSegments.insert(out.wireSegments.end(), {a, b});
+    };
+    if (mode == TINYGLTF_MODE_LINE) {
+        for (size_t i = 0; i + 1 < order.size(); i += 2) addSegment(order[i], order[i + 1]);
+        out.leftoverIndices = order.size() % 2;
+    } else {
+        for (size_t i = 0; i + 1 < order.size(); ++i) addSegment(order[i], order[i + 1]);
+        if (mode == TINYGLTF_MODE_LINE_LOOP && order.size() > 2) addSegment(order.back(), order.front());
+        if (order.size() == 1 && finite[order[0]]) addDot(order[0]);
+    }
+}
+
+/// Copies of v's per-vertex entries (`per` of them a vertex) for the vertices src lists.
+template <class T>
+std::vector<T> remapVertices(const std::vector<T>& v, const std::vector<uint32_t>& src, size_t per = 1) {
+    if (v.empty()) return {};
+    std::vector<T> out;
+    out.reserve(src.size() * per);
+    for (uint32_t s : src) out.insert(out.end(), v.begin() + ptrdiff_t(size_t(s) * per), v.begin() + ptrdiff_t(size_t(s + 1) * per));
+    return out;
+}
+
 }  // namespace
+
+PrimitiveGeometry wireGeometry(const PrimitiveGeometry& g, float radius) {
+    const TriangleMesh& w = g.mesh;
+    std::vector<uint32_t> src;   // the wire vertex each new vertex grew from
+    std::vector<Vec3> offset;    // its offset from it: the sphere's or the tube's normal × radius
+    std::vector<uint32_t> tris;
+    auto vertex = [&](uint32_t from, const Vec3& n) {
+        src.push_back(from);
+        offset.push_back(n);
+        return uint32_t(src.size() - 1);
+    };
+    for (uint32_t v : g.wirePoints) {
+        // An octahedron: its eight faces, each wound counter-clockwise seen from outside.
+        uint32_t c[6];
+        const Vec3 axes[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+        for (int k = 0; k < 6; ++k) c[k] = vertex(v, axes[k]);
+        for (int sx = 0; sx < 2; ++sx)
+            for (int sy = 0; sy < 2; ++sy)
+                for (int sz = 0; sz < 2; ++sz) {
+                    const uint32_t a = c[sx], b = c[2 + sy], d = c[4 + sz];
+                    if ((sx + sy + sz) % 2 == 0) tris.insert(tris.end(), {a, b, d});
+                    else tris.insert(tris.end(), {a, d, b});
+                }
+    }
+    constexpr int kSides = 6;
+    for (size_t i = 0; i + 1 < g.wireSegments.size(); i += 2) {
+        const uint32_t a = g.wireSegments[i], b = g.wireSegments[i + 1];
+        const Vec3 d = glm::normalize(w.positions[b] - w.positions[a]);
+        // u, v, d right-handed, so (ring k, ring k + 1, the far ring's k) winds outwards.
+        const Vec3 helper = std::abs(d.x) < 0.9f ? Vec3(1, 0, 0) : Vec3(0, 1, 0);
+        const Vec3 u = glm::normalize(glm::cross(d, helper));
+        const Vec3 v = glm::cross(d, u);
+        uint32_t near[kSides], far[kSides];
+        for (int k = 0; k < kSides; ++k) {
+            const float t = 2.f * kPi * float(k) / float(kSides);
+            const Vec3 n = std::cos(t) * u + std::sin(t) * v;
+            near[k] = vertex(a, n);
+            far[k] = vertex(b, n);
+        }
+        for (int k = 0; k < kSides; ++k) {
+            const int k1 = (k + 1) % kSides;
+            tris.insert(tris.end(), {near[k], near[k1], far[k], near[k1], far[k1], far[k]});
+        }
+    }
+    PrimitiveGeometry out = g;
+    out.wire = false;
+    out.wirePoints.clear();
+    out.wireSegments.clear();
+    TriangleMesh& m = out.mesh;
+    m.positions.resize(src.size());
+    m.normals.resize(src.size());
+    for (size_t i = 0; i < src.size(); ++i) {
+        m.positions[i] = w.positions[src[i]] + radius * offset[i];
+        m.normals[i] = offset[i];
+    }
+    m.uvs = remapVertices(w.uvs, src);
+    m.uvs1 = remapVertices(w.uvs1, src);
+    m.colors = remapVertices(w.colors, src);
+    m.tangents.clear();  // no normal map on a dot or a line: their normals are their own
+    for (auto& t : m.morphPositions) t = remapVertices(t, src);
+    for (auto& t : m.morphNormals) t.clear();
+    for (auto& t : m.morphTangents) t.clear();
+    m.skinJoints = remapVertices(w.skinJoints, src, size_t(w.influences));
+    m.skinWeights = remapVertices(w.skinWeights, src, size_t(w.influences));
+    m.indices = std::move(tris);
+    out.generatedNormals = false;
+    return out;
+}
 
 bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int primIndex, const std::string& file, PrimitiveGeometry& out,
                     bool tangents) {
     const tinygltf::Primitive& p = model.meshes[size_t(meshIndex)].primitives[size_t(primIndex)];
     PrimitiveReader r{model, p, file, "meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(primIndex) + "]"};
     const int mode = p.mode < 0 ? TINYGLTF_MODE_TRIANGLES : p.mode;
-    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
-        if (mode >= 0 && mode <= 3) return false;  // points and lines
+    if (mode < TINYGLTF_MODE_POINTS || mode > TINYGLTF_MODE_TRIANGLE_FAN)
         throw InputError(file, r.w + ".mode: " + std::to_string(mode) + " is not a glTF primitive mode");
-    }
     TriangleMesh& m = out.mesh;
     std::vector<uint8_t> finite;
     r.positions(out, finite);
     r.attributes(m);
     const std::vector<uint32_t> order = r.order();
+    if (mode <= TINYGLTF_MODE_LINE_STRIP) {
+        r.morphTargets(m);
+        r.skinAttributes(out);
+        wireElements(order, mode, finite, out);
+        out.materialOutOfRange = p.material >= int(model.materials.size());
+        out.gltfMaterial = out.materialOutOfRange ? -1 : p.material;
+        return !out.wirePoints.empty();
+    }
     if (mode == TINYGLTF_MODE_TRIANGLES) out.leftoverIndices = order.size() % 3;
     r.morphTargets(m);
     r.skinAttributes(out);

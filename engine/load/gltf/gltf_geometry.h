@@ -33,13 +33,30 @@ struct PrimitiveGeometry {
     std::vector<JointSet> jointSets;
     size_t weightsNormalized = 0;  ///< vertices whose weights did not sum to 1 (now normalized)
     size_t weightsZero = 0;        ///< vertices with no weight at all (bound to their first joint)
+    /// POINTS, LINES, LINE_LOOP and LINE_STRIP (modes 0–3): mesh has the vertices and no
+    /// triangles; wirePoints lists the vertices drawn as dots (every point, or every end of a
+    /// line, where its segments join) and wireSegments the lines' segments as index pairs.
+    /// wireGeometry() turns them into triangles once their size is known.
+    bool wire = false;
+    std::vector<uint32_t> wirePoints;
+    std::vector<uint32_t> wireSegments;
 };
 
-/// Builds primitive `prim` of mesh `meshIndex`. Returns false (and builds nothing) for points
-/// and lines. Throws InputError naming the element on inconsistent data. tangents: generate
-/// them for a normal-mapped primitive that has none (false when its material is not drawn).
+/// Builds primitive `prim` of mesh `meshIndex` (points and lines as PrimitiveGeometry::wire).
+/// Returns false when the primitive has nothing to draw. Throws InputError naming the element
+/// on inconsistent data. tangents: generate them for a normal-mapped primitive that has none
+/// (false when its material is not drawn).
 bool buildPrimitive(const tinygltf::Model& model, int meshIndex, int prim, const std::string& file, PrimitiveGeometry& out,
                     bool tangents = true);
+
+/// Points and lines drawn as a ray tracer can: each of g's wirePoints a small sphere of the
+/// given radius (an octahedron with the sphere's normals, which at a pixel or two reads as
+/// one) and each segment a tube of that radius (six sides, the cylinder's normals) joined at
+/// the points into capsules; in g's own (node-local) space. Every new vertex takes the
+/// attributes of the vertex it grew from (colour, texture coordinates, joints and weights,
+/// morph offsets), so the dots and lines are coloured, skinned and morphed with it. A copy of
+/// g with those triangles in mesh (and wire false).
+PrimitiveGeometry wireGeometry(const PrimitiveGeometry& g, float radius);
 
 /// Positions with the morph targets applied at `weights` (missing weights count as 0).
 std::vector<Vec3> morphedPositions(const TriangleMesh& mesh, const std::vector<double>& weights);

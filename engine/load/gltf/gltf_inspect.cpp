@@ -78,9 +78,11 @@ GltfInfo::Mesh meshInfo(const tinygltf::Model& model, int index, const std::stri
             m.vertices += model.accessors[size_t(it->second)].count;
         m.morphTargets = std::max(m.morphTargets, int(prim.targets.size()));
         PrimitiveGeometry g;
-        if (!buildPrimitive(model, index, int(p), path, g, false)) continue;  // points, lines
+        if (!buildPrimitive(model, index, int(p), path, g, false)) continue;  // nothing to draw
         if (g.mesh.influences > 0 && skinnedMesh[size_t(index)]) m.skinned = true;
-        for (uint32_t i : g.mesh.indices) {
+        if (g.wire && g.wireSegments.empty() && prim.mode == TINYGLTF_MODE_POINTS) m.points += g.wirePoints.size();
+        m.lineSegments += g.wireSegments.size() / 2;
+        for (uint32_t i : g.wire ? g.wirePoints : g.mesh.indices) {
             const glm::dvec3 q(g.mesh.positions[i]);
             lo = glm::min(lo, q);
             hi = glm::max(hi, q);

@@ -20,10 +20,12 @@ struct GltfInfo {
         int instances = 0;         ///< nodes of the drawn scene that draw it
         uint64_t triangles = 0;    ///< as the file gives them (strips and fans unrolled), before any is dropped
         uint64_t vertices = 0;     ///< POSITION elements over its primitives
+        uint64_t points = 0;       ///< POINTS primitives' points (drawn as dots)
+        uint64_t lineSegments = 0; ///< LINES, LINE_LOOP and LINE_STRIP primitives' segments (drawn as lines)
         int morphTargets = 0;      ///< most targets of any of its primitives
         bool skinned = false;      ///< some primitive has JOINTS_0/WEIGHTS_0 and some node skins it
         bool hasBounds = false;    ///< false: no triangle has finite positions
-        DVec3 min{0.0}, max{0.0};  ///< of its triangles' vertices, in the mesh's own space
+        DVec3 min{0.0}, max{0.0};  ///< of its triangles' (points', lines') vertices, in the mesh's own space
     };
     struct Material {
         std::string name;

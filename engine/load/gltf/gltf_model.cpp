@@ -1,5 +1,6 @@
 #include "engine/load/gltf/gltf_model.h"
 
+#include <cstdio>
 #include <limits>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -11,6 +12,16 @@
 #include "engine/load/gltf/gltf_variants.h"
 
 namespace rf::gltf {
+
+namespace {
+constexpr double kWireDiagonalPixels = 480.0;  ///< see addTo
+/// A length as a note shows it: three significant digits.
+std::string formatted(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.3g", v);
+    return buf;
+}
+}  // namespace
 
 GltfModel::GltfModel(const std::string& path, FileSource& fs, const AssetOptions& assets) : path_(path), assets_(assets) {
     model_ = parseGltf(path, fs, assets, notes_);
@@ -39,7 +50,7 @@ bool GltfModel::bounds(const DMat4& worldFromModel, glm::dvec3& lo, glm::dvec3& 
             std::vector<Vec3> pos = morphedPositions(g->mesh, defaultWeights(node));
             const bool skinned = skinnedPrimitive(node, *g, int(p));
             if (skinned) pos = restSkinned(node, *g, worldFromModel).positions;
-            for (uint32_t i : g->mesh.indices) {
+            for (uint32_t i : g->wire ? g->wirePoints : g->mesh.indices) {
                 const glm::dvec3 q = skinned ? glm::dvec3(pos[i]) : glm::dvec3(m * glm::dvec4(glm::dvec3(pos[i]), 1.0));
                 lo = glm::min(lo, q);
                 hi = glm::max(hi, q);
@@ -59,7 +70,6 @@ std::string GltfModel::emptyReason() const {
                " vertices lie outside POSITION's declared min/max: corrupt data?)";
     if (nonFinite) return "the model has no triangles to render (" + std::to_string(nonFinite) + " have non-finite positions)";
     if (degenerate) return "the model has no triangles to render (" + std::to_string(degenerate) + " are degenerate)";
-    if (skippedPointsLines_) return "the model has no triangles to render (points and lines are not rendered)";
     if (order_.empty()) return "the model's scene has no nodes, so there is nothing to render";
     return "the model has no triangles to render";
 }
@@ -69,10 +79,9 @@ const PrimitiveGeometry* GltfModel::primitive(int mesh, int prim) {
     auto it = prims_.find(key);
     if (it == prims_.end()) {
         PrimitiveGeometry g;
-        const bool triangles = buildPrimitive(model_, mesh, prim, path_, g, materialOverride_ < 0);
-        it = prims_.emplace(key, triangles ? std::optional<PrimitiveGeometry>(std::move(g)) : std::nullopt).first;
-        if (!triangles) skippedPointsLines_ = true;
-        else notePrimitive(*it->second, "meshes[" + std::to_string(mesh) + "].primitives[" + std::to_string(prim) + "]");
+        const bool drawable = buildPrimitive(model_, mesh, prim, path_, g, materialOverride_ < 0);
+        it = prims_.emplace(key, drawable ? std::optional<PrimitiveGeometry>(std::move(g)) : std::nullopt).first;
+        if (drawable) notePrimitive(*it->second, "meshes[" + std::to_string(mesh) + "].primitives[" + std::to_string(prim) + "]");
     }
     return it->second ? &*it->second : nullptr;
 }
@@ -83,7 +92,8 @@ void GltfModel::notePrimitive(const PrimitiveGeometry& g, const std::string& w) 
                          " vertices lie outside POSITION's declared min/max (corrupt data?); their triangles dropped");
     if (g.boundsMissing) notes_.push_back(w + ": POSITION has no min/max (glTF requires them); positions not checked");
     if (g.leftoverIndices)
-        notes_.push_back(w + ": " + std::to_string(g.leftoverIndices) + " trailing indices ignored (TRIANGLES needs a multiple of 3)");
+        notes_.push_back(w + ": " + std::to_string(g.leftoverIndices) + " trailing indices ignored (" +
+                         (g.wire ? "LINES needs a multiple of 2" : "TRIANGLES needs a multiple of 3") + ")");
     if (g.materialOutOfRange)
         notes_.push_back(w + ".material: no such material (" + std::to_string(model_.materials.size()) +
                          " in the file); drawn with the default material");
@@ -110,6 +120,19 @@ void GltfModel::addNodeMeshes(Scene& scene, int node, const DMat4& renderFromNod
     for (size_t p = 0; p < gm.primitives.size(); ++p) {
         const PrimitiveGeometry* g = primitive(n.mesh, int(p));
         if (!g) continue;
+        std::optional<PrimitiveGeometry> wired;
+        if (g->wire) {
+            // Points and lines become small spheres and capsules of the world radius, in the
+            // node's own space (its scale taken out, as the cube root of its volume scale).
+            const double scale = std::cbrt(std::abs(glm::determinant(glm::dmat3(renderFromNode))));
+            if (!(scale > 0.0) || !std::isfinite(scale)) {
+                ++dropped.unplaced;
+                continue;
+            }
+            wired = wireGeometry(*g, float(wireRadius_ / scale));
+            g = &*wired;
+            ++dropped.wires;
+        }
         dropped.degenerate += g->droppedDegenerate;
         dropped.nonFinite += g->droppedNonFinite;
         dropped.generated += g->generatedNormals;
@@ -196,7 +219,9 @@ void GltfModel::noteDrops(const DropCounts& d) {
     if (d.nonFinite) notes_.push_back(std::to_string(d.nonFinite) + " triangles with non-finite or out-of-bounds positions dropped");
     if (d.generated) notes_.push_back("normals generated for " + std::to_string(d.generated) + " primitives");
     if (d.unplaced) notes_.push_back(std::to_string(d.unplaced) + " primitives dropped: their node scales them to nothing or to infinity");
-    if (skippedPointsLines_) notes_.push_back("points and lines are not rendered; skipped");
+    if (d.wires)
+        notes_.push_back(std::to_string(d.wires) + " primitives of points or lines drawn as dots and lines " +
+                         formatted(2.0 * wireRadius_) + " units wide (--point-size)");
     if (weightsNormalized_)
         notes_.push_back(std::to_string(weightsNormalized_) + " skinned vertices have joint weights that do not sum to 1; normalized");
     if (weightsZero_) notes_.push_back(std::to_string(weightsZero_) + " skinned vertices have no joint weight; they follow their first joint");
@@ -222,6 +247,20 @@ void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel, int materialOve
     for (size_t i = 0; i < model_.lights.size(); ++i) {
         const bool rangeGiven = rawLights && rawLights->IsArray() && i < rawLights->ArrayLen() && rawLights->Get(int(i)).Has("range");
         checkPunctualLight(model_.lights[i], rangeGiven, path_, int(i));
+    }
+
+    // Points and lines: --point-size pixels wide in a bare model's default 640×360 turntable,
+    // whose fit (anim/turntable_fit) shows the model's diagonal some 280 (the Asset Generator's
+    // flat square, at a slant) to 630 pixels long (Blender's points_lines.glb: a cube, a ring
+    // and a helix), as estimated from those pictures; 480 lies between.
+    bool wires = false;
+    for (int node : order_)
+        if (const int mesh = model_.nodes[size_t(node)].mesh; mesh >= 0)
+            for (const tinygltf::Primitive& p : model_.meshes[size_t(mesh)].primitives) wires |= p.mode >= 0 && p.mode <= 3;
+    if (wires) {
+        glm::dvec3 lo, hi;
+        const double diagonal = bounds(worldFromModel, lo, hi) ? glm::length(hi - lo) : 0.0;
+        wireRadius_ = 0.5 * double(assets_.pointSize) * (diagonal > 0.0 ? diagonal : 1.0) / kWireDiagonalPixels;
     }
 
     LoadStep step("building its meshes and materials");

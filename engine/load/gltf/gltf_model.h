@@ -71,6 +71,7 @@ private:
     /// Primitives and triangles the load left out, summed over the model for its notes.
     struct DropCounts {
         size_t degenerate = 0, nonFinite = 0, generated = 0, unplaced = 0;
+        size_t wires = 0;  ///< primitives of points or lines drawn
     };
     SceneGraph sceneGraph(const DMat4& renderFromModel) const;
     void addNodeMeshes(Scene& scene, int node, const DMat4& renderFromNode, int modelIndex, bool dynamic,
@@ -99,8 +100,10 @@ private:
     size_t weightsNormalized_ = 0, weightsZero_ = 0;
     int variant_ = -1;  ///< the chosen KHR_materials_variants variant, −1 for none
     std::map<std::pair<int, int>, std::optional<PrimitiveGeometry>> prims_;
-    bool skippedPointsLines_ = false;
     int materialOverride_ = -1;
+    /// The radius points and lines are drawn with, in world units (addTo sets it from the
+    /// model's size and AssetOptions::pointSize); 0 before.
+    double wireRadius_ = 0.0;
 };
 
 }  // namespace rf::gltf

@@ -52,6 +52,7 @@ const std::map<std::string, std::vector<std::string>> kSamples = {
     {"--animation", {"walk"}},
     {"--variant", {"red"}},
     {"--max-texture-size", {"512"}},
+    {"--point-size", {"3"}},
 };
 
 TEST(RenderIdentity, EveryDeclaredOptionIsClassified) {

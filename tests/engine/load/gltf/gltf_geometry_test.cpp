@@ -132,16 +132,60 @@ TEST(GltfGeometry, StripsAndFansBecomeTrianglesWithOneWinding) {
     }
 }
 
-TEST(GltfGeometry, PointsAndLinesAreSkippedWithOneNote) {
+TEST(GltfGeometry, PointsAndLinesOfEveryModeBecomeDotsAndCapsules) {
+    // The glTF Asset Generator's unit square outlined in POINTS, LINES, LINE_LOOP and LINE_STRIP,
+    // indexed (07–10) or not (00–03): each loads (before, all eight were refused as having
+    // nothing to render), every generated vertex lies one radius from a vertex of the file, and
+    // the drawing stays in the square's plane within that radius.
     const std::string dir = "/usr/share/assimp/models/glTF2/glTF-Asset-Generator/Mesh_PrimitiveMode/";
-    DiskFileSource files;
-    Scene s;
-    loadGltfModel(s, dir + "Mesh_PrimitiveMode_01.gltf", DMat4(1.0), files);
-    EXPECT_TRUE(s.geometry.meshes.empty());
-    int notes = 0;
-    for (const std::string& n : s.notes) notes += n.find("points and lines") != std::string::npos;
-    EXPECT_EQ(notes, 1);
-    EXPECT_THROW(loadGltfScene(dir + "Mesh_PrimitiveMode_01.gltf", files), InputError);
+    for (const char* f : {"00", "01", "02", "03", "07", "08", "09", "10"}) {
+        DiskFileSource files;
+        const Scene s = loadGltfScene(dir + "Mesh_PrimitiveMode_" + f + ".gltf", files);
+        ASSERT_FALSE(s.geometry.meshes.empty()) << f;
+        int notes = 0;
+        for (const std::string& n : s.notes) notes += n.find("drawn as dots and lines") != std::string::npos;
+        EXPECT_EQ(notes, 1) << f;
+        const Aabb b = s.geometry.bounds();
+        const float width = b.hi.x - b.lo.x, depth = b.hi.z - b.lo.z;
+        EXPECT_GT(width, 0.9f) << f << ": the unit square's outline";
+        // Thin: 1.5 pixels of a 294-pixel diagonal, so well under 1% of the square's side.
+        EXPECT_LT(depth, 0.01f * width) << f;
+        EXPECT_GT(depth, 0.f) << f << ": a dot or a line has a thickness";
+    }
+}
+
+TEST(GltfGeometry, WireGeometryKeepsEachVertexsAttributesOneRadiusAway) {
+    gltf::PrimitiveGeometry g;
+    g.wire = true;
+    g.mesh.positions = {Vec3(0, 0, 0), Vec3(2, 0, 0), Vec3(2, 3, 0)};
+    g.mesh.colors = {Vec4(1, 0, 0, 1), Vec4(0, 1, 0, 1), Vec4(0, 0, 1, 0.5f)};
+    g.wirePoints = {0, 1, 2};
+    g.wireSegments = {0, 1, 1, 2};
+    const float r = 0.05f;
+    const gltf::PrimitiveGeometry w = gltf::wireGeometry(g, r);
+    const TriangleMesh& m = w.mesh;
+    EXPECT_FALSE(w.wire);
+    // Three octahedra (6 vertices, 8 faces) and two six-sided tubes (12 vertices, 12 faces).
+    EXPECT_EQ(m.positions.size(), 3u * 6 + 2u * 12);
+    EXPECT_EQ(m.triangleCount(), 3u * 8 + 2u * 12);
+    ASSERT_EQ(m.colors.size(), m.positions.size());
+    ASSERT_EQ(m.normals.size(), m.positions.size());
+    for (size_t i = 0; i < m.positions.size(); ++i) {
+        // The vertex it grew from: the one of the same colour.
+        int from = -1;
+        for (int k = 0; k < 3; ++k)
+            if (m.colors[i] == g.mesh.colors[size_t(k)]) from = k;
+        ASSERT_GE(from, 0) << i;
+        EXPECT_NEAR(glm::length(m.positions[i] - g.mesh.positions[size_t(from)]), r, 1e-5f) << i;
+        EXPECT_NEAR(glm::length(m.normals[i]), 1.f, 1e-5f) << i;
+        EXPECT_NEAR(glm::dot(m.normals[i], m.positions[i] - g.mesh.positions[size_t(from)]), r, 1e-5f) << i << ": normals point out";
+    }
+    // Every face winds counter-clockwise seen from outside: its normal agrees with its corners'.
+    for (size_t t = 0; t < m.triangleCount(); ++t) {
+        const uint32_t a = m.indices[3 * t], b = m.indices[3 * t + 1], c = m.indices[3 * t + 2];
+        const Vec3 n = glm::cross(m.positions[b] - m.positions[a], m.positions[c] - m.positions[a]);
+        EXPECT_GT(glm::dot(n, m.normals[a] + m.normals[b] + m.normals[c]), 0.f) << "face " << t;
+    }
 }
 
 TEST(GltfGeometry, QuantizedNormalizedAndSparseAccessorsDecode) {
