@@ -57,6 +57,14 @@ bool meetsMore(const Scene& s, const SurfaceInteraction& si, const Vec3& d) {
     return s.geometry.intersect(on, hit);
 }
 
+/// The pane's three alphas, and which of them a texel's is (-1: a texel between two thirds).
+constexpr float levels[3] = {0.25f, 0.75f, 1.f};
+int levelOf(float a) {
+    for (int k = 0; k < 3; ++k)
+        if (std::abs(a - levels[k]) < 1e-3f) return k;
+    return -1;
+}
+
 }  // namespace
 
 TEST(BlendAlpha, TheFileBlendsWithItsTextureAlphaOnly) {
@@ -79,7 +87,6 @@ TEST(BlendAlpha, OverATransparentBackgroundThePixelAlphaIsTheTexelAlpha) {
     const CameraRays rays(s.camera, w, h);
     const std::unique_ptr<Integrator> tracer = makeIntegrator(s, RenderSettings{});
     int counted[3] = {0, 0, 0}, wrong = 0;
-    const float levels[3] = {0.25f, 0.75f, 1.f};
     for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
             const Ray r = rays.generate(x + 0.5f, y + 0.5f);
@@ -87,9 +94,7 @@ TEST(BlendAlpha, OverATransparentBackgroundThePixelAlphaIsTheTexelAlpha) {
             const float a = paneAlpha(s, pane, r, &si);
             // The pane over nothing (above the horizon): the pixel's alpha is the pane's alone.
             if (a < 0.f || meetsMore(s, si, r.d)) continue;
-            int level = -1;
-            for (int k = 0; k < 3; ++k)
-                if (std::abs(a - levels[k]) < 1e-3f) level = k;
+            const int level = levelOf(a);
             if (level < 0) continue;  // a texel between two thirds
             RayStats st;
             float coverage = -1.f;
@@ -110,7 +115,6 @@ TEST(BlendAlpha, AShadowRayThroughThePaneKeepsOneMinusItsAlphaUntinted) {
     ASSERT_FALSE(s.lights.empty());
     const Light& sun = s.lights[0];
     int counted[3] = {0, 0, 0}, wrong = 0;
-    const float levels[3] = {0.25f, 0.75f, 1.f};
     // Floor points on a grid behind the pane, each seen from straight above.
     for (float x = -3.f; x <= 3.f; x += 0.1f)
         for (float z = -4.f; z <= 4.f; z += 0.1f) {
@@ -131,9 +135,7 @@ TEST(BlendAlpha, AShadowRayThroughThePaneKeepsOneMinusItsAlphaUntinted) {
             SurfaceInteraction ps;
             const float a = paneAlpha(s, pane, toSun, &ps);
             if (a < 0.f || meetsMore(s, ps, li.dir)) continue;
-            int level = -1;
-            for (int k = 0; k < 3; ++k)
-                if (std::abs(a - levels[k]) < 1e-3f) level = k;
+            const int level = levelOf(a);
             if (level < 0) continue;
             ShadowRays shadows(s, si, frame, nullptr);
             RayStats st;
