@@ -21,6 +21,11 @@ struct TimelineSource {
     /// --animation NAME|INDEX (SceneOptions::animation): the animation every animated model
     /// plays, over the scene file's "animation".
     std::optional<std::string> animation;
+    /// --camera N (SceneOptions::camera, or a scene file model's "camera"): the film looks
+    /// through Scene::gltfCameras[N], following its node's animation; cameraSource names what
+    /// chose it, for messages.
+    std::optional<int> camera;
+    std::string cameraSource = "--camera";
 };
 
 struct LoadedScene {
