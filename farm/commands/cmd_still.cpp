@@ -158,10 +158,11 @@ int runStill(const std::vector<std::string>& args) {
         for (const auto& [path, bytes] : fs.bundle().files) read.push_back(path);
         checkOutputPaths(outputs, read);
     }
+    // Built before posing: auto exposure meters the film's own frames. Before the notes: a
+    // --camera or --animation the file lacks is refused in one line.
+    const anim::Timeline timeline = anim::Timeline::fromScene(loaded);
     for (const std::string& note : scene.notes) printLine("note", note);
     applyBackground(background, scene);
-    // Built before posing: auto exposure meters the film's own frames.
-    const anim::Timeline timeline = anim::Timeline::fromScene(loaded);
     const int frame = applyStillTime(p, timeline, scene);
     // --camera: the timeline looks through the glTF camera, posed by its node's animation at
     // the frame's time (anim::Timeline, TimelineSource::camera).
