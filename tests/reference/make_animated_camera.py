@@ -9,6 +9,9 @@
 #   "BlueSlide" 4/3 s), a sun, and a camera flown along a path of keyed positions over 2 s
 #   (frames 1-49 at 24 fps), aimed at the middle cube at every key ("CameraFly");
 # - scene 1 "Spare": a yellow ball and a still camera looking at it.
+# and animated_camera_stage.gltf (+ .bin): the Stage scene alone, for the Cycles references
+# (Blender's glTF importer draws every scene of a file at once, so a reference of the
+# two-scene file would show the Spare ball and its sun in the Stage).
 # The keys are LINEAR so the camera's path between keys is what both Blender and rayfarm
 # interpolate the same way.
 import math
@@ -119,3 +122,5 @@ bpy.context.window.scene = stage
 
 bpy.ops.export_scene.gltf(filepath=os.path.join(HERE, "animated_camera.gltf"), export_format="GLTF_SEPARATE",
                           export_lights=True, export_cameras=True, export_apply=True, use_active_scene=False)
+bpy.ops.export_scene.gltf(filepath=os.path.join(HERE, "animated_camera_stage.gltf"), export_format="GLTF_SEPARATE",
+                          export_lights=True, export_cameras=True, export_apply=True, use_active_scene=True)
