@@ -5,7 +5,7 @@
 # 1. info marks each camera still or animated and by what, lists the scenes, plays every
 #    animation and says how many whole plays each gets; info --camera 0 describes the film.
 # 2. render --camera 0 through the farm: the kept frames are byte-identical in frame and pixel
-#    mode at 1, 2 and 3 ranks; the camera moves (first and last frame differ); still --camera 0
+#    mode at 1, 2 and 3 ranks, and after --resume (a resume through another scene refused); the camera moves (first and last frame differ); still --camera 0
 #    at two frames differs too (it used to show the rest pose at every frame).
 # 3. --scene 0 draws the other scene; a --camera or --scene the file lacks, from render, still,
 #    info and a scene file's keys, is one line and exit 2 naming it.
@@ -54,7 +54,7 @@ grep -q '"Spare": 3 root nodes$' fly.txt || fail "info text does not list scene 
 grep -q '2 whole plays' fly.txt || fail "info text does not count whole plays"
 
 # 2. The farm: frame and pixel mode at 1 to 3 ranks, the same bytes.
-common=(--camera 0 --size 48x27 --spp 1 --fps 6 --exposure 0 --tonemap clamp)  # 13 frames: 49/24 s at 6 fps, both ends
+common=(--camera 0 --size 48x28 --spp 1 --fps 6 --exposure 0 --tonemap clamp)  # 13 frames: 49/24 s at 6 fps, both ends
 render_np() {  # np mode
     mpirun --oversubscribe -np "$1" "$RAYFARM" render "$FLY" "${common[@]}" --mode "$2" -o "np$1_$2.mp4" \
         --frames-dir "np$1_$2" 2>"np$1_$2.log" || { cat "np$1_$2.log"; fail "render np $1 $2"; }
@@ -73,7 +73,18 @@ cmp -s np1_frame/frame_000000.png np1_frame/frame_000012.png && fail "the camera
 "$RAYFARM" still "$FLY" --camera 0 --size 48x27 --spp 1 --frame 0 -o still0.png 2>/dev/null || fail "still --frame 0"
 "$RAYFARM" still "$FLY" --camera 0 --size 48x27 --spp 1 --frame 40 -o still40.png 2>/dev/null || fail "still --frame 40"
 cmp -s still0.png still40.png && fail "still --camera 0 shows the same picture at frames 0 and 40"
-echo "farm ok: $n frames identical at 1-3 ranks, frame and pixel mode"
+# --resume: frames deleted from the 3-rank pixel run are rendered again to the same bytes; a
+# resume through another camera or scene is refused naming it.
+rm np3_pixel/frame_000004.png np3_pixel/frame_000009.png
+expect_refusal "gltf_scene was not given, now 0" \
+    "$RAYFARM" render "$FLY" "${common[@]}" --scene 0 -o np3_pixel.mp4 --frames-dir np3_pixel --resume
+mpirun --oversubscribe -np 3 "$RAYFARM" render "$FLY" "${common[@]}" --mode pixel -o np3_pixel.mp4 --frames-dir np3_pixel \
+    --resume 2>resume.log || { cat resume.log; fail "resume"; }
+grep -q "resume: 11 of 13 frames kept" resume.log || { cat resume.log; fail "the resume did not render the 2 missing frames"; }
+for f in np1_frame/frame_*.png; do
+    cmp -s "$f" "np3_pixel/$(basename "$f")" || fail "$(basename "$f") differs after --resume"
+done
+echo "farm ok: $n frames identical at 1-3 ranks, frame and pixel mode, and after --resume"
 
 # 3. --scene, and bad input
 "$RAYFARM" still "$FLY" --scene 0 --camera 0 --size 48x27 --spp 1 -o spare.png 2>/dev/null || fail "still --scene 0"
