@@ -182,9 +182,9 @@ std::vector<Timeline::Clip> Timeline::clips() const {
     std::vector<Clip> out;
     if (spec_)
         for (const GltfAnimationPlayer& p : spec_->players) {
-        const std::vector<int> anims = p.animations();
-        for (size_t i = 0; i < anims.size(); ++i) out.push_back({p.model(), anims[i], p.partPeriod(i)});
-    }
+            const std::vector<int> anims = p.animations();
+            for (size_t i = 0; i < anims.size(); ++i) out.push_back({p.model(), anims[i], p.partPeriod(i)});
+        }
     return out;
 }
 

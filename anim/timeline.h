@@ -17,7 +17,9 @@ class Timeline {
 public:
     /// Interprets what the loader found beside the scene (its "timeline" / "turntable"
     /// sections, --animation). A JSON scene without sections is a single still frame; a bare
-    /// glTF model (.gltf/.glb) gets the default turntable (4 s at 30 fps = 120 frames). fps > 0
+    /// glTF model (.gltf/.glb) gets the default turntable (4 s at 30 fps = 120 frames); with
+    /// source.camera the film looks through that glTF camera instead, posed from its node's
+    /// animation each frame, as long as that animation (both ends). fps > 0
     /// replaces the rate of the sections or of the default turntable (render --fps). Throws
     /// InputError naming the scene file and the key.
     static Timeline fromScene(const Scene& scene, const TimelineSource& source, double fps = 0.0);
