@@ -85,12 +85,26 @@ std::vector<DMat4> modelFromNode(const SceneGraph& g, const std::vector<DMat4>& 
 
 GltfAnimationPlayer::GltfAnimationPlayer(const SceneGraph& g, int model, int animation, bool loop, double speed,
                                          double offset)
-    : model_(model), animation_(animation), loop_(loop), speed_(speed), offset_(offset) {
+    : model_(model), speed_(speed), offset_(offset) {
+    addAnimation(g, animation, loop);
+}
+
+GltfAnimationPlayer::GltfAnimationPlayer(const SceneGraph& g, int model, const std::vector<int>& animations, bool loop)
+    : model_(model) {
+    if (animations.empty()) throw InputError(g.source, "no animations to play");
+    for (int a : animations) addAnimation(g, a, loop);
+}
+
+void GltfAnimationPlayer::addAnimation(const SceneGraph& g, int animation, bool loop) {
     if (animation < 0 || animation >= static_cast<int>(g.animations.size()))
         throw InputError(g.source, "no animation " + std::to_string(animation) + " (the model has " +
                                        std::to_string(g.animations.size()) + ")");
     const Animation& a = g.animations[animation];
     const std::string where = "animations[" + std::to_string(animation) + "]";
+    const size_t part = parts_.size();
+    Part p;
+    p.animation = animation;
+    p.loop = loop;
     for (size_t c = 0; c < a.channels.size(); ++c) {
         const AnimChannel& ch = a.channels[c];
         const std::string cw = where + ".channels[" + std::to_string(c) + "]";
@@ -101,38 +115,73 @@ GltfAnimationPlayer::GltfAnimationPlayer(const SceneGraph& g, int model, int ani
             throw InputError(g.source, cw + ": animates node " + std::to_string(ch.node) + ", which has a matrix (glTF allows only TRS on animated nodes)");
         const std::string sw = where + ".samplers[" + std::to_string(ch.sampler) + "]";
         try {
-            channels_.push_back({ch.node, ch.path, trackFromSampler(a.samplers[ch.sampler], ch.path)});
+            channels_.push_back({ch.node, ch.path, trackFromSampler(a.samplers[ch.sampler], ch.path), part});
         } catch (const KeyError& e) {
             throw InputError(g.source, sw + samplerElement(a.samplers[ch.sampler], e) + ": " + e.what());
         } catch (const std::invalid_argument& e) {
             throw InputError(g.source, sw + ": " + e.what());
         }
-        duration_ = std::max(duration_, channels_.back().track.endTime());
+        p.duration = std::max(p.duration, channels_.back().track.endTime());
+    }
+    parts_.push_back(p);
+    if (p.duration > duration_) {
+        duration_ = p.duration;
+        longest_ = part;
     }
 }
 
-double GltfAnimationPlayer::localTime(double t) const {
+std::vector<int> GltfAnimationPlayer::animations() const {
+    std::vector<int> out;
+    for (const Part& p : parts_) out.push_back(p.animation);
+    return out;
+}
+
+double GltfAnimationPlayer::periodMoving(const SceneGraph& g, int node) const {
+    std::vector<uint8_t> chain(g.nodes.size(), 0);  // node and the nodes above it
+    for (int n = node, guard = 0; n >= 0 && size_t(n) < g.nodes.size() && guard < int(g.nodes.size()); n = g.nodes[size_t(n)].parent, ++guard)
+        chain[size_t(n)] = 1;
+    double p = 0.0;
+    for (const Channel& c : channels_)
+        if (c.path != AnimPath::Weights && size_t(c.node) < chain.size() && chain[size_t(c.node)]) p = std::max(p, partPeriod(c.part));
+    return p;
+}
+
+void GltfAnimationPlayer::holdEndsAt(double seconds) {
+    for (size_t i = 0; i < parts_.size(); ++i)
+        if (partPeriod(i) >= seconds - 1e-9) parts_[i].loop = false;
+}
+
+double GltfAnimationPlayer::localTime(double t, size_t part) const {
     double a = t * speed_ + offset_;
     if (!std::isfinite(a)) return 0.0;
-    if (loop_ && duration_ > 0.0) {
-        a = std::fmod(a, duration_);
-        if (a < 0.0) a += duration_;
+    const Part& p = parts_[part];
+    if (p.loop && p.duration > 0.0) {
+        a = std::fmod(a, p.duration);
+        if (a < 0.0) a += p.duration;
     }
     return a;
 }
 
 void GltfAnimationPlayer::pose(const SceneGraph& g, double t, std::vector<DMat4>& renderFromNode,
                                std::vector<std::vector<double>>& weights) const {
-    poseLocal(g, localTime(t), renderFromNode, weights);
+    poseParts(g, [&](size_t part) { return localTime(t, part); }, renderFromNode, weights);
 }
 
 void GltfAnimationPlayer::poseLocal(const SceneGraph& g, double at, std::vector<DMat4>& renderFromNode,
                                     std::vector<std::vector<double>>& weights) const {
+    poseParts(g, [at](size_t) { return at; }, renderFromNode, weights);
+}
+
+void GltfAnimationPlayer::poseParts(const SceneGraph& g, const std::function<double(size_t)>& timeOf,
+                                    std::vector<DMat4>& renderFromNode, std::vector<std::vector<double>>& weights) const {
     std::vector<SceneNode> nodes = g.nodes;  // defaults, overridden by channels
     weights.assign(nodes.size(), {});
     for (size_t i = 0; i < nodes.size(); ++i) weights[i] = nodes[i].weights;
+    std::vector<double> times(parts_.size());
+    for (size_t i = 0; i < parts_.size(); ++i) times[i] = timeOf(i);
     for (const Channel& c : channels_) {
         SceneNode& n = nodes[c.node];
+        const double at = times[c.part];
         switch (c.path) {
             case AnimPath::Translation: n.translation = c.track.evaluateVec3(at); break;
             case AnimPath::Rotation: n.rotation = c.track.evaluateQuat(at); break;
@@ -154,19 +203,23 @@ void GltfAnimationPlayer::apply(Scene& scene, double t) const {
     std::vector<DMat4> renderFromNode;
     std::vector<std::vector<double>> weights;
     pose(scene.geometry.models[model_], t, renderFromNode, weights);
-    if (!loop_ || !(duration_ > 0.0)) {
+    bool loops = duration_ > 0.0;
+    for (const Part& p : parts_) loops &= p.loop;
+    if (!loops) {
         scene.geometry.applyNodeTransforms(model_, renderFromNode, weights);
         return;
     }
-    // The nearest of kPoseAnchors poses spaced evenly over the looping clip: the one whose
-    // tree a deforming mesh refits (SceneGeometry::PoseAnchor). Chosen from the local time alone.
+    // The nearest of kPoseAnchors poses spaced evenly over the looping clip (the longest one's
+    // when several play, each of the others at the same share of its own duration): the one
+    // whose tree a deforming mesh refits (SceneGeometry::PoseAnchor). Chosen from the local
+    // time alone.
     const double phase = localTime(t) / duration_;
     SceneGeometry::PoseAnchor anchor;
-    anchor.clip = animation_;
+    anchor.clip = parts_.size() == 1 ? parts_.front().animation : -1;  // -1: several together
     anchor.index = int(std::floor(phase * kPoseAnchors + 0.5)) % kPoseAnchors;
     const SceneGraph& g = scene.geometry.models[model_];
-    anchor.pose = [&, at = duration_ * anchor.index / kPoseAnchors](std::vector<DMat4>& n, std::vector<std::vector<double>>& w) {
-        poseLocal(g, at, n, w);
+    anchor.pose = [&, share = double(anchor.index) / kPoseAnchors](std::vector<DMat4>& n, std::vector<std::vector<double>>& w) {
+        poseParts(g, [&](size_t part) { return parts_[part].duration * share; }, n, w);
     };
     scene.geometry.applyNodeTransforms(model_, renderFromNode, weights, &anchor);
 }
@@ -252,6 +305,38 @@ void GltfAnimationPlayer::visitPosed(const Scene& scene, double t, const std::ve
 namespace {
 bool isIndex(const std::string& s) { return !s.empty() && s.size() < 10 && s.find_first_not_of("0123456789") == std::string::npos; }
 }  // namespace
+
+std::vector<int> animationsMoving(const SceneGraph& g, int node) {
+    std::vector<uint8_t> chain(g.nodes.size(), 0);
+    for (int n = node, guard = 0; n >= 0 && size_t(n) < g.nodes.size() && guard < int(g.nodes.size()); n = g.nodes[size_t(n)].parent, ++guard)
+        chain[size_t(n)] = 1;
+    std::vector<int> out;
+    for (size_t a = 0; a < g.animations.size(); ++a)
+        for (const AnimChannel& c : g.animations[a].channels)
+            if (c.path != AnimPath::Weights && c.node >= 0 && size_t(c.node) < chain.size() && chain[size_t(c.node)]) {
+                out.push_back(int(a));
+                break;
+            }
+    return out;
+}
+
+std::vector<int> defaultAnimations(const SceneGraph& g) {
+    std::vector<int> chosen;
+    // (node, path) pairs taken; weights count as a path of their own.
+    std::vector<uint8_t> taken(g.nodes.size() * 4, 0);
+    for (size_t a = 0; a < g.animations.size(); ++a) {
+        const Animation& an = g.animations[a];
+        bool clash = false;
+        for (const AnimChannel& c : an.channels)
+            if (c.node >= 0 && size_t(c.node) < g.nodes.size() && taken[size_t(c.node) * 4 + size_t(c.path)]) clash = true;
+        if (clash) continue;
+        for (const AnimChannel& c : an.channels)
+            if (c.node >= 0 && size_t(c.node) < g.nodes.size()) taken[size_t(c.node) * 4 + size_t(c.path)] = 1;
+        chosen.push_back(int(a));
+    }
+    if (chosen.empty() && !g.animations.empty()) chosen.push_back(0);
+    return chosen;
+}
 
 int chooseAnimation(const SceneGraph& g, const std::string& choice) {
     const int byName = findAnimation(g, choice);

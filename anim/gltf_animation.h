@@ -34,22 +34,38 @@ struct MeshExtent {
 /// Extents of every animated mesh (node ≥ 0) of scene.geometry.models[model].
 std::vector<MeshExtent> meshExtents(const Scene& scene, int model);
 
-/// One animation of one model, ready to evaluate at any time.
+/// One animation of one model, or several played together (--animation all), ready to evaluate
+/// at any time.
 class GltfAnimationPlayer {
 public:
     /// Compiles graph.animations[animation]. Throws InputError naming graph.source and the
     /// sampler on invalid keys or channel targets.
     GltfAnimationPlayer(const SceneGraph& graph, int model, int animation, bool loop, double speed = 1.0,
                         double offset = 0.0);
+    /// Several of the model's animations played together, each looped (or not) over its own
+    /// duration; where two animate the same node property, the later one in `animations` wins.
+    GltfAnimationPlayer(const SceneGraph& graph, int model, const std::vector<int>& animations, bool loop);
 
     int model() const { return model_; }
-    int animation() const { return animation_; }
+    /// The first (for one animation: the only) animation it plays.
+    int animation() const { return parts_.front().animation; }
+    /// The animations it plays, in order.
+    std::vector<int> animations() const;
+    /// Seconds of timeline time one play of animation part `i` (of animations()) takes.
+    double partPeriod(size_t i) const { return speed_ != 0.0 ? parts_[i].duration / std::abs(speed_) : 0.0; }
     double duration() const { return duration_; }
     /// Seconds of timeline time one play of the clip takes (duration / |speed|; 0: no motion).
+    /// Several animations: the longest of them.
     double period() const { return speed_ != 0.0 ? duration_ / std::abs(speed_) : 0.0; }
+    /// The longest period of the animations it plays that move `node` of graph or a node above
+    /// it (translation, rotation or scale); 0 when none does.
+    double periodMoving(const SceneGraph& graph, int node) const;
+    /// Plays the animations whose period is `seconds` or more once and holds their last pose
+    /// instead of looping: a film of that length then ends on their last key, not their first.
+    void holdEndsAt(double seconds);
     /// Animation-local time for timeline time t: (t·speed + offset), wrapped into [0, duration)
-    /// when looping, else clamped by the samplers.
-    double localTime(double t) const;
+    /// when looping, else clamped by the samplers. Several animations: the longest one's.
+    double localTime(double t) const { return localTime(t, longest_); }
     /// Render-from-node matrices and morph weights of every node at timeline time t.
     void pose(const SceneGraph& graph, double t, std::vector<DMat4>& renderFromNode,
               std::vector<std::vector<double>>& weights) const;
@@ -78,20 +94,43 @@ private:
         int node;
         AnimPath path;
         KeyTrack track;
+        size_t part;  ///< which of parts_ it belongs to
     };
+    struct Part {
+        int animation = 0;
+        double duration = 0.0;
+        bool loop = true;
+    };
+    void addAnimation(const SceneGraph& graph, int animation, bool loop);
+    double localTime(double t, size_t part) const;
+    /// Poses every node with each part at the time timeOf(part) gives.
+    void poseParts(const SceneGraph& graph, const std::function<double(size_t)>& timeOf, std::vector<DMat4>& renderFromNode,
+                   std::vector<std::vector<double>>& weights) const;
     int model_ = 0;
-    int animation_ = 0;
-    bool loop_ = true;
+    size_t longest_ = 0;  ///< the part with the longest duration
     double speed_ = 1.0, offset_ = 0.0;
     double duration_ = 0.0;
+    std::vector<Part> parts_;
     std::vector<Channel> channels_;
 };
+
+/// The choice that plays every animation of a model together (--animation all).
+inline constexpr const char* kAllAnimations = "all";
 
 /// Index of the animation called `name` in graph, or -1.
 int findAnimation(const SceneGraph& graph, const std::string& name);
 
 /// The animation `choice` names in graph: a name, else a decimal index; -1 if none.
 int chooseAnimation(const SceneGraph& graph, const std::string& choice);
+/// The animations of graph that move `node` or a node above it (translation, rotation, scale).
+std::vector<int> animationsMoving(const SceneGraph& graph, int node);
+
+/// What a bare model plays when nothing is chosen: its animations in order, each one taken
+/// unless it animates a node property (translation, rotation, scale, morph weights) that an
+/// animation already taken animates.
+/// Blender's one animation per object (or NLA track) all play together; alternative takes of
+/// one rig (Fox's Survey, Walk, Run) leave only the first.
+std::vector<int> defaultAnimations(const SceneGraph& graph);
 /// Why chooseAnimation found nothing, listing what the file has: `no animation named "Run"
 /// (model.gltf has 2: 0 "Idle", 1 "Walk")`.
 std::string missingAnimation(const SceneGraph& graph, const std::string& choice);

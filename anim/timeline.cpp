@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "anim/frame_time.h"
+#include "engine/util/errors.h"
 #include "engine/util/model_path.h"
 #include "anim/timeline_spec.h"
 
@@ -55,14 +56,102 @@ void applyLight(const LightTracks& lt, const Light& rest, Light& l, double t) {
     l.innerCone = std::min(l.innerCone, l.outerCone);
 }
 
+/// The players' pose of the file camera's node at t (its rest place when none moves its model).
+void applyFileCamera(const FileCamera& fc, const std::vector<GltfAnimationPlayer>& players, Scene& scene, double t) {
+    for (const GltfAnimationPlayer& p : players) {
+        if (p.model() != fc.model || fc.model < 0 || size_t(fc.model) >= scene.geometry.models.size()) continue;
+        std::vector<DMat4> renderFromNode;
+        std::vector<std::vector<double>> weights;
+        p.pose(scene.geometry.models[size_t(fc.model)], t, renderFromNode, weights);
+        if (fc.node >= 0 && size_t(fc.node) < renderFromNode.size()) {
+            scene.camera = cameraOnNode(fc.lens, renderFromNode[size_t(fc.node)]);
+            return;
+        }
+    }
+    scene.camera = cameraOnNode(fc.lens, fc.restRenderFromNode);
+}
+
+/// The file camera `index` of the scene, checked (chosenGltfCamera's refusals, by `where`).
+FileCamera chosenFileCamera(const Scene& scene, int index, const std::string& where) {
+    const int n = int(scene.gltfCameras.size());
+    if (index < 0 || index >= n)
+        throw InputError(scene.sourcePath, where + ": no camera " + std::to_string(index) + " (the file has " +
+                                               std::to_string(n) + (n == 1 ? " camera)" : " cameras)"));
+    if (size_t(index) < scene.gltfCameraFaults.size() && !scene.gltfCameraFaults[size_t(index)].second.empty()) {
+        const auto& [file, fault] = scene.gltfCameraFaults[size_t(index)];
+        throw InputError(file, fault + "; choose another " + where);
+    }
+    FileCamera fc;
+    fc.index = index;
+    fc.lens = scene.gltfCameras[size_t(index)];
+    if (size_t(index) < scene.gltfCameraNodes.size()) {
+        fc.model = scene.gltfCameraNodes[size_t(index)].model;
+        fc.node = scene.gltfCameraNodes[size_t(index)].node;
+    }
+    if (fc.model >= 0 && size_t(fc.model) < scene.geometry.models.size()) {
+        const SceneGraph& g = scene.geometry.models[size_t(fc.model)];
+        std::vector<DMat4> local(g.nodes.size());
+        for (size_t i = 0; i < g.nodes.size(); ++i) local[i] = nodeLocalMatrix(g.nodes[i]);
+        const std::vector<DMat4> world = modelFromNode(g, local);
+        if (fc.node >= 0 && size_t(fc.node) < world.size()) fc.restRenderFromNode = g.renderFromModel * world[size_t(fc.node)];
+    } else {
+        fc.model = -1;  // placed where it was loaded, never moved
+    }
+    if (fc.model < 0) {
+        // No node to follow: the loaded camera's own frame.
+        const CameraBasis b = lookAt(fc.lens.eye, fc.lens.target, fc.lens.up);
+        fc.restRenderFromNode = DMat4(glm::dvec4(DVec3(b.right), 0.0), glm::dvec4(DVec3(b.up), 0.0), glm::dvec4(-DVec3(b.forward), 0.0),
+                                      glm::dvec4(DVec3(fc.lens.eye), 1.0));
+    }
+    return fc;
+}
+
+/// Seconds the file camera's animation lasts under these players (the longest animation that
+/// moves its node or a node above it); 0 when it stands still.
+double cameraMovingPeriod(const FileCamera& fc, const Scene& scene, const std::vector<GltfAnimationPlayer>& players) {
+    double p = 0.0;
+    for (const GltfAnimationPlayer& pl : players)
+        if (pl.model() == fc.model && fc.model >= 0) p = std::max(p, pl.periodMoving(scene.geometry.models[size_t(fc.model)], fc.node));
+    return p;
+}
+
 }  // namespace
 
+std::optional<int> Timeline::fileCamera() const {
+    if (spec_ && spec_->fileCamera) return spec_->fileCamera->index;
+    return std::nullopt;
+}
+
+double Timeline::fileCameraPeriod() const { return spec_ && spec_->fileCamera ? fileCameraPeriod_ : 0.0; }
 
 Timeline Timeline::fromScene(const Scene& scene, const TimelineSource& source, double fps) {
     Timeline tl;
     ParsedTimeline p;
+    std::optional<FileCamera> fc;
+    if (source.camera) fc = chosenFileCamera(scene, *source.camera, source.cameraSource);
     if (source.sections) {
         p = parseTimeline(scene, source, fps);
+        if (fc) {
+            // The file's camera replaces the timeline's camera and turntable; its length stays.
+            p.spec.camera = CameraTracks{};
+            p.spec.turntable.reset();
+            tl.fileCameraPeriod_ = cameraMovingPeriod(*fc, scene, p.spec.players);
+        }
+    } else if (fc) {
+        // A film through the file's camera: as long as the animation it moves with, both ends
+        // rendered (that animation holds its last key there); a camera standing still, one play
+        // of the longest animation that plays, looped; nothing moving, one frame.
+        p.spec.restLights = scene.lights;
+        p.spec.players = defaultPlayers(scene, source.animation);
+        p.fps = fps > 0.0 ? fps : 30.0;
+        const double moving = cameraMovingPeriod(*fc, scene, p.spec.players);
+        tl.fileCameraPeriod_ = moving;
+        if (moving > 0.0 && moving <= 3600.0) {
+            for (GltfAnimationPlayer& pl : p.spec.players) pl.holdEndsAt(moving);
+            p.frames = anim::frameCount(moving, p.fps) + 1;
+        } else if (const double clip = longestPeriod(p.spec.players); clip > 0.0 && clip <= 3600.0) {
+            p.frames = std::max(1, anim::frameCount(clip, p.fps));
+        }
     } else if (isGltfPath(scene.sourcePath)) {
         p.spec.restLights = scene.lights;
         TurntableSettings s = defaultModelTurntable();
@@ -80,8 +169,9 @@ Timeline Timeline::fromScene(const Scene& scene, const TimelineSource& source, d
     tl.frames_ = p.frames;
     tl.fps_ = p.fps;
     tl.t0_ = p.t0;
+    p.spec.fileCamera = fc;
     const TimelineSpec& s = p.spec;
-    if (s.camera.any() || !s.lights.empty() || s.turntable || !s.players.empty())
+    if (s.camera.any() || !s.lights.empty() || s.turntable || !s.players.empty() || s.fileCamera)
         tl.spec_ = std::make_shared<const TimelineSpec>(std::move(p.spec));
     return tl;
 }
@@ -91,7 +181,10 @@ double Timeline::frameTime(int frame) const { return anim::frameTime(t0_, fps_, 
 std::vector<Timeline::Clip> Timeline::clips() const {
     std::vector<Clip> out;
     if (spec_)
-        for (const GltfAnimationPlayer& p : spec_->players) out.push_back({p.model(), p.animation(), p.period()});
+        for (const GltfAnimationPlayer& p : spec_->players) {
+            const std::vector<int> anims = p.animations();
+            for (size_t i = 0; i < anims.size(); ++i) out.push_back({p.model(), anims[i], p.partPeriod(i)});
+        }
     return out;
 }
 
@@ -106,6 +199,7 @@ void Timeline::apply(Scene& scene, double t) const {
         if (lt.light < static_cast<int>(scene.lights.size()))
             applyLight(lt, s.restLights[lt.light], scene.lights[lt.light], t);
     for (const GltfAnimationPlayer& pl : s.players) pl.apply(scene, t);
+    if (s.fileCamera) applyFileCamera(*s.fileCamera, s.players, scene, t);
 }
 
 }  // namespace rf::anim

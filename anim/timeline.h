@@ -2,6 +2,7 @@
 /// The timeline: for any frame index, the camera, the lights and the model's animated nodes, as
 /// a pure function of the index. Any rank can render any frame with no state carried over.
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,7 +17,9 @@ class Timeline {
 public:
     /// Interprets what the loader found beside the scene (its "timeline" / "turntable"
     /// sections, --animation). A JSON scene without sections is a single still frame; a bare
-    /// glTF model (.gltf/.glb) gets the default turntable (4 s at 30 fps = 120 frames). fps > 0
+    /// glTF model (.gltf/.glb) gets the default turntable (4 s at 30 fps = 120 frames); with
+    /// source.camera the film looks through that glTF camera instead, posed from its node's
+    /// animation each frame, as long as that animation (both ends). fps > 0
     /// replaces the rate of the sections or of the default turntable (render --fps). Throws
     /// InputError naming the scene file and the key.
     static Timeline fromScene(const Scene& scene, const TimelineSource& source, double fps = 0.0);
@@ -41,11 +44,16 @@ public:
     std::vector<Clip> clips() const;
     /// True when nothing changes from frame to frame.
     bool isStill() const { return !spec_; }
+    /// The glTF camera the film looks through (TimelineSource::camera), if one.
+    std::optional<int> fileCamera() const;
+    /// Seconds of the animation that moves that camera (0: it stands still, or no file camera).
+    double fileCameraPeriod() const;
 
 private:
     int frames_ = 1;
     double fps_ = 30.0;
     double t0_ = 0.0;
+    double fileCameraPeriod_ = 0.0;
     std::shared_ptr<const TimelineSpec> spec_;  ///< null: a still frame, apply() does nothing
 };
 

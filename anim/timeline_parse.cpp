@@ -192,7 +192,7 @@ public:
         return l;
     }
 
-    /// "animation": absent → every animated model plays its first animation, looped.
+    /// "animation": absent → every animated model plays its default animations (defaultAnimations), looped.
     std::vector<GltfAnimationPlayer> animations(const json& o, const std::string& w) const {
         // The command line's --animation wins over the file's choice.
         if (!o.contains("animation") || animation_) return defaultPlayers(scene_, animation_);
@@ -213,12 +213,18 @@ public:
         return players;
     }
 
-    /// "animation": NAME or INDEX: every animated model plays that one.
+    /// "animation": NAME or INDEX: every animated model plays that one; "all": all of its own.
     std::vector<GltfAnimationPlayer> chosen(const std::string& choice, const std::string& w) const {
         std::vector<GltfAnimationPlayer> players;
         for (size_t m = 0; m < scene_.geometry.models.size(); ++m) {
             const SceneGraph& g = scene_.geometry.models[m];
             if (g.animations.empty()) continue;
+            if (choice == kAllAnimations && findAnimation(g, choice) < 0) {
+                std::vector<int> all(g.animations.size());
+                for (size_t a = 0; a < all.size(); ++a) all[a] = int(a);
+                players.emplace_back(g, static_cast<int>(m), all, true);
+                continue;
+            }
             const int a = chooseAnimation(g, choice);
             if (a < 0) fail(w, missingAnimation(g, choice));
             players.emplace_back(g, static_cast<int>(m), a, true);
@@ -312,7 +318,7 @@ std::vector<GltfAnimationPlayer> defaultPlayers(const Scene& scene, const std::o
     std::vector<GltfAnimationPlayer> players;
     for (size_t m = 0; m < scene.geometry.models.size(); ++m)
         if (!scene.geometry.models[m].animations.empty())
-            players.emplace_back(scene.geometry.models[m], static_cast<int>(m), 0, true);
+            players.emplace_back(scene.geometry.models[m], static_cast<int>(m), defaultAnimations(scene.geometry.models[m]), true);
     return players;
 }
 
@@ -322,6 +328,12 @@ std::vector<GltfAnimationPlayer> chosenPlayers(const Scene& scene, const std::st
     for (size_t m = 0; m < scene.geometry.models.size(); ++m) {
         const SceneGraph& g = scene.geometry.models[m];
         if (g.animations.empty()) continue;
+        if (choice == kAllAnimations && findAnimation(g, choice) < 0) {
+            std::vector<int> all(g.animations.size());
+            for (size_t a = 0; a < all.size(); ++a) all[a] = int(a);
+            players.emplace_back(g, static_cast<int>(m), all, true);
+            continue;
+        }
         const int a = chooseAnimation(g, choice);
         if (a < 0) throw InputError(file.empty() ? g.source : file, where + ": " + missingAnimation(g, choice));
         players.emplace_back(g, static_cast<int>(m), a, true);

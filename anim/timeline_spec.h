@@ -32,8 +32,18 @@ struct LightTracks {
     std::optional<KeyTrack> position, direction, color, intensity, innerDeg, outerDeg;
 };
 
+/// The film looks through a camera of a glTF file (--camera N): Scene::gltfCameras[index],
+/// on node `node` of model `model`, posed each frame by that model's player (or at rest).
+struct FileCamera {
+    int index = 0;
+    int model = -1, node = -1;
+    Camera lens;                  ///< as loaded: its projection; eye, target and up are replaced
+    DMat4 restRenderFromNode{1.0};  ///< where it stands when no player moves its model
+};
+
 struct TimelineSpec {
     CameraTracks camera;
+    std::optional<FileCamera> fileCamera;
     std::vector<LightTracks> lights;
     std::optional<Turntable> turntable;
     std::vector<Light> restLights;  ///< lights as loaded, for follow-camera turntables
@@ -67,11 +77,12 @@ Aabb filmBounds(const Scene& scene, const std::vector<GltfAnimationPlayer>& play
 Turntable framedOnFilm(const TurntableSettings& s, const Scene& scene, const std::vector<GltfAnimationPlayer>& players);
 constexpr int kMaxFramedFrames = 4096;
 
-/// Every model with animations plays its first one, looped (or the one `animation`, the
-/// command line's --animation, names).
+/// Every model with animations plays its default ones (defaultAnimations), looped, or the one
+/// `animation` (the command line's --animation) names, or all of them for "all".
 std::vector<GltfAnimationPlayer> defaultPlayers(const Scene& scene, const std::optional<std::string>& animation = {});
 
-/// Every model with animations plays the one `choice` names (chooseAnimation), looped. Throws
+/// Every model with animations plays the one `choice` names (chooseAnimation), looped; "all"
+/// (kAllAnimations, unless a model has an animation of that name): all of its own. Throws
 /// InputError(file, where: …) when a model lacks it (listing what it has) or none has any.
 std::vector<GltfAnimationPlayer> chosenPlayers(const Scene& scene, const std::string& choice, const std::string& file,
                                                const std::string& where);

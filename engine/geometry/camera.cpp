@@ -1,6 +1,26 @@
 #include "engine/geometry/camera.h"
 
+#include <cmath>
+
 namespace rf {
+
+namespace {
+
+/// A node axis in render space, unit length (the axis itself if the node collapses it).
+Vec3 nodeAxis(const DMat4& renderFromNode, const DVec3& a) {
+    const DVec3 v = glm::dmat3(renderFromNode) * a;
+    const double len = glm::length(v);
+    return len > 0.0 && std::isfinite(len) ? Vec3(v / len) : Vec3(a);
+}
+
+}  // namespace
+
+Camera cameraOnNode(Camera c, const DMat4& renderFromNode) {
+    c.eye = Vec3(DVec3(renderFromNode[3]));
+    c.target = c.eye + nodeAxis(renderFromNode, DVec3(0, 0, -1));
+    c.up = nodeAxis(renderFromNode, DVec3(0, 1, 0));
+    return c;
+}
 
 CameraBasis lookAt(const Vec3& eye, const Vec3& target, const Vec3& up) {
     CameraBasis b;

@@ -20,6 +20,10 @@ struct Camera {
     float orthoHalf = 1.f;
 };
 
+/// `lens` placed on a glTF node: looking down the node's −z with its +y up (the node's scale
+/// does not enter; an axis the node collapses stays the unscaled one).
+Camera cameraOnNode(Camera lens, const DMat4& renderFromNode);
+
 /// World-from-camera basis: right, up and forward, orthonormal and right-handed.
 struct CameraBasis {
     Vec3 right{1.f, 0.f, 0.f};

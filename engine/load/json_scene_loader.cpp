@@ -223,6 +223,8 @@ public:
         s.build();
         if (fileGround) placeGround(s, Ground::Shadow);  // the command line's --ground, if any, comes after
         loaded.timeline.sections = std::move(timeline_);
+        loaded.timeline.camera = camera_;
+        loaded.timeline.cameraSource = cameraSource_;
         return loaded;
     }
 
@@ -347,7 +349,7 @@ private:
         } else if (type == "triangle" || type == "mesh") {
             readMesh(j, w, s, type == "triangle");
         } else if (type == "model") {
-            rd_.allowKeys(j, w, {"type", "path", "transform", "material", "variant"});
+            rd_.allowKeys(j, w, {"type", "path", "transform", "material", "variant", "scene", "camera"});
             const std::string rel = rd_.string(j, "path", w, "");
             if (rel.empty()) rd_.fail(w + ".path", "expected the model's file name");
             const std::filesystem::path base = std::filesystem::path(path_).parent_path();
@@ -365,7 +367,25 @@ private:
                 if (a.variant.empty()) rd_.fail(w + ".variant", "expected a variant's name");
                 a.variantSource = w + ".variant";
             }
+            // "scene": which of the file's scenes (--scene overrides it for every model).
+            if (a.scene < 0 && j.contains("scene")) {
+                if (!j["scene"].is_number_integer() || j["scene"].get<long long>() < 0) rd_.fail(w + ".scene", "expected a scene index from 0");
+                a.scene = int(std::min<long long>(j["scene"].get<long long>(), 1 << 20));
+                a.sceneSource = w + ".scene";
+            }
+            const size_t camerasBefore = s.gltfCameras.size();
             modelVariants_ += loadGltfModel(s, full, m, fs_, j.contains("material") ? material(j, w) : -1, a);
+            // "camera": the film looks through this model's camera N (--camera overrides it).
+            if (j.contains("camera")) {
+                if (!j["camera"].is_number_integer() || j["camera"].get<long long>() < 0) rd_.fail(w + ".camera", "expected a camera index from 0");
+                const long long c = j["camera"].get<long long>();
+                const size_t has = s.gltfCameras.size() - camerasBefore;
+                if (c >= (long long)has)
+                    rd_.fail(w + ".camera", "no camera " + std::to_string(c) + " (" + rel + " has " + std::to_string(has) + (has == 1 ? " camera)" : " cameras)"));
+                if (camera_) rd_.fail(w + ".camera", "another model already gives the camera");
+                camera_ = int(camerasBefore + size_t(c));
+                cameraSource_ = w + ".camera";
+            }
         } else {
             rd_.fail(w + ".type", "expected \"sphere\", \"plane\", \"triangle\", \"mesh\" or \"model\"");
         }
@@ -451,6 +471,8 @@ private:
     size_t modelVariants_ = 0;  ///< material variants of all the scene's models
     std::map<std::string, int> materialIds_;
     std::shared_ptr<const json> timeline_;  ///< the animation sections, for the LoadedScene
+    std::optional<int> camera_;             ///< a model's "camera", as an index into Scene::gltfCameras
+    std::string cameraSource_ = "--camera";
 };
 
 }  // namespace

@@ -11,8 +11,9 @@
 
 namespace rf {
 
-/// A scene file's animation sections and the command line's choice of animation. Empty: the
-/// default timeline (a turntable for a bare model, each model's first animation looped).
+/// A scene file's animation sections and the command line's choice of animation and camera.
+/// Empty: the default timeline (a turntable for a bare model, each model's default animations
+/// looped: anim::defaultAnimations).
 struct TimelineSource {
     /// The scene file's animation sections as parsed JSON, null without any:
     /// {"timeline": {...}, "timeline_file": path if it came from its own file, "turntable": {...}}.
@@ -21,6 +22,11 @@ struct TimelineSource {
     /// --animation NAME|INDEX (SceneOptions::animation): the animation every animated model
     /// plays, over the scene file's "animation".
     std::optional<std::string> animation;
+    /// --camera N (SceneOptions::camera, or a scene file model's "camera"): the film looks
+    /// through Scene::gltfCameras[N], following its node's animation; cameraSource names what
+    /// chose it, for messages.
+    std::optional<int> camera;
+    std::string cameraSource = "--camera";
 };
 
 struct LoadedScene {

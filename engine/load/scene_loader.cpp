@@ -18,6 +18,10 @@ LoadedScene loadScene(const std::string& path, FileSource& fs, const SceneOption
         else throw InputError(path, "unknown scene type (expected .json, .gltf or .glb)");
         if (options.ground) placeGround(loaded.scene, *options.ground);
         loaded.timeline.animation = options.animation;
+        if (options.camera) {
+            loaded.timeline.camera = options.camera;
+            loaded.timeline.cameraSource = "--camera";
+        }
         return loaded;
     } catch (LoadCancelled& c) {
         if (c.file.empty()) c.file = path;

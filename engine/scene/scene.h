@@ -42,6 +42,13 @@ public:
     /// Beside each of gltfCameras: its file, and why it cannot be used ("" if it can), said
     /// when it is chosen.
     std::vector<std::pair<std::string, std::string>> gltfCameraFaults;
+    /// Beside each of gltfCameras: the model (geometry.models) and node it hangs on, so the
+    /// timeline can follow the node's animation.
+    struct CameraNode {
+        int model = -1, node = -1;
+        int camera = -1;  ///< the file's cameras[] entry the node names
+    };
+    std::vector<CameraNode> gltfCameraNodes;
     Color background{0.f};
     /// Primary rays that miss give no colour and zero coverage (alpha), so the film can be laid
     /// over something else; reflections and refractions still see `background`.

@@ -44,6 +44,10 @@ struct AssetOptions {
     /// default framing in a 640×360 picture (a fixed share of the model's size, so a bigger
     /// picture shows them proportionally wider, as it does the rest of the model).
     float pointSize = 1.5f;
+    /// --scene N: which of a glTF file's scenes is drawn (-1: the file's "scene", else the
+    /// first); sceneSource names what chose it, for messages.
+    int scene = -1;
+    std::string sceneSource = "--scene";
 };
 
 struct SceneOptions {
@@ -56,6 +60,8 @@ struct SceneOptions {
     std::optional<Ground> ground;  ///< replaces the scene file's "ground"
     /// --animation NAME|INDEX: the model animation to play, over the scene file's choice.
     std::optional<std::string> animation;
+    /// --camera N: look through the scene's glTF camera N (Scene::gltfCameras), animated.
+    std::optional<int> camera;
     /// Asset root and texture limits; rootFromCommandLine: root came from --asset-root and
     /// overrides a scene file's "asset_root".
     AssetOptions assets;

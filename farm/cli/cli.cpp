@@ -125,7 +125,7 @@ void applyQualityOptions(const ArgParser& p, RenderSettings& s) {
 
 void declareSceneOptions(ArgParser& p) {
     for (const char* o : {"--environment", "--environment-rotation", "--environment-intensity", "--ground", "--animation",
-                          "--asset-root", "--max-texture-size", "--variant", "--point-size"})
+                          "--asset-root", "--max-texture-size", "--variant", "--camera", "--scene", "--point-size"})
         p.option(o);
 }
 
@@ -150,6 +150,11 @@ SceneOptions sceneOptions(const ArgParser& p) {
     if (auto a = p.value("--animation")) {
         if (a->empty()) throw UsageError("--animation: expected an animation's name or index");
         o.animation = *a;
+    }
+    if (p.has("--camera")) o.camera = p.intValue("--camera", 0, 0, 1 << 20);
+    if (p.has("--scene")) {
+        o.assets.scene = p.intValue("--scene", 0, 0, 1 << 20);
+        o.assets.sceneSource = "--scene";
     }
     if (auto r = p.value("--asset-root")) {
         if (r->empty()) throw UsageError("--asset-root: expected a folder");

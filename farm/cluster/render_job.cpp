@@ -47,6 +47,8 @@ std::string RenderJob::identity() const {
     if (o.environmentIntensity) j["environment_intensity"] = *o.environmentIntensity;
     if (o.ground) j["ground"] = *o.ground == Ground::Shadow ? "shadow" : "none";
     if (o.animation) j["animation"] = *o.animation;
+    if (o.camera) j["camera"] = *o.camera;
+    if (o.assets.scene >= 0) j["gltf_scene"] = o.assets.scene;
     if (!o.assets.variant.empty()) j["variant"] = o.assets.variant;
     if (o.assets.maxTextureSize != AssetOptions{}.maxTextureSize) j["max_texture_size"] = o.assets.maxTextureSize;
     if (o.assets.pointSize != AssetOptions{}.pointSize) j["point_size"] = o.assets.pointSize;

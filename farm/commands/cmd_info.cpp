@@ -11,6 +11,7 @@
 #include "engine/load/gltf/gltf_inspect.h"
 #include "engine/util/model_path.h"
 #include "engine/load/scene_loader.h"
+#include "anim/gltf_animation.h"
 #include "anim/timeline.h"
 
 namespace rf::cli {
@@ -30,7 +31,9 @@ const char* kInfoHelp =
     "  --json            print JSON instead of text\n"
     "  --size WxH        the turntable's picture size (default: render's)\n"
     "  --fps N           the turntable's frame rate (default 30)\n"
-    "  --animation A     the animation the turntable plays (name, or index from 0)\n"
+    "  --animation A     the animation the turntable plays (name, index from 0, or all)\n"
+    "  --camera N        describe the film through the file's camera N instead of the turntable\n"
+    "  --scene N         the file's scene N (default: the file's \"scene\", else 0)\n"
     "  --asset-root DIR  folder the model's relative URIs may reach beyond its own\n";
 
 
@@ -50,6 +53,7 @@ json turntableJson(const Scene& loaded, const anim::Timeline& tl, size_t fileLig
     const DVec3 d = eye - target;
     const double dist = glm::length(d);
     json t;
+    t["through"] = tl.fileCamera() ? json(*tl.fileCamera()) : json("turntable");
     t["frames"] = tl.frameCount();
     t["fps"] = tl.fps();
     t["seconds"] = tl.frameCount() / tl.fps();
@@ -61,19 +65,50 @@ json turntableJson(const Scene& loaded, const anim::Timeline& tl, size_t fileLig
                    {"elevation_deg", tidy(dist > 0.0 ? glm::degrees(std::asin(std::clamp(d.y / dist, -1.0, 1.0))) : 0.0)},
                    {"fov_deg", tidy(scene.camera.fovDeg)}};
     json clips = json::array();
+    // A film through an animated camera renders both ends of the camera's clip: one play.
+    const double filmSeconds = tl.fileCameraPeriod() > 0.0 ? tl.fileCameraPeriod() : tl.frameCount() / tl.fps();
     for (const anim::Timeline::Clip& c : tl.clips()) {
         const Animation& a = loaded.geometry.models[size_t(c.model)].animations[size_t(c.animation)];
+        const double plays = c.period > 0.0 ? filmSeconds / c.period : 0.0;
+        // Whole when the film ends within half a frame of a play's end (frames are whole, clips
+        // need not be).
+        const bool whole = plays >= 0.5 && std::abs(filmSeconds - std::round(plays) * c.period) <= 0.5 / tl.fps() + 1e-9;
         clips.push_back({{"index", c.animation},
                          {"name", a.name},
                          {"period_s", tidy(c.period)},
-                         {"plays", c.period > 0.0 ? tidy(t["seconds"].get<double>() / c.period) : 0.0}});
+                         {"plays", tidy(plays)},
+                         {"whole_plays", static_cast<long long>(whole ? std::round(plays) : std::floor(plays))},
+                         {"ends_whole", whole}});
     }
     t["animations"] = clips;
     t["lights"] = fileLights ? "the model's own, on a black world" : "a key light and the built-in studio environment";
     return t;
 }
 
-json infoJson(const std::string& path, const GltfInfo& info, const json& turntable) {
+/// The cameras --camera N numbers (Scene::gltfCameras, in node order), each with the animations
+/// that move its node or a node above it.
+json cameraViewsJson(const Scene& scene) {
+    json views = json::array();
+    for (size_t i = 0; i < scene.gltfCameraNodes.size(); ++i) {
+        const Scene::CameraNode& cn = scene.gltfCameraNodes[i];
+        json v = {{"option", i}, {"camera", cn.camera}, {"node", cn.node}};
+        json moving = json::array();
+        if (cn.model >= 0 && size_t(cn.model) < scene.geometry.models.size()) {
+            const SceneGraph& g = scene.geometry.models[size_t(cn.model)];
+            v["node_name"] = cn.node >= 0 && size_t(cn.node) < g.nodes.size() ? g.nodes[size_t(cn.node)].name : std::string();
+            for (int a : anim::animationsMoving(g, cn.node))
+                moving.push_back({{"index", a}, {"name", g.animations[size_t(a)].name}, {"duration_s", tidy(g.animations[size_t(a)].duration())}});
+        }
+        v["animated"] = !moving.empty();
+        v["animations"] = moving;
+        const std::string& fault = i < scene.gltfCameraFaults.size() ? scene.gltfCameraFaults[i].second : std::string();
+        v["usable"] = fault.empty();
+        views.push_back(v);
+    }
+    return views;
+}
+
+json infoJson(const std::string& path, const GltfInfo& info, const json& turntable, const json& views) {
     json j;
     j["file"] = path;
     j["version"] = info.version;
@@ -131,10 +166,16 @@ json infoJson(const std::string& path, const GltfInfo& info, const json& turntab
         }
         o["znear"] = tidy(c.znear);
         o["zfar"] = c.zfar > 0.0 ? json(tidy(c.zfar)) : json(nullptr);
-        o["rendered"] = c.type == "perspective";
+        o["rendered"] = c.type == "perspective" || c.type == "orthographic";
         cams.push_back(o);
     }
     j["cameras"] = cams;
+    j["camera_views"] = views;
+    json scenes = json::array();
+    for (size_t i = 0; i < info.scenes.size(); ++i)
+        scenes.push_back({{"index", i}, {"name", info.scenes[i].name}, {"root_nodes", info.scenes[i].roots},
+                          {"default", int(i) == info.defaultScene}, {"drawn", int(i) == info.drawnScene}});
+    j["scenes"] = scenes;
     json lights = json::array();
     for (size_t i = 0; i < info.lights.size(); ++i) {
         const GltfInfo::Light& l = info.lights[i];
@@ -224,8 +265,27 @@ std::string infoText(const json& j) {
     for (const json& c : j["cameras"]) {
         s += "  " + std::to_string(c["index"].get<int>()) + " " + quoted(c["name"]) + ": " + c["type"].get<std::string>();
         if (c.contains("yfov_deg")) s += ", vertical field of view " + fmt("%.4g", c["yfov_deg"].get<double>()) + " deg";
-        s += c["rendered"].get<bool>() ? "\n" : " (not rendered: rayfarm's camera is perspective)\n";
+        s += c["rendered"].get<bool>() ? "\n" : " (not rendered: neither perspective nor orthographic)\n";
     }
+    if (!j["camera_views"].empty()) s += "  through --camera N (in node order):\n";
+    for (const json& v : j["camera_views"]) {
+        s += "    --camera " + std::to_string(v["option"].get<int>()) + ": node " + std::to_string(v["node"].get<int>()) + " " +
+             quoted(v["node_name"]) + ", camera " + std::to_string(v["camera"].get<int>());
+        if (!v["usable"].get<bool>()) s += ", unusable";
+        if (!v["animated"].get<bool>()) s += ", still\n";
+        else {
+            std::string names;
+            for (const json& a : v["animations"]) {
+                if (!names.empty()) names += ", ";
+                names += std::to_string(a["index"].get<int>()) + " " + quoted(a["name"]) + " (" + fmt("%.4g", a["duration_s"].get<double>()) + " s)";
+            }
+            s += ", animated by " + names + "\n";
+        }
+    }
+    section("scenes", j["scenes"]);
+    for (const json& sc : j["scenes"])
+        s += "  " + std::to_string(sc["index"].get<int>()) + " " + quoted(sc["name"]) + ": " + std::to_string(sc["root_nodes"].get<int>()) +
+             " root nodes" + (sc["default"].get<bool>() ? ", the file's default" : "") + (sc["drawn"].get<bool>() ? ", drawn" : "") + "\n";
     section("lights", j["lights"]);
     for (const json& l : j["lights"])
         s += "  " + std::to_string(l["index"].get<int>()) + " " + quoted(l["name"]) + ": " + l["type"].get<std::string>() + ", " +
@@ -240,15 +300,22 @@ std::string infoText(const json& j) {
     }
     const json& t = j["turntable"];
     const json& c = t["camera"];
-    s += "default turntable: " + std::to_string(t["frames"].get<int>()) + " frames at " + fmt("%.4g", t["fps"].get<double>()) + " fps (" +
+    const bool through = !t["through"].is_string();
+    s += std::string(through ? "film through --camera " + std::to_string(t["through"].get<int>()) + ": " : "default turntable: ") +
+         std::to_string(t["frames"].get<int>()) + " frames at " + fmt("%.4g", t["fps"].get<double>()) + " fps (" +
          fmt("%.4g", t["seconds"].get<double>()) + " s), " + std::to_string(t["width"].get<int>()) + "x" +
          std::to_string(t["height"].get<int>()) + ", " + std::to_string(t["spp"].get<int>()) + " spp\n";
-    s += "  camera " + fmt("%.4g", c["distance"].get<double>()) + " from " + point(c["target"]) + " at " +
-         fmt("%.3g", c["elevation_deg"].get<double>()) + " deg elevation, field of view " + fmt("%.3g", c["fov_deg"].get<double>()) +
-         " deg, one orbit\n";
-    for (const json& a : t["animations"])
-        s += "  plays animation " + std::to_string(a["index"].get<int>()) + " " + quoted(a["name"]) + " (" +
-             fmt("%.4g", a["period_s"].get<double>()) + " s) " + fmt("%.4g", a["plays"].get<double>()) + " times\n";
+    if (!through)
+        s += "  camera " + fmt("%.4g", c["distance"].get<double>()) + " from " + point(c["target"]) + " at " +
+             fmt("%.3g", c["elevation_deg"].get<double>()) + " deg elevation, field of view " + fmt("%.3g", c["fov_deg"].get<double>()) +
+             " deg, one orbit\n";
+    else
+        s += "  the camera's node moves with its animation, frame by frame\n";
+    for (const json& a : t["animations"]) {
+        s += "  plays animation " + std::to_string(a["index"].get<int>()) + " " + quoted(a["name"]) + " (" + fmt("%.4g", a["period_s"].get<double>()) + " s) ";
+        if (a["ends_whole"].get<bool>()) s += std::to_string(a["whole_plays"].get<long long>()) + (a["whole_plays"].get<long long>() == 1 ? " whole play\n" : " whole plays\n");
+        else s += fmt("%.4g", a["plays"].get<double>()) + " times (" + std::to_string(a["whole_plays"].get<long long>()) + " whole, looped)\n";
+    }
     s += "  lit by " + t["lights"].get<std::string>() + "\n";
     return s;
 }
@@ -257,7 +324,7 @@ std::string infoText(const json& j) {
 
 int runInfo(const std::vector<std::string>& args) {
     ArgParser p("info");
-    for (const char* o : {"--size", "--fps", "--animation", "--asset-root"}) p.option(o);
+    for (const char* o : {"--size", "--fps", "--animation", "--asset-root", "--camera", "--scene"}) p.option(o);
     p.flag("--json");
     p.flag("--help");
     p.flag("-h");
@@ -278,7 +345,7 @@ int runInfo(const std::vector<std::string>& args) {
     const Scene& scene = loaded.scene;
     const anim::Timeline tl = anim::Timeline::fromScene(loaded, fps);
     const GltfInfo info = inspectGltf(path, fs, opts.assets);
-    const json j = infoJson(path, info, turntableJson(scene, tl, info.lights.size()));
+    const json j = infoJson(path, info, turntableJson(scene, tl, info.lights.size()), cameraViewsJson(scene));
     const std::string out = p.has("--json") ? j.dump(2) + "\n" : infoText(j);
     std::fwrite(out.data(), 1, out.size(), stdout);
     return std::fflush(stdout) == 0 ? 0 : 1;

@@ -47,7 +47,9 @@ const char* kStillHelp =
     "  --stats FILE      write run statistics as JSON\n"
     "  --frame N         render frame N of the scene's timeline (default 0)\n"
     "  --time T          render the timeline at T seconds (noise seed of the nearest frame)\n"
-    "  --camera N        look through the model's glTF camera N instead of the scene camera\n"
+    "  --camera N        look through the model's glTF camera N (in node order, from 0), posed by\n"
+    "                    its node's animation at the frame's time (the scene file's \"camera\")\n"
+    "  --scene N         draw the glTF file's scene N (default: the file's \"scene\", else 0)\n"
     "  --background B    transparent (a PNG with alpha: coverage, anti-aliased edges included),\n"
     "                    #RRGGBB (sRGB) or R,G,B (linear); default: the scene's\n"
     "  --environment F   light the scene with an equirectangular .hdr or .exr environment\n"
@@ -56,8 +58,10 @@ const char* kStillHelp =
     "  --ground G        shadow: an invisible ground under the model that shows only the shadows\n"
     "                    and contact darkening on it (with a transparent background, as alpha);\n"
     "                    none: no ground (default: the scene file's \"ground\")\n"
-    "  --animation A     play the model's animation named A (or numbered A, from 0) instead of\n"
-    "                    its first (the scene file's \"animation\"); unknown: refused, listing them\n"
+    "  --animation A     play the model's animation named A (or numbered A, from 0), or all of\n"
+    "                    them together (all), instead of the default: every animation that moves\n"
+    "                    what no earlier one moves (the scene file's \"animation\"); unknown:\n"
+    "                    refused, listing them\n"
     "  --asset-root DIR  folder a glTF model's relative URIs may reach beyond its own (default:\n"
     "                    the current directory when the model lies under it, else its folder)\n"
     "  --max-texture-size N   textures larger on a side are downsampled on load (default 8192)\n"
@@ -109,7 +113,7 @@ void writeStillStats(const std::string& path, const Scene& scene, const RenderSe
 
 int runStill(const std::vector<std::string>& args) {
     ArgParser p("still");
-    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--indirect", "--bounce", "--tonemap", "--threads", "--stats", "--frame", "--time", "--camera", "--background", "--exposure"}) p.option(o);
+    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--indirect", "--bounce", "--tonemap", "--threads", "--stats", "--frame", "--time", "--background", "--exposure"}) p.option(o);
     declareSceneOptions(p);
     p.flag("--help");
     p.flag("-h");
@@ -156,26 +160,21 @@ int runStill(const std::vector<std::string>& args) {
         for (const auto& [path, bytes] : fs.bundle().files) read.push_back(path);
         checkOutputPaths(outputs, read);
     }
+    // Built before posing: auto exposure meters the film's own frames. Before the notes: a
+    // --camera or --animation the file lacks is refused in one line.
+    const anim::Timeline timeline = anim::Timeline::fromScene(loaded);
     for (const std::string& note : scene.notes) printLine("note", note);
     applyBackground(background, scene);
-    // Built before posing: auto exposure meters the film's own frames.
-    const anim::Timeline timeline = anim::Timeline::fromScene(loaded);
     const int frame = applyStillTime(p, timeline, scene);
-    // A glTF camera replaces the timeline's camera; the rest of the frame (model animation,
-    // lights) still follows the timeline.
-    if (p.has("--camera")) useGltfCamera(scene, p.intValue("--camera", 0, 0, 1 << 20));
+    // --camera: the timeline looks through the glTF camera, posed by its node's animation at
+    // the frame's time (anim::Timeline, TimelineSource::camera).
     RenderSettings settings = scene.settings;
     applyQualityOptions(p, settings);
     settings.bounceMoving = true;  // a still poses its model once: the cache is built once either way
     // One bounce cache for the metering frames and the still.
     const auto bounceSlot = std::make_shared<SceneCacheSlot>();
     if (settings.autoExposure) {
-        resolveAutoExposure(
-            scene, timeline, settings, threads,
-            [&](Scene& s) {
-                if (p.has("--camera")) useGltfCamera(s, p.intValue("--camera", 0, 0, 1 << 20));
-            },
-            bounceSlot);
+        resolveAutoExposure(scene, timeline, settings, threads, {}, bounceSlot);
     }
 
     RayStats rays;

@@ -33,8 +33,12 @@ const char* kRenderHelp =
     "  --spp N           samples per pixel, a square: 1, 4, 9, ...\n"
     "  --environment F, --environment-rotation DEG, --environment-intensity K   as for still\n"
     "  --ground shadow|none   a shadow-catcher ground under the model, as for still\n"
-    "  --animation A     play the model's animation named A (or numbered A, from 0) instead of\n"
-    "                    its first; as for still\n"
+    "  --animation A     play the model's animation named A (or numbered A, from 0), or all;\n"
+    "                    as for still\n"
+    "  --camera N        the film looks through the model's glTF camera N, following its node's\n"
+    "                    animation; the film lasts that animation (both ends) unless the scene\n"
+    "                    file's timeline sets it\n"
+    "  --scene N         draw the glTF file's scene N (default: the file's \"scene\", else 0)\n"
     "  --asset-root DIR, --max-texture-size N   glTF asset folder and texture size, as for still\n"
     "  --point-size PX   how wide glTF points and lines are drawn, as for still\n"
     "  --variant NAME    the model's material variant NAME (KHR_materials_variants), as for still\n"
@@ -109,6 +113,8 @@ const std::vector<OptionRole>& renderOptionRoles() {
         {"--environment-intensity", "environment_intensity", "SceneOptions"},
         {"--ground", "ground", "SceneOptions"},
         {"--animation", "animation", "SceneOptions: which animation plays"},
+        {"--camera", "camera", "SceneOptions: the glTF camera the film looks through"},
+        {"--scene", "gltf_scene", "SceneOptions: which of the glTF file's scenes is drawn"},
         {"--variant", "variant", "SceneOptions: the materials shown"},
         {"--max-texture-size", "max_texture_size", "SceneOptions: textures downsampled on load"},
         {"--point-size", "point_size", "SceneOptions: how wide glTF points and lines are drawn"},

@@ -43,7 +43,7 @@ const char* kReportHelpHead =
     "                          reference.png is written. The render takes the image's size; a --size\n"
     "                          that differs is refused, and so are --ref-spp and --ref-depth\n"
     "  --frame N               frame of the scene's timeline (default 0)\n"
-    "  --camera N              look through the model's glTF camera N instead of the scene camera\n"
+    "  --camera N              look through the model's glTF camera N (posed by its animation)\n"
     "  --size WxH              image size (default: the scene's)\n"
     "  --target-psnr DB        the error the summary answers for (default 30)\n"
     "  --threads N             worker threads (default: all cores)\n"
@@ -215,15 +215,7 @@ void checkVideoPresets(const report::VideoReportOptions& vo, const RenderSetting
     }
 }
 
-/// --camera N as a pose step (empty without it): a glTF camera replaces the timeline's camera,
-/// as in rayfarm still.
-std::function<void(Scene&)> cameraPose(const ArgParser& p) {
-    if (!p.has("--camera")) return {};
-    const int camera = p.intValue("--camera", 0, 0, 1 << 20);
-    return [camera](Scene& s) { useGltfCamera(s, camera); };
-}
-
-/// The scene at --frame, checked against its timeline, through --camera, over --background.
+/// The scene at --frame, checked against its timeline (which looks through --camera), over --background.
 Scene sceneAtFrame(const ArgParser& p, const std::string& scenePath, anim::Timeline& timeline, int& frame) {
     BackgroundChoice background;
     if (auto b = p.value("--background")) background = parseBackground(*b);
@@ -241,7 +233,6 @@ Scene sceneAtFrame(const ArgParser& p, const std::string& scenePath, anim::Timel
         throw UsageError("--frame: " + scenePath + " has " + std::to_string(timeline.frameCount()) +
                          " frame(s), numbered from 0; got " + std::to_string(frame));
     timeline.applyFrame(scene, frame);
-    if (const auto pose = cameraPose(p)) pose(scene);
     return std::move(scene);
 }
 
@@ -260,7 +251,7 @@ RenderSettings baseSettings(const ArgParser& p, const Scene& scene, const anim::
         settings.width = ref.width;
         settings.height = ref.height;
     }
-    resolveAutoExposure(scene, timeline, settings, threads, cameraPose(p), o.bounceSlot);
+    resolveAutoExposure(scene, timeline, settings, threads, {}, o.bounceSlot);
     return settings;
 }
 
@@ -270,7 +261,7 @@ int runReport(const std::vector<std::string>& args) {
     ArgParser p("report");
     for (const char* o : {"--out", "--frame", "--size", "--target-psnr", "--threads", "--spp", "--depth",
                           "--min-weight", "--indirect", "--bounce", "--tonemap", "--exposure", "--grid", "--ref-spp", "--ref-depth",
-                          "--reference", "--camera", "--background", "--video-frames", "--video-crf",
+                          "--reference", "--background", "--video-frames", "--video-crf",
                           "--video-preset"})
         p.option(o);
     for (const report::QualityKnob& k : report::qualityKnobs()) p.option(report::sweepOption(k));
@@ -290,7 +281,6 @@ int runReport(const std::vector<std::string>& args) {
     const std::string scenePath = p.positional()[0];
     report::QualityReportOptions o = qualityOptions(p, *out, threads, scenePath);
     report::VideoReportOptions vo = videoOptions(p, *out, threads);
-    vo.pose = cameraPose(p);
     vo.bounceSlot = o.bounceSlot;  // one bounce cache for the metering, the sweep and the video
     // Fail before hours of rendering, not after.
     if (report::findOnPath("gnuplot").empty())

@@ -100,6 +100,8 @@ std::string sectionsText(const TimelineSource& source) { return source.sections 
 
 TimelineSource withSections(const TimelineSource& base, const std::string& text) {
     TimelineSource out = base;
+    // Keys made in the window replace the file's camera (--camera) the scene was opened with.
+    if (text != sectionsText(base)) out.camera.reset();
     out.sections = text.empty() ? nullptr : std::make_shared<const json>(json::parse(text));
     return out;
 }

@@ -51,7 +51,9 @@ nlohmann::json keyedTimeline(const CameraKeys& keys, const TimelineSource& sourc
 
 /// A timeline as it travels to the view's ranks: its sections serialised ("" for none).
 std::string sectionsText(const TimelineSource& source);
-/// base with the sections of sectionsText's text in place (the command line's --animation kept).
+/// base with the sections of sectionsText's text in place (the command line's --animation kept;
+/// its --camera too, unless the text differs from base's own sections: keys made in the window
+/// replace the file's camera).
 TimelineSource withSections(const TimelineSource& base, const std::string& text);
 
 /// The scene file to save: a JSON scene keeps everything but its timeline; a bare glTF model

@@ -61,7 +61,8 @@ const char* kViewHelp =
     "  --variant NAME    the model's material variant NAME (as still)\n"
     "  --threads N       render threads (default: all cores)\n"
     "  --frame N         start at frame N of the scene's timeline (default 0)\n"
-    "  --camera N        start from the model's glTF camera N\n"
+    "  --camera N        the timeline looks through the model's glTF camera N, following its\n"
+    "                    animation (R returns to it); --scene N: the file's scene N\n"
     "  -o FILE           where Ctrl+S saves the scene with its camera keys (default: NAME_view.json)\n"
     "  --stats FILE      on close, write frames shown, fps while moving and input latency as JSON\n"
     "\n"
@@ -142,10 +143,6 @@ int runWindow(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job, Load
     const anim::Timeline timeline = anim::Timeline::fromScene(loaded);
     o.startFrame = p.intValue("--frame", 0, 0, view::filmOf(timeline).frames - 1);
     const RenderSettings settings = pictureSettings(p, loaded, o.bounceSlot);
-    if (p.has("--camera")) {
-        o.gltfCamera = p.intValue("--camera", 0, 0, 1 << 20);
-        chosenGltfCamera(scene, o.gltfCamera);  // throws for a missing or unusable one
-    }
     qInstallMessageHandler(qtMessages);
     int argc = 1;
     char name[] = "rayfarm";
@@ -243,7 +240,7 @@ int runView(const std::vector<std::string>& args) {
 namespace {
 int runViewParsed(const std::vector<std::string>& args) {
     ArgParser p("view");
-    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--indirect", "--bounce", "--tonemap", "--threads", "--stats", "--frame", "--camera", "--background", "--exposure", "--watch", "--total", "--stopped", "--picture"}) p.option(o);
+    for (const char* o : {"-o", "--size", "--spp", "--depth", "--min-weight", "--indirect", "--bounce", "--tonemap", "--threads", "--stats", "--frame", "--background", "--exposure", "--watch", "--total", "--stopped", "--picture"}) p.option(o);
     declareSceneOptions(p);
     p.flag("--help");
     p.flag("-h");

@@ -59,11 +59,13 @@ void ViewWindow::refreshKeys() {
 }
 
 TimelineSource ViewWindow::keyedSource(std::string& timelineJson) const {
-    TimelineSource keyed = source_;
-    if (!keys_.empty())
-        keyed.sections = std::make_shared<const nlohmann::json>(nlohmann::json{{"timeline", keyedTimeline(keys_, source_, film_)}});
-    timelineJson = sectionsText(keyed);
-    return keyed;
+    if (keys_.empty()) {
+        timelineJson = sectionsText(source_);
+        return source_;
+    }
+    const std::string keyed = nlohmann::json{{"timeline", keyedTimeline(keys_, source_, film_)}}.dump();
+    timelineJson = keyed;
+    return withSections(source_, keyed);  // as the farm's ranks make it from the text
 }
 
 void ViewWindow::rebuildTimeline() {

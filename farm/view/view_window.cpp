@@ -88,10 +88,6 @@ ViewWindow::ViewWindow(LoadedScene loaded, anim::Timeline timeline, RenderSettin
     timeline_.applyFrame(posed, frame_);
     camera_ = followCamera_ = posed.camera;
     followFrame_ = frame_;
-    if (options_.gltfCamera >= 0) {
-        camera_ = scene_.gltfCameras[size_t(options_.gltfCamera)];
-        follow_ = false;
-    }
     buildUi();
     addShortcuts();
     startRenderer();

@@ -38,7 +38,6 @@ struct ViewOptions {
     std::string statsPath;  ///< --stats, "" for none
     int threads = 0;
     int startFrame = 0;
-    int gltfCamera = -1;    ///< --camera: start from this glTF camera instead of the timeline's
     /// Under mpirun: rank 0's transport; the other ranks render (runViewWorker). Null: this
     /// process renders alone.
     farm::Transport* transport = nullptr;

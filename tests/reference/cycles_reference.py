@@ -50,6 +50,9 @@ def parse_args():
     p.add_argument("--threads", type=int, default=0, help="render threads (default: all)")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--time", type=float, help="pose the file's first animation at T seconds (default: as imported)")
+    p.add_argument("--all-animations", action="store_true",
+                   help="play every animation of the file, not only the first: each object the importer left without an "
+                        "action takes the one on its first (muted) NLA track")
     p.add_argument("--transparent", action="store_true",
                    help="transparent background: an RGBA PNG whose alpha is the model's coverage")
     p.add_argument("--exposure", type=float, default=0.0, help="view exposure in EV (default 0), as rayfarm's --exposure")
@@ -297,6 +300,22 @@ def gltf_times(doc):
     return lo, hi
 
 
+def play_all_animations(scene):
+    """Blender 3.4's glTF importer makes the file's first animation the objects' actions and
+    stashes the others on muted NLA tracks: an object animated only by another animation (a
+    Blender export's second object, its camera) stands still. Give each such object the action
+    of its first track."""
+    for o in scene.objects:
+        ad = o.animation_data
+        if not ad or ad.action:
+            continue
+        for track in ad.nla_tracks:
+            if track.strips:
+                ad.action = track.strips[0].action
+                print("cycles_reference: %s plays %s" % (o.name, ad.action.name))
+                break
+
+
 def pose_at(scene, doc, t):
     """Sets the scene to glTF time t: the importer puts the first animation's keys on frames, so
     the frame is read back from where it put the first and last key (no assumption about its
@@ -326,6 +345,8 @@ def main():
         use_multiscatter_ggx()
     scene.camera = pick_camera(doc, a.camera)
     set_world(scene, a.environment, a.environment_strength)
+    if a.all_animations:
+        play_all_animations(scene)
     if a.time is not None:
         pose_at(scene, doc, a.time)
     set_render(scene, a)

@@ -32,11 +32,10 @@ uint64_t primitiveTriangles(const tinygltf::Model& model, const tinygltf::Primit
     return 0;
 }
 
-/// How many times each mesh is drawn: nodes of the default scene (every root without one).
-std::vector<int> meshInstances(const tinygltf::Model& model) {
+/// How many times each mesh is drawn: nodes of scene sc (every root without one).
+std::vector<int> meshInstances(const tinygltf::Model& model, int sc) {
     std::vector<int> count(model.meshes.size(), 0);
     std::vector<int> stack;
-    const int sc = model.defaultScene >= 0 ? model.defaultScene : model.scenes.empty() ? -1 : 0;
     if (sc >= 0 && size_t(sc) < model.scenes.size()) {
         stack = model.scenes[size_t(sc)].nodes;
     } else {
@@ -204,7 +203,10 @@ GltfInfo inspectGltf(const std::string& path, FileSource& fs, const AssetOptions
     std::vector<uint8_t> skinnedMesh(model.meshes.size(), 0);
     for (const tinygltf::Node& n : model.nodes)
         if (n.skin >= 0 && n.mesh >= 0 && size_t(n.mesh) < skinnedMesh.size()) skinnedMesh[size_t(n.mesh)] = 1;
-    const std::vector<int> instances = meshInstances(model);
+    for (const tinygltf::Scene& s : model.scenes) info.scenes.push_back({s.name, int(s.nodes.size())});
+    info.defaultScene = model.defaultScene;
+    info.drawnScene = assets.scene >= 0 ? assets.scene : model.defaultScene >= 0 ? model.defaultScene : model.scenes.empty() ? -1 : 0;
+    const std::vector<int> instances = meshInstances(model, info.drawnScene);
     for (size_t i = 0; i < model.meshes.size(); ++i) {
         info.meshes.push_back(meshInfo(model, int(i), path, skinnedMesh));
         info.meshes.back().instances = instances[i];

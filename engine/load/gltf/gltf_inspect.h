@@ -74,8 +74,16 @@ struct GltfInfo {
         bool supported = false;    ///< rayfarm renders its effect
     };
 
+    struct SceneEntry {
+        std::string name;
+        int roots = 0;             ///< the nodes it lists
+    };
+
     std::string generator, version;
     int nodes = 0;
+    std::vector<SceneEntry> scenes;
+    int defaultScene = -1;         ///< the file's "scene", -1 when it names none
+    int drawnScene = -1;           ///< the scene drawn (--scene, else the default, else 0); -1: none
     uint64_t drawnTriangles = 0;   ///< triangles over the drawn scene's mesh instances
     std::vector<Mesh> meshes;
     std::vector<Material> materials;

@@ -68,10 +68,7 @@ Light punctualLight(const tinygltf::Light& gl, const DMat4& renderFromNode, cons
 }
 
 std::optional<Camera> gltfCamera(const tinygltf::Camera& gc, const DMat4& renderFromNode, std::string& why, std::string& fault) {
-    Camera c;
-    c.eye = Vec3(glm::dvec3(renderFromNode[3]));
-    c.target = c.eye + nodeAxis(renderFromNode, glm::dvec3(0, 0, -1));
-    c.up = nodeAxis(renderFromNode, glm::dvec3(0, 1, 0));
+    Camera c = cameraOnNode(Camera{}, renderFromNode);
     fault.clear();
     c.fovHorizontal = false;
     if (gc.type == "perspective") {

@@ -208,6 +208,7 @@ void GltfModel::addNodeLightAndCamera(Scene& scene, int node, const DMat4& rende
         std::string why, fault;
         if (auto c = gltfCamera(model_.cameras[size_t(n.camera)], renderFromNode, why, fault)) {
             scene.gltfCameras.push_back(*c);
+            scene.gltfCameraNodes.push_back({int(scene.geometry.models.size()) - 1, node, n.camera});
             scene.gltfCameraFaults.emplace_back(path_, fault.empty() ? fault : "cameras[" + std::to_string(n.camera) + "]." + fault);
         } else notes_.push_back("cameras[" + std::to_string(n.camera) + "]: " + why + "; skipped");
     }

@@ -169,7 +169,13 @@ void GltfModel::resolveHierarchy() {
     if (model_.defaultScene >= 0 && size_t(model_.defaultScene) >= model_.scenes.size())
         throw InputError(path_, "scene: " + std::to_string(model_.defaultScene) + " is not one of the file's " +
                                     std::to_string(model_.scenes.size()) + " scenes");
-    const int sceneIndex = model_.defaultScene >= 0 ? model_.defaultScene : model_.scenes.empty() ? -1 : 0;
+    int sceneIndex = model_.defaultScene >= 0 ? model_.defaultScene : model_.scenes.empty() ? -1 : 0;
+    if (assets_.scene >= 0) {
+        if (size_t(assets_.scene) >= model_.scenes.size())
+            throw InputError(path_, assets_.sceneSource + ": no scene " + std::to_string(assets_.scene) + " (the file has " +
+                                        std::to_string(model_.scenes.size()) + (model_.scenes.size() == 1 ? " scene)" : " scenes)"));
+        sceneIndex = assets_.scene;
+    }
     if (sceneIndex < 0) {
         for (size_t i = 0; i < n; ++i)
             if (parent_[i] < 0) roots.push_back(int(i));

@@ -50,6 +50,8 @@ const std::map<std::string, std::vector<std::string>> kSamples = {
     {"--environment-intensity", {"2"}},
     {"--ground", {"shadow"}},
     {"--animation", {"walk"}},
+    {"--camera", {"1"}},
+    {"--scene", {"1"}},
     {"--variant", {"red"}},
     {"--max-texture-size", {"512"}},
     {"--point-size", {"3"}},
@@ -86,6 +88,14 @@ TEST(RenderIdentity, EveryPictureOptionChangesTheIdentity) {
         for (std::string key; keys >> key;)
             EXPECT_NE(with.find("\"" + key + "\":"), std::string::npos) << r.option << ": no key " << key << " in " << with;
     }
+}
+
+// Issue 42: the camera and the scene are told apart by their number, not only by being given.
+TEST(RenderIdentity, CameraAndSceneNumbersDiffer) {
+    EXPECT_NE(identityOf({"--camera", "0"}), identityOf({"--camera", "1"}));
+    EXPECT_NE(identityOf({"--camera", "0"}), identityOf({}));
+    EXPECT_NE(identityOf({"--scene", "0"}), identityOf({"--scene", "1"}));
+    EXPECT_NE(identityOf({"--scene", "0"}), identityOf({}));
 }
 
 TEST(RenderIdentity, OptionsThatChangeNoPixelLeaveItAlone) {

@@ -21,7 +21,7 @@ for bad in "$model --camera 2" "$model --camera 7"; do
   status=${PIPESTATUS[0]}
   [ "$(printf '%s\n' "$err" | wc -l)" -eq 1 ] || fail "$bad: expected one error line, got: $err"
   case "$err" in
-    "rayfarm: error: $model: no glTF camera "*) ;;
+    "rayfarm: error: $model: --camera: no camera "*) ;;
     *) fail "$bad: unexpected message: $err" ;;
   esac
   [ -e "$out/bad.png" ] && fail "$bad wrote an image"
