@@ -74,8 +74,14 @@ std::string uriProblem(const std::string& uri) {
         if (c < 0x20 || c == 0x7f) return "control character in the URI";
         // Never expanded here (no wordexp), but refused so no later tool that might expand
         // them sees a name that reads as a command substitution, variable or glob.
-        if (c == '`' || c == '$' || c == '\\' || c == '*' || c == '?' || c == '{' || c == '}')
-            return std::string("character '") + char(c) + "' is not allowed in a file URI (no shell syntax)";
+        if (c == '`' || c == '$' || c == '\\' || c == '*' || c == '?' || c == '{' || c == '}') {
+            // Appended one piece at a time: GCC 12's link-time optimisation read the one-character
+            // operator+ chain as an over-read (-Wstringop-overread, a false positive).
+            std::string why = "character '";
+            why.push_back(static_cast<char>(c));
+            why.append("' is not allowed in a file URI (no shell syntax)");
+            return why;
+        }
     }
     if (uri[0] == '/')
         return "absolute paths are not allowed; use a path relative to the model inside the asset root (--asset-root)";
