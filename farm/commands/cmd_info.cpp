@@ -2,6 +2,7 @@
 // text or JSON (after gltf-transform inspect and gltfpack -v).
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 #include <nlohmann/json.hpp>
 
@@ -36,6 +37,7 @@ const char* kInfoHelp =
 
 /// Shortest decimal that reads back to the same float, as JSON numbers: 0.1f prints as 0.1.
 double tidy(double v) {
+    if (v == 0.0) return 0.0;  // -0 too: "-0" reads as a mistake
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.9g", v);
     return std::strtod(buf, nullptr);
@@ -129,7 +131,7 @@ json infoJson(const std::string& path, const GltfInfo& info, const json& turntab
         }
         o["znear"] = tidy(c.znear);
         o["zfar"] = c.zfar > 0.0 ? json(tidy(c.zfar)) : json(nullptr);
-        o["rendered"] = c.type == "perspective";
+        o["rendered"] = c.type == "perspective" || c.type == "orthographic";  // still/render --camera N
         cams.push_back(o);
     }
     j["cameras"] = cams;
@@ -154,6 +156,8 @@ std::string quoted(const std::string& name) { return name.empty() ? std::string(
 std::string fmt(const char* f, double v) {
     char buf[64];
     std::snprintf(buf, sizeof buf, f, v);
+    // No "-0": a value that rounds to zero in the shown digits prints as 0, whatever its sign.
+    if (buf[0] == '-' && std::strtod(buf, nullptr) == 0.0) return buf + 1;
     return buf;
 }
 std::string point(const json& v) {
@@ -220,7 +224,8 @@ std::string infoText(const json& j) {
     for (const json& c : j["cameras"]) {
         s += "  " + std::to_string(c["index"].get<int>()) + " " + quoted(c["name"]) + ": " + c["type"].get<std::string>();
         if (c.contains("yfov_deg")) s += ", vertical field of view " + fmt("%.4g", c["yfov_deg"].get<double>()) + " deg";
-        s += c["rendered"].get<bool>() ? "\n" : " (not rendered: rayfarm's camera is perspective)\n";
+        if (c.contains("ymag")) s += ", a view " + fmt("%.4g", 2.0 * c["ymag"].get<double>()) + " units high";
+        s += c["rendered"].get<bool>() ? "\n" : " (not rendered: rayfarm renders perspective and orthographic cameras)\n";
     }
     section("lights", j["lights"]);
     for (const json& l : j["lights"])
@@ -239,7 +244,7 @@ std::string infoText(const json& j) {
     s += "default turntable: " + std::to_string(t["frames"].get<int>()) + " frames at " + fmt("%.4g", t["fps"].get<double>()) + " fps (" +
          fmt("%.4g", t["seconds"].get<double>()) + " s), " + std::to_string(t["width"].get<int>()) + "x" +
          std::to_string(t["height"].get<int>()) + ", " + std::to_string(t["spp"].get<int>()) + " spp\n";
-    s += "  camera " + fmt("%.4g", c["distance"].get<double>()) + " from " + point(c["target"]) + " at " +
+    s += "  camera " + fmt("%.4g", c["distance"].get<double>()) + " units from the target " + point(c["target"]) + " at " +
          fmt("%.3g", c["elevation_deg"].get<double>()) + " deg elevation, field of view " + fmt("%.3g", c["fov_deg"].get<double>()) +
          " deg, one orbit\n";
     for (const json& a : t["animations"])

@@ -153,7 +153,7 @@ std::string filmName(const std::string& scenePath) { return std::filesystem::pat
 std::vector<farm::RenderJob> jobsFromOptions(const ArgParser& p) {
     const std::vector<std::string>& scenes = p.positional();
     if (scenes.empty()) throw UsageError("render: expected a SCENE or MODEL (see rayfarm render --help)");
-    if (scenes.size() == 1) return {jobFromOptions(p, scenes[0], "")};
+    if (scenes.size() == 1) return {jobFromOptions(p, scenes[0], filmName(scenes[0]))};  // {name} with one scene too
     // Several films: every file a film writes must be its own.
     for (const char* o : {"-o", "--frames-dir", "--stats", "--contact-sheet", "--poster"}) {
         const auto v = p.value(o);
@@ -218,7 +218,7 @@ farm::RenderJob jobFromOptions(const ArgParser& p, const std::string& scene, con
             throw UsageError(*png + ": expected a .png file name");
     j.posterFrame = p.intValue("--poster-frame", -1, 0, 1 << 30);
     if (j.posterFrame >= 0 && j.poster.empty()) throw UsageError("--poster-frame needs --poster FILE.png");
-    j.threads = p.intValue("--threads", 0, 0, 4096);
+    j.threads = p.intValue("--threads", 0, 1, 4096);
     j.workerTimeout = p.doubleValue("--timeout", 10.0);
     if (!(j.workerTimeout >= 0.5 && j.workerTimeout <= 86400)) throw UsageError("--timeout: expected seconds from 0.5 to 86400");
     if (p.has("--fps")) {
