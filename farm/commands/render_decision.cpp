@@ -77,6 +77,7 @@ void claimOutputs(const RenderJob& job, const ArgParser& p, std::vector<OutputLo
     if (containerFor(job.output) == Container::Gif) requireGifFilters(job.output);
     for (const std::string* f : {&job.statsPath, &job.contactSheet, &job.poster})
         if (!f->empty()) checkWritableFile(*f);
+    if (!job.framesDir.empty()) ensureParentDir(job.framesDir);  // its lock lies beside it
     for (const std::string* f : {&job.output, &job.framesDir}) {
         if (f->empty()) continue;
         std::string note;
