@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 
 bash tests/install-deps.sh
 jobs=$(nproc 2>/dev/null || echo 2)
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DRAYFARM_WERROR=ON
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DRAYFARM_WERROR=ON -DRAYFARM_BUILD_TESTS=ON  # the quickstart's build has them off
 cmake --build build -j"$jobs"
 
 # Open MPI refuses root unless told; CI and containers run as root.
