@@ -43,7 +43,7 @@ const char* kRenderHelp =
     "  --bounce N        glTF materials: cached bounce light on N thousand points (as for still;\n"
     "                    default 3, but none for a film whose geometry moves unless given)\n"
     "  --frames-dir DIR  keep a PNG per frame here as frames complete (default: OUT.frames next\n"
-    "                    to the output, e.g. out.frames/ for out.mp4)\n"
+    "                    to the output, e.g. out.mp4.frames/ for out.mp4)\n"
     "  --no-frames       keep no PNG frames (then nothing can be resumed)\n"
     "  --preview         open a window (rayfarm view --watch) on the frames as they complete;\n"
     "                    closing it does not stop the render\n"
@@ -188,8 +188,8 @@ farm::RenderJob jobFromOptions(const ArgParser& p, const std::string& scene, con
     if (p.has("--no-frames") && p.has("--resume")) throw UsageError("--resume needs the frames directory (drop --no-frames)");
     if (p.has("--no-frames") && p.has("--preview")) throw UsageError("--preview shows the PNG frames as they complete (drop --no-frames)");
     if (!p.has("--no-frames"))
-        j.framesDir = p.has("--frames-dir") ? forFilm(p, "--frames-dir", name)
-                                             : std::filesystem::path(j.output).replace_extension(".frames").string();
+        // The output's whole name: out.webm and out.gif of one run each keep their own frames.
+        j.framesDir = p.has("--frames-dir") ? forFilm(p, "--frames-dir", name) : j.output + ".frames";
     j.statsPath = forFilm(p, "--stats", name);
     j.sceneOptions = sceneOptions(p);  // checked here, where every rank parses, before the scene is shared
     j.modeOption = p.value("--mode").value_or("auto");

@@ -13,7 +13,7 @@ small=(--size 32x18 --frames 0:1)
 
 # The README's own example, with one scene and with two: out/{name}.mp4 into a missing out/.
 "$rayfarm" render "$scene" -o 'one/{name}.mp4' "${small[@]}" 2>one.log || { cat one.log; fail "templated -o with one scene"; }
-[ -s one/whitted.mp4 ] && [ -d one/whitted.frames ] || fail "one/whitted.mp4 and its frames: $(ls -R one)"
+[ -s one/whitted.mp4 ] && [ -d one/whitted.mp4.frames ] || fail "one/whitted.mp4 and its frames: $(ls -R one)"
 cp "$scene" a.json && cp "$scene" b.json
 "$rayfarm" render a.json b.json -o 'films/{name}.mp4' "${small[@]}" 2>two.log || { cat two.log; fail "templated -o with two scenes"; }
 [ -s films/a.mp4 ] && [ -s films/b.mp4 ] || fail "films/a.mp4 and films/b.mp4: $(ls -R films)"
@@ -33,6 +33,16 @@ if command -v mpirun >/dev/null; then
         { cat mpi.log; fail "mpirun -np 2 into a new folder"; }
     [ -s mpi/whitted.mp4 ] || fail "mpi/whitted.mp4 was not written"
 fi
+
+# Each output its own frames folder: a.webm and a.gif of one stem do not share one (the second
+# run was refused when both were a.frames), and --resume finds each output's own.
+"$rayfarm" render "$scene" -o a.webm "${small[@]}" 2>a1.log || { cat a1.log; fail "a.webm"; }
+"$rayfarm" render "$scene" -o a.gif "${small[@]}" 2>a2.log || { cat a2.log; fail "a.gif after a.webm of the same stem: $(cat a2.log)"; }
+[ -s a.webm.frames/frame_000001.png ] && [ -s a.gif.frames/frame_000001.png ] || fail "a.webm.frames and a.gif.frames: $(ls)"
+[ ! -e a.frames ] || fail "a.frames was made"
+rm a.gif.frames/frame_000001.png
+"$rayfarm" render "$scene" -o a.gif "${small[@]}" --resume 2>a3.log || { cat a3.log; fail "resume of a.gif"; }
+grep -q "1 of 2 frames kept in a.gif.frames, 1 to render" a3.log || fail "resume of a.gif did not use a.gif.frames: $(cat a3.log)"
 
 # A folder that cannot be made: a file in the way, for each output; nothing rendered, no folder
 # left half made.
