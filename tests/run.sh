@@ -3,8 +3,9 @@
 #   bash tests/run.sh            the default suite (well under 30 minutes on 2 cores)
 #   RAYFARM_STRESS=1 bash tests/run.sh   also the long stress tests (label: stress)
 #   RAYFARM_BUILD_CONFIGS=all bash tests/run.sh   also build every documented configuration from a
-#       fresh clone and count their warnings (tests/build_configs.sh; CI does; about an hour on
-#       2 cores); or a list, e.g. RAYFARM_BUILD_CONFIGS="debug clang"
+#       fresh clone and count their warnings (tests/build_configs.sh; CI does; hours on 2 cores:
+#       the default configuration alone took 34 min on 2 shared cores); or a list, e.g.
+#       RAYFARM_BUILD_CONFIGS="debug clang"
 # Warnings are errors here (RAYFARM_WERROR=ON), not in a user's build.
 set -euo pipefail
 cd "$(dirname "$0")/.."
