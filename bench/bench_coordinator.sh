@@ -63,11 +63,11 @@ run() {  # name size frames mode [--no-frames]
   local name=$1 size=$2 frames=$3 mode=$4
   shift 4
   cut -d' ' -f1-3 /proc/loadavg > "$tmp/$name.load"
-  rm -rf "$tmp/$name.mp4" "$tmp/$name.frames"
+  rm -rf "$tmp/$name.mp4" "$tmp/$name.mp4.frames"
   mpirun --oversubscribe -np "$np" -x RAYFARM_BENCH_FREE_WORK=1 bash "$tmp/rank0cpu.sh" "$tmp/$name.cpu" \
     "$bin" render "$scene" -o "$tmp/$name.mp4" --mode "$mode" --size "$size" --frames "0:$((frames - 1))" \
     --stats "$tmp/$name.json" --chunk-frames "$chunk" "$@" 2> "$tmp/$name.log" || { cat "$tmp/$name.log" >&2; exit 1; }
-  rm -rf "$tmp/$name.mp4" "$tmp/$name.frames"  # 4K PNG frames are large; keep the disk free
+  rm -rf "$tmp/$name.mp4" "$tmp/$name.mp4.frames"  # 4K PNG frames are large; keep the disk free
 }
 
 echo "bench_coordinator: $(nproc) CPUs, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //'), mpirun -np $np, load $(cut -d' ' -f1-3 /proc/loadavg)"

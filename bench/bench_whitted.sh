@@ -35,12 +35,12 @@ for ((i = 1; i <= repeat; i++)); do
   echo "round $i engine alone, $out"
   engine_fps=$(sed -n 's/.* \([0-9.]*\) fps.*/\1/p' <<<"$out")
 
-  rm -rf "$tmp/w.mp4" "$tmp/w.frames"
+  rm -rf "$tmp/w.mp4" "$tmp/w.mp4.frames"
   start=$(date +%s.%N)
   rf_cpu=$( { time "$build/bin/rayfarm" render scenes/whitted.json -o "$tmp/w.mp4" --size 640x360 --spp 1 --frames 0:30 \
               --threads "$threads" 2>"$tmp/rf.log"; } 2>&1 | awk '{ print $1 + $2 }') || { cat "$tmp/rf.log" >&2; exit 1; }
   end=$(date +%s.%N)
-  frames=$(ls "$tmp"/w.frames/frame_*.png | wc -l)
+  frames=$(ls "$tmp"/w.mp4.frames/frame_*.png | wc -l)
   rf_fps=$(awk -v n="$frames" -v a="$start" -v b="$end" 'BEGIN { printf "%.2f", n / (b - a) }')
   rf_cpu=$(awk -v p="$rf_cpu" -v n="$frames" 'BEGIN { printf "%.1f", 1e3 * p / n }')
   echo "round $i rayfarm render: $frames frames to MP4 + PNG frames, whole process: $(awk -v a="$start" -v b="$end" 'BEGIN { printf "%.3f", b - a }') s, $rf_fps fps, $rf_cpu ms CPU per frame ($(grep -o 'encoder busy.*' "$tmp/rf.log"))"

@@ -8,4 +8,4 @@ ranks=${1:-2}
 source examples/common.sh
 mkdir -p out
 mpirun --oversubscribe -np "$ranks" "$bin" render scenes/flight.json -o out/flight.mp4 --stats out/flight.json --overwrite
-echo "keyframed_camera: wrote out/flight.mp4; PNG frames in out/flight.frames/"
+echo "keyframed_camera: wrote out/flight.mp4; PNG frames in out/flight.mp4.frames/"

@@ -3,9 +3,13 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-bash tests/install-deps.sh
+# Only what building and running need (tools/install-deps.sh); tests/run.sh installs the rest.
+bash tools/install-deps.sh
 jobs=$(nproc 2>/dev/null || echo 2)
-cmake -S . -B build -DCMAKE_BUILD_TYPE=Release
+# The tests and benchmarks are not built here (they need GoogleTest and Google Benchmark);
+# tests/run.sh configures the same build folder with them. The viewer is built when Qt 6 is
+# installed (qt6-base-dev; tests/install-deps.sh installs it).
+cmake -S . -B build -DCMAKE_BUILD_TYPE=Release -DRAYFARM_BUILD_TESTS=OFF
 cmake --build build -j"$jobs" --target rayfarm
 
 mkdir -p out

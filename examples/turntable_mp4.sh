@@ -3,7 +3,7 @@
 # model's bounds, one orbit in 4 s at 30 fps = 120 frames, a default light rig).
 #   bash examples/turntable_mp4.sh [MODEL] [RANKS]
 # Without mpirun (RANKS=0) it runs as one process on all cores; PNG frames are kept next to the
-# video (out/engine_turntable.frames/) so an interrupted run can be resumed with --resume.
+# video (out/engine_turntable.mp4.frames/) so an interrupted run can be resumed with --resume.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 model=${1:-/usr/share/assimp/models/glTF2/2CylinderEngine-glTF-Binary/2CylinderEngine.glb}

@@ -15,6 +15,7 @@
 #include "farm/process/interrupt.h"
 #include "farm/process/load_watch.h"
 #include "farm/process/usage_error.h"
+#include "farm/process/version.h"
 #ifdef RAYFARM_HAVE_VIEW
 #include "farm/view/cmd_view.h"
 #endif
@@ -31,7 +32,7 @@ const char* kUsage =
     "  view SCENE|MODEL                live window: orbit, key a camera path, save it\n"
     "  info MODEL [--json]             what a glTF file holds and its default turntable\n"
     "\n"
-    "Run 'rayfarm COMMAND --help' for a command's options.\n";
+    "Run 'rayfarm COMMAND --help' for a command's options; 'rayfarm --version' prints the version.\n";
 
 }  // namespace
 
@@ -46,6 +47,10 @@ int main(int argc, char** argv) {
     if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help") {
         std::fputs(kUsage, args.empty() ? stderr : stdout);
         return args.empty() ? 2 : 0;
+    }
+    if (args[0] == "--version") {
+        std::printf("rayfarm %s\n", rf::farm::rayfarmVersion());
+        return 0;
     }
     const std::string cmd = args[0];
     args.erase(args.begin());
@@ -62,7 +67,9 @@ int main(int argc, char** argv) {
             return 2;
 #endif
         }
-        rf::cli::printLine("error", "unknown command \"" + cmd + "\" (expected render, still, report, view or info)");
+        const std::string near = rf::cli::closestMatch(cmd, {"render", "still", "report", "view", "info", "--help", "--version"});
+        rf::cli::printLine("error", "unknown command \"" + cmd + "\"" + (near.empty() ? "" : "; did you mean " + near + "?") +
+                                        " (expected render, still, report, view or info)");
         return 2;
     } catch (const rf::InputError& e) {
         rf::cli::printLine("error", e.what());

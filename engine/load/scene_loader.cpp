@@ -1,6 +1,7 @@
 #include "engine/load/scene_loader.h"
 
 #include "engine/util/errors.h"
+#include "engine/util/file_source.h"
 #include "engine/load/gltf/gltf_loader.h"
 #include "engine/load/json_scene_loader.h"
 #include "engine/util/load_control.h"
@@ -15,6 +16,8 @@ LoadedScene loadScene(const std::string& path, FileSource& fs, const SceneOption
         LoadedScene loaded;
         if (lowerExtension(path) == ".json") loaded = loadJsonScene(path, fs, options);
         else if (isGltfPath(path)) loaded.scene = loadGltfScene(path, fs, options);
+        else if (const std::string what = notRegularFile(path); !what.empty())
+            throw InputError(path, "is " + what + ", not a scene file (expected a .json, .gltf or .glb file)");
         else throw InputError(path, "unknown scene type (expected .json, .gltf or .glb)");
         if (options.ground) placeGround(loaded.scene, *options.ground);
         loaded.timeline.animation = options.animation;

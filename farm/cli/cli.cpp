@@ -1,5 +1,6 @@
 #include "farm/cli/cli.h"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -25,6 +26,37 @@ void printLine(const std::string& kind, const std::string& text) {
 
 void writeStderr(const std::string& line) { farm::writeStderrText(line); }
 
+namespace {
+
+/// Optimal string alignment distance: Levenshtein plus the swap of two neighbours ("--szie").
+size_t editDistance(const std::string& a, const std::string& b) {
+    std::vector<std::vector<size_t>> d(a.size() + 1, std::vector<size_t>(b.size() + 1));
+    for (size_t i = 0; i <= a.size(); ++i) d[i][0] = i;
+    for (size_t j = 0; j <= b.size(); ++j) d[0][j] = j;
+    for (size_t i = 1; i <= a.size(); ++i)
+        for (size_t j = 1; j <= b.size(); ++j) {
+            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+        }
+    return d[a.size()][b.size()];
+}
+
+}  // namespace
+
+std::string closestMatch(const std::string& word, const std::vector<std::string>& candidates) {
+    // The dashes are not letters the user could have mistyped: "--sz" is 2 letters long.
+    size_t letters = 0;
+    for (char c : word) letters += c != '-';
+    const size_t allowed = letters <= 3 ? 1 : 2;
+    std::string best;
+    size_t bestDistance = allowed + 1;
+    for (const std::string& c : candidates) {
+        const size_t d = editDistance(word, c);
+        if (d < bestDistance) best = c, bestDistance = d;
+    }
+    return best;
+}
+
 void ArgParser::parse(const std::vector<std::string>& args) {
     for (size_t i = 0; i < args.size(); ++i) {
         const std::string& a = args[i];
@@ -37,7 +69,11 @@ void ArgParser::parse(const std::vector<std::string>& args) {
                 inlineVal = true;
             }
             auto it = takesValue_.find(name);
-            if (it == takesValue_.end()) throw UsageError(command_ + ": unknown option " + name + " (see rayfarm " + command_ + " --help)");
+            if (it == takesValue_.end()) {
+                const std::string near = closestMatch(name, declared());
+                throw UsageError(command_ + ": unknown option " + name +
+                                 (near.empty() ? "" : "; did you mean " + near + "?") + " (see rayfarm " + command_ + " --help)");
+            }
             if (it->second) {
                 if (!inlineVal) {
                     if (i + 1 >= args.size()) throw UsageError(name + ": expected a value");

@@ -43,6 +43,11 @@ private:
     std::vector<std::string> positional_;
 };
 
+/// The candidate closest to word by edit distance (insertions, deletions, substitutions and
+/// swaps of two neighbours), when it is close enough to be a slip of the keyboard (at most 2
+/// edits, fewer for short words); "" when none is.
+std::string closestMatch(const std::string& word, const std::vector<std::string>& candidates);
+
 /// Applies --size, --spp, --depth, --min-weight and --tonemap to settings (declare them first).
 void applyQualityOptions(const ArgParser& p, RenderSettings& s);
 

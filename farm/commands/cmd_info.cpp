@@ -2,6 +2,7 @@
 // text or JSON (after gltf-transform inspect and gltfpack -v).
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 #include <nlohmann/json.hpp>
 
@@ -39,6 +40,7 @@ const char* kInfoHelp =
 
 /// Shortest decimal that reads back to the same float, as JSON numbers: 0.1f prints as 0.1.
 double tidy(double v) {
+    if (v == 0.0) return 0.0;  // -0 too: "-0" reads as a mistake
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.9g", v);
     return std::strtod(buf, nullptr);
@@ -166,7 +168,7 @@ json infoJson(const std::string& path, const GltfInfo& info, const json& turntab
         }
         o["znear"] = tidy(c.znear);
         o["zfar"] = c.zfar > 0.0 ? json(tidy(c.zfar)) : json(nullptr);
-        o["rendered"] = c.type == "perspective" || c.type == "orthographic";
+        o["rendered"] = c.type == "perspective" || c.type == "orthographic";  // still/render --camera N
         cams.push_back(o);
     }
     j["cameras"] = cams;
@@ -197,6 +199,8 @@ std::string quoted(const std::string& name) { return name.empty() ? std::string(
 std::string fmt(const char* f, double v) {
     char buf[64];
     std::snprintf(buf, sizeof buf, f, v);
+    // No "-0": a value that rounds to zero in the shown digits prints as 0, whatever its sign.
+    if (buf[0] == '-' && std::strtod(buf, nullptr) == 0.0) return buf + 1;
     return buf;
 }
 std::string point(const json& v) {
@@ -265,7 +269,8 @@ std::string infoText(const json& j) {
     for (const json& c : j["cameras"]) {
         s += "  " + std::to_string(c["index"].get<int>()) + " " + quoted(c["name"]) + ": " + c["type"].get<std::string>();
         if (c.contains("yfov_deg")) s += ", vertical field of view " + fmt("%.4g", c["yfov_deg"].get<double>()) + " deg";
-        s += c["rendered"].get<bool>() ? "\n" : " (not rendered: neither perspective nor orthographic)\n";
+        if (c.contains("ymag")) s += ", a view " + fmt("%.4g", 2.0 * c["ymag"].get<double>()) + " units high";
+        s += c["rendered"].get<bool>() ? "\n" : " (not rendered: rayfarm renders perspective and orthographic cameras)\n";
     }
     if (!j["camera_views"].empty()) s += "  through --camera N (in node order):\n";
     for (const json& v : j["camera_views"]) {
@@ -305,17 +310,12 @@ std::string infoText(const json& j) {
          std::to_string(t["frames"].get<int>()) + " frames at " + fmt("%.4g", t["fps"].get<double>()) + " fps (" +
          fmt("%.4g", t["seconds"].get<double>()) + " s), " + std::to_string(t["width"].get<int>()) + "x" +
          std::to_string(t["height"].get<int>()) + ", " + std::to_string(t["spp"].get<int>()) + " spp\n";
-    if (!through)
-        s += "  camera " + fmt("%.4g", c["distance"].get<double>()) + " from " + point(c["target"]) + " at " +
-             fmt("%.3g", c["elevation_deg"].get<double>()) + " deg elevation, field of view " + fmt("%.3g", c["fov_deg"].get<double>()) +
-             " deg, one orbit\n";
-    else
-        s += "  the camera's node moves with its animation, frame by frame\n";
-    for (const json& a : t["animations"]) {
-        s += "  plays animation " + std::to_string(a["index"].get<int>()) + " " + quoted(a["name"]) + " (" + fmt("%.4g", a["period_s"].get<double>()) + " s) ";
-        if (a["ends_whole"].get<bool>()) s += std::to_string(a["whole_plays"].get<long long>()) + (a["whole_plays"].get<long long>() == 1 ? " whole play\n" : " whole plays\n");
-        else s += fmt("%.4g", a["plays"].get<double>()) + " times (" + std::to_string(a["whole_plays"].get<long long>()) + " whole, looped)\n";
-    }
+    s += "  camera " + fmt("%.4g", c["distance"].get<double>()) + " units from the target " + point(c["target"]) + " at " +
+         fmt("%.3g", c["elevation_deg"].get<double>()) + " deg elevation, field of view " + fmt("%.3g", c["fov_deg"].get<double>()) +
+         " deg, one orbit\n";
+    for (const json& a : t["animations"])
+        s += "  plays animation " + std::to_string(a["index"].get<int>()) + " " + quoted(a["name"]) + " (" +
+             fmt("%.4g", a["period_s"].get<double>()) + " s) " + fmt("%.4g", a["plays"].get<double>()) + " times\n";
     s += "  lit by " + t["lights"].get<std::string>() + "\n";
     return s;
 }

@@ -125,7 +125,7 @@ int runStill(const std::vector<std::string>& args) {
     if (p.positional().size() != 1) throw UsageError("still: expected one SCENE or MODEL (see rayfarm still --help)");
     const std::string scenePath = p.positional()[0];
     const std::string out = p.value("-o").value_or(std::filesystem::path(scenePath).stem().string() + ".png");
-    const int threads = p.intValue("--threads", 0, 0, 4096);
+    const int threads = p.intValue("--threads", 0, 1, 4096);
     BackgroundChoice background;
     if (auto b = p.value("--background")) background = parseBackground(*b);
     // still writes PNG only: a name that says otherwise (x.mp4, x.jpg) would hold PNG bytes.

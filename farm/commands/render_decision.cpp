@@ -16,6 +16,7 @@
 #include "farm/output/png_sink.h"
 #include "farm/output/run_files.h"
 #include "farm/output/video_format.h"
+#include "farm/output/video_options.h"
 #include "farm/process/interrupt.h"
 #include "farm/process/usage_error.h"
 #include "farm/cluster/run_farm.h"
@@ -44,6 +45,10 @@ void decideOutputs(RenderJob& job, Scene& scene) {
         const std::string what = e.what();  // an option's own error leads with the option
         throw UsageError(what.rfind("--", 0) == 0 ? what : job.output + ": " + what);
     }
+    int videoW = 0, videoH = 0;
+    mp4EncodedSize(job.settings.width, job.settings.height, job.mp4, videoW, videoH, job.output);
+    if (!job.framesDir.empty() && (videoW != job.settings.width || videoH != job.settings.height))
+        note += "; the kept frames are " + std::to_string(job.settings.width) + "x" + std::to_string(job.settings.height);
     if (!note.empty()) printLine("note", note);
 }
 
@@ -72,6 +77,7 @@ void claimOutputs(const RenderJob& job, const ArgParser& p, std::vector<OutputLo
     if (containerFor(job.output) == Container::Gif) requireGifFilters(job.output);
     for (const std::string* f : {&job.statsPath, &job.contactSheet, &job.poster})
         if (!f->empty()) checkWritableFile(*f);
+    if (!job.framesDir.empty()) ensureParentDir(job.framesDir);  // its lock lies beside it
     for (const std::string* f : {&job.output, &job.framesDir}) {
         if (f->empty()) continue;
         std::string note;

@@ -48,7 +48,7 @@ const char* kRenderHelp =
     "  --bounce N        glTF materials: cached bounce light on N thousand points (as for still;\n"
     "                    default 3, but none for a film whose geometry moves unless given)\n"
     "  --frames-dir DIR  keep a PNG per frame here as frames complete (default: OUT.frames next\n"
-    "                    to the output, e.g. out.frames/ for out.mp4)\n"
+    "                    to the output, e.g. out.mp4.frames/ for out.mp4)\n"
     "  --no-frames       keep no PNG frames (then nothing can be resumed)\n"
     "  --preview         open a window (rayfarm view --watch) on the frames as they complete;\n"
     "                    closing it does not stop the render\n"
@@ -161,7 +161,7 @@ std::string filmName(const std::string& scenePath) { return std::filesystem::pat
 std::vector<farm::RenderJob> jobsFromOptions(const ArgParser& p) {
     const std::vector<std::string>& scenes = p.positional();
     if (scenes.empty()) throw UsageError("render: expected a SCENE or MODEL (see rayfarm render --help)");
-    if (scenes.size() == 1) return {jobFromOptions(p, scenes[0], "")};
+    if (scenes.size() == 1) return {jobFromOptions(p, scenes[0], filmName(scenes[0]))};  // {name} with one scene too
     // Several films: every file a film writes must be its own.
     for (const char* o : {"-o", "--frames-dir", "--stats", "--contact-sheet", "--poster"}) {
         const auto v = p.value(o);
@@ -196,8 +196,8 @@ farm::RenderJob jobFromOptions(const ArgParser& p, const std::string& scene, con
     if (p.has("--no-frames") && p.has("--resume")) throw UsageError("--resume needs the frames directory (drop --no-frames)");
     if (p.has("--no-frames") && p.has("--preview")) throw UsageError("--preview shows the PNG frames as they complete (drop --no-frames)");
     if (!p.has("--no-frames"))
-        j.framesDir = p.has("--frames-dir") ? forFilm(p, "--frames-dir", name)
-                                             : std::filesystem::path(j.output).replace_extension(".frames").string();
+        // The output's whole name: out.webm and out.gif of one run each keep their own frames.
+        j.framesDir = p.has("--frames-dir") ? forFilm(p, "--frames-dir", name) : j.output + ".frames";
     j.statsPath = forFilm(p, "--stats", name);
     j.sceneOptions = sceneOptions(p);  // checked here, where every rank parses, before the scene is shared
     j.modeOption = p.value("--mode").value_or("auto");
@@ -226,7 +226,7 @@ farm::RenderJob jobFromOptions(const ArgParser& p, const std::string& scene, con
             throw UsageError(*png + ": expected a .png file name");
     j.posterFrame = p.intValue("--poster-frame", -1, 0, 1 << 30);
     if (j.posterFrame >= 0 && j.poster.empty()) throw UsageError("--poster-frame needs --poster FILE.png");
-    j.threads = p.intValue("--threads", 0, 0, 4096);
+    j.threads = p.intValue("--threads", 0, 1, 4096);
     j.workerTimeout = p.doubleValue("--timeout", 10.0);
     if (!(j.workerTimeout >= 0.5 && j.workerTimeout <= 86400)) throw UsageError("--timeout: expected seconds from 0.5 to 86400");
     if (p.has("--fps")) {

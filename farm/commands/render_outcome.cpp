@@ -8,6 +8,7 @@
 #include "engine/util/errors.h"
 #include "farm/output/png_sink.h"
 #include "farm/output/run_stats.h"
+#include "farm/output/video_options.h"
 #include "farm/process/interrupt.h"
 
 namespace rf::cli {
@@ -85,9 +86,12 @@ int reportOutcome(int ranks, const RenderJob& job, const FarmOutcome& o, const s
         return signalExitStatus(sig);
     }
     const RunStats& s = o.stats;
+    // The video's own size: encoders that need even sizes repeat the last column or row.
+    int videoW = s.width, videoH = s.height;
+    mp4EncodedSize(s.width, s.height, job.mp4, videoW, videoH, job.output);
     std::string lines = formatted("rayfarm: wrote %s: %d frames %dx%d at %.4g fps; %.1f fps sustained over %.2f s (wall %.2f s); "
                                   "encoder busy %.2f s (%.0f%%)\n",
-                                  printable(job.output).c_str(), s.frames, s.width, s.height, job.mp4.fps, s.sustainedFps, s.renderSeconds,
+                                  printable(job.output).c_str(), s.frames, videoW, videoH, job.mp4.fps, s.sustainedFps, s.renderSeconds,
                                   s.wallSeconds, s.encodeSeconds, s.renderSeconds > 0 ? 100.0 * s.encodeSeconds / s.renderSeconds : 0.0);
     if (s.rays.nonFinite)
         lines += "rayfarm: note: " + std::to_string((unsigned long long)s.rays.nonFinite) + " non-finite samples replaced by black\n";

@@ -8,11 +8,35 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "engine/util/file_source.h"
 #include "farm/process/usage_error.h"
 
 namespace rf {
 
+void ensureParentDir(const std::string& path) {
+    const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+    if (parent.empty()) return;
+    std::error_code ec;
+    if (std::filesystem::is_directory(parent, ec)) return;
+    // As Blender does: the folders an output names are made. A part of the way that is a file,
+    // or a folder that may not be written, refuses the output naming the folder.
+    std::filesystem::create_directories(parent, ec);
+    if (!ec && std::filesystem::is_directory(parent)) return;
+    // The reason as the user can act on it: which part of the way is not a folder.
+    std::string why = ec ? ec.message() : std::string("a file is in the way");
+    for (std::filesystem::path up = parent; !up.empty() && up != up.parent_path(); up = up.parent_path()) {
+        std::error_code e;
+        if (std::filesystem::exists(up, e) && !std::filesystem::is_directory(up, e)) {
+            why = up.string() + " is " + (notRegularFile(up.string()).empty() ? std::string("a file") : notRegularFile(up.string())) +
+                  ", not a folder";
+            break;
+        }
+    }
+    throw UsageError(parent.string() + ": cannot create the folder for " + path + ": " + why);
+}
+
 void checkWritableFile(const std::string& path) {
+    ensureParentDir(path);
     const bool existed = ::access(path.c_str(), F_OK) == 0;
     if (existed && std::filesystem::is_directory(path)) throw UsageError(path + ": cannot write: is a directory");
     // Opening a FIFO for writing waits for a reader, for good if none comes; a socket cannot be
@@ -30,7 +54,8 @@ void checkWritableFile(const std::string& path) {
 void ensureWritableDir(const std::string& dir) {
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
-    if (ec || !std::filesystem::is_directory(dir)) throw UsageError(dir + ": cannot create directory: " + ec.message());
+    if (ec || !std::filesystem::is_directory(dir))
+        throw UsageError(dir + ": cannot create the folder: " + (ec ? ec.message() : std::string("a file is in the way")));
     if (::access(dir.c_str(), W_OK) != 0) throw UsageError(dir + ": cannot write: " + std::strerror(errno));
 }
 

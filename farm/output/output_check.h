@@ -6,9 +6,14 @@
 
 namespace rf {
 
+/// Creates the folder path is in (and its parents) when it is missing, as Blender does; throws
+/// UsageError "FOLDER: cannot create the folder for PATH: reason" when it cannot.
+void ensureParentDir(const std::string& path);
+
 /// Throws UsageError ("PATH: cannot write: reason") unless path can be created or
-/// overwritten. A directory, a FIFO (opening it would wait for a reader) and a socket are
-/// refused without being opened. Leaves no file behind that was not there before.
+/// overwritten; its folder is created first (ensureParentDir). A directory, a FIFO (opening it
+/// would wait for a reader) and a socket are refused without being opened. Leaves no file behind
+/// that was not there before (folders it made stay, for the run to write into).
 void checkWritableFile(const std::string& path);
 
 /// Creates the directory (and parents) if needed; throws UsageError if it cannot.

@@ -7,11 +7,13 @@
 
 #include "engine/util/file_write.h"
 #include "farm/output/output_check.h"
+#include "farm/process/version.h"
 
 namespace rf {
 
 void writeStatsJson(const std::string& path, const RunStats& s) {
     nlohmann::ordered_json j;
+    j["version"] = farm::rayfarmVersion();
     j["frames"] = s.frames;
     j["width"] = s.width;
     j["height"] = s.height;

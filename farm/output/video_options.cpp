@@ -64,7 +64,7 @@ std::string checkMp4Options(int width, int height, const Mp4Options& o, const st
         note += std::string(note.empty() ? "" : "; ") + "the video is " + std::to_string(w) + "x" + std::to_string(h) + " (" +
                 f.pixFmt + " needs even sizes: the last " + (w != width ? std::string("column") : std::string("")) +
                 (w != width && h != height ? " and " : "") + (h != height ? std::string("row") : std::string("")) +
-                " is repeated); the PNG frames keep " + std::to_string(width) + "x" + std::to_string(height);
+                " is repeated)";
     return note;
 }
 

@@ -168,7 +168,7 @@ report::QualityReportOptions qualityOptions(const ArgParser& p, const std::strin
     o.outDir = out;
     o.threads = threads;
     o.targetPsnr = p.doubleValue("--target-psnr", 30.0);
-    if (!std::isfinite(o.targetPsnr)) throw UsageError("--target-psnr: expected a finite number of dB");
+    if (!(o.targetPsnr > 0.0 && o.targetPsnr <= 200.0)) throw UsageError("--target-psnr: expected dB above 0, up to 200");
     o.sceneName = std::filesystem::path(scenePath).filename().string();
     const auto& knobs = report::qualityKnobs();
     for (size_t k = 0; k < knobs.size(); ++k) o.sweep.lists[k] = knobList(p, knobs[k], o.sweep.lists[k]);
@@ -274,7 +274,7 @@ int runReport(const std::vector<std::string>& args) {
     }
     const auto out = p.value("--out");
     if (!out) throw UsageError("report: --out DIR is required (see rayfarm report --help)");
-    const int threads = p.intValue("--threads", 0, 0, 4096);
+    const int threads = p.intValue("--threads", 0, 1, 4096);
     if (p.has("--stability")) return runStabilityCommand(p, *out, threads);
 
     if (p.positional().size() != 1) throw UsageError("report: expected one SCENE or MODEL (see rayfarm report --help)");

@@ -258,7 +258,7 @@ int runViewParsed(const std::vector<std::string>& args) {
     view::ViewOptions o;
     o.scenePath = p.positional()[0];
     o.savePath = p.value("-o").value_or(std::filesystem::path(o.scenePath).stem().string() + "_view.json");
-    o.threads = p.intValue("--threads", 0, 0, 4096);
+    o.threads = p.intValue("--threads", 0, 1, 4096);
     view::ViewJob job;
     if (auto b = p.value("--background")) job.background = parseBackground(*b);
     if (const char* n = std::getenv("OMPI_COMM_WORLD_SIZE"); n && std::atoi(n) > 1) return runFarmView(p, o, job);

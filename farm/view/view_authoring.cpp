@@ -126,7 +126,7 @@ void ViewWindow::renderFilm() {
     req.settings = settings_;
     const std::filesystem::path base = std::filesystem::path(options_.savePath).replace_extension();
     renderOutput_ = req.output = base.string() + ".mp4";
-    renderFramesDir_ = req.framesDir = base.string() + ".frames";
+    renderFramesDir_ = req.framesDir = req.output + ".frames";  // as render names it: OUT.frames
     req.resume = renderResumable_;  // the frames of the cancelled run are kept
     req.threads = std::max(1, threads());
     renderTotal_ = timeline_.frameCount();

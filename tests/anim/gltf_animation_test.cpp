@@ -276,10 +276,13 @@ TEST(AnimatedNodeGltf, AnimationSelectedByNameClampsAndRefitsTheBvh) {
     // Traversal sees the moved cube (the BVH was refitted), and not its old place.
     const Vec3 o = Vec3(DVec3(0, 3, 10) - s.renderOrigin);
     Hit hit;
-    EXPECT_TRUE(s.geometry.intersect(Ray(o, Vec3(0, 0, -1)), hit));
+    // Braces, not parentheses: clang before 16 has no parenthesized aggregate initialization.
+    const Ray down{o, Vec3(0, 0, -1)};
+    EXPECT_TRUE(s.geometry.intersect(down, hit));
     EXPECT_NEAR(hit.t, 9.5f, 1e-4f);
     Hit miss;
-    EXPECT_FALSE(s.geometry.intersect(Ray(Vec3(DVec3(0, 0, 10) - s.renderOrigin), Vec3(0, 0, -1)), miss));
+    const Ray oldPlace{Vec3(DVec3(0, 0, 10) - s.renderOrigin), Vec3(0, 0, -1)};
+    EXPECT_FALSE(s.geometry.intersect(oldPlace, miss));
     tl.apply(s, 0.5);
     expectMeshAt(s, glm::translate(DMat4(1.0), DVec3(0, 1.5, 0)), "lift at 0.5 s");
 

@@ -11,8 +11,6 @@
 namespace rf::anim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 DQuat aboutY(double deg) { return glm::angleAxis(glm::radians(deg), DVec3(0, 1, 0)); }
 /// Rotation angle in degrees between two unit quaternions (sign-insensitive).
 double angleBetweenDeg(const DQuat& a, const DQuat& b) {

@@ -13,8 +13,6 @@
 namespace rf::anim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
 Scene twoSpheres() {
     Scene s;
     s.geometry.spheres.push_back(Sphere{});

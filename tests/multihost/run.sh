@@ -93,7 +93,7 @@ small=(render "$SCENE" --size 160x90 --frames 0:11 --chunk-frames 4)
 "$RAYFARM" "${small[@]}" -o one.mp4 2> one.log || { cat one.log; fail "one-process run failed"; }
 for mode in pixel frame; do
     farm hosts3 3 "${small[@]}" --mode "$mode" -o "$mode.mp4" 2> "$mode.log" || { cat "$mode.log"; fail "$mode run on 3 hosts failed"; }
-    cmp -s <(pngs_md5 one.frames) <(pngs_md5 "$mode.frames") || fail "$mode mode on 3 hosts: PNGs differ from one process"
+    cmp -s <(pngs_md5 one.mp4.frames) <(pngs_md5 "$mode.mp4.frames") || fail "$mode mode on 3 hosts: PNGs differ from one process"
     [ "$(frames_in "$mode.mp4")" = 12 ] || fail "$mode mode on 3 hosts: the MP4 does not hold 12 frames"
     cmp -s one.mp4 "$mode.mp4" || fail "$mode mode on 3 hosts: the MP4 differs from one process's"
 done
@@ -136,7 +136,7 @@ saved=("${KEEPALIVE[@]}")
 KEEPALIVE=()
 timed_bg cut0 farm hosts3 3 "${long[@]}" -o cut0.mp4 2> cut0.log
 job=$!
-wait_for_pngs cut0.frames 3
+wait_for_pngs cut0.mp4.frames 3
 # Rank 2's own process, looked up while it surely runs: a lookup by namespace during the cut can
 # come back empty for a moment (`ip netns pids` while processes come and go), which is not the
 # worker leaving.
@@ -172,7 +172,7 @@ echo "multihost: farm3 cut off, default keepalive: named after ${named_s:-?} s, 
 # 3. farm3's cable pulled mid-run (issue 14 #6).
 timed_bg cut farm hosts3 3 "${long[@]}" -o cut.mp4 2> cut.log
 job=$!
-wait_for_pngs cut.frames 3
+wait_for_pngs cut.mp4.frames 3
 t0=$(now)
 cut_link farm3
 wait "$job" || true
@@ -190,7 +190,7 @@ grep -Eq "rayfarm: error: rank 2 on farm3 stopped answering .*while rendering fr
     { cat cut.log; fail "the stop does not name rank 2 on farm3 and its chunk"; }
 cut_chunk=$(grep -Eo "of chunk [0-9]+ \(frames [0-9]+–[0-9]+\)" cut.log | head -1)
 played=$(frames_in cut.mp4)
-kept=$(ls cut.frames | grep -c '^frame_.*\.png$')
+kept=$(ls cut.mp4.frames | grep -c '^frame_.*\.png$')
 [ "$played" -ge 1 ] && [ "$played" -le "$kept" ] || fail "after the cut the MP4 plays $played frames, $kept PNGs kept"
 echo "multihost: farm3 cut off mid-chunk ($cut_chunk): shell back in $shell_s s, farm3 empty in $gone_s s, MP4 plays $played frames, $kept kept"
 

@@ -136,10 +136,10 @@ slow=(--size 96x72 --frames 0:59 --spp 64 --lossless)
 "$RAYFARM" render "$MODEL" -o ref.mp4 --no-frames "${slow[@]}" 2> ref.log || { cat ref.log; fail "reference run failed"; }
 job=$(sbatch --parsable -o part.log "$SCRIPT" "$MODEL" part.mp4 "${slow[@]}")
 for _ in $(seq 600); do
-    [ "$(ls part.frames 2> /dev/null | grep -c '^frame_.*\.png$')" -ge 6 ] && break
+    [ "$(ls part.mp4.frames 2> /dev/null | grep -c '^frame_.*\.png$')" -ge 6 ] && break
     sleep 0.1
 done
-[ "$(ls part.frames 2> /dev/null | grep -c '^frame_.*\.png$')" -ge 6 ] || { cat part.log; fail "the job made fewer than 6 frames in 60 s"; }
+[ "$(ls part.mp4.frames 2> /dev/null | grep -c '^frame_.*\.png$')" -ge 6 ] || { cat part.log; fail "the job made fewer than 6 frames in 60 s"; }
 start=$EPOCHREALTIME
 scancel "$job"
 for _ in $(seq 300); do [ -z "$(squeue -h -j "$job" 2> /dev/null)" ] && break; sleep 0.1; done
@@ -149,13 +149,13 @@ if pgrep -f "render $MODEL -o part.mp4" > /dev/null; then fail "rayfarm processe
 grep -q "rayfarm: interrupted (SIGTERM): the video part.mp4 holds .* (playable)" part.log || { cat part.log; fail "no interrupted line after scancel"; }
 grep -q "^rayfarm: to resume: mpirun .*--resume$" part.log || { cat part.log; fail "no resume command after scancel"; }
 frames=$(probe part.mp4)
-kept=$(ls part.frames | grep -c '^frame_.*\.png$')
+kept=$(ls part.mp4.frames | grep -c '^frame_.*\.png$')
 [ -n "$frames" ] && [ "$frames" -ge 1 ] && [ "$frames" -le "$kept" ] || fail "after scancel part.mp4 plays '$frames' frames ($kept PNGs)"
 echo "slurm: scancel stopped the job in $took s; $(grep 'rayfarm: interrupted' part.log | cut -d: -f3-); it plays $frames frames"
 
 # 3. The same script again, with --resume.
 sbatch --wait --quiet -o resume.log "$SCRIPT" "$MODEL" part.mp4 "${slow[@]}" --resume || { cat resume.log; fail "the resume job failed"; }
-grep -q "frames kept in part.frames" resume.log || { cat resume.log; fail "the resume job kept no frames"; }
+grep -q "frames kept in part.mp4.frames" resume.log || { cat resume.log; fail "the resume job kept no frames"; }
 cmp -s part.mp4 ref.mp4 || fail "the resumed video differs from one uninterrupted run"
 echo "slurm: --resume after scancel gave a video byte-identical to an uninterrupted run"
 echo "slurm: ok"

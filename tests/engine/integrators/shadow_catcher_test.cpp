@@ -142,11 +142,10 @@ TEST(ShadowCatcher, OverATransparentBackgroundTheShadowIsTheAlpha) {
     EXPECT_EQ(at(Vec3(-3.f, 0.f, 3.f), clear), Color(0.f));
     EXPECT_EQ(clear, 0.f);
     // The frame: coverage 1 on the sphere, in (0, 1] in the shadow, 0 on clear ground.
-    int partial = 0, zero = 0;
-    for (float a : img.alpha()) {
-        partial += a > 0.f && a < 1.f;
-        zero += a == 0.f;
-    }
+    // (A count of partial coverage was made here and never checked, which clang warns about; the
+    // point light's shadow is hard, so there is none to check.)
+    int zero = 0;
+    for (float a : img.alpha()) zero += a == 0.f;
     EXPECT_GT(zero, 64 * 64 / 2);
     const Scene bare = [&] {
         Scene b = s;

@@ -140,8 +140,9 @@ TEST(Environment, FourLaneLookUpsAreTheScalarOnesBitForBit) {
         if (nan) continue;
         for (int i = 0; i < 4; ++i) {
             const Vec2 one = equirectUv(dirs[k + i]);
-            EXPECT_EQ(std::memcmp(&one.x, &u[i], 4), 0) << k + i;
-            EXPECT_EQ(std::memcmp(&one.y, &v[i], 4), 0) << k + i;
+            const float ui = u[i], vi = v[i];  // a lane by value: clang takes no vector element's address
+            EXPECT_EQ(std::memcmp(&one.x, &ui, 4), 0) << k + i;
+            EXPECT_EQ(std::memcmp(&one.y, &vi, 4), 0) << k + i;
         }
     }
 }

@@ -51,7 +51,7 @@ grow_spheres() {  # CMD...
     while :; do
         spheres spheres.json "$n"
         total=$(timed "$@")
-        rm -rf out.mp4 out.frames out.png
+        rm -rf out.mp4 out.mp4.frames out.png
         le 2.0 "$total" && break
         [ "$n" -lt 3200000 ] || fail "$* took only $total s with $n spheres: too short to be caught loading"
         n=$(python3 -c "print(min(3200000, int($n * min(4.0, max(1.5, 2.6 / max($total, 0.1))))))")
@@ -80,7 +80,7 @@ interrupt_at() {  # DELAY SIG FILE CMD...
     sleep "$delay"
     if loaded err.log || ! kill -0 "$pid" 2>/dev/null; then
         wait "$pid" || true
-        rm -rf out.mp4 out.frames out.png
+        rm -rf out.mp4 out.mp4.frames out.png
         echo "  SIG$sig at ${delay}s: the load was already over; not counted"
         return 1
     fi
@@ -93,7 +93,7 @@ interrupt_at() {  # DELAY SIG FILE CMD...
     [ "$rc" = "$want" ] || { cat err.log; fail "$*: exit $rc after SIG$sig at $delay s, expected $want"; }
     if loaded err.log; then  # the load ended between the look and the signal: the run's own ending
         grep -q "^rayfarm: interrupted (SIG$sig): " err.log || { cat err.log; fail "$*: no interrupted line"; }
-        rm -rf out.mp4 out.frames
+        rm -rf out.mp4 out.mp4.frames
         echo "  SIG$sig at ${delay}s: the load ended just before it; the render's own interrupted line; not counted"
         return 1
     fi
@@ -104,7 +104,7 @@ interrupt_at() {  # DELAY SIG FILE CMD...
         *) cat err.log; fail "$*: SIG$sig at $delay s: not the interrupted line" ;;
     esac
     [ "$(printf '%s\n' "$line" | wc -l)" = 1 ] || fail "more than one line: $line"
-    for f in out.mp4 out.mp4.lock out.frames out.frames.lock out.png; do [ -e "$f" ] && fail "$f left behind after SIG$sig"; done
+    for f in out.mp4 out.mp4.lock out.mp4.frames out.mp4.frames.lock out.png; do [ -e "$f" ] && fail "$f left behind after SIG$sig"; done
     echo "  SIG$sig at ${delay}s: ended in ${took}s, exit $rc: ${line#rayfarm: }"
 }
 
@@ -122,7 +122,7 @@ signal_through_load() {  # SIG FILE CMD...
     local sig=$1 file=$2 total caught=0
     shift 2
     total=$(timed "$@")
-    rm -rf out.mp4 out.frames out.png
+    rm -rf out.mp4 out.mp4.frames out.png
     echo "$file: $total s unsignalled"
     le 1.2 "$total" || fail "$* took only $total s: too short to be caught loading"
     for part in ${PARTS:-0.1 0.25 0.45}; do
@@ -195,7 +195,7 @@ mpi)
         pgrep -f "^$RAYFARM render spheres.json -o out.mp4" > /dev/null && fail "mpi, $how: a rank outlived the signal"
         grep -q "stopped answering" err.log && { cat err.log; fail "mpi, $how: a rank was reported dead"; }
         [ "$(grep -c '^rayfarm: ' err.log)" = 1 ] || { cat err.log; fail "mpi, $how: more than the one line from rayfarm"; }
-        for f in out.mp4 out.mp4.lock out.frames.lock; do [ -e "$f" ] && fail "mpi, $how: $f left behind"; done
+        for f in out.mp4 out.mp4.lock out.mp4.frames.lock; do [ -e "$f" ] && fail "mpi, $how: $f left behind"; done
         printf '  %s: the line %d ms after the signal, mpirun exit %s: %s\n' "$how" $((took / 1000)) "$rc" "$(grep '^rayfarm: ' err.log)"
     done
     ;;

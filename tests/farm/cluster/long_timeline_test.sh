@@ -25,11 +25,11 @@ PY
     { cat part.err; fail "a 3-frame range of a 10⁹-frame timeline did not render"; }
 n=$(ffprobe -v error -select_streams v:0 -count_frames -show_entries stream=nb_read_frames -of csv=p=0 part.mp4)
 [ "$n" = 3 ] || fail "part.mp4 has $n frames, not 3"
-ls part.frames/frame_500000000.png part.frames/frame_500000002.png > /dev/null || fail "frames 500000000 and 500000002 not kept"
+ls part.mp4.frames/frame_500000000.png part.mp4.frames/frame_500000002.png > /dev/null || fail "frames 500000000 and 500000002 not kept"
 
 # The whole film: frames appear within seconds, memory stays small; Ctrl-C stops it.
 # Options: passed on; leaves the run's pid in $pid once 3 more frames appeared.
-frames_kept() { { ls whole.frames 2> /dev/null || true; } | grep -c '^frame_.*\.png$' || true; }
+frames_kept() { { ls whole.mp4.frames 2> /dev/null || true; } | grep -c '^frame_.*\.png$' || true; }
 start_whole() {
     local before
     before=$(frames_kept)

@@ -25,7 +25,7 @@ same_as_separate() {  # dir names...
     shift
     for name in "$@"; do
         cmp -s "sep/$name.mp4" "$dir/$name.mp4" || fail "$dir/$name.mp4 differs from the separate run's"
-        cmp -s <(pngs_md5 "sep/$name.frames") <(pngs_md5 "$dir/$name.frames") || fail "$dir/$name.frames differ from the separate run's"
+        cmp -s <(pngs_md5 "sep/$name.mp4.frames") <(pngs_md5 "$dir/$name.mp4.frames") || fail "$dir/$name.mp4.frames differ from the separate run's"
     done
 }
 
@@ -54,12 +54,12 @@ same_as_separate bad BoxTextured simple_skin
 [ ! -e bad/IndexOutOfRange.mp4 ] || fail "the broken model left a video"
 echo "batch: a broken model failed alone (exit $rc): $(grep 'rayfarm: error' bad.log | cut -c1-110)"
 
-rm job3/BoxTextured.mp4 job3/BoxTextured.frames/frame_000002.png job3/BoxTextured.frames/frame_000005.png
-rm -r job3/simple_skin.mp4 job3/simple_skin.frames
+rm job3/BoxTextured.mp4 job3/BoxTextured.mp4.frames/frame_000002.png job3/BoxTextured.mp4.frames/frame_000005.png
+rm -r job3/simple_skin.mp4 job3/simple_skin.mp4.frames
 mpi 3 render "$A" "$B" "$C" "${opts[@]}" -o "job3/{name}.mp4" --resume 2> resume.log || { cat resume.log; fail "resumed job failed"; }
-grep -q "resume: 6 of 8 frames kept in job3/BoxTextured.frames, 2 to render" resume.log || { cat resume.log; fail "film 1 did not resume its 2 missing frames"; }
-grep -q "resume: 8 of 8 frames kept in job3/boxTexcoords.frames, 0 to render" resume.log || { cat resume.log; fail "film 2 did not keep its frames"; }
-grep -q "job3/simple_skin.frames: nothing kept for this film yet; rendering it whole" resume.log || { cat resume.log; fail "film 3 was not started whole"; }
+grep -q "resume: 6 of 8 frames kept in job3/BoxTextured.mp4.frames, 2 to render" resume.log || { cat resume.log; fail "film 1 did not resume its 2 missing frames"; }
+grep -q "resume: 8 of 8 frames kept in job3/boxTexcoords.mp4.frames, 0 to render" resume.log || { cat resume.log; fail "film 2 did not keep its frames"; }
+grep -q "job3/simple_skin.mp4.frames: nothing kept for this film yet; rendering it whole" resume.log || { cat resume.log; fail "film 3 was not started whole"; }
 same_as_separate job3 BoxTextured boxTexcoords simple_skin
 echo "batch: --resume film by film (2 missing frames, none missing, a film never started): the same files"
 

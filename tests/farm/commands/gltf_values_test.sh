@@ -46,5 +46,5 @@ expect_refusal "colour.gltf: $L.color [1, -1, 1]: colour components must be ≥ 
 material=$(python3 -c 'import json; m = json.load(open("ior.gltf"))["materials"][0]; print(m.get("name", ""))')
 expect_refusal "ior.gltf: materials[0]${material:+ (\"$material\")}.extensions.KHR_materials_ior.ior -1.5: expected an index of refraction of 1 or more" \
     "$RAYFARM" render ior.gltf --size 32x24 --frames 0:1 -o y.mp4
-for f in x.png x.mp4 x.frames y.mp4 y.frames; do [ ! -e "$f" ] || fail "a refused run left $f"; done
+for f in x.png x.mp4 x.mp4.frames y.mp4 y.mp4.frames; do [ ! -e "$f" ] || fail "a refused run left $f"; done
 echo "gltf values: out-of-range lights and IOR refused with exit 2 naming light or material and value"

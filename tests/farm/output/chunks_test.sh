@@ -36,13 +36,13 @@ done
 echo "chunks $EXT: 1-3 ranks x pixel/frame: byte-identical ($(stat -c %s "$ref.$EXT") bytes)"
 
 # Resume at another rank count and mode, from a run missing frames and its video.
-rm "r3_frame.$EXT" r3_frame.frames/frame_000001.png r3_frame.frames/frame_000005.png r3_frame.frames/frame_000010.png
+rm "r3_frame.$EXT" r3_frame.$EXT.frames/frame_000001.png r3_frame.$EXT.frames/frame_000005.png r3_frame.$EXT.frames/frame_000010.png
 mpi 2 "${args[@]}" --mode pixel -o "r3_frame.$EXT" --resume 2> resume.log || { cat resume.log; fail "resume failed"; }
-grep -q "8 of 11 frames kept in r3_frame.frames, 3 to render" resume.log || { cat resume.log; fail "resume did not render exactly the 3 missing frames"; }
+grep -q "8 of 11 frames kept in r3_frame.$EXT.frames, 3 to render" resume.log || { cat resume.log; fail "resume did not render exactly the 3 missing frames"; }
 cmp -s "$ref.$EXT" "r3_frame.$EXT" || fail "resumed at np 2 pixel: differs from $ref.$EXT"
-rm "r3_frame.$EXT" r3_frame.frames/frame_000004.png r3_frame.frames/frame_000006.png
+rm "r3_frame.$EXT" r3_frame.$EXT.frames/frame_000004.png r3_frame.$EXT.frames/frame_000006.png
 mpi 3 "${args[@]}" --mode frame -o "r3_frame.$EXT" --resume 2> resume2.log || { cat resume2.log; fail "second resume failed"; }
-grep -q "9 of 11 frames kept in r3_frame.frames, 2 to render" resume2.log || { cat resume2.log; fail "second resume did not render exactly 2"; }
+grep -q "9 of 11 frames kept in r3_frame.$EXT.frames, 2 to render" resume2.log || { cat resume2.log; fail "second resume did not render exactly 2"; }
 cmp -s "$ref.$EXT" "r3_frame.$EXT" || fail "resumed at np 3 frame: differs from $ref.$EXT"
 echo "chunks $EXT: --resume at np 2 pixel and np 3 frame: byte-identical"
 

@@ -74,14 +74,14 @@ case "$CASE" in
 lock)
     "$RAYFARM" "${slow[@]}" -o same.mp4 2> a.log &
     a=$!
-    wait_for_pngs same.frames 2 60
+    wait_for_pngs same.mp4.frames 2 60
     start=$(date +%s.%N)
     # The issue's race: a second render at 1 spp on the same output, and one on another video
     # that shares the frames directory.
     expect_refusal "same.mp4: another render is writing it (pid $a on $(hostname) since" \
         "$RAYFARM" render "$SCENE" --size 128x72 --spp 1 --frames 0:59 -o same.mp4
-    expect_refusal "same.frames: another render is writing it (pid $a on $(hostname)" \
-        "$RAYFARM" render "$SCENE" --size 128x72 --spp 1 --frames 0:59 -o other.mp4 --frames-dir same.frames
+    expect_refusal "same.mp4.frames: another render is writing it (pid $a on $(hostname)" \
+        "$RAYFARM" render "$SCENE" --size 128x72 --spp 1 --frames 0:59 -o other.mp4 --frames-dir same.mp4.frames
     took=$(python3 -c "import sys,time; print('%.2f' % (time.time() - float(sys.argv[1])))" "$start")
     python3 -c "import sys; sys.exit(float(sys.argv[1]) > 5)" "$took" || fail "the refusals took $took s"
     kill -0 "$a" 2>/dev/null || { cat a.log; fail "the first render ended before the second was refused: no race tested"; }
@@ -89,8 +89,8 @@ lock)
     grep -q "^rayfarm: wrote same.mp4: 60 frames" a.log || { cat a.log; fail "no wrote line"; }
     [ "$(frames_of same.mp4)" = 60 ] || fail "same.mp4 decodes to $(frames_of same.mp4) frames, expected 60"
     ffmpeg -v error -xerror -i same.mp4 -f null - 2> dec.log && [ ! -s dec.log ] || { cat dec.log; fail "same.mp4 has decoding errors"; }
-    manifest_consistent same.frames 60
-    [ ! -e same.mp4.lock ] && [ ! -e same.frames.lock ] || fail "lock files left after the run"
+    manifest_consistent same.mp4.frames 60
+    [ ! -e same.mp4.lock ] && [ ! -e same.mp4.frames.lock ] || fail "lock files left after the run"
     [ ! -e other.mp4 ] && [ ! -e other.mp4.lock ] || fail "the refused run left other.mp4 or its lock"
     # --resume accepts the frames (all of one run) and gives the same video.
     "$RAYFARM" "${slow[@]}" -o same.mp4 --resume 2> r.log || { cat r.log; fail "resume failed"; }
@@ -100,15 +100,15 @@ lock)
 stale)
     "$RAYFARM" "${slow[@]}" -o st.mp4 2> a.log &
     a=$!
-    wait_for_pngs st.frames 3 60
+    wait_for_pngs st.mp4.frames 3 60
     kill -9 "$a"
     set +e; wait "$a"; set -e
-    [ -e st.mp4.lock ] && [ -e st.frames.lock ] || fail "kill -9 left no lock to take over (nothing tested)"
+    [ -e st.mp4.lock ] && [ -e st.mp4.frames.lock ] || fail "kill -9 left no lock to take over (nothing tested)"
     "$RAYFARM" "${slow[@]}" -o st.mp4 --resume 2> r.log || { cat r.log; fail "resume after kill -9 failed"; }
     grep -q "^rayfarm: note: st.mp4: took over the lock of pid $a on $(hostname) (no longer running)$" r.log ||
         { cat r.log; fail "no note of the stale lock taken over"; }
     [ "$(frames_of st.mp4)" = 60 ] || fail "st.mp4 decodes to $(frames_of st.mp4) frames after resume"
-    manifest_consistent st.frames 60
+    manifest_consistent st.mp4.frames 60
     "$RAYFARM" "${slow[@]}" -o ref.mp4 --no-frames 2> ref.log || { cat ref.log; fail "reference run failed"; }
     cmp -s <(decoded st.mp4) <(decoded ref.mp4) || fail "killed+resumed video differs from an uninterrupted run"
     # A lock of a live-looking holder on another host cannot be judged: refused.
@@ -120,14 +120,14 @@ stale)
 hup)
     "$RAYFARM" "${slow[@]}" -o h.gif 2> h.log &
     a=$!
-    wait_for_pngs h.frames 3 60
+    wait_for_pngs h.gif.frames 3 60
     kill -HUP "$a"
     set +e; wait "$a"; rc=$?; set -e
     [ "$rc" = 129 ] || { cat h.log; fail "exit $rc after SIGHUP, expected 129"; }
     grep -Eq "^rayfarm: interrupted \(SIGHUP\): the video h\.gif $HOLDS$" h.log || { cat h.log; fail "no interrupted line"; }
     resume=$(sed -n 's/^rayfarm: to resume: //p' h.log)
     [ -n "$resume" ] || { cat h.log; fail "no resume line"; }
-    grep -q "to resume: " h.frames/rayfarm.log || fail "the frames log has no resume line"
+    grep -q "to resume: " h.gif.frames/rayfarm.log || fail "the frames log has no resume line"
     check_held h.log h.gif
     eval "$resume" 2> r.log || { cat r.log; fail "the printed resume command failed"; }
     "$RAYFARM" "${slow[@]}" -o ref.gif --no-frames 2> ref.log || { cat ref.log; fail "reference run failed"; }
@@ -138,12 +138,12 @@ hup-mpi)
     # A dropped ssh session: SIGHUP to the whole process group, mpirun and its 3 ranks at once.
     setsid mpirun --oversubscribe -np 3 "$RAYFARM" "${slow[@]}" -o hm.mp4 2> hm.log &
     a=$!
-    wait_for_pngs hm.frames 3 60
+    wait_for_pngs hm.mp4.frames 3 60
     kill -HUP -- -"$a"
     set +e; wait "$a"; set -e
     grep -Eq "^rayfarm: interrupted \(SIG(HUP|TERM)\): the video hm\.mp4 $HOLDS$" hm.log ||
         { cat hm.log; fail "no interrupted line"; }
-    grep -q "^rayfarm: to resume: mpirun .*--resume$" hm.frames/rayfarm.log || { cat hm.frames/rayfarm.log; fail "no resume line in the frames log"; }
+    grep -q "^rayfarm: to resume: mpirun .*--resume$" hm.mp4.frames/rayfarm.log || { cat hm.mp4.frames/rayfarm.log; fail "no resume line in the frames log"; }
     check_held hm.log hm.mp4
     sleep 1
     pgrep -f "rayfarm render .* -o hm.mp4" > /dev/null && fail "a rank outlived the hang-up"
@@ -163,8 +163,8 @@ pipe)
     set -e
     [ "$rc" = 141 ] || fail "exit $rc with stderr piped into head -1, expected 141"
     grep -q "^rayfarm: .*frames 0–59 of" head.out || fail "head saw: $(cat head.out)"
-    grep -Eq "^rayfarm: interrupted \(SIGPIPE\): the video p\.mp4 holds frames 0–[0-9]+ of 0–59" p.frames/rayfarm.log ||
-        { cat p.frames/rayfarm.log; fail "no interrupted line in the frames log"; }
+    grep -Eq "^rayfarm: interrupted \(SIGPIPE\): the video p\.mp4 holds frames 0–[0-9]+ of 0–59" p.mp4.frames/rayfarm.log ||
+        { cat p.mp4.frames/rayfarm.log; fail "no interrupted line in the frames log"; }
     python3 - p.json <<'PY' || fail "stats file after the broken pipe"
 import json, sys
 s = json.load(open(sys.argv[1]))
@@ -172,7 +172,7 @@ assert s["interrupted"] == "SIGPIPE", s.get("interrupted")
 assert s["resume"].endswith("--resume"), s.get("resume")
 assert "holds frames" in s["video"], s.get("video")
 PY
-    check_held p.frames/rayfarm.log p.mp4
+    check_held p.mp4.frames/rayfarm.log p.mp4
     resume=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['resume'])" p.json)
     eval "$resume" 2> r.log || { cat r.log; fail "the resume command from the stats file failed"; }
     [ "$(frames_of p.mp4)" = 60 ] || fail "resumed p.mp4 has $(frames_of p.mp4) frames"
@@ -196,7 +196,7 @@ xfsz)
     (ulimit -f 40; "$RAYFARM" render "$SCENE" --size 160x90 --spp 4 -o u.mp4 2> r.log; echo $? > r.rc)
     set -e
     [ "$(cat r.rc)" = 1 ] || { cat r.log; fail "render past ulimit -f: exit $(cat r.rc), expected 1"; }
-    grep -Eq "^rayfarm: error: u\.mp4: writing failed: File too large; the video u\.mp4 holds frames 0–[0-9]+ of 0–96; finished frames are in u\.frames; to resume: .*--resume$" r.log ||
+    grep -Eq "^rayfarm: error: u\.mp4: writing failed: File too large; the video u\.mp4 holds frames 0–[0-9]+ of 0–96; finished frames are in u\.mp4\.frames; to resume: .*--resume$" r.log ||
         { cat r.log; fail "render past ulimit -f: not the full-disk path's message"; }
     "$RAYFARM" render "$SCENE" --size 160x90 --spp 4 -o u.mp4 --resume 2> rr.log || { cat rr.log; fail "resume after EFBIG failed"; }
     [ "$(frames_of u.mp4)" = 97 ] || fail "resumed u.mp4 has $(frames_of u.mp4) frames"
@@ -220,7 +220,7 @@ paths)
     expect_refusal "a.mp4: --stats names the same file as -o (a.mp4)" "${r[@]}" -o a.mp4 --stats a.mp4
     expect_refusal "scene.json: --stats names a file this run reads" "${r[@]}" -o a.mp4 --stats scene.json
     expect_refusal "a.mp4: --frames-dir names the same file as -o" "${r[@]}" -o a.mp4 --frames-dir a.mp4
-    expect_refusal "a.frames: --stats names the same file as --frames-dir" "${r[@]}" -o a.mp4 --stats a.frames
+    expect_refusal "a.mp4.frames: --stats names the same file as --frames-dir" "${r[@]}" -o a.mp4 --stats a.mp4.frames
     expect_refusal "p.png: --poster names the same file as --contact-sheet" "${r[@]}" -o a.mp4 --poster p.png --contact-sheet p.png
     b=("$RAYFARM" render box/BoxTextured.gltf --size 32x24 --frames 0:1)
     expect_refusal "box/CesiumLogoFlat.png: --poster names a file this run reads" "${b[@]}" -o b.mp4 --poster box/CesiumLogoFlat.png
@@ -231,20 +231,20 @@ paths)
         expect_refusal "v.json: --stats names the same file as -o" env QT_QPA_PLATFORM=offscreen "$RAYFARM" view scene.json -o v.json --stats v.json
     fi
     [ "$(sum)" = "$before" ] || fail "an input was changed"
-    for f in a.mp4 a.frames b.mp4 b.frames s.png b.png x.mp4 p.png; do [ -e "$f" ] && fail "a refused run left $f"; done
+    for f in a.mp4 a.mp4.frames b.mp4 b.mp4.frames s.png b.png x.mp4 p.png; do [ -e "$f" ] && fail "a refused run left $f"; done
     echo "paths: outputs (still, render, view) naming an input, another output or the frames directory refused before rendering; inputs intact"
     ;;
 rerun)
     r=("$RAYFARM" render "$SCENE" --size 32x18 --frames 0:3)
     "${r[@]}" -o re.mp4 2> 1.log || { cat 1.log; fail "first run failed"; }
-    sums=$(cd re.frames && sha256sum frame_*.png)
-    expect_refusal "re.frames: holds 4 frame files of an earlier run; add --resume to render only the frames missing, or --overwrite" \
+    sums=$(cd re.mp4.frames && sha256sum frame_*.png)
+    expect_refusal "re.mp4.frames: holds 4 frame files of an earlier run; add --resume to render only the frames missing, or --overwrite" \
         "${r[@]}" -o re.mp4
-    [ "$(cd re.frames && sha256sum frame_*.png)" = "$sums" ] || fail "the refused run touched the kept frames"
+    [ "$(cd re.mp4.frames && sha256sum frame_*.png)" = "$sums" ] || fail "the refused run touched the kept frames"
     expect_refusal "--resume and --overwrite contradict" "${r[@]}" -o re.mp4 --resume --overwrite
     "${r[@]}" -o re.mp4 --overwrite 2> 2.log || { cat 2.log; fail "--overwrite failed"; }
     [ "$(frames_of re.mp4)" = 4 ] || fail "--overwrite gave $(frames_of re.mp4) frames"
-    manifest_consistent re.frames 4
+    manifest_consistent re.mp4.frames 4
     "${r[@]}" -o re.mp4 --resume 2> 3.log || { cat 3.log; fail "--resume failed"; }
     grep -q "resume: 4 of 4 frames kept" 3.log || { cat 3.log; fail "--resume did not keep the frames"; }
     echo "rerun: a second run over kept frames refused naming --resume and --overwrite; both work"

@@ -72,7 +72,7 @@ still-background)
 format)
     # One format end to end: EXT NP MODE. The glTF box turntable, 6 frames, transparent.
     ext=$1 np=$2 mode=$3
-    out=box.$ext fdir=box.frames
+    out=box.$ext fdir=box.$ext.frames
     rm -rf "$out" "$fdir" sheet.png poster.png
     mpi "$np" render "$BOX" -o "$out" --mode "$mode" --size 96x72 --frames 0:5 --spp 4 --background transparent \
         --contact-sheet sheet.png --poster poster.png --poster-frame 2 2> run.log || { cat run.log; fail "render failed"; }
@@ -133,10 +133,10 @@ modes-alpha)
     for run in "1 frame" "3 pixel" "2 pixel" "3 frame"; do
         read -r np mode <<< "$run"
         out=m_${np}_$mode
-        rm -rf "$out.webm" "$out.frames"  # the default frames directory: OUT.frames
+        rm -rf "$out.webm" "$out.webm.frames"  # the default frames directory: OUT.frames
         mpi "$np" render "$SRC/tests/farm/data/turntable_small.json" -o "$out.webm" --mode "$mode" --size 64x48 \
             --background transparent --frames-format exr 2> "$out.log" || { cat "$out.log"; fail "np $np $mode failed"; }
-        sums=$( (cd "$out.frames" && md5sum frame_*.png frame_*.exr) )
+        sums=$( (cd "$out.webm.frames" && md5sum frame_*.png frame_*.exr) )
         [ "$(echo "$sums" | grep -c exr)" = 6 ] || fail "np $np $mode: $(echo "$sums" | grep -c exr) EXR frames, expected 6"
         vid=$(ffmpeg -v error -c:v libvpx-vp9 -i "$out.webm" -f framemd5 -pix_fmt rgba - | grep -v '^#' | awk -F, '{print $NF}')
         if [ -z "$ref" ]; then ref="$sums" refvid="$vid"; continue; fi
@@ -157,7 +157,7 @@ interrupt)
     rm -rf int.* ref.* sheet.png
     mpirun --oversubscribe -np "$np" "$RAYFARM" "${args[@]}" -o "int.$ext" --contact-sheet sheet.png 2> int.log &
     pid=$!
-    wait_for_pngs int.frames 3 120
+    wait_for_pngs int.$ext.frames 3 120
     if [ "$sig" = TERM ]; then
         # scancel signals every process of the job, the ranks as well as mpirun (which also
         # passes it on). Signalling mpirun alone once went unanswered in a CI run under load:
@@ -172,7 +172,7 @@ interrupt)
     grep -Eq "rayfarm: interrupted \($named\): the video int\.$ext holds .* \(playable\)" int.log || { cat int.log; fail "no interrupt message naming $named"; }
     grep -A1 "rayfarm: interrupted" int.log | grep -q "^rayfarm: to resume: mpirun .*--resume$" || { cat int.log; fail "no resume command"; }
     read -r frames w h rate < <(probe "int.$ext")
-    kept=$(ls int.frames | grep -c '^frame_.*\.png$')
+    kept=$(ls int.$ext.frames | grep -c '^frame_.*\.png$')
     [ "$frames" -ge 1 ] && [ "$frames" -lt 60 ] && [ "$frames" -le "$kept" ] || fail "partial $ext has $frames frames ($kept kept)"
     # The sheet's 12 cells (frames round(i*59/11)): a thumbnail exactly for frames in the video.
     python3 - "$frames" <<'PY' || fail "contact sheet after the interrupt"
@@ -302,7 +302,7 @@ refusals)
     # naming it, before the scene is shared or any frame rendered, and no GIF, alone or under
     # mpirun (the workers are told and stop at once); the other formats never touch it.
     avf=libavfilter.so.$(pkg-config --modversion libavfilter | cut -d. -f1)
-    rm -rf x.frames; mkdir -p fakelib && : > "fakelib/$avf"
+    rm -rf x.gif.frames; mkdir -p fakelib && : > "fakelib/$avf"
     for np in 1 2; do
         launch=("$RAYFARM")
         [ "$np" = 1 ] || launch=(timeout 60 mpirun --oversubscribe -np "$np" -x LD_LIBRARY_PATH "$RAYFARM")
@@ -311,7 +311,7 @@ refusals)
         [ "$rc" = 1 ] && [ "$(grep -c '^rayfarm:' gif.log)" = 1 ] && grep -q "^rayfarm: error: x.gif: cannot load $avf" gif.log ||
             { cat gif.log; fail "a broken libavfilter, np $np: exit $rc"; }
         [ -e x.gif ] && fail "a broken libavfilter left x.gif"
-        [ -e x.frames ] && fail "a broken libavfilter: frames folder made before the check"
+        [ -e x.gif.frames ] && fail "a broken libavfilter: frames folder made before the check"
     done
     rm -f nofilter.mp4  # not x.mp4: the refusals above check that none is ever left
     LD_LIBRARY_PATH=$PWD/fakelib "$RAYFARM" render "$BOX" --size 32x24 --frames 0:1 -o nofilter.mp4 --no-frames 2> mp4.log \

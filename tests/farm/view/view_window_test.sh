@@ -262,7 +262,7 @@ still)
 film-close)
     # Ctrl+Q while Ctrl+R renders: the window closes within 2 s with status 0, says how many
     # frames it kept, the MP4 plays those frames, and nothing of the session is left.
-    rm -rf film.frames film.mp4 film.mp4.lock
+    rm -rf film.mp4.frames film.mp4 film.mp4.lock
     start_view "$scene" --size $SIZE --spp 16 -o "$PWD/film.json"
     # Issue 30 #1: a render holding the film's lock (this shell, alive) makes Ctrl+R refuse.
     printf 'rayfarm-lock %s %s - %s 1796400000\n' "$(hostname)" $$ "$(cat /proc/sys/kernel/random/boot_id)" > film.mp4.lock
@@ -270,15 +270,15 @@ film-close)
     for _ in $(seq 100); do grep -q "render failed: .*film.mp4: another render is writing it (pid $$ on" view.log && break; sleep 0.05; done
     grep -q "render failed: .*film.mp4: another render is writing it (pid $$ on" view.log ||
         fail "Ctrl+R did not refuse a film another render holds: $(tail -3 view.log)"
-    [ -e film.frames ] && fail "the refused film made its frames directory"
+    [ -e film.mp4.frames ] && fail "the refused film made its frames directory"
     rm film.mp4.lock
     xdotool windowfocus --sync "$WID" key ctrl+r
-    for _ in $(seq 400); do [ -n "$(ls film.frames/frame_*.png 2>/dev/null)" ] && break; sleep 0.05; done
-    [ -n "$(ls film.frames/frame_*.png 2>/dev/null)" ] || fail "the film wrote no frame: $(tail -3 view.log)"
+    for _ in $(seq 400); do [ -n "$(ls film.mp4.frames/frame_*.png 2>/dev/null)" ] && break; sleep 0.05; done
+    [ -n "$(ls film.mp4.frames/frame_*.png 2>/dev/null)" ] || fail "the film wrote no frame: $(tail -3 view.log)"
     ours=$(descendants $VIEW)
     close_view 2 view
     [ $STATUS -eq 0 ] || fail "view exited with status $STATUS: $(cat view.log)"
-    kept=$(ls film.frames/frame_*.png | wc -l)
+    kept=$(ls film.mp4.frames/frame_*.png | wc -l)
     grep -q "rayfarm: view: render cancelled by closing the window: $kept frames kept in" view.log ||
         fail "no line saying the $kept frames are kept: $(tail -3 view.log)"
     n=$(ffprobe -v error -count_frames -select_streams v:0 -show_entries stream=nb_read_frames -of csv=p=0 film.mp4)
@@ -295,11 +295,11 @@ film-killed-rank)
     # done; Ctrl+Q ends the session (non-zero) and leaves no process.
     [ -n "${VIEW_NP:-}" ] || fail "film-killed-rank runs under mpirun (VIEW_NP=3)"
     LAUNCH=(mpirun --mca orte_abort_on_non_zero_status 0 --oversubscribe -np "$VIEW_NP")
-    rm -rf film.frames film.mp4
+    rm -rf film.mp4.frames film.mp4
     start_view "$scene" --size 320x180 --spp 64 -o "$PWD/film.json"
     xdotool windowfocus --sync "$WID" key ctrl+r
-    for _ in $(seq 400); do [ -n "$(ls film.frames/frame_*.png 2>/dev/null)" ] && break; sleep 0.05; done
-    [ -n "$(ls film.frames/frame_*.png 2>/dev/null)" ] || fail "the film wrote no frame: $(tail -3 view.log)"
+    for _ in $(seq 400); do [ -n "$(ls film.mp4.frames/frame_*.png 2>/dev/null)" ] && break; sleep 0.05; done
+    [ -n "$(ls film.mp4.frames/frame_*.png 2>/dev/null)" ] || fail "the film wrote no frame: $(tail -3 view.log)"
     victim=
     for pid in $(descendants $VIEW); do [ "$(ps -o comm= -p "$pid")" = rayfarm ] && victim=$pid; done
     rank=$(tr '\0' '\n' </proc/"$victim"/environ | sed -n 's/^OMPI_COMM_WORLD_RANK=//p')
@@ -334,18 +334,18 @@ author)
     xdotool key ctrl+s
     for _ in $(seq 40); do [ -s saved.json ] && break; sleep 0.25; done
     [ -s saved.json ] || fail "Ctrl+S wrote no scene: $(cat view.log)"
-    rm -rf saved.frames saved.mp4 last.frames last.mp4  # an earlier run's: render refuses to drop kept frames
-    "$RAYFARM" render saved.json -o saved.mp4 --frames 0:0 --frames-dir saved.frames 2>render.log ||
+    rm -rf saved.mp4.frames saved.mp4 last.mp4.frames last.mp4  # an earlier run's: render refuses to drop kept frames
+    "$RAYFARM" render saved.json -o saved.mp4 --frames 0:0 --frames-dir saved.mp4.frames 2>render.log ||
         fail "render does not accept the saved scene: $(tail -1 render.log)"
-    [ "$(differing saved.frames/frame_000000.png still.png)" != 0 ] || fail "the saved camera is the start camera"
-    wait_equal saved.frames/frame_000000.png 60 keyed
+    [ "$(differing saved.mp4.frames/frame_000000.png still.png)" != 0 ] || fail "the saved camera is the start camera"
+    wait_equal saved.mp4.frames/frame_000000.png 60 keyed
     # Render the film from the window (Ctrl+R), cancel it after a frame, render again: it
     # resumes from the kept frames and the MP4 holds the whole film.
-    cp saved.frames/frame_000000.png cli0.png
-    rm -rf saved.frames saved.mp4
+    cp saved.mp4.frames/frame_000000.png cli0.png
+    rm -rf saved.mp4.frames saved.mp4
     frames=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['timeline']['frames'])" saved.json)
     xdotool windowfocus --sync "$WID" key ctrl+r
-    for _ in $(seq 240); do [ -n "$(ls saved.frames/frame_*.png 2>/dev/null)" ] && break; sleep 0.05; done
+    for _ in $(seq 240); do [ -n "$(ls saved.mp4.frames/frame_*.png 2>/dev/null)" ] && break; sleep 0.05; done
     # The film goes through runFarm on the window's own ranks, not through a child process.
     # Only the window's own process tree counts: other tests may run `rayfarm render` meanwhile.
     for pid in $(descendants "$VIEW"); do
@@ -356,7 +356,7 @@ author)
     xdotool key ctrl+r
     for _ in $(seq 100); do grep -q "rayfarm: view: render cancelled" view.log && break; sleep 0.1; done
     grep -q "rayfarm: view: render cancelled" view.log || fail "no cancelled render: $(tail -3 view.log)"
-    kept=$(ls saved.frames/frame_*.png | wc -l)
+    kept=$(ls saved.mp4.frames/frame_*.png | wc -l)
     [ "$kept" -ge 1 ] && [ "$kept" -lt "$frames" ] || fail "cancel kept $kept of $frames frames"
     xdotool key ctrl+r
     for _ in $(seq 600); do grep -q "rayfarm: view: rendered" view.log && break; sleep 0.1; done
@@ -367,10 +367,10 @@ author)
     # The window's film is render's film: its first (kept) and last (resumed) frames equal the
     # command line's, pixel for pixel.
     last=$(printf 'frame_%06d.png' $((frames - 1)))
-    "$RAYFARM" render saved.json -o last.mp4 --frames $((frames - 1)):$((frames - 1)) --frames-dir last.frames 2>render.log ||
+    "$RAYFARM" render saved.json -o last.mp4 --frames $((frames - 1)):$((frames - 1)) --frames-dir last.mp4.frames 2>render.log ||
         fail "render of the last frame: $(tail -1 render.log)"
-    [ "$(differing saved.frames/frame_000000.png cli0.png)" = 0 ] || fail "the window's film frame 0 differs from render's"
-    [ "$(differing saved.frames/$last last.frames/$last)" = 0 ] || fail "the window's film $last differs from render's"
+    [ "$(differing saved.mp4.frames/frame_000000.png cli0.png)" = 0 ] || fail "the window's film frame 0 differs from render's"
+    [ "$(differing saved.mp4.frames/$last last.mp4.frames/$last)" = 0 ] || fail "the window's film $last differs from render's"
     # After the film the ranks serve the window again: a drag changes the picture.
     grab before_drag.png
     drag_changes before_drag.png || fail "a drag after the film render did not change the picture"
@@ -395,7 +395,7 @@ PY
     echo "ok: drag, K, Ctrl+S, render frame 0 = window, Render/cancel/resume ($kept kept) to $frames frames, closed with status 0 within 2 s"
     ;;
 preview)
-    rm -rf pv.mp4 pv.frames
+    rm -rf pv.mp4 pv.mp4.frames
     "${LAUNCH[@]}" "$RAYFARM" render "$scene" -o "$PWD/pv.mp4" --size $SIZE --spp 36 --preview >render.log 2>&1 &
     RENDER=$!
     WID=
@@ -405,7 +405,7 @@ preview)
         sleep 0.2
     done
     [ -n "$WID" ] || fail "render --preview opened no window: $(cat render.log)"
-    for _ in $(seq 100); do [ -n "$(ls pv.frames/frame_*.png 2>/dev/null)" ] && break; sleep 0.1; done
+    for _ in $(seq 100); do [ -n "$(ls pv.mp4.frames/frame_*.png 2>/dev/null)" ] && break; sleep 0.1; done
     kill -0 $RENDER 2>/dev/null || fail "the render ended before the preview could be closed mid-way; make it longer"
     xdotool windowfocus --sync "$WID" key ctrl+q
     for _ in $(seq 40); do xdotool search --name '^rayfarm preview' >/dev/null 2>&1 || break; sleep 0.1; done
@@ -414,12 +414,12 @@ preview)
     wait $RENDER
     status=$?
     [ $status -eq 0 ] || fail "render exited $status after the preview closed: $(tail -2 render.log)"
-    frames=$(ls pv.frames/frame_*.png | wc -l)
+    frames=$(ls pv.mp4.frames/frame_*.png | wc -l)
     grep -q "wrote $PWD/pv.mp4: $frames frames" render.log || fail "the render did not write every frame: $(tail -1 render.log)"
     # A window on the finished directory shows its last frame, 1:1.
     LAUNCH=()  # the watching window is a plain process, never a member of an MPI job
-    start_view --watch "$PWD/pv.frames" --total "$frames"
-    last=$(ls pv.frames/frame_*.png | tail -1)
+    start_view --watch "$PWD/pv.mp4.frames" --total "$frames"
+    last=$(ls pv.mp4.frames/frame_*.png | tail -1)
     wait_equal "$last" 30 watch
     close_view 2 "view --watch"
     [ $STATUS -eq 0 ] || fail "view --watch exited $STATUS"
@@ -453,10 +453,10 @@ killed-rank)
     ;;
 scrub)
     # The film's frames as render writes them (the same pixels still and the window give).
-    rm -rf film.frames film.mp4
-    "$RAYFARM" render "$scene" --size $SIZE --spp 4 -o film.mp4 --frames-dir film.frames --overwrite 2>render.log ||
+    rm -rf film.mp4.frames film.mp4
+    "$RAYFARM" render "$scene" --size $SIZE --spp 4 -o film.mp4 --frames-dir film.mp4.frames --overwrite 2>render.log ||
         fail "render: $(tail -2 render.log)"
-    frames=(film.frames/frame_*.png)
+    frames=(film.mp4.frames/frame_*.png)
     [ ${#frames[@]} -ge 8 ] || fail "the film has ${#frames[@]} frames"
     [ "$(differing "${frames[0]}" "${frames[$((${#frames[@]} / 2))]}")" != 0 ] || fail "frames 0 and the middle one look alike: no pose to scrub"
     start_view "$scene" --size $SIZE --spp 4
