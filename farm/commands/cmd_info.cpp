@@ -310,12 +310,17 @@ std::string infoText(const json& j) {
          std::to_string(t["frames"].get<int>()) + " frames at " + fmt("%.4g", t["fps"].get<double>()) + " fps (" +
          fmt("%.4g", t["seconds"].get<double>()) + " s), " + std::to_string(t["width"].get<int>()) + "x" +
          std::to_string(t["height"].get<int>()) + ", " + std::to_string(t["spp"].get<int>()) + " spp\n";
-    s += "  camera " + fmt("%.4g", c["distance"].get<double>()) + " units from the target " + point(c["target"]) + " at " +
-         fmt("%.3g", c["elevation_deg"].get<double>()) + " deg elevation, field of view " + fmt("%.3g", c["fov_deg"].get<double>()) +
-         " deg, one orbit\n";
-    for (const json& a : t["animations"])
-        s += "  plays animation " + std::to_string(a["index"].get<int>()) + " " + quoted(a["name"]) + " (" +
-             fmt("%.4g", a["period_s"].get<double>()) + " s) " + fmt("%.4g", a["plays"].get<double>()) + " times\n";
+    if (!through)
+        s += "  camera " + fmt("%.4g", c["distance"].get<double>()) + " units from the target " + point(c["target"]) + " at " +
+             fmt("%.3g", c["elevation_deg"].get<double>()) + " deg elevation, field of view " + fmt("%.3g", c["fov_deg"].get<double>()) +
+             " deg, one orbit\n";
+    else
+        s += "  the camera's node moves with its animation, frame by frame\n";
+    for (const json& a : t["animations"]) {
+        s += "  plays animation " + std::to_string(a["index"].get<int>()) + " " + quoted(a["name"]) + " (" + fmt("%.4g", a["period_s"].get<double>()) + " s) ";
+        if (a["ends_whole"].get<bool>()) s += std::to_string(a["whole_plays"].get<long long>()) + (a["whole_plays"].get<long long>() == 1 ? " whole play\n" : " whole plays\n");
+        else s += fmt("%.4g", a["plays"].get<double>()) + " times (" + std::to_string(a["whole_plays"].get<long long>()) + " whole, looped)\n";
+    }
     s += "  lit by " + t["lights"].get<std::string>() + "\n";
     return s;
 }
