@@ -226,9 +226,14 @@ void GltfModel::noteDrops(const DropCounts& d) {
     if (weightsNormalized_)
         notes_.push_back(std::to_string(weightsNormalized_) + " skinned vertices have joint weights that do not sum to 1; normalized");
     if (weightsZero_) notes_.push_back(std::to_string(weightsZero_) + " skinned vertices have no joint weight; they follow their first joint");
-    // Material extensions are noted per material, where they are met.
+    for (const auto& [pattern, channels] : pointersIgnored_)
+        notes_.push_back("KHR_animation_pointer: " + std::to_string(channels) + (channels == 1 ? " channel animates " : " channels animate ") +
+                         pattern + ", which rayfarm does not animate (it keeps the file's value)");
+    // Material extensions are noted per material, where they are met; the animation pointer's
+    // channels just above.
     for (const std::string& e : model_.extensionsUsed)
-        if (!isSupportedExtension(e) && e.rfind("KHR_materials_", 0) != 0) notes_.push_back("extension " + e + " ignored");
+        if (!isSupportedExtension(e) && e.rfind("KHR_materials_", 0) != 0 && e != "KHR_animation_pointer")
+            notes_.push_back("extension " + e + " ignored");
 }
 
 void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel, int materialOverride) {

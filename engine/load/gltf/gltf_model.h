@@ -67,6 +67,16 @@ private:
     void checkInstancedSize() const;
 
     void readAnimations();
+    /// A KHR_animation_pointer channel's target: node ≥ 0 and its property (translation,
+    /// rotation, scale, weights) where rayfarm follows it, else node −1; pattern: the pointer
+    /// with its indices as {} (what the note counts). Throws InputError on a pointer that is
+    /// missing, malformed, or names a node the file lacks.
+    struct AnimationPointer {
+        int node = -1;
+        std::string property;
+        std::string pattern;
+    };
+    AnimationPointer animationPointer(const tinygltf::AnimationChannel& ch, const std::string& where, int nodes) const;
 
     /// Primitives and triangles the load left out, summed over the model for its notes.
     struct DropCounts {
@@ -101,6 +111,8 @@ private:
     int variant_ = -1;  ///< the chosen KHR_materials_variants variant, −1 for none
     std::map<std::pair<int, int>, std::optional<PrimitiveGeometry>> prims_;
     int materialOverride_ = -1;
+    /// KHR_animation_pointer channels left out, by target pattern (noted once each).
+    std::map<std::string, int> pointersIgnored_;
     /// The radius points and lines are drawn with, in world units (addTo sets it from the
     /// model's size and AssetOptions::pointSize); 0 before.
     double wireRadius_ = 0.0;

@@ -230,6 +230,48 @@ void GltfModel::checkInstancedSize() const {
                                     std::to_string(Limits::kMaxTriangles));
 }
 
+GltfModel::AnimationPointer GltfModel::animationPointer(const tinygltf::AnimationChannel& ch, const std::string& where,
+                                                        int nodes) const {
+    const std::string w = where + ".target.extensions.KHR_animation_pointer.pointer";
+    auto ext = ch.target_extensions.find("KHR_animation_pointer");
+    if (ext == ch.target_extensions.end() || !ext->second.Has("pointer") || !ext->second.Get("pointer").IsString())
+        throw InputError(path_, w + ": missing (a \"pointer\" path needs the JSON pointer it animates)");
+    const std::string ptr = ext->second.Get("pointer").Get<std::string>();
+    AnimationPointer out;
+    // The pattern names the kind of target, its indices as {}: "/materials/{}/pbrMetallicRoughness/baseColorFactor".
+    std::vector<std::string> parts;
+    for (size_t at = 0; at < ptr.size();) {
+        if (ptr[at] != '/') throw InputError(path_, w + ": \"" + ptr + "\" is not a JSON pointer (it must start with /)");
+        const size_t next = ptr.find('/', at + 1);
+        parts.push_back(ptr.substr(at + 1, next == std::string::npos ? std::string::npos : next - at - 1));
+        at = next == std::string::npos ? ptr.size() : next;
+    }
+    auto isIndex = [](const std::string& x) { return !x.empty() && x.size() < 10 && x.find_first_not_of("0123456789") == std::string::npos; };
+    for (const std::string& p : parts) out.pattern += "/" + (isIndex(p) ? std::string("{}") : p);
+    // A pointer into a list the file does not have that many of points at nothing: refused.
+    auto check = [&](size_t at, const char* what, size_t count) {
+        if (parts.size() > at && isIndex(parts[at]) && std::stoul(parts[at]) >= count)
+            throw InputError(path_, w + ": \"" + ptr + "\" names " + what + " " + parts[at] + ", and the file has " + std::to_string(count));
+    };
+    if (!parts.empty()) {
+        const std::string& list = parts[0];
+        if (list == "nodes") check(1, "node", size_t(nodes));
+        else if (list == "materials") check(1, "material", model_.materials.size());
+        else if (list == "meshes") check(1, "mesh", model_.meshes.size());
+        else if (list == "cameras") check(1, "camera", model_.cameras.size());
+        else if (list == "extensions" && parts.size() > 2 && parts[1] == "KHR_lights_punctual" && parts[2] == "lights")
+            check(3, "light", model_.lights.size());
+    }
+    if (parts.size() == 3 && parts[0] == "nodes" && isIndex(parts[1])) {
+        const int node = std::stoi(parts[1]);
+        if (parts[2] == "translation" || parts[2] == "rotation" || parts[2] == "scale" || parts[2] == "weights") {
+            out.node = node;
+            out.property = parts[2];
+        }
+    }
+    return out;
+}
+
 void GltfModel::readAnimations() {
     animatedNode_.assign(model_.nodes.size(), 0);
     for (size_t a = 0; a < model_.animations.size(); ++a) {
@@ -239,29 +281,52 @@ void GltfModel::readAnimations() {
         anim.name = ga.name;
         // Sampler components depend on the channel's path; find them first.
         std::vector<int> comps(ga.samplers.size(), 0);
+        std::vector<uint8_t> pointerOnly(ga.samplers.size(), 0);  // read by pointers left out
         for (size_t c = 0; c < ga.channels.size(); ++c) {
             const tinygltf::AnimationChannel& ch = ga.channels[c];
             const std::string wc = wa + ".channels[" + std::to_string(c) + "]";
-            if (ch.target_node < 0) continue;  // targets something else (extension): nothing to move
-            if (size_t(ch.target_node) >= model_.nodes.size()) throw InputError(path_, wc + ".target.node: no such node");
             if (ch.sampler < 0 || size_t(ch.sampler) >= ga.samplers.size()) throw InputError(path_, wc + ".sampler: no such sampler");
+            int node = ch.target_node;
+            std::string property = ch.target_path;
+            if (ch.target_path == "pointer") {
+                // KHR_animation_pointer: a node's TRS or weights become the channel they name;
+                // any other target is left out with a note (its sampler is not read).
+                const AnimationPointer ptr = animationPointer(ch, wc, int(model_.nodes.size()));
+                if (ptr.node < 0) {
+                    ++pointersIgnored_[ptr.pattern];
+                    pointerOnly[size_t(ch.sampler)] = 1;
+                    continue;
+                }
+                node = ptr.node;
+                property = ptr.property;
+            } else if (node < 0) {
+                continue;  // targets something else (an extension's): nothing to move
+            }
+            if (size_t(node) >= model_.nodes.size()) throw InputError(path_, wc + ".target.node: no such node");
             AnimChannel out;
             out.sampler = ch.sampler;
-            out.node = ch.target_node;
+            out.node = node;
             int k = 0;
-            if (ch.target_path == "translation") out.path = AnimPath::Translation, k = 3;
-            else if (ch.target_path == "rotation") out.path = AnimPath::Rotation, k = 4;
-            else if (ch.target_path == "scale") out.path = AnimPath::Scale, k = 3;
-            else if (ch.target_path == "weights") out.path = AnimPath::Weights, k = -1;
+            if (property == "translation") out.path = AnimPath::Translation, k = 3;
+            else if (property == "rotation") out.path = AnimPath::Rotation, k = 4;
+            else if (property == "scale") out.path = AnimPath::Scale, k = 3;
+            else if (property == "weights") out.path = AnimPath::Weights, k = -1;
             else throw InputError(path_, wc + ".target.path: \"" + ch.target_path + "\" is not a glTF path");
             comps[size_t(ch.sampler)] = k;
             anim.channels.push_back(out);
-            animatedNode_[size_t(ch.target_node)] = 1;
+            animatedNode_[size_t(node)] = 1;
         }
         for (size_t s = 0; s < ga.samplers.size(); ++s) {
             const tinygltf::AnimationSampler& gs = ga.samplers[s];
             const std::string ws = wa + ".samplers[" + std::to_string(s) + "]";
             AnimSampler out;
+            if (pointerOnly[s] && comps[s] == 0) {
+                // Only pointers rayfarm does not follow read it: its keys may be of any type
+                // (VEC2 offsets, booleans), and nothing plays them. A keyless placeholder.
+                out.components = 1;
+                anim.samplers.push_back(std::move(out));
+                continue;
+            }
             if (gs.interpolation == "STEP") out.interpolation = KeyInterpolation::Step;
             else if (gs.interpolation == "CUBICSPLINE") out.interpolation = KeyInterpolation::CubicSpline;
             else out.interpolation = KeyInterpolation::Linear;

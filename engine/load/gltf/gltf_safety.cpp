@@ -261,6 +261,26 @@ bool patchMeshoptFallbacks(json& doc) {
     return changed;
 }
 
+/// KHR_animation_pointer's channels have a target without a node, which this tinygltf drops
+/// silently (it requires target.node); give each one node −1, which it keeps, so the channel
+/// reaches the loader (GltfModel::readAnimations reads its pointer). Whether it patched any.
+bool patchPointerChannels(json& doc) {
+    bool patched = false;
+    if (!doc.contains("animations") || !doc["animations"].is_array()) return false;
+    for (json& a : doc["animations"]) {
+        if (!a.is_object() || !a.contains("channels") || !a["channels"].is_array()) continue;
+        for (json& c : a["channels"]) {
+            if (!c.is_object() || !c.contains("target") || !c["target"].is_object()) continue;
+            json& t = c["target"];
+            if (!t.contains("node") && t.contains("path") && t["path"] == "pointer") {
+                t["node"] = -1;
+                patched = true;
+            }
+        }
+    }
+    return patched;
+}
+
 }  // namespace
 
 std::string PreflightResult::patchedFile(const std::string& bytes) const {
@@ -298,8 +318,8 @@ PreflightResult preflight(const std::string& path, const std::string& bytes) {
         r.notes.push_back(d + ": duplicate JSON key; tinygltf keeps one of them");
 
     checkDocument(path, doc);
-    const bool draco = patchDracoIndices(doc), meshopt = patchMeshoptFallbacks(doc);
-    if (draco || meshopt) r.patchedJson = doc.dump();
+    const bool draco = patchDracoIndices(doc), meshopt = patchMeshoptFallbacks(doc), pointers = patchPointerChannels(doc);
+    if (draco || meshopt || pointers) r.patchedJson = doc.dump();
     return r;
 }
 
