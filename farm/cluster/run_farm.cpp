@@ -305,6 +305,7 @@ int FarmRun::lastWords() {
     } catch (...) {
         // The video is as complete as it gets, and the user has heard how the run ended.
     }
+    if (opts_.onLastWords) opts_.onLastWords();
     return signalExitStatus(out.signal ? out.signal : SIGTERM);
 }
 
@@ -529,7 +530,7 @@ FarmSinks sinksForJob(const RenderJob& job, std::function<double(int)> frameTime
         const std::string dither = video.encoderOptions.at(0).second;
         s.video = std::make_unique<GifSink>(job.output, w, h, layout.channels, job.mp4.fps, dither);
     } else {
-        s.video = std::make_unique<Mp4Sink>(job.output, w, h, job.mp4);
+        s.video = std::make_unique<Mp4Sink>(job.output, w, h, job.mp4, job.resume);  // a resume keeps the earlier video until it catches up
     }
     if (!frameTime) frameTime = [fps = job.mp4.fps](int f) { return f / fps; };
     std::vector<std::unique_ptr<FrameSink>> pictures;

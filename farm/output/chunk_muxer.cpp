@@ -1,6 +1,7 @@
 #include "farm/output/chunk_muxer.h"
 
 #include <atomic>
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
@@ -26,6 +27,17 @@ struct ChunkMuxer::Impl {
     bool fragmented = false;  ///< MP4 and MOV: written fragmented, remuxed to faststart at close
     bool closed = false;
     std::atomic<int> flushed{0};
+    std::string writing;        ///< where the file is written: path, or path.part while an earlier video is kept
+    long earlier = 0;           ///< frames of the earlier video kept at path (keepEarlier)
+    std::atomic<bool> inPlace{true};  ///< writing == path (or renamed there)
+
+    /// Renames the side file over the earlier video once it holds as much.
+    void swapIfAhead() {
+        if (inPlace.load() || flushed.load() < earlier) return;
+        if (std::rename(writing.c_str(), path.c_str()) != 0) fail("cannot rename " + writing + " over it", AVERROR(errno));
+        writing = path;
+        inPlace = true;
+    }
 
     [[noreturn]] void fail(const std::string& what, int rc) const {
         throw std::runtime_error(path + ": " + what + (rc < 0 ? ": " + avErrorText(rc) : std::string()));
@@ -41,10 +53,19 @@ struct ChunkMuxer::Impl {
     }
 };
 
-ChunkMuxer::ChunkMuxer(const std::string& path, int width, int height, const Mp4Options& o, int chunkFrames)
+ChunkMuxer::ChunkMuxer(const std::string& path, int width, int height, const Mp4Options& o, int chunkFrames, bool keepEarlier)
     : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     m.path = path;
+    m.writing = path;
+    std::remove(sidePath(path).c_str());  // a resume killed before it caught up left it
+    if (keepEarlier) {
+        m.earlier = readablePackets(path);
+        if (m.earlier > 0) {
+            m.writing = sidePath(path);
+            m.inPlace = false;
+        }
+    }
     try {
         VideoFormat vf;
         try {
@@ -52,7 +73,7 @@ ChunkMuxer::ChunkMuxer(const std::string& path, int width, int height, const Mp4
         } catch (const std::invalid_argument& e) {
             m.fail(e.what(), 0);
         }
-        int rc = avformat_alloc_output_context2(&m.fmt, nullptr, vf.muxer.c_str(), path.c_str());
+        int rc = avformat_alloc_output_context2(&m.fmt, nullptr, vf.muxer.c_str(), m.writing.c_str());
         if (rc < 0 || !m.fmt) m.fail("cannot set up the " + vf.muxer + " muxer", rc);
         m.fmt->flags |= AVFMT_FLAG_BITEXACT;
         m.stream = avformat_new_stream(m.fmt, nullptr);
@@ -73,7 +94,7 @@ ChunkMuxer::ChunkMuxer(const std::string& path, int width, int height, const Mp4
         // WebM signals VP9 alpha (coded as BlockAdditional side data) with AlphaMode on the track.
         if (vf.alpha && vf.container == Container::Webm) av_dict_set(&m.stream->metadata, "alpha_mode", "1", 0);
 
-        rc = avio_open(&m.fmt->pb, path.c_str(), AVIO_FLAG_WRITE);
+        rc = avio_open(&m.fmt->pb, m.writing.c_str(), AVIO_FLAG_WRITE);
         if (rc < 0) m.fail("cannot open for writing", rc);
         std::remove(remuxTempPath(path).c_str());  // a run killed during its remux left it
         AVDictionary* fopts = nullptr;
@@ -84,6 +105,10 @@ ChunkMuxer::ChunkMuxer(const std::string& path, int width, int height, const Mp4
         rc = avformat_write_header(m.fmt, &fopts);
         av_dict_free(&fopts);
         if (rc < 0) m.fail("cannot write the " + vf.muxer + " header", rc);
+        // The header on disk now: a process killed before the first chunk leaves a file that
+        // opens (no frames) instead of one whose moov was still in the buffer.
+        avio_flush(m.fmt->pb);
+        if (m.fmt->pb->error < 0) m.fail("writing failed", m.fmt->pb->error);
     } catch (...) {
         m.release();
         throw;
@@ -132,6 +157,7 @@ void ChunkMuxer::write(const ChunkPacket& p, int64_t frameOffset) {
     avio_flush(m.fmt->pb);
     if (m.fmt->pb->error < 0) m.fail("writing failed", m.fmt->pb->error);
     m.flushed.fetch_add(1, std::memory_order_relaxed);
+    m.swapIfAhead();
 }
 
 void ChunkMuxer::close() {
@@ -142,9 +168,17 @@ void ChunkMuxer::close() {
     if (rc < 0) m.fail("cannot finish the " + std::string(m.fmt->oformat->name), rc);
     rc = avio_closep(&m.fmt->pb);
     if (rc < 0) m.fail("cannot close", rc);
+    if (!m.inPlace) {
+        // An interrupted resume that did not catch up: the earlier video plays more.
+        std::remove(m.writing.c_str());
+        return;
+    }
     if (m.fragmented) remuxFaststart(m.path, m.fmt->oformat->name, m.rate.num, m.rate.den, m.flushed.load());
 }
 
-int ChunkMuxer::packetsInFile() const { return impl_->flushed.load(std::memory_order_relaxed); }
+int ChunkMuxer::packetsInFile() const {
+    if (!impl_->inPlace.load()) return int(impl_->earlier);
+    return impl_->flushed.load(std::memory_order_relaxed);
+}
 
 }  // namespace rf::farm

@@ -17,8 +17,15 @@ namespace rf::farm {
 class ChunkMuxer {
 public:
     /// Opens path and writes the header, with the stream parameters a chunk encoder of these
-    /// settings has (one is opened to learn them). Throws std::runtime_error "PATH: what failed".
-    ChunkMuxer(const std::string& path, int width, int height, const Mp4Options& o, int chunkFrames);
+    /// settings has (one is opened to learn them), flushed at once: from here on the file plays
+    /// (no frames yet). Throws std::runtime_error "PATH: what failed".
+    ///
+    /// keepEarlier (a --resume): a video already at path, which holds the film's first frames,
+    /// stays there until this one holds at least as many. Meanwhile this one is written to
+    /// PATH.part and then renamed over it (the writing goes on in the renamed file), so at
+    /// every moment path plays at least what it played before. Closed holding fewer (an
+    /// interrupted resume), the earlier video stays and PATH.part is removed.
+    ChunkMuxer(const std::string& path, int width, int height, const Mp4Options& o, int chunkFrames, bool keepEarlier = false);
     ~ChunkMuxer();
     ChunkMuxer(const ChunkMuxer&) = delete;
     ChunkMuxer& operator=(const ChunkMuxer&) = delete;
@@ -30,8 +37,11 @@ public:
     void checkExtradata(const std::string& extradata, int chunkIndex) const;
     /// Trailer, close, and for MP4/MOV the faststart remux. Safe to call twice.
     void close();
-    /// Packets flushed to the file (a frame each), readable from any thread.
+    /// Frames the file at path plays now: the packets flushed to it (a frame each), or while an
+    /// earlier video is kept (keepEarlier), the earlier one's. Readable from any thread.
     int packetsInFile() const;
+    /// The temporary name a kept earlier video makes the new one go by: PATH.part.
+    static std::string sidePath(const std::string& path) { return path + ".part"; }
 
 private:
     struct Impl;

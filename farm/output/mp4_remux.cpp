@@ -120,6 +120,24 @@ void Remux::finish(long expected) {
 
 }  // namespace
 
+long readablePackets(const std::string& path) {
+    AVFormatContext* ctx = nullptr;
+    if (avformat_open_input(&ctx, path.c_str(), nullptr, nullptr) < 0) return 0;
+    long n = 0;
+    if (avformat_find_stream_info(ctx, nullptr) >= 0 || ctx->nb_streams > 0) {
+        AVPacket* p = av_packet_alloc();
+        while (p && av_read_frame(ctx, p) >= 0) {
+            const bool whole = !(p->flags & AV_PKT_FLAG_CORRUPT) && p->size > 0;
+            if (whole && p->stream_index == 0) ++n;
+            av_packet_unref(p);
+            if (!whole) break;
+        }
+        av_packet_free(&p);
+    }
+    avformat_close_input(&ctx);
+    return n;
+}
+
 void remuxFaststart(const std::string& path, const std::string& muxer, int fpsNum, int fpsDen, long expectedPackets) {
     Remux r;
     r.path = path;

@@ -21,4 +21,8 @@ void remuxFaststart(const std::string& path, const std::string& muxer, int fpsNu
 /// and the next run over the same output removes it.
 std::string remuxTempPath(const std::string& path);
 
+/// Video packets (a frame each) that can be read from the file at `path`, up to the first that
+/// cannot (the torn last fragment of a killed run); 0 if it is missing or no video.
+long readablePackets(const std::string& path);
+
 }  // namespace rf::farm
