@@ -47,6 +47,10 @@ struct FarmOptions {
     /// the workers are told to stop (under mpirun SIGKILL follows SIGTERM within about a second,
     /// so what the user must read goes out first). Not called when runFarm throws.
     std::function<void(const FarmOutcome&)> onEnd;
+    /// Called when a signal found the main thread held inside MPI and the watchdog ended the run
+    /// (signal_deadline.h): after onEnd and the video's close, just before the process ends
+    /// with no destructor run. Releases what must not outlive the process (the output locks).
+    std::function<void()> onLastWords;
     /// Set: an interactive session (view_session.h) renders the views posted here, instead of
     /// job.frames() to sinks (which may then be empty), until cancel, a signal or a lost rank.
     ViewInbox* views = nullptr;

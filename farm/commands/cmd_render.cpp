@@ -7,6 +7,7 @@
 
 #include "farm/cli/cli.h"
 #include "farm/commands/commands.h"
+#include "farm/commands/launch_command.h"
 #include "farm/commands/render_batch.h"
 #include "farm/commands/render_film.h"
 #include "farm/commands/render_options.h"
@@ -27,6 +28,11 @@ int runRender(const std::vector<std::string>& args) {
     const auto wallStart = Clock::now();
     MpiTransport t;
     installInterruptHandlers();
+    if (t.size() > 1) {
+        // Read mpirun's options while it runs: a resume command printed after it ended keeps them.
+        if (t.rank() == 0) (void)launcherPrefix(t.size());
+        followLauncher(t.rank() == 0);  // a second Ctrl-C ends mpirun before its SIGTERM: interrupt.h
+    }
     ArgParser p("render");
     declareRenderOptions(p);
     std::vector<RenderJob> jobs;

@@ -50,7 +50,9 @@ std::string shellQuote(const std::string& s) {
 
 std::string launcherPrefix(int ranks) {
     if (ranks <= 1 && !std::getenv("OMPI_COMM_WORLD_SIZE")) return "";
-    if (std::string p = fromParent(); !p.empty()) return p;
+    // Read once, while mpirun runs: after a second Ctrl-C the parent is gone when this is asked.
+    static const std::string parent = fromParent();
+    if (!parent.empty()) return parent;
     // Rank 0 started by a remote daemon: rebuild what Open MPI exported from mpirun's options.
     std::string out = "mpirun -np " + std::to_string(ranks);
     const char* over = std::getenv("OMPI_MCA_rmaps_base_oversubscribe");

@@ -10,7 +10,8 @@ std::string shellQuote(const std::string& s);
 
 /// What to put before the rayfarm executable: "" for one plain process; under mpirun, mpirun's
 /// own arguments as it was started (read from /proc when rank 0 is mpirun's child), else
-/// "mpirun -np N" with the options Open MPI exported to this rank's environment.
+/// "mpirun -np N" with the options Open MPI exported to this rank's environment. mpirun's
+/// arguments are read at the first call (cmd_render asks early, while mpirun surely runs).
 std::string launcherPrefix(int ranks);
 
 }  // namespace rf::farm

@@ -58,7 +58,7 @@ std::string describeThreads(const RenderJob& job, const Transport& t) {
 /// Rank 0 after the scene is shared: runFarm with the job's sinks, then the outcome's lines. It
 /// takes the MPI transport for abort(): a lost worker cannot be stopped any other way.
 int runRank0(MpiTransport& t, const RenderJob& job, SharedScene& shared, const std::vector<std::string>& args,
-             Clock::time_point wallStart, const std::string& progressLabel) {
+             Clock::time_point wallStart, const std::string& progressLabel, std::vector<OutputLock>& locks) {
     for (const std::string& note : shared.scene.notes) printLine("note", note);  // one write() a line: mpirun interleaves ranks by write
     if (bounceLeftOutForMotion(shared.scene, job.settings))
         printLine("note", "bounce light left out: the model's geometry moves over the film, and its bounce cache would be "
@@ -69,7 +69,15 @@ int runRank0(MpiTransport& t, const RenderJob& job, SharedScene& shared, const s
     opts.wallStart = wallStart;
     opts.progressLabel = progressLabel;
     int code = 0;
-    opts.onEnd = [&](const FarmOutcome& o) { code = reportOutcome(t.size(), job, o, args); };
+    opts.onEnd = [&](const FarmOutcome& o) {
+        // A resume typed as soon as the line shows waits for this run instead of being refused.
+        if (o.end != FarmEnd::Done)
+            for (OutputLock& l : locks) l.markEnding();
+        code = reportOutcome(t.size(), job, o, args);
+    };
+    opts.onLastWords = [&locks] {
+        for (OutputLock& l : locks) l.release();
+    };
     StopWorkersOnThrow setUp(t);  // opening the video can fail (a full disk), after the workers started
     const anim::Timeline timeline = anim::Timeline::fromScene(shared, job.fpsOption);
     FarmSinks sinks = sinksForJob(job, [timeline](int f) { return timeline.frameTime(f); });
@@ -144,7 +152,7 @@ int renderFilm(MpiTransport& t, const ArgParser& p, const std::vector<std::strin
     }
     std::string label;
     if (film) label = "film " + std::to_string(film->index + 1) + " of " + std::to_string(film->count) + ", " + filmName(job.scenePath);
-    return runRank0(t, job, shared, args, wallStart, label);
+    return runRank0(t, job, shared, args, wallStart, label, locks);
 }
 
 }  // namespace rf::cli

@@ -4,7 +4,9 @@
 #include <csignal>
 #include <cstdio>
 #include <cstring>
+#include <chrono>
 #include <ctime>
+#include <thread>
 #include <fstream>
 #include <sstream>
 #include <utility>
@@ -58,6 +60,7 @@ struct Holder {
     std::string host, start, boot;
     long pid = 0;
     long long since = 0;
+    bool ending = false;  ///< its run is winding down (markEnding)
 };
 
 Holder parseHolder(const std::string& content) {
@@ -65,6 +68,8 @@ Holder parseHolder(const std::string& content) {
     std::istringstream in(content);
     std::string magic;
     if (in >> magic >> h.host >> h.pid >> h.start >> h.boot >> h.since && magic == "rayfarm-lock" && h.pid > 0) h.parsed = true;
+    std::string state;
+    if (h.parsed && in >> state && state == "ending") h.ending = true;
     return h;
 }
 
@@ -180,6 +185,8 @@ OutputLock::OutputLock(const std::string& path, std::string* note) {
     const std::string content = "rayfarm-lock " + host + " " + std::to_string(pid) + " " + (start.empty() ? "-" : start) + " " +
                                 (boot.empty() ? "-" : boot) + " " + std::to_string((long long)std::time(nullptr)) + "\n";
     const std::string unique = lockPath + "." + host + "." + std::to_string(pid);
+    using Clock = std::chrono::steady_clock;
+    const auto waitUntil = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(kEndingWaitSeconds));
     for (int attempt = 0; attempt < 50; ++attempt) {
         if (publish(lockPath, content, unique)) {
             lockPath_ = lockPath;
@@ -208,9 +215,16 @@ OutputLock::OutputLock(const std::string& path, std::string* note) {
                 throw UsageError(path + ": its lock file " + lockPath + " is not rayfarm's; remove it if no render is writing " + path);
             why = "unreadable";
         }
-        if (heldByFcntl(lockPath) || (h.parsed && !isStale(h, host, boot, why)))
+        if (heldByFcntl(lockPath) || (h.parsed && !isStale(h, host, boot, why))) {
+            // An interrupted run of this host closing its video: gone within seconds.
+            if (h.parsed && h.ending && h.host == host && Clock::now() < waitUntil) {
+                std::this_thread::sleep_for(std::chrono::milliseconds(50));
+                --attempt;  // waiting is not a change of hands
+                continue;
+            }
             throw UsageError(path + ": another render is writing it (pid " + std::to_string(h.pid) + " on " + h.host + " since " +
                              utcTime(h.since) + "); if no such render runs, remove " + lockPath);
+        }
         // Stale: moved aside under a name of our own, so of two runs breaking it at once only one
         // does, and checked to be the lock judged stale (not a fresh one taken meanwhile).
         const std::string aside = unique + ".stale";
@@ -244,6 +258,15 @@ OutputLock& OutputLock::operator=(OutputLock&& o) noexcept {
         fd_ = std::exchange(o.fd_, -1);
     }
     return *this;
+}
+
+void OutputLock::markEnding() {
+    if (lockPath_.empty() || fd_ < 0 || content_.empty() || content_.find(" ending") != std::string::npos) return;
+    std::string ending = content_;
+    if (ending.back() == '\n') ending.pop_back();
+    ending += " ending\n";
+    // Longer than before and the same up to the old end: a reader sees the old or the new state.
+    if (::pwrite(fd_, ending.data(), ending.size(), 0) == ssize_t(ending.size())) content_ = ending;
 }
 
 void OutputLock::release() {

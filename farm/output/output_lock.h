@@ -4,16 +4,21 @@
 /// frames with the first one's.
 ///
 /// The lock is a file beside the path, PATH.lock, holding "rayfarm-lock HOST PID START BOOT
-/// SINCE". It is created under a unique name and published with link(), which is atomic on
+/// SINCE", and " ending" once its run winds down after a signal (markEnding). It is created under a unique name and published with link(), which is atomic on
 /// local file systems and on NFS (where O_EXCL is not reliable on old servers), and held with an
 /// open-file-description fcntl lock besides, where the file system has one (NFS: through its lock
 /// manager). A lock file whose holder is gone is stale and taken over: on this host, when the pid
 /// no longer runs, runs a different program start (the pid was reused) or the host rebooted
 /// since (another boot id); on any host, never while a fcntl lock is held on it. A lock of
-/// another host without a fcntl lock is not taken over: that host cannot be asked.
+/// another host without a fcntl lock is not taken over: that host cannot be asked. A live holder
+/// whose lock says it is ending (an interrupted run closing its video) is waited for, up to
+/// kEndingWaitSeconds, so that the resume command it printed works when run at once.
 #include <string>
 
 namespace rf {
+
+/// How long a new run waits for an ending holder (markEnding) to let go before refusing.
+constexpr double kEndingWaitSeconds = 10.0;
 
 /// PATH.lock (trailing slashes of a directory dropped).
 std::string lockPathFor(const std::string& path);
@@ -35,6 +40,9 @@ public:
 
     bool held() const { return fd_ >= 0 || !lockPath_.empty(); }
     const std::string& lockPath() const { return lockPath_; }
+    /// Says in the lock file that this run is ending (interrupted, closing its outputs): a run
+    /// started meanwhile waits for it instead of refusing. Safe from any one thread.
+    void markEnding();
     /// Removes the lock file (also done by the destructor).
     void release();
 

@@ -4,6 +4,9 @@
 #include <cerrno>
 #include <csignal>
 
+#include <fcntl.h>
+#include <sys/prctl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include "engine/util/load_control.h"
@@ -12,6 +15,8 @@ namespace rf::farm {
 
 namespace {
 std::atomic<int> gSignal{0};
+std::atomic<pid_t> gLauncher{0};       ///< the parent followed (followLauncher), 0 if none
+std::atomic<int> gLauncherStderr{-1};  ///< its stderr, opened while it ran
 static_assert(std::atomic<int>::is_always_lock_free, "signal handlers need a lock-free flag");
 
 extern "C" void onSignal(int sig) {
@@ -24,7 +29,41 @@ void noteStderrFailure(int err) {
     int none = 0;
     if (err == EPIPE && gSignal.compare_exchange_strong(none, SIGPIPE)) requestLoadCancel(SIGPIPE);
 }
+
+
+/// Where the user reads this process's lines: mpirun's own stderr once mpirun has gone (this
+/// process's stderr was a pipe to it), else stderr.
+int stderrTarget() {
+    const int launcherErr = gLauncherStderr.load();
+    const pid_t launcher = gLauncher.load();
+    if (launcherErr >= 0 && launcher != 0 && ::getppid() != launcher) return launcherErr;
+    return STDERR_FILENO;
+}
+
+bool sameFile(int a, int b) {
+    struct stat sa {}, sb {};
+    return ::fstat(a, &sa) == 0 && ::fstat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
 }  // namespace
+
+void followLauncher(bool keepItsStderr) {
+    const pid_t parent = ::getppid();
+    if (parent <= 1) return;
+    if (keepItsStderr && gLauncherStderr.load() < 0) {
+        // Not blocking at the open: a FIFO with no reader would wait for one.
+        const std::string path = "/proc/" + std::to_string(parent) + "/fd/2";
+        int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC | O_NOCTTY | O_NONBLOCK);
+        if (fd >= 0 && sameFile(fd, STDERR_FILENO)) {  // no forwarding in between: nothing to keep
+            ::close(fd);
+            fd = -1;
+        }
+        if (fd >= 0) ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+        gLauncherStderr.store(fd);
+    }
+    gLauncher.store(parent);
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (::getppid() != parent) onSignal(SIGTERM);  // it ended before the request was made
+}
 
 void ignoreWriteSignals() {
     struct sigaction ign {};
@@ -72,11 +111,18 @@ std::string signalName(int sig) {
 
 bool writeStderrText(const std::string& text) {
     size_t done = 0;
+    int fd = stderrTarget();
     while (done < text.size()) {  // a pipe may take a long line in parts; EINTR retries
-        const ssize_t n = ::write(STDERR_FILENO, text.data() + done, text.size() - done);
+        const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
         if (n < 0 && errno == EINTR) continue;
         if (n <= 0) {
-            noteStderrFailure(n < 0 ? errno : EIO);
+            const int err = n < 0 ? errno : EIO;
+            // mpirun has just gone (the pipe broke before its death reached us): to its stderr.
+            if (fd == STDERR_FILENO && (err == EPIPE || err == EIO) && gLauncherStderr.load() >= 0) {
+                fd = gLauncherStderr.load();
+                continue;
+            }
+            noteStderrFailure(err);
             return false;
         }
         done += size_t(n);

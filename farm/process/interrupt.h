@@ -16,6 +16,15 @@ namespace rf::farm {
 /// Installs the handlers (idempotent). Each signal also stops a load in progress
 /// (requestLoadCancel, engine/util/load_control.h).
 void installInterruptHandlers();
+/// Under mpirun: the launcher ending is taken as SIGTERM. A second Ctrl-C makes Open MPI 4.1's
+/// mpirun exit at once, before the SIGTERM it would have forwarded, and its ranks would run on
+/// unsignalled until their MPI library ends them about a second later, mid-write. Here the
+/// kernel signals this process when its parent ends (PR_SET_PDEATHSIG), so the wind-down starts
+/// at once. With keepItsStderr (rank 0, whose lines the user must see), mpirun's own stderr is
+/// opened now (/proc/PPID/fd/2: the terminal, file or pipe that mpirun writes to): once the
+/// parent has gone, the ranks' forwarded stderr leads nowhere, and writeStderrText writes there
+/// instead. Call after installInterruptHandlers.
+void followLauncher(bool keepItsStderr);
 /// Only SIGXFSZ and SIGPIPE ignored (for commands that have no wind-down of their own).
 void ignoreWriteSignals();
 /// SIGINT, SIGTERM and SIGHUP back to their default action (end the process at once), for a
