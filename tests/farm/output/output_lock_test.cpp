@@ -3,6 +3,7 @@
 // file counts as alive whatever the file says. Two processes racing: output_guard_test.sh.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -138,4 +139,44 @@ TEST(OutputLock, AFcntlLockHeldCountsAsAliveWhateverTheFileSays) {
     writeFile(out + ".lock", readFile(out + ".lock.tmp"));
     const std::string why = refusal(out);
     EXPECT_NE(why.find("another render is writing it (pid " + std::to_string(pid)), std::string::npos) << why;
+}
+
+// Issue 46 #5: a resume typed the moment an interrupted run prints its line waits for that run,
+// which is still closing its video, instead of being refused; a holder not ending is refused
+// at once as before.
+TEST(OutputLock, AnEndingHolderIsWaitedForAndALiveOneIsNot) {
+    const std::string out = freshDir("ending") + "/a.mp4";
+    int ready[2];
+    ASSERT_EQ(pipe(ready), 0);
+    const pid_t child = fork();
+    if (child == 0) {
+        OutputLock held(out);
+        held.markEnding();
+        char c = 1;
+        (void)!write(ready[1], &c, 1);
+        usleep(800 * 1000);  // closing its video
+        held.release();
+        _exit(0);
+    }
+    char c = 0;
+    ASSERT_EQ(read(ready[0], &c, 1), 1);
+    EXPECT_NE(readFile(out + ".lock").find(" ending\n"), std::string::npos) << readFile(out + ".lock");
+    const auto start = std::chrono::steady_clock::now();
+    std::string note;
+    OutputLock after(out, &note);  // waits, then takes the lock the child let go
+    const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    EXPECT_TRUE(after.held());
+    EXPECT_GT(waited, 0.3);
+    EXPECT_LT(waited, rf::kEndingWaitSeconds);
+    EXPECT_EQ(readFile(out + ".lock").rfind("rayfarm-lock " + host() + " " + std::to_string(getpid()) + " ", 0), 0u);
+    waitpid(child, nullptr, 0);
+    close(ready[0]);
+    close(ready[1]);
+
+    // Not ending: refused at once.
+    const std::string other = freshDir("not-ending") + "/b.mp4";
+    OutputLock live(other);
+    const auto t0 = std::chrono::steady_clock::now();
+    EXPECT_NE(refusal(other).find("another render is writing it"), std::string::npos);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 0.3);
 }
