@@ -530,7 +530,8 @@ FarmSinks sinksForJob(const RenderJob& job, std::function<double(int)> frameTime
         const std::string dither = video.encoderOptions.at(0).second;
         s.video = std::make_unique<GifSink>(job.output, w, h, layout.channels, job.mp4.fps, dither);
     } else {
-        s.video = std::make_unique<Mp4Sink>(job.output, w, h, job.mp4, job.resume);  // a resume keeps the earlier video until it catches up
+        // A resume keeps the earlier video until the new one catches up.
+        s.video = std::make_unique<Mp4Sink>(job.output, w, h, job.mp4, job.resume ? job.last - job.first + 1 : 0);
     }
     if (!frameTime) frameTime = [fps = job.mp4.fps](int f) { return f / fps; };
     std::vector<std::unique_ptr<FrameSink>> pictures;

@@ -1,5 +1,6 @@
 #include "farm/output/chunk_muxer.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstdio>
@@ -53,14 +54,14 @@ struct ChunkMuxer::Impl {
     }
 };
 
-ChunkMuxer::ChunkMuxer(const std::string& path, int width, int height, const Mp4Options& o, int chunkFrames, bool keepEarlier)
+ChunkMuxer::ChunkMuxer(const std::string& path, int width, int height, const Mp4Options& o, int chunkFrames, int keepEarlierUpTo)
     : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     m.path = path;
     m.writing = path;
     std::remove(sidePath(path).c_str());  // a resume killed before it caught up left it
-    if (keepEarlier) {
-        m.earlier = readablePackets(path);
+    if (keepEarlierUpTo > 0) {
+        m.earlier = std::min(readablePackets(path), long(keepEarlierUpTo));
         if (m.earlier > 0) {
             m.writing = sidePath(path);
             m.inPlace = false;

@@ -20,12 +20,13 @@ public:
     /// settings has (one is opened to learn them), flushed at once: from here on the file plays
     /// (no frames yet). Throws std::runtime_error "PATH: what failed".
     ///
-    /// keepEarlier (a --resume): a video already at path, which holds the film's first frames,
-    /// stays there until this one holds at least as many. Meanwhile this one is written to
-    /// PATH.part and then renamed over it (the writing goes on in the renamed file), so at
-    /// every moment path plays at least what it played before. Closed holding fewer (an
-    /// interrupted resume), the earlier video stays and PATH.part is removed.
-    ChunkMuxer(const std::string& path, int width, int height, const Mp4Options& o, int chunkFrames, bool keepEarlier = false);
+    /// keepEarlierUpTo > 0 (a --resume of a film of that many frames): a video already at path,
+    /// which holds the film's first frames, stays there until this one holds at least as many
+    /// (counted up to keepEarlierUpTo, so the whole film always replaces it). Meanwhile this one
+    /// is written to PATH.part and then renamed over it (the writing goes on in the renamed
+    /// file), so at every moment path plays at least what it played before. Closed holding
+    /// fewer (an interrupted resume), the earlier video stays and PATH.part is removed.
+    ChunkMuxer(const std::string& path, int width, int height, const Mp4Options& o, int chunkFrames, int keepEarlierUpTo = 0);
     ~ChunkMuxer();
     ChunkMuxer(const ChunkMuxer&) = delete;
     ChunkMuxer& operator=(const ChunkMuxer&) = delete;

@@ -31,7 +31,7 @@ struct Mp4Sink::Impl {
     }
 };
 
-Mp4Sink::Mp4Sink(const std::string& path, int width, int height, const Mp4Options& o, bool keepEarlier)
+Mp4Sink::Mp4Sink(const std::string& path, int width, int height, const Mp4Options& o, int keepEarlierUpTo)
     : impl_(std::make_unique<Impl>()) {
     Impl& m = *impl_;
     m.path = path;
@@ -40,7 +40,7 @@ Mp4Sink::Mp4Sink(const std::string& path, int width, int height, const Mp4Option
     m.options = o;
     if (o.chunkFrames < kMinChunkFrames) throw std::runtime_error(path + ": chunks of fewer than 2 frames");
     av_log_set_level(AV_LOG_ERROR);  // the encoders' per-run statistics are noise on the farm's stderr
-    m.muxer = std::make_unique<ChunkMuxer>(path, width, height, o, o.chunkFrames, keepEarlier);
+    m.muxer = std::make_unique<ChunkMuxer>(path, width, height, o, o.chunkFrames, keepEarlierUpTo);
 }
 
 Mp4Sink::~Mp4Sink() {

@@ -23,9 +23,9 @@ namespace rf::farm {
 /// 8-bit plane of the job's PixelLayout (anything after it, the linear plane, is ignored).
 class Mp4Sink : public FrameSink {
 public:
-    /// keepEarlier (a --resume): the video already at path stays until this one holds as many
-    /// frames (ChunkMuxer).
-    Mp4Sink(const std::string& path, int width, int height, const Mp4Options& o, bool keepEarlier = false);
+    /// keepEarlierUpTo > 0 (a --resume of a film of that many frames): the video already at
+    /// path stays until this one holds as many frames (ChunkMuxer).
+    Mp4Sink(const std::string& path, int width, int height, const Mp4Options& o, int keepEarlierUpTo = 0);
     ~Mp4Sink() override;
     /// The film's next frame, encoded here into its chunk (a new encoder at each chunk's start).
     void write(int frame, const std::vector<uint8_t>& rgb) override;

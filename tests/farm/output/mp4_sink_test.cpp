@@ -291,3 +291,52 @@ TEST(Mp4Sink, RemuxRefusesAFileWhosePacketCountIsNotWhatWasWritten) {
     remuxFaststart(path, "mp4", 30, 1, 12);  // the right count passes, and the file still plays
     EXPECT_NE(probe(path, "nb_read_frames").find("nb_read_frames=12\n"), std::string::npos) << probe(path, "nb_read_frames");
 }
+
+// Issue 46 #4: the header is on disk at open (a kill -9 before the first frame leaves a file that
+// opens, with no frames); a resume (keepEarlierUpTo) leaves the earlier video in place, byte for
+// byte, until the new one holds as many frames, then takes its place; an interrupted one that
+// did not catch up leaves the earlier video and no OUT.part; an earlier video longer than the
+// film is still replaced by the whole film.
+TEST(Mp4Sink, HeaderOnDiskAtOpenAndAResumeKeepsTheEarlierVideoUntilItHoldsAsMuch) {
+    const int w = 64, h = 48;
+    Mp4Options o;
+    o.channels = 3;
+    o.chunkFrames = 4;
+    const std::string path = outDir() + "/resume_keeps.mp4", copy = outDir() + "/resume_keeps_open.mp4";
+    std::filesystem::remove(path);
+    {
+        Mp4Sink fresh(path, w, h, o);
+        std::filesystem::copy_file(path, copy, std::filesystem::copy_options::overwrite_existing);
+        // ffprobe finds the stream (its frame count: N/A, none): the header was on disk.
+        const std::string p = probe(copy, "nb_read_frames");
+        EXPECT_TRUE(p == "nb_read_frames=N/A\n" || p == "nb_read_frames=0\n") << "a file killed before its first frame does not open: " << p;
+        fresh.close();
+    }
+    const std::string earlier = encode("resume_keeps.mp4", w, h, 10, o);
+    const std::string before = runCapture("md5sum < '" + earlier + "'");
+    {
+        Mp4Sink again(path, w, h, o, 20);
+        for (int f = 0; f < 9; ++f) again.write(f, synthetic(w, h, f));
+        EXPECT_EQ(runCapture("md5sum < '" + path + "'"), before) << "the earlier video changed before the new one caught up";
+        EXPECT_EQ(again.framesInOutput(), 10) << "what the file at path plays: the earlier video";
+        EXPECT_TRUE(std::filesystem::exists(path + ".part"));
+        again.close();  // interrupted at 9 of the earlier video's 10
+    }
+    EXPECT_EQ(runCapture("md5sum < '" + path + "'"), before) << "an interrupted resume replaced a longer video";
+    EXPECT_FALSE(std::filesystem::exists(path + ".part"));
+    {
+        Mp4Sink again(path, w, h, o, 20);
+        for (int f = 0; f < 12; ++f) again.write(f, synthetic(w, h, f));
+        EXPECT_NE(probe(path, "nb_read_frames").find("nb_read_frames=12"), std::string::npos) << probe(path, "nb_read_frames");
+        EXPECT_FALSE(std::filesystem::exists(path + ".part")) << "renamed over the earlier video once it held as many";
+        again.close();
+    }
+    // The earlier video is longer than this film (6 frames): the whole film replaces it.
+    {
+        Mp4Sink shorter(path, w, h, o, 6);
+        for (int f = 0; f < 6; ++f) shorter.write(f, synthetic(w, h, f));
+        shorter.close();
+    }
+    EXPECT_NE(probe(path, "nb_read_frames").find("nb_read_frames=6\n"), std::string::npos) << probe(path, "nb_read_frames");
+    EXPECT_FALSE(std::filesystem::exists(path + ".part"));
+}
