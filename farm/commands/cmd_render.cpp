@@ -4,6 +4,7 @@
 // (render_batch.cpp). Scheduling, messages, sinks and the loops live in farm/cluster/.
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 
 #include "farm/cli/cli.h"
 #include "farm/commands/commands.h"
@@ -28,7 +29,7 @@ int runRender(const std::vector<std::string>& args) {
     const auto wallStart = Clock::now();
     MpiTransport t;
     installInterruptHandlers();
-    if (t.size() > 1) {
+    if (t.size() > 1 || std::getenv("OMPI_COMM_WORLD_SIZE")) {  // under mpirun, -np 1 included
         // Read mpirun's options while it runs: a resume command printed after it ended keeps them.
         if (t.rank() == 0) (void)launcherPrefix(t.size());
         followLauncher(t.rank() == 0);  // a second Ctrl-C ends mpirun before its SIGTERM: interrupt.h
