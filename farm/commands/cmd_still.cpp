@@ -182,7 +182,7 @@ int runStill(const std::vector<std::string>& args) {
     const Image img = renderFrame(scene, {scene.camera, settings, bounceSlot}, frame, threads, rays);
     const auto t2 = std::chrono::steady_clock::now();
     writeReplacing(out, [&](const std::string& to) {
-        if (img.hasAlpha()) writePng(to, img.width(), img.height(), toRgba8(img, settings.toneMap, exposureScale(settings.exposure)), 4);
+        if (img.hasAlpha() && !img.hasBackdrop()) writePng(to, img.width(), img.height(), toRgba8(img, settings.toneMap, exposureScale(settings.exposure)), 4);
         else writePng(to, img.width(), img.height(), toRgb8(img, settings));
     });
     const auto t3 = std::chrono::steady_clock::now();
