@@ -375,7 +375,9 @@ FarmOutcome FarmRun::run(SharedScene& shared) {
     chunked_ = job_.chunkedFrames;
     plan_ = ChunkPlan{job_.first, job_.last, std::max(kMinChunkFrames, job_.mp4.chunkFrames)};
     kept_ = plan.kept;
+    cfg.keptFrames = int(plan.kept.count());
     const int width = job_.settings.width, height = job_.settings.height;
+    cfg.framePixels = int64_t(width) * height;
     if (job_.mode == Mode::Pixel) {
         // A rank with many threads holds more small tiles, so that rendered together they fill
         // its threads (RenderEngine).
