@@ -9,9 +9,9 @@ rayfarm=$1 src=$2 out=$3
 fail() { echo "FAIL: $*" >&2; exit 1; }
 rm -rf "$out" && mkdir -p "$out" && cd "$out"
 scene=$src/scenes/whitted.json
-# 24 frames in chunks of 8, slow enough for several lines at 0.05 s apart.
+# 24 frames in chunks of 8, slow enough for several lines 0.02 s apart.
 film=(--size 128x72 --spp 9 --frames 0:23 --chunk-frames 8 --no-frames)
-export RAYFARM_PROGRESS_SECONDS=0.05
+export RAYFARM_PROGRESS_SECONDS=0.02
 
 # check_lines FILE TOTAL ALIVE tty|file [per-frame]: every progress line in FILE has the words, counts that
 # only grow, rendered ≥ encoded, the total and the workers alive; with per-frame, rendered takes
