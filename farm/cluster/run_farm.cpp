@@ -489,6 +489,7 @@ RunStats FarmRun::stats(const MasterOutcome& o, Clock::time_point end, const Sha
     s.extra["frames_rendered"] = double(s.frames - encodedKept_);
     s.extra["frames_kept"] = double(encodedKept_);
     s.extra["video_fps"] = job_.mp4.fps;
+    s.extra["exposure_ev"] = job_.settings.exposure;  // as given, or as metered by --exposure auto
     s.extra["encoder_share"] = s.renderSeconds > 0 ? s.encodeSeconds / s.renderSeconds : 0.0;
     s.extra["png_s"] = sinks_.frames ? sinks_.frames->busySeconds() : 0.0;
     s.extra["load_s"] = shared.loadSeconds;

@@ -106,6 +106,7 @@ void writeStillStats(const std::string& path, const Scene& scene, const RenderSe
     s.perRank.push_back({0, t.renderS, 1, 0});
     s.extra["load_s"] = t.loadS;
     s.extra["triangles"] = static_cast<double>(scene.geometry.triangleCount());
+    s.extra["exposure_ev"] = settings.exposure;  // as given, or as metered by --exposure auto
     s.extraText["bvh"] = scene.geometry.usesBvh() ? "yes" : "no (scene too small to profit)";
     writeStatsJson(path, s);
 }

@@ -32,7 +32,8 @@ ev_of() { sed -n 's/.*auto exposure: EV \([-+][0-9.]*\),.*/\1/p' "$1"; }
 
 # Stills over three colours and black: the background's pixels are the colour's own bytes.
 for c in ffffff 00ff00 336699 000000; do
-    "$rayfarm" still "$model" -o "still_$c.png" "${small[@]}" --background "#$c" 2> "still_$c.err" || { cat "still_$c.err"; fail "still #$c exited $?"; }
+    "$rayfarm" still "$model" -o "still_$c.png" "${small[@]}" --background "#$c" --stats "still_$c.json" 2> "still_$c.err" ||
+        { cat "still_$c.err"; fail "still #$c exited $?"; }
 done
 python3 - <<'PY' || fail "still: the background is not the exact colour, or the model differs between backgrounds"
 import sys
@@ -66,6 +67,13 @@ PY
 ev_w=$(ev_of still_ffffff.err) ev_g=$(ev_of still_00ff00.err) ev_b=$(ev_of still_000000.err)
 echo "metered EV: #ffffff $ev_w, #00ff00 $ev_g, #000000 $ev_b"
 [ -n "$ev_w" ] && [ "$ev_w" = "$ev_g" ] && [ "$ev_w" = "$ev_b" ] || fail "the metered EV depends on the background: $ev_w, $ev_g, $ev_b"
+# The same in --stats (exposure_ev), to the float.
+python3 - <<'PY' || fail "--stats exposure_ev differs between backgrounds, or is missing"
+import json
+evs = {c: json.load(open(f"still_{c}.json")).get("exposure_ev") for c in ["ffffff", "00ff00", "336699", "000000"]}
+print("--stats exposure_ev:", evs)
+assert None not in evs.values() and len(set(evs.values())) == 1, evs
+PY
 echo "ok: stills over #ffffff, #00ff00, #336699 hold the exact colour; one EV ($ev_w) over every colour"
 
 # A linear colour: the bytes are its sRGB encoding.
