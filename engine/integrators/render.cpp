@@ -149,7 +149,8 @@ void renderRects(const Scene& scene, const RenderView& given, int frame, const s
         const RectBuffers& out = job.out;
         const TileRect& rect = job.rect;
         const size_t stride = size_t(rect.width());
-        const bool wantAlpha = out.alpha || out.rgba8;
+        // An exact background needs the coverage to lay the model over it.
+        const bool wantAlpha = out.alpha || out.rgba8 || scene.exactBackground;
         std::vector<float> rgb(size_t(t.pixels()) * 3), alpha(wantAlpha ? size_t(t.pixels()) : 0);
         renderTile(scene, view, t, frame, rgb.data(), perThread[subs[size_t(i)].job * nt + size_t(thread)],
                    wantAlpha ? alpha.data() : nullptr);
@@ -161,7 +162,12 @@ void renderRects(const Scene& scene, const RenderView& given, int frame, const s
             if (out.alpha) std::memcpy(out.alpha + at, alpha.data() + size_t(y) * w, sizeof(float) * w);
             // Encoded here, on the rendering thread: sRGB's pow per channel is a sizeable share
             // of a cheap frame, and would otherwise run on one core after the render.
-            if (out.rgb8) encodeRgb8(src, 3 * w, settings.toneMap, out.rgb8 + 3 * at, scale);
+            if (out.rgb8 && scene.exactBackground)
+                for (size_t x = 0; x < w; ++x)
+                    toRgb8OverPixel(src + 3 * x, alpha[size_t(y) * w + x], settings.toneMap, scene.background,
+                                    out.rgb8 + 3 * (at + x), scale);
+            else if (out.rgb8)
+                encodeRgb8(src, 3 * w, settings.toneMap, out.rgb8 + 3 * at, scale);
             for (size_t x = 0; out.rgba8 && x < w; ++x)
                 toRgba8Pixel(src + 3 * x, alpha[size_t(y) * w + x], settings.toneMap, out.rgba8 + 4 * (at + x), scale);
         }
@@ -175,7 +181,8 @@ void renderRects(const Scene& scene, const RenderView& given, int frame, const s
 
 Image renderFrame(const Scene& scene, const RenderView& view, int frame, int threads, RayStats& stats) {
     const RenderSettings& settings = view.settings;
-    Image img(settings.width, settings.height, scene.transparentBackground);
+    Image img(settings.width, settings.height, scene.primaryMissesEmpty());
+    if (scene.exactBackground) img.setBackdrop(scene.background);
     const TileRect whole{0, 0, settings.width, settings.height};
     renderRect(scene, view, frame, whole, threads, settings.tileSize,
                {img.data(), img.hasAlpha() ? img.alphaData() : nullptr, nullptr}, stats);

@@ -39,8 +39,8 @@ struct RenderView {
 /// result depends only on (scene, view, frame, pixel): never on thread or rank.
 /// Non-finite sample values are replaced by black and counted in stats.nonFinite.
 /// alpha (if given, rect.pixels() floats): coverage, the fraction of the pixel's samples whose
-/// primary ray met geometry. With scene.transparentBackground the colour is premultiplied by it
-/// (misses add nothing).
+/// primary ray met geometry. With scene.transparentBackground or scene.exactBackground the colour
+/// is premultiplied by it (misses add nothing).
 void renderTile(const Scene& scene, const RenderView& view, const TileRect& rect, int frame, float* out,
                 RayStats& stats, float* alpha = nullptr);
 
@@ -50,9 +50,11 @@ std::vector<TileRect> makeTiles(int width, int height, int tileSize);
 /// Where renderRect puts a rectangle's pixels, each row-major over the rectangle; any may be
 /// null.
 struct RectBuffers {
-    float* linear = nullptr;  ///< 3 floats a pixel: linear radiance (as renderTile)
+    float* linear = nullptr;  ///< 3 floats a pixel: linear radiance (as renderTile: premultiplied)
     float* alpha = nullptr;   ///< 1 float a pixel: coverage (as renderTile)
-    uint8_t* rgb8 = nullptr;  ///< 3 bytes a pixel: tone-mapped and sRGB-encoded (encodeRgb8)
+    /// 3 bytes a pixel: tone-mapped and sRGB-encoded (encodeRgb8); over an exact background,
+    /// laid over it (toRgb8OverPixel).
+    uint8_t* rgb8 = nullptr;
     /// 4 bytes a pixel: straight RGBA (toRgba8Pixel), for a transparent background's frames.
     uint8_t* rgba8 = nullptr;
 };
@@ -80,7 +82,8 @@ void renderRects(const Scene& scene, const RenderView& view, int frame, const st
                  int subTile, const std::atomic<bool>* cancel = nullptr);
 
 /// Renders a whole frame with `threads` worker threads (0: all cores) pulling tiles. The image
-/// has an alpha plane when the scene's background is transparent.
+/// has an alpha plane when the scene's background is transparent or exact, and the exact
+/// background as its backdrop (Image::setBackdrop).
 Image renderFrame(const Scene& scene, const RenderView& view, int frame, int threads, RayStats& stats);
 
 }  // namespace rf

@@ -97,7 +97,7 @@ void WhittedTracer::LiPacket(const Ray* rays, int n, uint64_t wanted, const uint
     bool met[Bvh::kPacketMax];
     scene_.geometry.intersectPacket(rays, n, hits, met);
     // Misses that show the environment are looked up four at a time, the rest ray by ray.
-    const bool envBackground = scene_.environment && scene_.environmentBackground && !scene_.transparentBackground;
+    const bool envBackground = scene_.environment && scene_.environmentBackground && !scene_.primaryMissesEmpty();
     int misses[Bvh::kPacketMax], nMiss = 0;
     for (int i = 0; i < n; ++i) {
         if (!((wanted >> i) & 1u)) continue;
@@ -125,7 +125,7 @@ Color WhittedTracer::primaryLi(const Ray& r, bool met, const Hit& h, uint64_t se
     float tGround = 0.f;
     if (catcher_ && catcher_->hit(r, met ? h.t : kInf, tGround)) return groundLi(r, tGround, stats, coverage);
     if (coverage) *coverage = met ? 1.f : 0.f;
-    if (!met) return scene_.transparentBackground ? Color(0.f) : primaryMiss(r.d);
+    if (!met) return scene_.primaryMissesEmpty() ? Color(0.f) : primaryMiss(r.d);
     return traceHit(r, h, 1, Color(1.f), stats, seed, coverage);
 }
 
@@ -134,7 +134,7 @@ Color WhittedTracer::groundLi(const Ray& r, float t, RayStats& stats, float* cov
     const Vec3 p = r.o + t * r.d;
     const Vec3 pError = gamma(5) * (absComponents(r.o) + absComponents(t * r.d));
     const CatcherLight l = catcher_->light(p, pError, stats);
-    if (scene_.transparentBackground) {
+    if (scene_.primaryMissesEmpty()) {
         if (coverage) *coverage = l.shadow;
         return Color(0.f);
     }
@@ -192,7 +192,7 @@ Color WhittedTracer::traceHit(const Ray& r, const Hit& hit, int depth, const Col
         h = Hit();
         if (!scene_.geometry.intersect(ray, h, skip)) {
             if (coverage) *coverage = 1.f - pass;
-            const Color behind = depth > 1 ? missRadiance(ray.d) : scene_.transparentBackground ? Color(0.f) : primaryMiss(ray.d);
+            const Color behind = depth > 1 ? missRadiance(ray.d) : scene_.primaryMissesEmpty() ? Color(0.f) : primaryMiss(ray.d);
             return c + pass * behind;
         }
     }

@@ -53,6 +53,14 @@ public:
     /// Primary rays that miss give no colour and zero coverage (alpha), so the film can be laid
     /// over something else; reflections and refractions still see `background`.
     bool transparentBackground = false;
+    /// --background COLOUR: primary rays that miss show `background` exactly in the picture (not
+    /// exposed, not tone-mapped; linear in linear frames), as a backdrop; the render keeps the
+    /// model's colour premultiplied by its coverage, as for a transparent background, and lays
+    /// it over the colour when it encodes. Reflections and refractions see `background` as
+    /// radiance. Auto exposure therefore meters the model alone.
+    bool exactBackground = false;
+    /// Primary rays that miss add nothing to the colour (transparent or exact background).
+    bool primaryMissesEmpty() const { return transparentBackground || exactBackground; }
     /// Light from all around, as an equirectangular radiance image (null: none).
     std::shared_ptr<const EnvironmentLight> environment;
     /// What `environment` was made from (file empty: the built-in studio), so a saved scene

@@ -176,9 +176,41 @@ void encodeRgb8(const float* rgb, size_t n, ToneMap op, uint8_t* out, float scal
     if (i < pixels) encode4(t, load4(rgb + 3 * i, int(pixels - i)), op, scale, out + 3 * i, int(pixels - i), 3);
 }
 
+void toRgb8OverPixel(const float* rgb, float a, ToneMap op, const Color& backdrop, uint8_t* out, float scale) {
+    if (!(a > 0.f)) {  // a miss (or NaN coverage): the backdrop exactly
+        for (int k = 0; k < 3; ++k) out[k] = srgbByte(backdrop[k]);
+        return;
+    }
+    if (!(a < 1.f)) {  // wholly the model: the bytes an opaque render gives
+        encode4(srgbTable(), load4(rgb, 1), op, scale, out, 1, 3);
+        return;
+    }
+    // An edge: the model's tone-mapped colour (straight, in [0, 1]) mixed with the backdrop.
+    Rgb4 v = load4(rgb, 1);
+    const F4 s = splat4(scale / a), zero = splat4(0.f), one = splat4(1.f);
+    for (F4& c : v.c) c = c * s;
+    if (op == ToneMap::PbrNeutral) {
+        v = pbrNeutral4(v);
+    } else if (op == ToneMap::Reinhard) {
+        for (F4& c : v.c) {
+            const I4 inf = c == splat4(kInf);
+            c = pick(c > zero, pick(inf, one, c / (one + c)), zero);
+        }
+    }
+    for (int k = 0; k < 3; ++k) {
+        float m = v.c[k][0];
+        m = m > 0.f ? std::min(m, 1.f) : 0.f;
+        out[k] = srgbByte(a * m + (1.f - a) * backdrop[k]);
+    }
+}
+
 std::vector<uint8_t> toRgb8(const Image& img, ToneMap op, float scale) {
     const size_t n = size_t(img.width()) * img.height();
     std::vector<uint8_t> out(n * 3);
+    if (img.hasBackdrop() && img.hasAlpha()) {
+        for (size_t i = 0; i < n; ++i) toRgb8OverPixel(img.data() + 3 * i, img.alpha()[i], op, img.backdrop(), &out[3 * i], scale);
+        return out;
+    }
     encodeRgb8(img.data(), 3 * n, op, out.data(), scale);
     return out;
 }

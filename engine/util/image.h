@@ -29,11 +29,22 @@ public:
     float* alphaData() { return alpha_.data(); }
     /// Copies a w × h block of RGB floats (and, with an alpha plane, w × h alphas) to (x, y).
     void setTile(int x, int y, int w, int h, const float* src, const float* alpha = nullptr);
+    /// An exact background (Scene::exactBackground): the image has an alpha plane, its colour
+    /// is premultiplied by it, and the 8-bit picture lays it over this linear colour, which is
+    /// neither exposed nor tone-mapped (toRgb8).
+    void setBackdrop(const Color& linear) {
+        backdrop_ = linear;
+        hasBackdrop_ = true;
+    }
+    bool hasBackdrop() const { return hasBackdrop_; }
+    const Color& backdrop() const { return backdrop_; }
 
 private:
     int w_ = 0, h_ = 0;
     std::vector<float> rgb_;
     std::vector<float> alpha_;
+    Color backdrop_{0.f};
+    bool hasBackdrop_ = false;
 };
 
 /// sRGB transfer function (IEC 61966-2-1) for linear values in [0, 1].
@@ -58,7 +69,13 @@ float exposureScale(float ev);
 /// sRGB-encodes and rounds them into out. Clamp and Reinhard map each channel; PBR Neutral maps
 /// the colour.
 void encodeRgb8(const float* rgb, size_t n, ToneMap op, uint8_t* out, float scale = 1.f);
-/// Tone-maps and sRGB-encodes a linear image to 8-bit RGB (encodeRgb8 over the image).
+/// One pixel of premultiplied linear colour and coverage a laid over an exact background: the
+/// model's colour (divided by a, scaled by `scale`, tone-mapped) and the backdrop (linear,
+/// neither scaled nor tone-mapped) mixed by a in linear light, then sRGB-encoded. a = 1 gives
+/// encodeRgb8's bytes; a = 0 the backdrop's own bytes (srgbByte of each channel).
+void toRgb8OverPixel(const float* rgb, float a, ToneMap op, const Color& backdrop, uint8_t* out, float scale = 1.f);
+/// Tone-maps and sRGB-encodes a linear image to 8-bit RGB (encodeRgb8 over the image; an image
+/// with a backdrop is laid over it, toRgb8OverPixel).
 std::vector<uint8_t> toRgb8(const Image& img, ToneMap op, float scale = 1.f);
 /// The same with the tone map and exposure of settings.
 std::vector<uint8_t> toRgb8(const Image& img, const RenderSettings& s);

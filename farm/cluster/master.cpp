@@ -80,6 +80,12 @@ bool Master::tileReturned(int rank, const TileResult& r) {
         return false;
     }
     w.outstanding.erase(it);
+    if (cfg_.framePixels <= 0) {
+        if (sched_->mode() == Mode::Frame) ++framesRendered_;
+    } else if ((pixelsBack_[r.item.frame] += r.item.rect.pixels()) >= cfg_.framePixels) {
+        pixelsBack_.erase(r.item.frame);
+        ++framesRendered_;
+    }
     if (onTile_) onTile_(rank, r.item);
     out_.rays += r.rays;
     RankStats& st = out_.perRank[size_t(rank)];
@@ -312,16 +318,20 @@ std::string Master::lostWorker(Clock::time_point now, int* rank) const {
     return "";
 }
 
-std::vector<int> Master::renderingFrames() const {
-    std::vector<int> rankFrames(workers_.size(), -1);
+ProgressCounts Master::progressCounts(Clock::time_point now) const {
+    ProgressCounts c;
+    c.rendered = std::min(cfg_.totalFrames, cfg_.keptFrames + framesRendered_);
+    c.encoded = out_.framesPassed;
+    c.rendered = std::max(c.rendered, c.encoded);  // a frame encoded was rendered
     for (const WorkerState& w : workers_) {
-        if (w.outstanding.empty()) continue;
-        const int said = saidFrame(w);
-        const bool holds = std::any_of(w.outstanding.begin(), w.outstanding.end(), [&](const WorkItem& i) { return i.frame == said; });
-        rankFrames[size_t(w.rank)] = holds ? said : w.outstanding.front().frame;
+        if (w.rank == 0 && !local_) continue;  // rank 0 only schedules and encodes
+        // Alive: rank 0's own engine, or a rank heard from within the worker timeout.
+        const bool alive = w.rank == 0 || std::chrono::duration<double>(now - w.lastHeard).count() <= cfg_.workerTimeout;
+        if (!alive) continue;
+        ++c.alive;
+        if (!w.outstanding.empty()) ++c.busy;
     }
-    if (!local_ && !rankFrames.empty()) rankFrames.erase(rankFrames.begin());
-    return rankFrames;
+    return c;
 }
 
 bool Master::interrupted() {
@@ -365,7 +375,7 @@ MasterOutcome Master::run() {
         const auto now = Clock::now();
         keepAlive(now);  // emit may have blocked, or this process been stopped, since the top
         if (std::string lost = lostWorker(now, &out_.lostRank); !lost.empty()) return finish(RunEnd::WorkerLost, std::move(lost));
-        if (!cfg_.quiet) progress.update(out_.framesPassed, renderingFrames());
+        if (!cfg_.quiet) progress.update(progressCounts(now));
         if (!progressed) {
             if (local_) {
                 // Alone, with no ranks to hear from and no viewer waiting between frames, the

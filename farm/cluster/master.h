@@ -7,10 +7,12 @@
 #include <exception>
 #include <functional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "farm/cluster/chunk_collector.h"
 #include "farm/cluster/chunk_workshop.h"
+#include "farm/process/progress.h"
 #include "farm/cluster/frame_assembler.h"
 #include "farm/cluster/liveness.h"
 #include "farm/cluster/render_engine.h"
@@ -31,6 +33,10 @@ struct MasterConfig {
     bool liveProgress = false;
     bool quiet = false;           ///< no progress lines (tests)
     int totalFrames = 0;          ///< frames in the output, for progress
+    int keptFrames = 0;           ///< of those, kept from an earlier run: rendered from the start
+    /// Pixels of one frame: a frame counts as rendered when its items' pixels are all back
+    /// (0: each frame-mode item is a frame).
+    int64_t framePixels = 0;
     std::string progressLabel;    ///< before each progress line (a film of a job of several)
     /// The caller's stop request (a viewer's cancel button): read like a signal, ends Interrupted.
     const std::atomic<bool>* cancel = nullptr;
@@ -160,8 +166,8 @@ private:
     bool gather();
     /// The message for the first busy worker silent past the timeout, or "".
     std::string lostWorker(std::chrono::steady_clock::time_point now, int* rank) const;
-    /// For progress: the frame each rendering rank is on (-1: idle).
-    std::vector<int> renderingFrames() const;
+    /// For progress: frames rendered and encoded, rendering ranks alive and busy.
+    ProgressCounts progressCounts(std::chrono::steady_clock::time_point now) const;
     std::string describeBusy(const WorkerState& w) const;
     /// The frame the rank last said it renders (its heartbeat; rank 0's own engine's), or -1.
     int saidFrame(const WorkerState& w) const;
@@ -186,6 +192,9 @@ private:
     std::vector<WorkerState> workers_;  ///< index = rank; rank 0 is the local engine if any
     MasterOutcome out_;
     bool dispatched_ = false;
+    /// Frames rendered in this run (every pixel back), and the pixels back of frames not yet.
+    int framesRendered_ = 0;
+    std::unordered_map<int, int64_t> pixelsBack_;
     bool stopped_ = false;  ///< stopWorkers has sent its word
     PauseDetector pause_;
     std::chrono::steady_clock::time_point lastBeat_{};

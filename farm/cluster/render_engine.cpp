@@ -253,6 +253,9 @@ std::vector<TileResult> RenderEngine::renderTogether(Scene& scene, const anim::T
     for (size_t i = 0; i < items.size(); ++i) {
         TileResult& r = out[i];
         const size_t pixels = size_t(items[i].rect.pixels());
+        if (linear && scene.exactBackground)  // the linear frame holds the background's own colour
+            for (size_t p = 0; p < pixels; ++p)
+                for (int k = 0; k < 3; ++k) rgbLinear[i][3 * p + size_t(k)] += (1.f - alpha[i][p]) * scene.background[k];
         if (linear)
             appendLinearPlane(rgbLinear[i], alpha[i], scene.transparentBackground, r.rgb.data() + r.layout.linearOffset(pixels));
         r.busySeconds = seconds * double(pixels) / double(std::max<int64_t>(1, totalPixels));

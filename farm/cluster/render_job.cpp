@@ -27,7 +27,11 @@ std::string RenderJob::identity() const {
     j["timeline_fps"] = timelineFps;
     // Only when asked for, so frames directories written before these options still resume.
     if (background.kind == BackgroundChoice::Transparent) j["background"] = "transparent";
-    if (background.kind == BackgroundChoice::Colour) j["background"] = {background.r, background.g, background.b};
+    if (background.kind == BackgroundChoice::Colour) {
+        j["background"] = {background.r, background.g, background.b};
+        // Since issue 47 the colour is shown exactly, not exposed: frames kept from before differ.
+        j["background_shown"] = "exact";
+    }
     if (exrFrames) j["frames_format"] = "exr";
     if (settings.indirectSamples > 0) j["indirect"] = settings.indirectSamples;
     // Frames kept before bounce light were rendered without it: they do not resume into a film with it.

@@ -376,7 +376,9 @@ FarmOutcome FarmRun::run(SharedScene& shared) {
     chunked_ = job_.chunkedFrames;
     plan_ = ChunkPlan{job_.first, job_.last, std::max(kMinChunkFrames, job_.mp4.chunkFrames)};
     kept_ = plan.kept;
+    cfg.keptFrames = int(plan.kept.count());
     const int width = job_.settings.width, height = job_.settings.height;
+    cfg.framePixels = int64_t(width) * height;
     if (job_.mode == Mode::Pixel) {
         // A rank with many threads holds more small tiles, so that rendered together they fill
         // its threads (RenderEngine).
@@ -488,6 +490,7 @@ RunStats FarmRun::stats(const MasterOutcome& o, Clock::time_point end, const Sha
     s.extra["frames_rendered"] = double(s.frames - encodedKept_);
     s.extra["frames_kept"] = double(encodedKept_);
     s.extra["video_fps"] = job_.mp4.fps;
+    s.extra["exposure_ev"] = job_.settings.exposure;  // as given, or as metered by --exposure auto
     s.extra["encoder_share"] = s.renderSeconds > 0 ? s.encodeSeconds / s.renderSeconds : 0.0;
     s.extra["png_s"] = sinks_.frames ? sinks_.frames->busySeconds() : 0.0;
     s.extra["load_s"] = shared.loadSeconds;

@@ -51,7 +51,8 @@ const char* kStillHelp =
     "                    its node's animation at the frame's time (the scene file's \"camera\")\n"
     "  --scene N         draw the glTF file's scene N (default: the file's \"scene\", else 0)\n"
     "  --background B    transparent (a PNG with alpha: coverage, anti-aliased edges included),\n"
-    "                    #RRGGBB (sRGB) or R,G,B (linear); default: the scene's\n"
+    "                    #RRGGBB (sRGB) or R,G,B (linear): exactly that colour where no model\n"
+    "                    is, not exposed or tone-mapped; default: the scene's\n"
     "  --environment F   light the scene with an equirectangular .hdr or .exr environment\n"
     "                    (Blender's orientation), also seen where rays miss everything\n"
     "  --environment-rotation DEG   turn it about +Y;  --environment-intensity K   scale it\n"
@@ -105,6 +106,7 @@ void writeStillStats(const std::string& path, const Scene& scene, const RenderSe
     s.perRank.push_back({0, t.renderS, 1, 0});
     s.extra["load_s"] = t.loadS;
     s.extra["triangles"] = static_cast<double>(scene.geometry.triangleCount());
+    s.extra["exposure_ev"] = settings.exposure;  // as given, or as metered by --exposure auto
     s.extraText["bvh"] = scene.geometry.usesBvh() ? "yes" : "no (scene too small to profit)";
     writeStatsJson(path, s);
 }
@@ -182,7 +184,7 @@ int runStill(const std::vector<std::string>& args) {
     const Image img = renderFrame(scene, {scene.camera, settings, bounceSlot}, frame, threads, rays);
     const auto t2 = std::chrono::steady_clock::now();
     writeReplacing(out, [&](const std::string& to) {
-        if (img.hasAlpha()) writePng(to, img.width(), img.height(), toRgba8(img, settings.toneMap, exposureScale(settings.exposure)), 4);
+        if (img.hasAlpha() && !img.hasBackdrop()) writePng(to, img.width(), img.height(), toRgba8(img, settings.toneMap, exposureScale(settings.exposure)), 4);
         else writePng(to, img.width(), img.height(), toRgb8(img, settings));
     });
     const auto t3 = std::chrono::steady_clock::now();

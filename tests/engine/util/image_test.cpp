@@ -181,3 +181,46 @@ TEST(Image, PngRoundTripAndNonFinitePixels) {
     EXPECT_EQ(h, 2);
     EXPECT_THROW(readImageRgb8(dir + "/does-not-exist.png", w, h), std::runtime_error);
 }
+
+// Issue 47 #5: over an exact background, a pixel the model misses is the background's own bytes
+// (every sRGB byte a #RRGGBB can name comes back unchanged, whatever the exposure and tone map),
+// a pixel it covers is what an opaque render encodes, and an edge lies between the two.
+TEST(Image, OverAnExactBackgroundMissesAreItsBytesAndCoveredPixelsAreTheModels) {
+    const float model[3] = {0.3f, 0.05f, 0.9f};
+    for (ToneMap op : {ToneMap::Clamp, ToneMap::Reinhard, ToneMap::PbrNeutral}) {
+        for (int v = 0; v < 256; ++v) {
+            const float lin = srgbDecode(float(v) / 255.f);
+            const Color bg(lin, srgbDecode(float(255 - v) / 255.f), lin);
+            uint8_t out[3];
+            toRgb8OverPixel(model, 0.f, op, bg, out, 0.37f);
+            ASSERT_EQ(int(out[0]), v) << "tone map " << int(op);
+            ASSERT_EQ(int(out[1]), 255 - v);
+        }
+        const Color bg(srgbDecode(0x33 / 255.f), srgbDecode(0x66 / 255.f), srgbDecode(0x99 / 255.f));
+        uint8_t covered[3], opaque[3], edge[3];
+        toRgb8OverPixel(model, 1.f, op, bg, covered, 2.f);
+        encodeRgb8(model, 3, op, opaque, 2.f);
+        EXPECT_EQ(std::memcmp(covered, opaque, 3), 0);
+        const float half[3] = {model[0] * 0.5f, model[1] * 0.5f, model[2] * 0.5f};  // premultiplied
+        toRgb8OverPixel(half, 0.5f, op, bg, edge, 2.f);
+        const uint8_t back[3] = {0x33, 0x66, 0x99};
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_GE(int(edge[k]), std::min(int(opaque[k]), int(back[k])) + (opaque[k] != back[k] ? 1 : 0)) << k;
+            EXPECT_LE(int(edge[k]), std::max(int(opaque[k]), int(back[k])) - (opaque[k] != back[k] ? 1 : 0)) << k;
+        }
+    }
+}
+
+// renderFrame's image over an exact background carries the backdrop; toRgb8 lays it under.
+TEST(Image, ToRgb8LaysAnImageOverItsBackdrop) {
+    Image img(2, 1, true);
+    img.alphaData()[0] = 0.f;  // a miss: no colour
+    img.alphaData()[1] = 1.f;
+    img.pixel(1, 0)[0] = 0.5f;
+    img.setBackdrop(Color(1.f, srgbDecode(0x80 / 255.f), 0.f));
+    const std::vector<uint8_t> px = toRgb8(img, ToneMap::PbrNeutral, 4.f);
+    EXPECT_EQ(std::vector<int>(px.begin(), px.begin() + 3), (std::vector<int>{255, 0x80, 0}));
+    uint8_t opaque[3];
+    encodeRgb8(img.pixel(1, 0), 3, ToneMap::PbrNeutral, opaque, 4.f);
+    EXPECT_EQ(std::vector<int>(px.begin() + 3, px.end()), (std::vector<int>(opaque, opaque + 3)));
+}
