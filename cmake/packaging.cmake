@@ -9,6 +9,7 @@ set(RAYFARM_MAN ${CMAKE_BINARY_DIR}/man/rayfarm.1)
 add_custom_command(OUTPUT ${RAYFARM_MAN}
   COMMAND ${CMAKE_COMMAND} -E make_directory ${CMAKE_BINARY_DIR}/man
   COMMAND ${CMAKE_COMMAND} -DRAYFARM=$<TARGET_FILE:rayfarm> -DVERSION=${PROJECT_VERSION} -DOUT=${RAYFARM_MAN}
+          -DVIEW=$<BOOL:${Qt6Widgets_FOUND}>
           -P ${PROJECT_SOURCE_DIR}/cmake/make_man.cmake
   DEPENDS rayfarm ${PROJECT_SOURCE_DIR}/cmake/make_man.cmake
   COMMENT "rayfarm.1 from rayfarm --help")

@@ -82,7 +82,16 @@ std::string Progress::bar(const ProgressCounts& c, int total, int width) {
         return int(std::clamp<long long>((long long)frames * width / total, 0, width));
     };
     const int enc = cells(c.encoded), ren = std::max(enc, cells(c.rendered));
-    return "[" + std::string(size_t(enc), '#') + std::string(size_t(ren - enc), '=') + std::string(size_t(width - ren), '.') + "]";
+    // Appended in place: GCC 12 warns (-Wrestrict, a false positive) on a chain of + over
+    // strings of computed lengths.
+    std::string s;
+    s.reserve(size_t(width) + 2);
+    s.push_back('[');
+    s.append(size_t(enc), '#');
+    s.append(size_t(ren - enc), '=');
+    s.append(size_t(width - ren), '.');
+    s.push_back(']');
+    return s;
 }
 
 std::string Progress::liveLine(const std::string& label, const std::string& text, const ProgressCounts& c, int total,
