@@ -16,6 +16,7 @@ packages=(
   libopenmpi-dev openmpi-bin                                  # farm/: MPI
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev # farm/: H.264 MP4 through FFmpeg
   libavfilter-dev                                             # farm/: GIF palette (palettegen/paletteuse)
+  file                                                        # cpack -G DEB: CMake's Debian packager runs it before dpkg-shlibdeps (a fresh Debian lacks it)
   assimp-testmodels                                           # the quickstart's demo model (2CylinderEngine.glb); the tests' real glTF files
   "$@"
 )
