@@ -126,9 +126,9 @@ Rgb4 pbrNeutral4(Rgb4 v) {
     return v;
 }
 
-/// Scale, tone map and sRGB bytes of four pixels: channel k of lane i to out[stride·i + k], for
-/// the first `lanes` lanes.
-void encode4(const SrgbTable& t, Rgb4 v, ToneMap op, float scale, uint8_t* out, int lanes, int stride) {
+/// Four pixels scaled and tone mapped, not yet clamped to [0, 1] (Clamp: the clamp is the whole
+/// of it, left to the caller).
+Rgb4 toneMapped4(Rgb4 v, ToneMap op, float scale) {
     const F4 s = splat4(scale), zero = splat4(0.f), one = splat4(1.f);
     for (F4& c : v.c) c = c * s;
     if (op == ToneMap::PbrNeutral) {
@@ -138,7 +138,15 @@ void encode4(const SrgbTable& t, Rgb4 v, ToneMap op, float scale, uint8_t* out, 
             const I4 inf = c == splat4(kInf);
             c = pick(c > zero, pick(inf, one, c / (one + c)), zero);  // NaN and negatives: 0
         }
-    }  // Clamp: the table's own clamp below is the whole of it
+    }
+    return v;
+}
+
+/// Scale, tone map and sRGB bytes of four pixels: channel k of lane i to out[stride·i + k], for
+/// the first `lanes` lanes.
+void encode4(const SrgbTable& t, Rgb4 v, ToneMap op, float scale, uint8_t* out, int lanes, int stride) {
+    const F4 zero = splat4(0.f), one = splat4(1.f);
+    v = toneMapped4(v, op, scale);
     for (int k = 0; k < 3; ++k) {
         // NaN and ≤ 0 to 0, ≥ 1 to 1: the byte of 1 is 255.
         const F4 c = pick(v.c[k] > zero, pick(v.c[k] < one, v.c[k], one), zero);
@@ -186,17 +194,7 @@ void toRgb8OverPixel(const float* rgb, float a, ToneMap op, const Color& backdro
         return;
     }
     // An edge: the model's tone-mapped colour (straight, in [0, 1]) mixed with the backdrop.
-    Rgb4 v = load4(rgb, 1);
-    const F4 s = splat4(scale / a), zero = splat4(0.f), one = splat4(1.f);
-    for (F4& c : v.c) c = c * s;
-    if (op == ToneMap::PbrNeutral) {
-        v = pbrNeutral4(v);
-    } else if (op == ToneMap::Reinhard) {
-        for (F4& c : v.c) {
-            const I4 inf = c == splat4(kInf);
-            c = pick(c > zero, pick(inf, one, c / (one + c)), zero);
-        }
-    }
+    const Rgb4 v = toneMapped4(load4(rgb, 1), op, scale / a);
     for (int k = 0; k < 3; ++k) {
         float m = v.c[k][0];
         m = m > 0.f ? std::min(m, 1.f) : 0.f;
