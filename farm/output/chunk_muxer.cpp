@@ -5,7 +5,10 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <stdexcept>
+
+#include <sys/stat.h>
 
 extern "C" {
 #include <libavcodec/avcodec.h>
@@ -16,6 +19,21 @@ extern "C" {
 #include "farm/output/mp4_remux.h"
 
 namespace rf::farm {
+
+namespace {
+/// The file path names: a symbolic link followed (also one whose file does not exist yet, as
+/// before a first render through it), else path itself.
+std::string fileNamedBy(const std::string& path) {
+    std::error_code ec;
+    std::filesystem::path p = path;
+    for (int hops = 0; hops < 40 && std::filesystem::is_symlink(p, ec); ++hops) {
+        const std::filesystem::path to = std::filesystem::read_symlink(p, ec);
+        if (ec) break;
+        p = to.is_absolute() ? to : p.parent_path() / to;
+    }
+    return p.string();
+}
+}  // namespace
 
 struct ChunkMuxer::Impl {
     std::string path;
@@ -28,15 +46,16 @@ struct ChunkMuxer::Impl {
     bool fragmented = false;  ///< MP4 and MOV: written fragmented, remuxed to faststart at close
     bool closed = false;
     std::atomic<int> flushed{0};
-    std::string writing;        ///< where the file is written: path, or path.part while an earlier video is kept
+    std::string writing;        ///< where the file is written: path, or target.part while an earlier video is kept
+    std::string target;         ///< the file path names (a symbolic link's target): what the side file replaces
     long earlier = 0;           ///< frames of the earlier video kept at path (keepEarlier)
     std::atomic<bool> inPlace{true};  ///< writing == path (or renamed there)
 
     /// Renames the side file over the earlier video once it holds as much.
     void swapIfAhead() {
         if (inPlace.load() || flushed.load() < earlier) return;
-        if (std::rename(writing.c_str(), path.c_str()) != 0) fail("cannot rename " + writing + " over it", AVERROR(errno));
-        writing = path;
+        if (std::rename(writing.c_str(), target.c_str()) != 0) fail("cannot rename " + writing + " over it", AVERROR(errno));
+        writing = target;
         inPlace = true;
     }
 
@@ -59,11 +78,18 @@ ChunkMuxer::ChunkMuxer(const std::string& path, int width, int height, const Mp4
     Impl& m = *impl_;
     m.path = path;
     m.writing = path;
-    std::remove(sidePath(path).c_str());  // a resume killed before it caught up left it
-    if (keepEarlierUpTo > 0) {
-        m.earlier = std::min(readablePackets(path), long(keepEarlierUpTo));
+    m.target = path;
+    // Only a regular file is kept (a FIFO or device is written in place, as always; reading one
+    // would block); a symbolic link keeps pointing at it: the side file is written beside the
+    // file it names, so the rename replaces that file, in its own file system, not the link.
+    struct stat st {};
+    const bool regular = ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+    m.target = fileNamedBy(path);
+    std::remove(sidePath(m.target).c_str());  // a resume killed before it caught up left it
+    if (keepEarlierUpTo > 0 && regular) {
+        m.earlier = readablePackets(path, keepEarlierUpTo);  // no further: only "as many" matters
         if (m.earlier > 0) {
-            m.writing = sidePath(path);
+            m.writing = sidePath(m.target);
             m.inPlace = false;
         }
     }
@@ -97,7 +123,7 @@ ChunkMuxer::ChunkMuxer(const std::string& path, int width, int height, const Mp4
 
         rc = avio_open(&m.fmt->pb, m.writing.c_str(), AVIO_FLAG_WRITE);
         if (rc < 0) m.fail("cannot open for writing", rc);
-        std::remove(remuxTempPath(path).c_str());  // a run killed during its remux left it
+        std::remove(remuxTempPath(m.target).c_str());  // a run killed during its remux left it
         AVDictionary* fopts = nullptr;
         // MP4 and MOV: an empty moov, then one fragment per packet, flushed as written
         // (frag_custom): the file plays up to its last frame whatever ends the process.
@@ -174,7 +200,8 @@ void ChunkMuxer::close() {
         std::remove(m.writing.c_str());
         return;
     }
-    if (m.fragmented) remuxFaststart(m.path, m.fmt->oformat->name, m.rate.num, m.rate.den, m.flushed.load());
+    // Through the file a link names, so the faststart file replaces it and the link stays.
+    if (m.fragmented) remuxFaststart(m.target, m.fmt->oformat->name, m.rate.num, m.rate.den, m.flushed.load());
 }
 
 int ChunkMuxer::packetsInFile() const {

@@ -120,13 +120,13 @@ void Remux::finish(long expected) {
 
 }  // namespace
 
-long readablePackets(const std::string& path) {
+long readablePackets(const std::string& path, long upTo) {
     AVFormatContext* ctx = nullptr;
     if (avformat_open_input(&ctx, path.c_str(), nullptr, nullptr) < 0) return 0;
     long n = 0;
     if (avformat_find_stream_info(ctx, nullptr) >= 0 || ctx->nb_streams > 0) {
         AVPacket* p = av_packet_alloc();
-        while (p && av_read_frame(ctx, p) >= 0) {
+        while (p && n < upTo && av_read_frame(ctx, p) >= 0) {
             const bool whole = !(p->flags & AV_PKT_FLAG_CORRUPT) && p->size > 0;
             if (whole && p->stream_index == 0) ++n;
             av_packet_unref(p);

@@ -5,6 +5,7 @@
 /// flushed so far. Once the film is complete, remuxFaststart copies the same packets, not
 /// re-encoded, into one moov placed before the media data (what players and web servers expect
 /// of an MP4), and renames it over the fragmented file.
+#include <limits>
 #include <string>
 
 namespace rf::farm {
@@ -22,7 +23,8 @@ void remuxFaststart(const std::string& path, const std::string& muxer, int fpsNu
 std::string remuxTempPath(const std::string& path);
 
 /// Video packets (a frame each) that can be read from the file at `path`, up to the first that
-/// cannot (the torn last fragment of a killed run); 0 if it is missing or no video.
-long readablePackets(const std::string& path);
+/// cannot (the torn last fragment of a killed run); 0 if it is missing or no video. Reading
+/// stops at upTo (a long earlier video is not read through to learn it is long enough).
+long readablePackets(const std::string& path, long upTo = std::numeric_limits<long>::max());
 
 }  // namespace rf::farm

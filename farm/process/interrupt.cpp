@@ -59,6 +59,12 @@ void followLauncher(bool keepItsStderr) {
         }
         if (fd >= 0) ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
         gLauncherStderr.store(fd);
+        // That may be a terminal whose foreground group this process is not in: with `stty
+        // tostop` a write there would stop it (SIGTTOU) instead of printing its last lines.
+        struct sigaction ign {};
+        ign.sa_handler = SIG_IGN;
+        sigemptyset(&ign.sa_mask);
+        ::sigaction(SIGTTOU, &ign, nullptr);
     }
     gLauncher.store(parent);
     ::prctl(PR_SET_PDEATHSIG, SIGTERM);

@@ -23,8 +23,11 @@ int stderrColumns() {
 void RateWindow::add(double t, int done) {
     now_ = t;
     if (samples_.empty() || samples_.back().second != done) samples_.emplace_back(t, done);
-    // Keep one sample at or before the window's start, so the window spans all of it.
-    while (samples_.size() > 2 && samples_[1].first <= t - seconds_) samples_.pop_front();
+    // Keep one sample at or before the window's start, so the window spans all of it, and at
+    // least minFrames_ frames: workers that finish together (a farm of equal frames) come in
+    // bursts, and a window holding only the last frames of one burst would see their tiny gap.
+    while (samples_.size() > 2 && samples_[1].first <= t - seconds_ && done - samples_[1].second >= minFrames_)
+        samples_.pop_front();
 }
 
 double RateWindow::rate() const {
@@ -111,6 +114,7 @@ void Progress::update(const ProgressCounts& counts) {
         started_ = true;
         start_ = last_ = now;
     }
+    window_.setMinFrames(2 * std::max(1, counts.alive));
     window_.add(std::chrono::duration<double>(now - start_).count(), counts.rendered);
     const double sinceLast = std::chrono::duration<double>(now - last_).count();
     if (sinceLast < interval_) return;

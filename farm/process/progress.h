@@ -7,6 +7,7 @@
 /// frames reach the output (with chunked encoding, a chunk at a time), so rendered ≥ encoded.
 /// The rate is over the last RateWindow::kSeconds of rendered frames and the ETA is the frames
 /// not yet rendered at that rate, so neither jumps when a chunk is encoded.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <deque>
@@ -30,6 +31,9 @@ public:
     explicit RateWindow(double seconds = kSeconds) : seconds_(seconds) {}
     /// At time t (seconds, never decreasing), `done` frames are rendered.
     void add(double t, int done);
+    /// The window also spans at least this many frames (Progress: two per worker), however long
+    /// they took.
+    void setMinFrames(int frames) { minFrames_ = std::max(1, frames); }
     /// Frames per second over the window: the frames rendered since its oldest sample over the
     /// time from it to the last frame (the whole run while it is shorter than the window); a
     /// wait longer than the average gap between frames lowers it. 0 until a frame is rendered.
@@ -41,6 +45,7 @@ public:
 
 private:
     double seconds_;
+    int minFrames_ = 1;
     double now_ = 0.0;                            ///< the last add's time
     std::deque<std::pair<double, int>> samples_;  ///< (t, done) when done changed, oldest first
 };

@@ -19,10 +19,10 @@ command -v debootstrap >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get inst
 
 root=$work/root
 unmount() { for m in dev/pts dev proc sys; do umount -l "$root/$m" 2>/dev/null || true; done; }
-cleanup() { unmount; rm -rf "$root"; }
+cleanup() { unmount; rm -rf --one-file-system "$root"; }
 trap cleanup EXIT
 fresh() {  # a clean copy of the base system at $root, mounted
-    unmount; rm -rf "$root"; mkdir -p "$root"
+    unmount; rm -rf --one-file-system "$root"; mkdir -p "$root"
     tar -C "$root" -xf "$work/base.tar"
     mount --bind /dev "$root/dev"; mount --bind /dev/pts "$root/dev/pts"
     mount -t proc proc "$root/proc"; mount -t sysfs sys "$root/sys"

@@ -2,6 +2,7 @@
 // follow frames rendered and so do not jump when a chunk of frames is encoded.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -94,4 +95,33 @@ TEST(RateWindow, EtaDoesNotJumpAtChunkBoundaries) {
     EXPECT_LT(error, 1.2) << "the ETA is off the true time left";
     double encodedError = 0.0;
     EXPECT_GT(largestEtaStep(true, &encodedError), 2.0) << "the check cannot fail: counting encoded frames should jump";
+}
+
+// Eight workers on frames of equal cost (60 s each) finish together: eight frames in a tenth of
+// a second, then nothing for a minute. A window of the last 10 s alone keeps only the last two
+// frames of a burst, 12 ms apart, and 50 s later shows 0.02 fps where the farm makes 8/60 =
+// 0.13. Spanning at least two frames per worker, it stays near the true rate throughout.
+TEST(RateWindow, WorkersFinishingTogetherDoNotCollapseTheRate) {
+    const double truth = 8.0 / 60.0;
+    for (const bool spanFrames : {true, false}) {
+        RateWindow w(10.0);
+        if (spanFrames) w.setMinFrames(2 * 8);
+        w.add(0.0, 0);
+        int done = 0;
+        double lowest = 1e9, highest = 0.0;
+        for (int tick = 1; tick <= 3600; ++tick) {  // 6 minutes, looked at every 0.1 s
+            const double t = tick * 0.1;
+            if (tick % 600 == 0)
+                for (int k = 0; k < 8; ++k) w.add(t + k * 0.0125, ++done);
+            else
+                w.add(t, done);
+            if (t > 130.0) lowest = std::min(lowest, w.rate()), highest = std::max(highest, w.rate());
+        }
+        if (spanFrames) {
+            EXPECT_GT(lowest, 0.5 * truth) << "the rate collapsed between bursts";
+            EXPECT_LT(highest, 1.5 * truth) << "the rate leapt at a burst";
+        } else {
+            EXPECT_LT(lowest, 0.2 * truth) << "the check cannot fail: a 10 s window alone should collapse";
+        }
+    }
 }

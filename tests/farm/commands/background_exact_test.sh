@@ -11,7 +11,7 @@ rayfarm=$1 out=$2
 fail() { echo "FAIL: $*" >&2; exit 1; }
 rm -rf "$out" && mkdir -p "$out" && cd "$out"
 model=/usr/share/assimp/models/glTF2/BoxTextured-glTF-Binary/BoxTextured.glb
-[ -f "$model" ] || { echo "SKIP: $model not installed (assimp-testmodels)"; exit 0; }
+[ -f "$model" ] || { echo "SKIP: $model not installed (assimp-testmodels)"; exit 77; }
 small=(--size 64x48 --spp 4)
 # Pictures read back through FFmpeg's decoders (no Python imaging package needed).
 cat > pic.py <<'PY'

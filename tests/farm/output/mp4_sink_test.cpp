@@ -340,3 +340,35 @@ TEST(Mp4Sink, HeaderOnDiskAtOpenAndAResumeKeepsTheEarlierVideoUntilItHoldsAsMuch
     EXPECT_NE(probe(path, "nb_read_frames").find("nb_read_frames=6\n"), std::string::npos) << probe(path, "nb_read_frames");
     EXPECT_FALSE(std::filesystem::exists(path + ".part"));
 }
+
+// A resume through a symbolic link (-o link.mp4 -> films/real.mp4) replaces the file the link
+// names, not the link: the side file is written beside the target and renamed over it, so the
+// link still points at the video, which now holds the new film.
+TEST(Mp4Sink, AResumeThroughASymbolicLinkReplacesItsTargetAndKeepsTheLink) {
+    const int w = 64, h = 48;
+    Mp4Options o;
+    o.channels = 3;
+    o.chunkFrames = 4;
+    const std::string dir = outDir() + "/resume_link", real = dir + "/films/real.mp4", link = dir + "/link.mp4";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir + "/films");
+    std::filesystem::create_symlink("films/real.mp4", link);
+    {
+        Mp4Sink first(link, w, h, o);
+        for (int f = 0; f < 8; ++f) first.write(f, synthetic(w, h, f));
+        first.close();
+    }
+    ASSERT_TRUE(std::filesystem::is_symlink(link));
+    {
+        Mp4Sink again(link, w, h, o, 12);
+        for (int f = 0; f < 6; ++f) again.write(f, synthetic(w, h, f));
+        EXPECT_TRUE(std::filesystem::exists(real + ".part")) << "the side file goes beside the link's target";
+        EXPECT_FALSE(std::filesystem::exists(link + ".part"));
+        for (int f = 6; f < 12; ++f) again.write(f, synthetic(w, h, f));
+        again.close();
+    }
+    EXPECT_TRUE(std::filesystem::is_symlink(link)) << "the resume replaced the link with a file";
+    EXPECT_NE(probe(real, "nb_read_frames").find("nb_read_frames=12\n"), std::string::npos) << probe(real, "nb_read_frames");
+    EXPECT_FALSE(std::filesystem::exists(real + ".part"));
+    EXPECT_FALSE(std::filesystem::exists(link + ".part"));
+}

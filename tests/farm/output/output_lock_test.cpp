@@ -146,15 +146,17 @@ TEST(OutputLock, AFcntlLockHeldCountsAsAliveWhateverTheFileSays) {
 // at once as before.
 TEST(OutputLock, AnEndingHolderIsWaitedForAndALiveOneIsNot) {
     const std::string out = freshDir("ending") + "/a.mp4";
-    int ready[2];
+    int ready[2], go[2];
     ASSERT_EQ(pipe(ready), 0);
+    ASSERT_EQ(pipe(go), 0);
     const pid_t child = fork();
     if (child == 0) {
         OutputLock held(out);
         held.markEnding();
         char c = 1;
         (void)!write(ready[1], &c, 1);
-        usleep(800 * 1000);  // closing its video
+        (void)!read(go[0], &c, 1);  // the parent's clock runs from here: a late parent cannot shorten the wait
+        usleep(800 * 1000);         // closing its video
         held.release();
         _exit(0);
     }
@@ -162,6 +164,7 @@ TEST(OutputLock, AnEndingHolderIsWaitedForAndALiveOneIsNot) {
     ASSERT_EQ(read(ready[0], &c, 1), 1);
     EXPECT_NE(readFile(out + ".lock").find(" ending\n"), std::string::npos) << readFile(out + ".lock");
     const auto start = std::chrono::steady_clock::now();
+    ASSERT_EQ(write(go[1], &c, 1), 1);
     std::string note;
     OutputLock after(out, &note);  // waits, then takes the lock the child let go
     const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -172,6 +175,8 @@ TEST(OutputLock, AnEndingHolderIsWaitedForAndALiveOneIsNot) {
     waitpid(child, nullptr, 0);
     close(ready[0]);
     close(ready[1]);
+    close(go[0]);
+    close(go[1]);
 
     // Not ending: refused at once.
     const std::string other = freshDir("not-ending") + "/b.mp4";
