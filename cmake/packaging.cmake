@@ -19,7 +19,7 @@ install(TARGETS rayfarm RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(FILES ${RAYFARM_MAN} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
 install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(FILES ${PROJECT_SOURCE_DIR}/docs/cli.md ${PROJECT_SOURCE_DIR}/docs/farm.md ${PROJECT_SOURCE_DIR}/docs/pictures.md
-              ${PROJECT_SOURCE_DIR}/docs/architecture.md
+              ${PROJECT_SOURCE_DIR}/docs/architecture.md ${PROJECT_SOURCE_DIR}/docs/building.md
         DESTINATION ${CMAKE_INSTALL_DOCDIR})
 
 set(CPACK_PACKAGE_NAME rayfarm)

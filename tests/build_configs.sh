@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the documented build configurations, each from a fresh clone of the committed tree, and
-# counts the compiler's and linker's warnings (README "Set-up": every one must build warning-free).
+# counts the compiler's and linker's warnings (docs/building.md: every one must build warning-free).
 #   bash tests/build_configs.sh                 every configuration below
 #   bash tests/build_configs.sh debug clang     only those
 # Configurations: default (Release, PGO + LTO), pgo-off, lto-off, native, debug (GCC) and clang
