@@ -15,6 +15,8 @@ namespace rf::anim {
 /// per-second tangents are scaled by the key interval on evaluation). Throws KeyError for times
 /// that do not increase; std::invalid_argument if the value count does not match the keys.
 KeyTrack trackFromSampler(const AnimSampler& sampler, AnimPath path);
+/// The same for a KHR_animation_pointer property of `components` numbers (never a rotation).
+KeyTrack trackFromSampler(const AnimSampler& sampler, int components);
 
 /// Local transform of a node from its TRS (or matrix).
 DMat4 nodeLocalMatrix(const SceneNode& node);
@@ -75,7 +77,17 @@ public:
     /// Poses the model at t and moves its meshes (re-transform and BVH refit). A looping clip
     /// names the nearest of kPoseAnchors poses spaced over it, whose tree a deforming mesh's
     /// is refitted from (SceneGeometry::PoseAnchor).
-    void apply(Scene& scene, double t) const;
+    /// KHR_animation_pointer properties are set too: the model's lights (their node's motion,
+    /// colour, intensity, range and cones; a light whose node is hidden gives no light, and
+    /// restLights, the scene's lights as loaded, gives back what visibility took), its materials
+    /// (factors and texture transforms) and its nodes' KHR_node_visibility (a hidden node's
+    /// meshes are posed with a zero matrix, which SceneGeometry leaves out of the frame).
+    void apply(Scene& scene, double t, const std::vector<Light>* restLights = nullptr) const;
+    /// Sets the properties of the file's camera `camera` (its cameras[] index) that the
+    /// animations key (yfov; xmag or ymag, whichever the lens is fitted by) at timeline time t.
+    void applyCamera(int camera, double t, Camera& lens) const;
+    /// Whether some animation it plays keys a property of the file's camera `camera`.
+    bool animatesCamera(int camera) const;
     static constexpr int kPoseAnchors = 8;
     /// Grows b (render space) by the model's animated meshes as posed at t, leaving the scene
     /// untouched: for framing a film on where the model goes, not only where it rests. Meshes
@@ -96,6 +108,12 @@ private:
         KeyTrack track;
         size_t part;  ///< which of parts_ it belongs to
     };
+    /// A KHR_animation_pointer property's keys.
+    struct PropertyTrack {
+        PropertyChannel target;
+        KeyTrack track;
+        size_t part;
+    };
     struct Part {
         int animation = 0;
         double duration = 0.0;
@@ -112,6 +130,15 @@ private:
     double duration_ = 0.0;
     std::vector<Part> parts_;
     std::vector<Channel> channels_;
+    std::vector<PropertyTrack> properties_;
+    /// Nodes a channel of it moves (translation, rotation, scale), or below one.
+    std::vector<uint8_t> moving_;
+    bool anyVisibility_ = false;  ///< some node's visibility is keyed, or some node is hidden at rest
+    /// Each node's visibility (its own and its parents') at the parts' times.
+    std::vector<uint8_t> visibleNodes(const SceneGraph& graph, const std::function<double(size_t)>& timeOf) const;
+    void applyLights(Scene& scene, const std::vector<DMat4>& renderFromNode, const std::vector<uint8_t>& visible,
+                     const std::function<double(size_t)>& timeOf, const std::vector<Light>* restLights) const;
+    void applyMaterials(Scene& scene, const std::function<double(size_t)>& timeOf) const;
 };
 
 /// The choice that plays every animation of a model together (--animation all).
@@ -126,8 +153,8 @@ int chooseAnimation(const SceneGraph& graph, const std::string& choice);
 std::vector<int> animationsMoving(const SceneGraph& graph, int node);
 
 /// What a bare model plays when nothing is chosen: its animations in order, each one taken
-/// unless it animates a node property (translation, rotation, scale, morph weights) that an
-/// animation already taken animates.
+/// unless it animates a node property (translation, rotation, scale, morph weights), or a property
+/// through KHR_animation_pointer, that an animation already taken animates.
 /// Blender's one animation per object (or NLA track) all play together; alternative takes of
 /// one rig (Fox's Survey, Walk, Run) leave only the first.
 std::vector<int> defaultAnimations(const SceneGraph& graph);

@@ -64,7 +64,9 @@ void applyFileCamera(const FileCamera& fc, const std::vector<GltfAnimationPlayer
         std::vector<std::vector<double>> weights;
         p.pose(scene.geometry.models[size_t(fc.model)], t, renderFromNode, weights);
         if (fc.node >= 0 && size_t(fc.node) < renderFromNode.size()) {
-            scene.camera = cameraOnNode(fc.lens, renderFromNode[size_t(fc.node)]);
+            Camera lens = fc.lens;
+            p.applyCamera(fc.source, t, lens);
+            scene.camera = cameraOnNode(lens, renderFromNode[size_t(fc.node)]);
             return;
         }
     }
@@ -87,6 +89,7 @@ FileCamera chosenFileCamera(const Scene& scene, int index, const std::string& wh
     if (size_t(index) < scene.gltfCameraNodes.size()) {
         fc.model = scene.gltfCameraNodes[size_t(index)].model;
         fc.node = scene.gltfCameraNodes[size_t(index)].node;
+        fc.source = scene.gltfCameraNodes[size_t(index)].camera;
     }
     if (fc.model >= 0 && size_t(fc.model) < scene.geometry.models.size()) {
         const SceneGraph& g = scene.geometry.models[size_t(fc.model)];
@@ -166,6 +169,7 @@ Timeline Timeline::fromScene(const Scene& scene, const TimelineSource& source, d
         // One still frame; a model's own animation is still posed at t = 0.
         p.spec.players = defaultPlayers(scene, source.animation);
     }
+    if (p.spec.restLights.empty()) p.spec.restLights = scene.lights;
     tl.frames_ = p.frames;
     tl.fps_ = p.fps;
     tl.t0_ = p.t0;
@@ -198,7 +202,7 @@ void Timeline::apply(Scene& scene, double t) const {
     for (const LightTracks& lt : s.lights)
         if (lt.light < static_cast<int>(scene.lights.size()))
             applyLight(lt, s.restLights[lt.light], scene.lights[lt.light], t);
-    for (const GltfAnimationPlayer& pl : s.players) pl.apply(scene, t);
+    for (const GltfAnimationPlayer& pl : s.players) pl.apply(scene, t, &s.restLights);
     if (s.fileCamera) applyFileCamera(*s.fileCamera, s.players, scene, t);
 }
 

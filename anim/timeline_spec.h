@@ -37,6 +37,7 @@ struct LightTracks {
 struct FileCamera {
     int index = 0;
     int model = -1, node = -1;
+    int source = -1;              ///< the file's cameras[] entry (its animation pointers' index)
     Camera lens;                  ///< as loaded: its projection; eye, target and up are replaced
     DMat4 restRenderFromNode{1.0};  ///< where it stands when no player moves its model
 };
@@ -46,7 +47,7 @@ struct TimelineSpec {
     std::optional<FileCamera> fileCamera;
     std::vector<LightTracks> lights;
     std::optional<Turntable> turntable;
-    std::vector<Light> restLights;  ///< lights as loaded, for follow-camera turntables
+    std::vector<Light> restLights;  ///< lights as loaded: follow-camera turntables, what visibility gives back
     std::vector<GltfAnimationPlayer> players;
 };
 

@@ -17,6 +17,8 @@ struct SceneNode {
     bool useMatrix = false;  ///< the node gave a matrix instead of TRS
     DMat4 matrix{1.0};
     std::vector<double> weights;  ///< default morph weights of the node's mesh
+    /// KHR_node_visibility's visible at rest (the node's own; a hidden node hides its subtree).
+    bool visible = true;
 };
 
 enum class KeyInterpolation { Linear, Step, CubicSpline };
@@ -35,10 +37,56 @@ struct AnimChannel {
     AnimPath path = AnimPath::Translation;
 };
 
+/// What a KHR_animation_pointer channel sets besides a node's transform and morph weights
+/// (those become AnimChannels): a property of a light, camera, material or texture transform,
+/// or a node's KHR_node_visibility. Each takes the components its glTF type has.
+enum class AnimProperty : uint8_t {
+    // KHR_lights_punctual lights[target]
+    LightColor, LightIntensity, LightRange, LightSpotInner, LightSpotOuter,
+    // cameras[target]
+    CameraYfov, CameraXmag, CameraYmag,
+    // materials[target]
+    BaseColor, Metallic, Roughness, Emissive, EmissiveStrength, AlphaCutoff, NormalScale, OcclusionStrength,
+    Transmission, Ior, Thickness, AttenuationColor, AttenuationDistance, Clearcoat, ClearcoatRoughness,
+    ClearcoatNormalScale, SheenColor, SheenRoughness, Specular,
+    // materials[target]'s texture `slot` (TextureSlot), KHR_texture_transform
+    TextureOffset, TextureRotation, TextureScale,
+    // nodes[target]: KHR_node_visibility's visible (0 or 1, STEP)
+    NodeVisible
+};
+
+/// The material textures a KHR_texture_transform pointer can name.
+enum class TextureSlot : uint8_t {
+    BaseColor, MetallicRoughness, Normal, Occlusion, Emissive, Clearcoat, ClearcoatRoughness, ClearcoatNormal,
+    SheenColor, SheenRoughness, Thickness, None
+};
+
+/// Components of a property's value (1 for scalars and booleans).
+inline int propertyComponents(AnimProperty p) {
+    switch (p) {
+        case AnimProperty::LightColor:
+        case AnimProperty::Emissive:
+        case AnimProperty::AttenuationColor:
+        case AnimProperty::SheenColor: return 3;
+        case AnimProperty::BaseColor: return 4;
+        case AnimProperty::TextureOffset:
+        case AnimProperty::TextureScale: return 2;
+        default: return 1;
+    }
+}
+
+struct PropertyChannel {
+    int sampler = 0;
+    AnimProperty property = AnimProperty::LightIntensity;
+    int target = 0;  ///< the file's light, camera, material or node index
+    TextureSlot slot = TextureSlot::None;
+};
+
 struct Animation {
     std::string name;
     std::vector<AnimSampler> samplers;
     std::vector<AnimChannel> channels;
+    std::vector<PropertyChannel> properties;  ///< KHR_animation_pointer targets beyond nodes
     float duration() const {
         float d = 0.f;
         for (const auto& s : samplers)
@@ -55,6 +103,18 @@ struct Skin {
     std::vector<DMat4> inverseBind;   ///< one per joint
 };
 
+/// A material some animation's pointers change, and the file's values of what the engine keeps
+/// as one product (emission = factor × strength; the volume's σ from colour and distance), so a
+/// channel on one half combines with the other's.
+struct AnimatedMaterial {
+    int file = -1;   ///< materials[] of the file
+    int scene = -1;  ///< Scene::materials (−1: nothing drawn uses it)
+    Color emissiveFactor{0.f};
+    float emissiveStrength = 1.f;
+    Color attenuationColor{1.f};
+    float attenuationDistance = 0.f;  ///< 0: infinite
+};
+
 /// One loaded model: its nodes, animations and where it sits in render space.
 struct SceneGraph {
     std::string source;        ///< file it came from, for messages
@@ -62,6 +122,8 @@ struct SceneGraph {
     std::vector<SceneNode> nodes;
     std::vector<Animation> animations;
     std::vector<Skin> skins;
+    /// The materials that KHR_animation_pointer channels animate (AnimatedMaterial).
+    std::vector<AnimatedMaterial> animatedMaterials;
 };
 
 }  // namespace rf

@@ -117,6 +117,25 @@ uint64_t lightsKey(const Scene& scene) {
     return h;
 }
 
+/// Everything about the materials that the cache's points keep (albedo, emission, what glass
+/// passes): an animation that keys a material's factors makes the points again.
+uint64_t materialsKey(const Scene& scene) {
+    uint64_t h = 0xCBF29CE484222325ull;
+    for (const Material& m : scene.materials) {
+        const float f[] = {m.color.r,        m.color.g,        m.color.b,       m.alpha,           m.alphaCutoff,
+                           m.metallic,       m.roughness,      m.specularWeight, m.emission.r,     m.emission.g,
+                           m.emission.b,     m.transmission,   m.ior,           m.thickness,       m.attenuation.r,
+                           m.attenuation.g,  m.attenuation.b,  m.sheenColor.r,  m.sheenColor.g,    m.sheenColor.b,
+                           m.sheenRoughness, m.clearcoat,      m.clearcoatRoughness, m.occlusionStrength,
+                           m.baseColorTransform.offset.x, m.baseColorTransform.offset.y, m.baseColorTransform.rotation,
+                           m.baseColorTransform.scale.x, m.baseColorTransform.scale.y, m.emissiveTransform.offset.x,
+                           m.emissiveTransform.offset.y, m.emissiveTransform.rotation, m.emissiveTransform.scale.x,
+                           m.emissiveTransform.scale.y};
+        h = hashBytes(h, f, sizeof f);
+    }
+    return h;
+}
+
 }  // namespace
 
 struct BounceGeometry {
@@ -136,6 +155,7 @@ struct BounceGeometry {
 /// What bounceCache keeps in a job's slot (RenderView::bounceSlot).
 struct BounceSlot {
     uint64_t geometryVersion = 0;
+    uint64_t materials = 0;  ///< materialsKey of the scene the geometry was made from
     uint32_t points = 0;
     std::shared_ptr<const BounceGeometry> geometry;
     bool triedLit = false;  ///< the geometry was looked at with lights in the scene
@@ -470,7 +490,8 @@ std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderS
     std::lock_guard<std::mutex> lock(slotIn->mutex);
     if (!slotIn->state) slotIn->state = std::make_shared<BounceSlot>();
     BounceSlot& slot = *std::static_pointer_cast<BounceSlot>(slotIn->state);
-    const bool sameGeometry = slot.geometryVersion == scene.geometry.version() && slot.points == points;
+    const uint64_t materials = materialsKey(scene);
+    const bool sameGeometry = slot.geometryVersion == scene.geometry.version() && slot.points == points && slot.materials == materials;
     if (sameGeometry)
         for (size_t i = 0; i < slot.lit.size(); ++i)
             if (slot.lit[i].first == lights) {
@@ -483,6 +504,7 @@ std::shared_ptr<const BounceCache> bounceCache(const Scene& scene, const RenderS
         slot.geometry = bounceApplies(scene) ? buildBounceGeometry(scene, points, threads) : nullptr;
         if (spent && slot.geometry) spent->bounce += slot.geometry->rays;
         slot.geometryVersion = scene.geometry.version();
+        slot.materials = materials;
         slot.points = points;
         slot.triedLit = lit;
         slot.lit.clear();

@@ -23,6 +23,10 @@ struct Light {
     /// glTF lights: intensity was given in cd (point, spot) or lx (directional) and divided by
     /// 683 lm/W; false for scene-file lights (unitless) and the built-in rig.
     bool photometric = false;
+    /// A glTF light: the model (SceneGeometry::models) and node it hangs on, and its index in
+    /// the file's KHR_lights_punctual lights, so the model's animations can move and change
+    /// it; −1 for scene-file lights and the built-in rig.
+    int model = -1, node = -1, source = -1;
 };
 
 /// 1/(a + b·d + c·d²); finite for any d ≥ 0 when the coefficients are valid.

@@ -1,6 +1,8 @@
 #pragma once
 /// Surface description for the Whitted model: the seed's ambient/Lambert/Phong coefficients,
 /// mirror reflection, and a dielectric for refraction.
+#include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "engine/util/vec_math.h"
@@ -17,6 +19,18 @@ struct TextureTransform {
     int texCoord = 0;
     bool identity() const { return offset == Vec2(0.f) && rotation == 0.f && scale == Vec2(1.f); }
 };
+
+/// KHR_materials_volume's absorption σ per unit length: light that travels d inside keeps
+/// attenuationColor^(d / distance) = exp(−σ·d) (Beer–Lambert); distance 0 or infinite: none. A
+/// colour channel of 0 absorbs everything beyond the surface (σ capped so that exp(−σ·d) stays 0
+/// without an infinity times a zero distance).
+inline Color volumeAbsorption(const Color& attenuationColor, double distance) {
+    Color sigma(0.f);
+    if (distance > 0.0 && std::isfinite(distance))
+        for (int i = 0; i < 3; ++i)
+            sigma[i] = float(std::min(-std::log(std::max(double(attenuationColor[i]), 1e-30)), 1e30) / distance);
+    return sigma;
+}
 
 struct Material {
     std::string name;

@@ -208,7 +208,8 @@ void SceneGeometry::poseModel(int model, const std::vector<DMat4>& renderFromNod
         TriangleMesh& mesh = meshes[mi];
         if (mesh.model != model || mesh.node < 0 || mesh.node >= static_cast<int>(renderFromNode.size())) return;
         const std::vector<DMat4>* jm = nullptr;
-        if (mesh.skin >= 0 && skins && size_t(mesh.skin) < skins->size()) {
+        const bool hidden = renderFromNode[size_t(mesh.node)][3][3] == 0.0;  // a zero matrix (applyNodeTransforms)
+        if (!hidden && mesh.skin >= 0 && skins && size_t(mesh.skin) < skins->size()) {
             if (joints.empty()) joints.resize(skins->size());
             std::vector<DMat4>& j = joints[size_t(mesh.skin)];
             if (j.empty()) j = jointMatrices((*skins)[size_t(mesh.skin)], renderFromNode);

@@ -40,6 +40,11 @@ public:
     /// their object space, and a top level over them; a scene with nothing that moves is the
     /// one tree alone.
     void build(const std::vector<Material>& materials, const TextureSet& textures);
+    /// The materials' alpha, cut-off and base-colour transform changed (an animation keys them):
+    /// the masked-triangle test reads these from now on. No tree changes.
+    void updateMaterials(const std::vector<Material>& materials) {
+        if (anyMasked_) maskMaterials_ = materials;
+    }
     /// A number no other build(), refit() or moving applyNodeTransforms() of any scene in this
     /// process has given: what the bounce cache keys its geometry by.
     uint64_t version() const { return version_; }
@@ -78,6 +83,8 @@ public:
         /// The anchor's node matrices and morph weights, as applyNodeTransforms takes them.
         std::function<void(std::vector<DMat4>&, std::vector<std::vector<double>>&)> pose;
     };
+    /// A node matrix of zeros (its last row too, which an affine matrix has as (0, 0, 0, 1)) hides
+    /// the node's meshes this frame: they collapse to a point, skinned ones too, and are never hit.
     /// Rewrites the positions of meshes on nodes from world matrices (render space), and updates
     /// only what they move: their deforming trees (refitted from anchor's tree when given), their
     /// rigid instances' matrices, the top level.

@@ -1,9 +1,12 @@
 // KHR_animation_pointer (issue 42): a channel whose pointer names a node's translation,
-// rotation, scale or weights plays as the plain channel does; one whose target rayfarm does not
-// animate is left out with one note naming it (its keys may be of any type: a VEC2 offset was
-// refused as "wrong type for this use"); a pointer to something the file lacks is refused
-// naming both. On scenes/animated_node.gltf (hand-made: a carrier node moving a cube) rewritten
-// with pointers.
+// rotation, scale or weights plays as the plain channel does; light, camera, material,
+// texture-transform and KHR_node_visibility pointers set what they name, frame by frame, checked
+// analytically (a light keyed 40 -> 160 cd gives 4x the radiance at the key time; a yfov keyed
+// covers the pixels its tangent says; a hidden node's pixels show what is behind it); one whose
+// target rayfarm does not animate is left out with one note naming it (its keys may be of any
+// type); a pointer to something the file lacks, or keys of the wrong type, are refused naming
+// both. On scenes/animated_node.gltf (hand-made: a carrier node moving a cube) rewritten with
+// pointers, and scenes/animated_pointers.gltf (tests/anim/make_animated_pointers.py).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -11,6 +14,9 @@
 #include <nlohmann/json.hpp>
 
 #include "anim/gltf_animation.h"
+#include "anim/timeline.h"
+#include "engine/integrators/render.h"
+#include "engine/lights/environment.h"
 #include "engine/load/scene_loader.h"
 #include "engine/util/errors.h"
 
@@ -32,7 +38,8 @@ json original() {
 }
 
 /// The file with every node channel written as a KHR_animation_pointer channel, a material,
-/// and a VEC2 pointer channel to that material's texture-transform offset.
+/// and a VEC2 pointer channel to an application's extras of that material (which rayfarm does
+/// not follow).
 json withPointers(const std::string& firstPointer = "") {
     json g = original();
     g["extensionsUsed"] = {"KHR_animation_pointer"};
@@ -56,15 +63,51 @@ json withPointers(const std::string& firstPointer = "") {
         {{"sampler", int(move["samplers"].size()) - 1},
          {"target",
           {{"path", "pointer"},
-           {"extensions", {{"KHR_animation_pointer", {{"pointer", "/materials/0/normalTexture/extensions/KHR_texture_transform/offset"}}}}}}}});
+           {"extensions", {{"KHR_animation_pointer", {{"pointer", "/materials/0/extras/uvWobble"}}}}}}}});
     return g;
 }
 
-LoadedScene loadJson(const json& g, const std::string& name) {
+LoadedScene loadJson(const json& g, const std::string& name, int camera = -1) {
     const std::string path = outDir() + "/" + name + ".gltf";  // its buffer is a data: URI
     std::ofstream(path) << g.dump();
     DiskFileSource fs;
-    return loadScene(path, fs);
+    SceneOptions o{};
+    o.width = 96;
+    o.height = 54;
+    if (camera >= 0) o.camera = camera;
+    return loadScene(path, fs, o);
+}
+
+json stage() {
+    std::ifstream in(std::string(RAYFARM_SOURCE_DIR) + "/scenes/animated_pointers.gltf");
+    return json::parse(in);
+}
+
+/// The message of the InputError loading g throws, or "(loaded)".
+std::string refusal(const json& g) {
+    try {
+        loadJson(g, "bad");
+    } catch (const InputError& e) {
+        return std::string(e.what());
+    }
+    return std::string("(loaded)");
+}
+
+/// The scene at time t of its timeline, lit by its own lights alone: no environment, no ambient,
+/// no bounce light, one sample; rendered through its camera at 96x54 (linear radiance).
+Image renderAt(const LoadedScene& loaded, double t, Scene* posed = nullptr) {
+    const anim::Timeline tl = anim::Timeline::fromScene(loaded);
+    Scene s = loaded.scene;
+    tl.apply(s, t);
+    s.environment.reset();
+    s.environmentBackground = false;
+    s.ambientLight = Color(0.f);
+    RenderSettings rs = s.settings;
+    rs.width = 96, rs.height = 54, rs.spp = 1, rs.bounce = 0;
+    RayStats stats;
+    Image img = renderFrame(s, {s.camera, rs}, 0, 1, stats);
+    if (posed) *posed = s;
+    return img;
 }
 
 }  // namespace
@@ -101,7 +144,7 @@ TEST(AnimationPointer, AnUnfollowedTargetIsNotedOnceAndItsKeysAreNotRead) {
     const LoadedScene s = loadJson(withPointers(), "pointers");
     int notes = 0, ignored = 0;
     for (const std::string& n : s.scene.notes) {
-        notes += n.find("KHR_animation_pointer: 1 channel animates /materials/{}/normalTexture/extensions/KHR_texture_transform/offset") !=
+        notes += n.find("KHR_animation_pointer: 1 channel animates /materials/{}/extras/uvWobble") !=
                  std::string::npos;
         ignored += n.find("extension KHR_animation_pointer ignored") != std::string::npos;
     }
@@ -110,14 +153,6 @@ TEST(AnimationPointer, AnUnfollowedTargetIsNotedOnceAndItsKeysAreNotRead) {
 }
 
 TEST(AnimationPointer, APointerToWhatTheFileLacksIsRefusedNamingBoth) {
-    auto refusal = [](const json& g) {
-        try {
-            loadJson(g, "bad");
-        } catch (const InputError& e) {
-            return std::string(e.what());
-        }
-        return std::string("(loaded)");
-    };
     EXPECT_NE(refusal(withPointers("/nodes/7/translation")).find("\"/nodes/7/translation\" names node 7, and the file has 2"),
               std::string::npos);
     json g = withPointers();
@@ -125,6 +160,168 @@ TEST(AnimationPointer, APointerToWhatTheFileLacksIsRefusedNamingBoth) {
     EXPECT_NE(refusal(g).find("\"/materials/3/emissiveFactor\" names material 3, and the file has 1"), std::string::npos);
     g["animations"][0]["channels"].back()["target"]["extensions"] = json::object();
     EXPECT_NE(refusal(g).find("KHR_animation_pointer.pointer: missing"), std::string::npos);
+}
+
+TEST(AnimationPointer, ALightsKeyedIntensityScalesItsRadianceAndItsColourTints) {
+    // Intensity 40 -> 160 cd over 2 s (LINEAR; the film loops it, so 2 s is 0 s again): at 1 s
+    // 100 cd, at 1.5 s 130. Lit by that spot alone (its cone, colour and the box's material kept
+    // still here), every lit floor pixel's linear radiance scales by the same factor.
+    json g = stage();
+    json& ch = g["animations"][0]["channels"];
+    ch = json::array({ch[0]});
+    const LoadedScene loaded = loadJson(g, "stage_intensity", 0);
+    Scene posed;
+    const Image a = renderAt(loaded, 0.0, &posed), b = renderAt(loaded, 1.0), c = renderAt(loaded, 1.5);
+    const CameraRays rays(posed.camera, 96, 54);
+    int lit = 0, fx = -1, fy = -1;
+    for (int y = 0; y < 54; ++y)
+        for (int x = 0; x < 96; ++x) {
+            Hit hit;
+            const Ray r = rays.generate(x + 0.5f, y + 0.5f);
+            if (!posed.geometry.intersect(r, hit) || posed.geometry.interaction(r, hit).material != 0) continue;
+            const float r0 = a.pixel(x, y)[0];
+            if (!(r0 > 1e-5f)) continue;
+            ++lit, fx = x, fy = y;
+            EXPECT_NEAR(b.pixel(x, y)[0] / r0, 100.0 / 40.0, 1e-3) << x << "," << y;
+            EXPECT_NEAR(c.pixel(x, y)[0] / r0, 130.0 / 40.0, 1e-3) << x << "," << y;
+        }
+    EXPECT_GT(lit, 20);
+    ASSERT_GE(fx, 0);
+    // With the colour keyed too (white -> (1, 0.5, 0.1)), at 1 s green is 0.75 of red and blue
+    // 0.55 (the floor is grey).
+    json t = stage();
+    json& tc = t["animations"][0]["channels"];
+    tc = json::array({tc[0], tc[1]});
+    const LoadedScene tinted = loadJson(t, "stage_tinted", 0);
+    const Image d = renderAt(tinted, 1.0, &posed);
+    const float* p = d.pixel(fx, fy);
+    ASSERT_GT(p[0], 0.f);
+    EXPECT_NEAR(p[1] / p[0], 0.75, 1e-3);
+    EXPECT_NEAR(p[2] / p[0], 0.55, 1e-3);
+    ASSERT_EQ(posed.lights.size(), 1u);
+    EXPECT_NEAR(p[0] / b.pixel(fx, fy)[0], 1.0, 1e-3);  // red as bright as with white light
+    // The whole stage at 1 s: the cone keyed 0.5 -> 0.9 is halfway.
+    renderAt(loadJson(stage(), "stage", 0), 1.0, &posed);
+    EXPECT_NEAR(posed.lights[0].outerCone, 0.7f, 1e-6);
+    EXPECT_NEAR(posed.lights[0].intensity * 683.0, 100.0, 1e-3);
+}
+
+TEST(AnimationPointer, AKeyedYfovCoversThePixelsItsTangentSays) {
+    // The camera stands still; its yfov goes 0.9 -> 0.6 rad over 2 s (0.675 at 1.5 s). The box's
+    // width along one image row is in proportion to 1 / tan(yfov / 2).
+    const LoadedScene loaded = loadJson(stage(), "stage", 0);
+    auto boxWidth = [&](double t) {
+        Scene s;
+        renderAt(loaded, t, &s);
+        const CameraRays rays(s.camera, 480, 270);
+        int n = 0;
+        for (int x = 0; x < 480; ++x) {
+            Hit hit;
+            if (!s.geometry.intersect(rays.generate(x + 0.5f, 135.5f), hit)) continue;
+            n += s.geometry.interaction(rays.generate(x + 0.5f, 135.5f), hit).material == 1;  // the box's
+        }
+        return n;
+    };
+    const int w0 = boxWidth(0.0), w1 = boxWidth(1.5);
+    ASSERT_GT(w0, 40);
+    EXPECT_NEAR(double(w1) / w0, std::tan(0.45) / std::tan(0.3375), 0.03);
+}
+
+TEST(AnimationPointer, AHiddenNodeShowsWhatIsBehindItAndHidesItsLight) {
+    // The marker (KHR_node_visibility keyed 1 -> 0 at 1 s, STEP) is drawn before 1 s, not after.
+    const LoadedScene loaded = loadJson(stage(), "stage", 0);
+    auto markerPixels = [&](double t) {
+        Scene s;
+        renderAt(loaded, t, &s);
+        const CameraRays rays(s.camera, 96, 54);
+        int n = 0;
+        for (int y = 0; y < 54; ++y)
+            for (int x = 0; x < 96; ++x) {
+                Hit hit;
+                const Ray r = rays.generate(x + 0.5f, y + 0.5f);
+                if (s.geometry.intersect(r, hit)) n += s.geometry.interaction(r, hit).material == 2;
+            }
+        return n;
+    };
+    EXPECT_GT(markerPixels(0.5), 10);
+    EXPECT_EQ(markerPixels(1.5), 0);
+    EXPECT_GT(markerPixels(0.5), 10);  // shown again: a pure function of the time
+    // A light on a hidden node gives no light; shown again, its intensity comes back.
+    json g = stage();
+    g["nodes"][2]["extensions"]["KHR_node_visibility"] = {{"visible", true}};
+    g["animations"][0]["channels"][6]["target"]["extensions"]["KHR_animation_pointer"]["pointer"] =
+        "/nodes/2/extensions/KHR_node_visibility/visible";
+    const LoadedScene lamp = loadJson(g, "hidden_lamp", 0);
+    Scene s;
+    renderAt(lamp, 1.5, &s);
+    EXPECT_EQ(s.lights[0].intensity, 0.f);
+    renderAt(lamp, 0.5, &s);
+    EXPECT_GT(s.lights[0].intensity, 0.f);
+    // A node hidden at rest that no animation shows is not loaded at all.
+    json still = stage();
+    still["nodes"][4]["extensions"]["KHR_node_visibility"]["visible"] = false;
+    still["animations"][0]["channels"].erase(6);
+    const LoadedScene gone = loadJson(still, "hidden_marker");
+    for (const TriangleMesh& m : gone.scene.geometry.meshes) EXPECT_NE(m.material, 2);
+}
+
+TEST(AnimationPointer, MaterialFactorsAndTextureTransformsFollowTheirKeys) {
+    json g = stage();
+    // A texture transform too: the box gets a base-colour texture (a 1x1 PNG) whose offset is
+    // keyed by the base colour's keys read as VEC2s: (0.8, 0.1) at 0 s, (0.1, 1) at 2 s.
+    g["images"] = {{{"uri", "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8DwHwAFBQIAX8jx0gAAAABJRU5ErkJggg=="}}};
+    g["textures"] = {{{"source", 0}}};
+    g["materials"][1]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    const json& colourKeys = g["accessors"][15];
+    ASSERT_EQ(colourKeys["type"], "VEC4");
+    g["accessors"].push_back({{"bufferView", colourKeys["bufferView"]}, {"componentType", 5126}, {"count", 2}, {"type", "VEC2"}});
+    json& show = g["animations"][0];
+    show["samplers"].push_back({{"input", 9}, {"output", int(g["accessors"].size()) - 1}});
+    show["channels"].push_back(
+        {{"sampler", int(show["samplers"].size()) - 1},
+         {"target",
+          {{"path", "pointer"},
+           {"extensions",
+            {{"KHR_animation_pointer", {{"pointer", "/materials/1/pbrMetallicRoughness/baseColorTexture/extensions/KHR_texture_transform/offset"}}}}}}}});
+    const LoadedScene loaded = loadJson(g, "stage_textured", 0);
+    Scene s;
+    renderAt(loaded, 1.0, &s);
+    const Material& box = s.materials[size_t(s.geometry.meshes[1].material)];
+    // Base colour halfway from (0.8, 0.1, 0.1, 1) to (0.1, 0.2, 0.8, 1).
+    EXPECT_NEAR(box.color.r, 0.45f, 1e-6);
+    EXPECT_NEAR(box.color.g, 0.15f, 1e-6);
+    EXPECT_NEAR(box.color.b, 0.45f, 1e-6);
+    // Emission = factor (0.2) x strength (0 -> 3: 1.5 at 1 s).
+    EXPECT_NEAR(box.emission.r, 0.3f, 1e-6);
+    EXPECT_NEAR(box.baseColorTransform.offset.x, 0.45f, 1e-6);
+    EXPECT_NEAR(box.baseColorTransform.offset.y, 0.55f, 1e-6);
+    const Scene& rest = loaded.scene;
+    EXPECT_EQ(rest.materials[size_t(rest.geometry.meshes[1].material)].baseColorTransform.offset, Vec2(0.f, 0.f));
+    EXPECT_EQ(rest.materials[size_t(rest.geometry.meshes[1].material)].emission, Color(0.f));
+}
+
+TEST(AnimationPointer, KeysOfTheWrongTypeAndImpossibleTargetsAreRefusedNamingBoth) {
+    json g = stage();
+    // Intensity (a float) keyed by the VEC3 colour accessor.
+    g["animations"][0]["samplers"][0]["output"] = g["animations"][0]["samplers"][1]["output"];
+    EXPECT_NE(refusal(g).find("is not SCALAR, as the pointer \"/extensions/KHR_lights_punctual/lights/0/intensity\" needs"),
+              std::string::npos)
+        << refusal(g);
+    g = stage();
+    g["animations"][0]["samplers"][6]["interpolation"] = "LINEAR";
+    EXPECT_NE(refusal(g).find("animates the boolean \"/nodes/4/extensions/KHR_node_visibility/visible\""), std::string::npos)
+        << refusal(g);
+    g = stage();
+    g["extensions"]["KHR_lights_punctual"]["lights"][0]["type"] = "point";
+    EXPECT_NE(refusal(g).find("names a spot cone of light 0, which is a point light"), std::string::npos) << refusal(g);
+    g = stage();
+    g["animations"][0]["channels"][3]["target"]["extensions"]["KHR_animation_pointer"]["pointer"] = "/cameras/0/orthographic/ymag";
+    EXPECT_NE(refusal(g).find("names the orthographic projection of camera 0, which is perspective"), std::string::npos)
+        << refusal(g);
+    g = stage();
+    g["animations"][0]["channels"][4]["target"]["extensions"]["KHR_animation_pointer"]["pointer"] =
+        "/materials/1/normalTexture/extensions/KHR_texture_transform/offset";
+    EXPECT_NE(refusal(g).find("material 1's normalTexture, which the material lacks"), std::string::npos) << refusal(g);
 }
 
 }  // namespace rf::anim

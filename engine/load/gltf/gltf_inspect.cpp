@@ -152,7 +152,15 @@ GltfInfo::Animation animationInfo(const tinygltf::Model& model, const tinygltf::
     a.channels = int(ga.channels.size());
     a.samplers = int(ga.samplers.size());
     std::set<std::string> paths;
-    for (const tinygltf::AnimationChannel& c : ga.channels) paths.insert(c.target_path);
+    for (const tinygltf::AnimationChannel& c : ga.channels) {
+        // KHR_animation_pointer: the JSON pointer it animates ("/cameras/0/perspective/yfov").
+        auto ext = c.target_extensions.find("KHR_animation_pointer");
+        if (c.target_path == "pointer" && ext != c.target_extensions.end() && ext->second.Has("pointer") &&
+            ext->second.Get("pointer").IsString())
+            paths.insert(ext->second.Get("pointer").Get<std::string>());
+        else
+            paths.insert(c.target_path);
+    }
     a.paths.assign(paths.begin(), paths.end());
     for (const tinygltf::AnimationSampler& s : ga.samplers) {
         const AccessorData in = readAccessor(model, s.input, path, {TINYGLTF_TYPE_SCALAR});

@@ -267,12 +267,7 @@ void MaterialBuilder::readVolume(const tinygltf::Value& v, Material& m, const st
         const tinygltf::Value& c = v.Get("attenuationColor");
         color = Color(clamp01(element(c, 0, 1.0)), clamp01(element(c, 1, 1.0)), clamp01(element(c, 2, 1.0)));
     }
-    // Beer–Lambert: light that travels d inside keeps attenuationColor^(d / attenuationDistance)
-    // = exp(−σ·d). A colour channel of 0 absorbs everything beyond the surface (σ capped so that
-    // exp(−σ·d) stays 0 without an infinity times a zero distance).
-    if (distance > 0.0 && std::isfinite(distance))
-        for (int i = 0; i < 3; ++i)
-            m.attenuation[i] = float(std::min(-std::log(std::max(double(color[i]), 1e-30)), 1e30) / distance);
+    m.attenuation = volumeAbsorption(color, distance);
     if (m.thickness <= 0.f) return;  // thin-walled: no volume, and its texture is never decoded
     extensionTexture(v, "thicknessTexture", where, false, m.thicknessTexture, m.thicknessTransform, nullptr);
 }

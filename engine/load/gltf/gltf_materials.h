@@ -22,6 +22,11 @@ public:
 
     /// Scene material index for glTF material `index` (−1: the glTF default material).
     int materialFor(int index);
+    /// Scene material index of glTF material `index` if some primitive used it, else −1.
+    int converted(int index) const {
+        auto it = materials_.find(index);
+        return it == materials_.end() ? -1 : it->second;
+    }
 
     /// Number of images decoded so far (for tests: untextured models decode none).
     int decodedImages() const { return decodedImages_; }

@@ -1,6 +1,7 @@
 #include "engine/load/gltf/gltf_model.h"
 
 #include <cstdio>
+#include <set>
 #include <limits>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -193,14 +194,18 @@ void GltfModel::addNodeMeshes(Scene& scene, int node, const DMat4& renderFromNod
 }
 
 /// The node's KHR_lights_punctual light and camera, if it has them.
-void GltfModel::addNodeLightAndCamera(Scene& scene, int node, const DMat4& renderFromNode) {
+void GltfModel::addNodeLightAndCamera(Scene& scene, int node, const DMat4& renderFromNode, bool withLight) {
     const tinygltf::Node& n = model_.nodes[size_t(node)];
-    if (auto it = n.extensions.find("KHR_lights_punctual"); it != n.extensions.end() && it->second.Has("light")) {
+    if (auto it = n.extensions.find("KHR_lights_punctual"); withLight && it != n.extensions.end() && it->second.Has("light")) {
         const tinygltf::Value& li = it->second.Get("light");
         const int idx = li.IsInt() ? li.Get<int>() : -1;
         if (idx < 0 || size_t(idx) >= model_.lights.size())
             throw InputError(path_, "nodes[" + std::to_string(node) + "]: no light " + std::to_string(idx));
-        scene.lights.push_back(punctualLight(model_.lights[size_t(idx)], renderFromNode, path_, idx));
+        Light L = punctualLight(model_.lights[size_t(idx)], renderFromNode, path_, idx);
+        L.model = int(scene.geometry.models.size()) - 1;
+        L.node = node;
+        L.source = idx;
+        scene.lights.push_back(std::move(L));
     }
     if (n.camera >= 0) {
         if (size_t(n.camera) >= model_.cameras.size())
@@ -269,17 +274,66 @@ void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel, int materialOve
         wireRadius_ = 0.5 * double(assets_.pointSize) * (diagonal > 0.0 ? diagonal : 1.0) / kWireDiagonalPixels;
     }
 
+    // KHR_node_visibility: a node not visible hides its subtree. One that no animation can show
+    // is left out; one whose visibility (or a parent's) is animated is drawn, and the
+    // animation's player hides it while it is not visible.
+    std::vector<uint8_t> hidden(model_.nodes.size(), 0), canShow(model_.nodes.size(), 0);
+    for (int i : order_) {
+        const int p = parent_[size_t(i)];
+        hidden[size_t(i)] = !nodeVisible(i) || (p >= 0 && hidden[size_t(p)]);
+        canShow[size_t(i)] = visibilityAnimated_[size_t(i)] || (p >= 0 && canShow[size_t(p)]);
+    }
+
     LoadStep step("building its meshes and materials");
     MaterialBuilder materials(scene, model_, path_, assets_);
     DropCounts dropped;
     for (int node : order_) {
         pollLoadCancel();
         const DMat4 renderFromNode = renderFromModel * modelFromNode_[size_t(node)];
-        addNodeMeshes(scene, node, renderFromNode, modelIndex, dynamic[size_t(node)] != 0, materials, dropped);
-        addNodeLightAndCamera(scene, node, renderFromNode);
+        const bool shown = !hidden[size_t(node)] || canShow[size_t(node)];  // (its cameras work either way)
+        if (shown) addNodeMeshes(scene, node, renderFromNode, modelIndex, dynamic[size_t(node)] != 0, materials, dropped);
+        addNodeLightAndCamera(scene, node, renderFromNode, shown);
     }
     noteDrops(dropped);
+    addAnimatedMaterials(scene.geometry.models.back(), materials);
     for (const std::string& n : notes_) scene.notes.push_back(path_ + ": " + n);
+}
+
+bool GltfModel::nodeVisible(int node) const {
+    const tinygltf::Node& n = model_.nodes[size_t(node)];
+    auto it = n.extensions.find("KHR_node_visibility");
+    if (it == n.extensions.end() || !it->second.Has("visible") || !it->second.Get("visible").IsBool()) return true;
+    return it->second.Get("visible").Get<bool>();
+}
+
+void GltfModel::addAnimatedMaterials(SceneGraph& graph, const MaterialBuilder& materials) const {
+    std::set<int> animated;
+    for (const Animation& a : animations_)
+        for (const PropertyChannel& pc : a.properties)
+            if (pc.property >= AnimProperty::BaseColor && pc.property != AnimProperty::NodeVisible) animated.insert(pc.target);
+    for (int file : animated) {
+        const tinygltf::Material& gm = model_.materials[size_t(file)];
+        AnimatedMaterial am;
+        am.file = file;
+        am.scene = materialOverride_ >= 0 ? -1 : materials.converted(file);
+        if (gm.emissiveFactor.size() == 3) am.emissiveFactor = Color(float(gm.emissiveFactor[0]), float(gm.emissiveFactor[1]), float(gm.emissiveFactor[2]));
+        auto number = [](const tinygltf::Value& v, const char* key, double fallback) {
+            return v.Has(key) && v.Get(key).IsNumber() ? v.Get(key).GetNumberAsDouble() : fallback;
+        };
+        if (auto e = gm.extensions.find("KHR_materials_emissive_strength"); e != gm.extensions.end())
+            am.emissiveStrength = float(std::max(0.0, number(e->second, "emissiveStrength", 1.0)));
+        if (auto e = gm.extensions.find("KHR_materials_volume"); e != gm.extensions.end()) {
+            const double d = number(e->second, "attenuationDistance", 0.0);
+            am.attenuationDistance = d > 0.0 && std::isfinite(d) ? float(d) : 0.f;
+            if (e->second.Has("attenuationColor") && e->second.Get("attenuationColor").IsArray() &&
+                e->second.Get("attenuationColor").ArrayLen() == 3)
+                for (int c = 0; c < 3; ++c) {
+                    const tinygltf::Value& x = e->second.Get("attenuationColor").Get(c);
+                    am.attenuationColor[c] = x.IsNumber() ? float(std::clamp(x.GetNumberAsDouble(), 0.0, 1.0)) : 1.f;
+                }
+        }
+        graph.animatedMaterials.push_back(am);
+    }
 }
 
 }  // namespace rf::gltf

@@ -67,14 +67,17 @@ private:
     void checkInstancedSize() const;
 
     void readAnimations();
-    /// A KHR_animation_pointer channel's target: node ≥ 0 and its property (translation,
-    /// rotation, scale, weights) where rayfarm follows it, else node −1; pattern: the pointer
-    /// with its indices as {} (what the note counts). Throws InputError on a pointer that is
-    /// missing, malformed, or names a node the file lacks.
+    /// A KHR_animation_pointer channel's target (gltf_pointers.cpp): a node's translation,
+    /// rotation, scale or weights (node ≥ 0, property), or another property rayfarm draws
+    /// (target), else neither; pattern: the pointer with its indices as {} (what the note
+    /// counts). Throws InputError on a pointer that is missing or malformed, that names an
+    /// object the file lacks, or a property that object cannot have (a spot cone of a point
+    /// light, the perspective of an orthographic camera, a transform of a texture the material lacks).
     struct AnimationPointer {
         int node = -1;
         std::string property;
-        std::string pattern;
+        std::optional<PropertyChannel> target;
+        std::string pattern, pointer;
     };
     AnimationPointer animationPointer(const tinygltf::AnimationChannel& ch, const std::string& where, int nodes) const;
 
@@ -86,8 +89,14 @@ private:
     SceneGraph sceneGraph(const DMat4& renderFromModel) const;
     void addNodeMeshes(Scene& scene, int node, const DMat4& renderFromNode, int modelIndex, bool dynamic,
                        MaterialBuilder& materials, DropCounts& dropped);
-    void addNodeLightAndCamera(Scene& scene, int node, const DMat4& renderFromNode);
+    /// withLight false: the node is hidden for good (KHR_node_visibility), only its camera counts.
+    void addNodeLightAndCamera(Scene& scene, int node, const DMat4& renderFromNode, bool withLight = true);
     void noteDrops(const DropCounts& d);
+    /// KHR_node_visibility's visible of the node itself (true when it has none).
+    bool nodeVisible(int node) const;
+    /// graph.animatedMaterials: each material a pointer animates, with its scene index and the
+    /// file's values a channel combines with.
+    void addAnimatedMaterials(SceneGraph& graph, const MaterialBuilder& materials) const;
     /// assets_.variant as an index into the file's variants (variant_), refused if it has none
     /// by that name; without a choice, a note lists the variants the file offers.
     void chooseMaterialVariant();
@@ -104,6 +113,7 @@ private:
     std::vector<DMat4> modelFromNode_;
     std::vector<int> order_;  ///< drawn nodes, parents before children
     std::vector<uint8_t> animatedNode_;
+    std::vector<uint8_t> visibilityAnimated_;  ///< some channel animates the node's KHR_node_visibility
     std::vector<Animation> animations_;
     std::vector<Skin> skins_;
     std::vector<DMat4> restModelFromNode_;  ///< every node's rest transform (filled when there are skins)

@@ -230,50 +230,9 @@ void GltfModel::checkInstancedSize() const {
                                     std::to_string(Limits::kMaxTriangles));
 }
 
-GltfModel::AnimationPointer GltfModel::animationPointer(const tinygltf::AnimationChannel& ch, const std::string& where,
-                                                        int nodes) const {
-    const std::string w = where + ".target.extensions.KHR_animation_pointer.pointer";
-    auto ext = ch.target_extensions.find("KHR_animation_pointer");
-    if (ext == ch.target_extensions.end() || !ext->second.Has("pointer") || !ext->second.Get("pointer").IsString())
-        throw InputError(path_, w + ": missing (a \"pointer\" path needs the JSON pointer it animates)");
-    const std::string ptr = ext->second.Get("pointer").Get<std::string>();
-    AnimationPointer out;
-    // The pattern names the kind of target, its indices as {}: "/materials/{}/pbrMetallicRoughness/baseColorFactor".
-    std::vector<std::string> parts;
-    for (size_t at = 0; at < ptr.size();) {
-        if (ptr[at] != '/') throw InputError(path_, w + ": \"" + ptr + "\" is not a JSON pointer (it must start with /)");
-        const size_t next = ptr.find('/', at + 1);
-        parts.push_back(ptr.substr(at + 1, next == std::string::npos ? std::string::npos : next - at - 1));
-        at = next == std::string::npos ? ptr.size() : next;
-    }
-    auto isIndex = [](const std::string& x) { return !x.empty() && x.size() < 10 && x.find_first_not_of("0123456789") == std::string::npos; };
-    for (const std::string& p : parts) out.pattern += "/" + (isIndex(p) ? std::string("{}") : p);
-    // A pointer into a list the file does not have that many of points at nothing: refused.
-    auto check = [&](size_t at, const char* what, size_t count) {
-        if (parts.size() > at && isIndex(parts[at]) && std::stoul(parts[at]) >= count)
-            throw InputError(path_, w + ": \"" + ptr + "\" names " + what + " " + parts[at] + ", and the file has " + std::to_string(count));
-    };
-    if (!parts.empty()) {
-        const std::string& list = parts[0];
-        if (list == "nodes") check(1, "node", size_t(nodes));
-        else if (list == "materials") check(1, "material", model_.materials.size());
-        else if (list == "meshes") check(1, "mesh", model_.meshes.size());
-        else if (list == "cameras") check(1, "camera", model_.cameras.size());
-        else if (list == "extensions" && parts.size() > 2 && parts[1] == "KHR_lights_punctual" && parts[2] == "lights")
-            check(3, "light", model_.lights.size());
-    }
-    if (parts.size() == 3 && parts[0] == "nodes" && isIndex(parts[1])) {
-        const int node = std::stoi(parts[1]);
-        if (parts[2] == "translation" || parts[2] == "rotation" || parts[2] == "scale" || parts[2] == "weights") {
-            out.node = node;
-            out.property = parts[2];
-        }
-    }
-    return out;
-}
-
 void GltfModel::readAnimations() {
     animatedNode_.assign(model_.nodes.size(), 0);
+    visibilityAnimated_.assign(model_.nodes.size(), 0);
     for (size_t a = 0; a < model_.animations.size(); ++a) {
         const tinygltf::Animation& ga = model_.animations[a];
         const std::string wa = "animations[" + std::to_string(a) + "]";
@@ -282,6 +241,11 @@ void GltfModel::readAnimations() {
         // Sampler components depend on the channel's path; find them first.
         std::vector<int> comps(ga.samplers.size(), 0);
         std::vector<uint8_t> pointerOnly(ga.samplers.size(), 0);  // read by pointers left out
+        // Samplers of property pointers: the accessor type their property needs (0: none), and
+        // the pointer, for the refusal.
+        std::vector<int> propertyType(ga.samplers.size(), 0);
+        std::vector<uint8_t> boolean(ga.samplers.size(), 0);
+        std::vector<std::string> propertyPointer(ga.samplers.size());
         for (size_t c = 0; c < ga.channels.size(); ++c) {
             const tinygltf::AnimationChannel& ch = ga.channels[c];
             const std::string wc = wa + ".channels[" + std::to_string(c) + "]";
@@ -292,6 +256,19 @@ void GltfModel::readAnimations() {
                 // KHR_animation_pointer: a node's TRS or weights become the channel they name;
                 // any other target is left out with a note (its sampler is not read).
                 const AnimationPointer ptr = animationPointer(ch, wc, int(model_.nodes.size()));
+                if (ptr.target) {
+                    // A light, camera, material, texture-transform or visibility property.
+                    const size_t s = size_t(ch.sampler);
+                    const int k = propertyComponents(ptr.target->property);
+                    propertyType[s] = k == 1 ? TINYGLTF_TYPE_SCALAR : k == 2 ? TINYGLTF_TYPE_VEC2 : k == 3 ? TINYGLTF_TYPE_VEC3 : TINYGLTF_TYPE_VEC4;
+                    boolean[s] = ptr.target->property == AnimProperty::NodeVisible;
+                    propertyPointer[s] = ptr.pointer;
+                    comps[s] = k;
+                    anim.properties.push_back(*ptr.target);
+                    if (ptr.target->property == AnimProperty::NodeVisible)
+                        animatedNode_[size_t(ptr.target->target)] = visibilityAnimated_[size_t(ptr.target->target)] = 1;
+                    continue;
+                }
                 if (ptr.node < 0) {
                     ++pointersIgnored_[ptr.pattern];
                     pointerOnly[size_t(ch.sampler)] = 1;
@@ -331,7 +308,23 @@ void GltfModel::readAnimations() {
             else if (gs.interpolation == "CUBICSPLINE") out.interpolation = KeyInterpolation::CubicSpline;
             else out.interpolation = KeyInterpolation::Linear;
             const AccessorData in = readAccessor(model_, gs.input, path_, {TINYGLTF_TYPE_SCALAR});
-            const AccessorData val = readAccessor(model_, gs.output, path_, {TINYGLTF_TYPE_SCALAR, TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4});
+            if (propertyType[s]) {
+                // The output accessor must be of the property's type (booleans: unsigned bytes, STEP).
+                const tinygltf::Accessor* acc =
+                    gs.output >= 0 && size_t(gs.output) < model_.accessors.size() ? &model_.accessors[size_t(gs.output)] : nullptr;
+                const char* need = propertyType[s] == TINYGLTF_TYPE_SCALAR ? "SCALAR" : propertyType[s] == TINYGLTF_TYPE_VEC2 ? "VEC2"
+                                   : propertyType[s] == TINYGLTF_TYPE_VEC3                                               ? "VEC3"
+                                                                                                                         : "VEC4";
+                const std::string what = ws + ".output: accessors[" + std::to_string(gs.output) + "] ";
+                if (acc && acc->type != propertyType[s])
+                    throw InputError(path_, what + "is not " + need + ", as the pointer \"" + propertyPointer[s] + "\" needs");
+                if (acc && boolean[s] && (acc->componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || gs.interpolation != "STEP"))
+                    throw InputError(path_, what + "animates the boolean \"" + propertyPointer[s] +
+                                                "\": it must hold unsigned bytes, played with STEP interpolation");
+            }
+            const AccessorData val = readAccessor(model_, gs.output, path_,
+                                                  propertyType[s] ? std::vector<int>{propertyType[s]}
+                                                                  : std::vector<int>{TINYGLTF_TYPE_SCALAR, TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4});
             out.times = in.values;
             out.values = val.values;
             for (float x : out.times)
@@ -370,6 +363,7 @@ SceneGraph GltfModel::sceneGraph(const DMat4& renderFromModel) const {
         if (n.rotation.size() == 4) sn.rotation = glm::normalize(DQuat(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]));
         if (n.scale.size() == 3) sn.scale = glm::dvec3(n.scale[0], n.scale[1], n.scale[2]);
         sn.weights = defaultWeights(int(i));
+        sn.visible = nodeVisible(int(i));
         graph.nodes.push_back(std::move(sn));
     }
     graph.animations = animations_;
