@@ -93,6 +93,20 @@ std::string refusal(const json& g) {
     return std::string("(loaded)");
 }
 
+/// How many pixels of a w x h picture through the scene's camera see `material` first (pixel
+/// centres; row >= 0: that row alone).
+int materialPixels(const Scene& s, int w, int h, int material, int row = -1) {
+    const CameraRays rays(s.camera, w, h);
+    int n = 0;
+    for (int y = row >= 0 ? row : 0; y < (row >= 0 ? row + 1 : h); ++y)
+        for (int x = 0; x < w; ++x) {
+            Hit hit;
+            const Ray r = rays.generate(x + 0.5f, y + 0.5f);
+            if (s.geometry.intersect(r, hit)) n += s.geometry.interaction(r, hit).material == material;
+        }
+    return n;
+}
+
 /// The scene at time t of its timeline, lit by its own lights alone: no environment, no ambient,
 /// no bounce light, one sample; rendered through its camera at 96x54 (linear radiance).
 Image renderAt(const LoadedScene& loaded, double t, Scene* posed = nullptr) {
@@ -213,14 +227,7 @@ TEST(AnimationPointer, AKeyedYfovCoversThePixelsItsTangentSays) {
     auto boxWidth = [&](double t) {
         Scene s;
         renderAt(loaded, t, &s);
-        const CameraRays rays(s.camera, 480, 270);
-        int n = 0;
-        for (int x = 0; x < 480; ++x) {
-            Hit hit;
-            if (!s.geometry.intersect(rays.generate(x + 0.5f, 135.5f), hit)) continue;
-            n += s.geometry.interaction(rays.generate(x + 0.5f, 135.5f), hit).material == 1;  // the box's
-        }
-        return n;
+        return materialPixels(s, 480, 270, 1, 135);  // the box's
     };
     const int w0 = boxWidth(0.0), w1 = boxWidth(1.5);
     ASSERT_GT(w0, 40);
@@ -233,15 +240,7 @@ TEST(AnimationPointer, AHiddenNodeShowsWhatIsBehindItAndHidesItsLight) {
     auto markerPixels = [&](double t) {
         Scene s;
         renderAt(loaded, t, &s);
-        const CameraRays rays(s.camera, 96, 54);
-        int n = 0;
-        for (int y = 0; y < 54; ++y)
-            for (int x = 0; x < 96; ++x) {
-                Hit hit;
-                const Ray r = rays.generate(x + 0.5f, y + 0.5f);
-                if (s.geometry.intersect(r, hit)) n += s.geometry.interaction(r, hit).material == 2;
-            }
-        return n;
+        return materialPixels(s, 96, 54, 2);
     };
     EXPECT_GT(markerPixels(0.5), 10);
     EXPECT_EQ(markerPixels(1.5), 0);

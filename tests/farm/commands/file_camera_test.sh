@@ -13,6 +13,7 @@
 set -euo pipefail
 RAYFARM=$1 SRC=$2 WORK=$3
 . "$SRC/tests/lib/refusal.sh"
+. "$SRC/tests/lib/farm_modes.sh"
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1 HWLOC_COMPONENTS=-gl
 FLY=$SRC/tests/reference/animated_camera.gltf
 CAMS=/usr/share/assimp/models/glTF2/cameras/Cameras.gltf
@@ -55,18 +56,7 @@ grep -q '2 whole plays' fly.txt || fail "info text does not count whole plays"
 
 # 2. The farm: frame and pixel mode at 1 to 3 ranks, the same bytes.
 common=(--camera 0 --size 48x28 --spp 1 --fps 6 --exposure 0 --tonemap clamp)  # 13 frames: 49/24 s at 6 fps, both ends
-render_np() {  # np mode
-    mpirun --oversubscribe -np "$1" "$RAYFARM" render "$FLY" "${common[@]}" --mode "$2" -o "np$1_$2.mp4" \
-        --frames-dir "np$1_$2" 2>"np$1_$2.log" || { cat "np$1_$2.log"; fail "render np $1 $2"; }
-}
-render_np 1 frame
-for run in "2 frame" "3 frame" "2 pixel" "3 pixel"; do
-    render_np $run
-    d=np${run// /_}
-    for f in np1_frame/frame_*.png; do
-        cmp -s "$f" "$d/$(basename "$f")" || fail "$(basename "$f") differs between np 1 frame mode and $run"
-    done
-done
+farm_modes_identical "$RAYFARM" "$FLY" "${common[@]}"
 n=$(ls np1_frame/frame_*.png | wc -l)
 [ "$n" -eq 13 ] || fail "expected 13 kept frames, got $n"
 cmp -s np1_frame/frame_000000.png np1_frame/frame_000012.png && fail "the camera did not move: frames 0 and 12 are the same"
