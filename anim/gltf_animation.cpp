@@ -549,6 +549,18 @@ std::vector<int> animationsMoving(const SceneGraph& g, int node) {
     return out;
 }
 
+std::vector<int> animationsKeyingLens(const SceneGraph& g, int camera) {
+    std::vector<int> out;
+    for (size_t a = 0; a < g.animations.size(); ++a)
+        for (const PropertyChannel& c : g.animations[a].properties)
+            if (c.target == camera && (c.property == AnimProperty::CameraYfov || c.property == AnimProperty::CameraXmag ||
+                                       c.property == AnimProperty::CameraYmag)) {
+                out.push_back(int(a));
+                break;
+            }
+    return out;
+}
+
 std::vector<int> defaultAnimations(const SceneGraph& g) {
     std::vector<int> chosen;
     // (node, path) pairs taken; weights count as a path of their own.

@@ -151,6 +151,9 @@ int findAnimation(const SceneGraph& graph, const std::string& name);
 int chooseAnimation(const SceneGraph& graph, const std::string& choice);
 /// The animations of graph that move `node` or a node above it (translation, rotation, scale).
 std::vector<int> animationsMoving(const SceneGraph& graph, int node);
+/// The animations of graph that key a lens property of the file's camera `camera` (its cameras[]
+/// index) through KHR_animation_pointer: yfov, xmag, ymag.
+std::vector<int> animationsKeyingLens(const SceneGraph& graph, int camera);
 
 /// What a bare model plays when nothing is chosen: its animations in order, each one taken
 /// unless it animates a node property (translation, rotation, scale, morph weights), or a property

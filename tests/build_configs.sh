@@ -11,6 +11,11 @@
 #                         each configuration's log: DIR/NAME.log)
 #   RAYFARM_CONFIGS_JOBS  parallel jobs (default: nproc)
 #   CMAKE_CXX_COMPILER_LAUNCHER  e.g. ccache, passed on (leave it unset for build times)
+#   RAYFARM_CONFIGS_SCOPE all (default): everything the configuration builds by default, the
+#                         test suites and benchmarks too; product: what a user's build installs
+#                         (rayfarm, its viewer and libraries: -DRAYFARM_BUILD_TESTS=OFF
+#                         -DRAYFARM_BUILD_BENCH=OFF), as CI builds the configurations besides the
+#                         default one, whose full build tests/run.sh already makes
 set -uo pipefail
 src=$(cd "$(dirname "$0")/.." && pwd)
 dir=${RAYFARM_CONFIGS_DIR:-$src/build-configs}
@@ -43,17 +48,23 @@ mkdir -p "$dir"
 clone=$dir/src
 rm -rf "$clone"
 git clone -q --no-hardlinks "$src" "$clone" || { echo "build_configs: cannot clone $src" >&2; exit 2; }
+scope=()
+case "${RAYFARM_CONFIGS_SCOPE:-all}" in
+all) ;;
+product) scope=(-DRAYFARM_BUILD_TESTS=OFF -DRAYFARM_BUILD_BENCH=OFF) ;;
+*) echo "build_configs: RAYFARM_CONFIGS_SCOPE is all or product, not $RAYFARM_CONFIGS_SCOPE" >&2; exit 2 ;;
+esac
 launcher=()
 [ -n "${CMAKE_CXX_COMPILER_LAUNCHER:-}" ] && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER="$CMAKE_CXX_COMPILER_LAUNCHER")
 
 failed=0
-printf '%-8s %8s %8s %s\n' config seconds warnings result
+printf '%-8s %8s %8s %s\n' config seconds warnings "result (scope: ${RAYFARM_CONFIGS_SCOPE:-all})"
 for c in "${configs[@]}"; do
     b=$dir/build-$c log=$dir/$c.log
     rm -rf "$b"
     start=$(date +%s)
     # shellcheck disable=SC2046
-    { cmake -S "$clone" -B "$b" $(args_for "$c") -DRAYFARM_WERROR=OFF "${launcher[@]}" &&
+    { cmake -S "$clone" -B "$b" $(args_for "$c") -DRAYFARM_WERROR=OFF "${scope[@]}" "${launcher[@]}" &&
       cmake --build "$b" -j"$jobs"; } >"$log" 2>&1
     status=$?
     secs=$(($(date +%s) - start))

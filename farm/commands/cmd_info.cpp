@@ -94,15 +94,19 @@ json cameraViewsJson(const Scene& scene) {
     for (size_t i = 0; i < scene.gltfCameraNodes.size(); ++i) {
         const Scene::CameraNode& cn = scene.gltfCameraNodes[i];
         json v = {{"option", i}, {"camera", cn.camera}, {"node", cn.node}};
-        json moving = json::array();
+        json moving = json::array(), lens = json::array();
         if (cn.model >= 0 && size_t(cn.model) < scene.geometry.models.size()) {
             const SceneGraph& g = scene.geometry.models[size_t(cn.model)];
             v["node_name"] = cn.node >= 0 && size_t(cn.node) < g.nodes.size() ? g.nodes[size_t(cn.node)].name : std::string();
-            for (int a : anim::animationsMoving(g, cn.node))
-                moving.push_back({{"index", a}, {"name", g.animations[size_t(a)].name}, {"duration_s", tidy(g.animations[size_t(a)].duration())}});
+            auto entry = [&](int a) {
+                return json{{"index", a}, {"name", g.animations[size_t(a)].name}, {"duration_s", tidy(g.animations[size_t(a)].duration())}};
+            };
+            for (int a : anim::animationsMoving(g, cn.node)) moving.push_back(entry(a));
+            for (int a : anim::animationsKeyingLens(g, cn.camera)) lens.push_back(entry(a));
         }
         v["animated"] = !moving.empty();
         v["animations"] = moving;
+        v["lens_animations"] = lens;  // KHR_animation_pointer keys of its yfov or magnification
         const std::string& fault = i < scene.gltfCameraFaults.size() ? scene.gltfCameraFaults[i].second : std::string();
         v["usable"] = fault.empty();
         views.push_back(v);
@@ -277,15 +281,17 @@ std::string infoText(const json& j) {
         s += "    --camera " + std::to_string(v["option"].get<int>()) + ": node " + std::to_string(v["node"].get<int>()) + " " +
              quoted(v["node_name"]) + ", camera " + std::to_string(v["camera"].get<int>());
         if (!v["usable"].get<bool>()) s += ", unusable";
-        if (!v["animated"].get<bool>()) s += ", still\n";
-        else {
-            std::string names;
-            for (const json& a : v["animations"]) {
-                if (!names.empty()) names += ", ";
-                names += std::to_string(a["index"].get<int>()) + " " + quoted(a["name"]) + " (" + fmt("%.4g", a["duration_s"].get<double>()) + " s)";
+        auto names = [&](const json& list) {
+            std::string out;
+            for (const json& a : list) {
+                if (!out.empty()) out += ", ";
+                out += std::to_string(a["index"].get<int>()) + " " + quoted(a["name"]) + " (" + fmt("%.4g", a["duration_s"].get<double>()) + " s)";
             }
-            s += ", animated by " + names + "\n";
-        }
+            return out;
+        };
+        s += v["animated"].get<bool>() ? ", animated by " + names(v["animations"]) : std::string(", still");
+        if (!v["lens_animations"].empty()) s += ", its lens keyed by " + names(v["lens_animations"]);
+        s += "\n";
     }
     section("scenes", j["scenes"]);
     for (const json& sc : j["scenes"])

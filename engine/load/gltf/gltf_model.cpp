@@ -237,7 +237,7 @@ void GltfModel::noteDrops(const DropCounts& d) {
     // Material extensions are noted per material, where they are met; the animation pointer's
     // channels just above.
     for (const std::string& e : model_.extensionsUsed)
-        if (!isSupportedExtension(e) && e.rfind("KHR_materials_", 0) != 0 && e != "KHR_animation_pointer")
+        if (!isSupportedExtension(e) && e.rfind("KHR_materials_", 0) != 0)
             notes_.push_back("extension " + e + " ignored");
 }
 

@@ -27,6 +27,10 @@ want = {"/extensions/KHR_lights_punctual/lights/0/intensity", "/cameras/0/perspe
         "/materials/1/pbrMetallicRoughness/baseColorFactor", "/nodes/4/extensions/KHR_node_visibility/visible"}
 assert want <= paths, paths
 assert not any("KHR_animation_pointer" in n for n in d.get("notes", [])), d.get("notes")
+v = d["camera_views"][0]
+assert not v["animated"] and [a["name"] for a in v["lens_animations"]] == ["Show"], v
+ext = {e["name"]: e for e in d["extensions"]}
+assert ext["KHR_animation_pointer"]["supported"] and ext["KHR_node_visibility"]["supported"], ext
 print("info ok")
 PY
 
