@@ -256,7 +256,8 @@ std::vector<uint8_t> GltfAnimationPlayer::visibleNodes(const SceneGraph& g, cons
 }
 
 void GltfAnimationPlayer::applyLights(Scene& scene, const std::vector<DMat4>& renderFromNode, const std::vector<uint8_t>& visible,
-                                      const std::function<double(size_t)>& timeOf, const std::vector<Light>* restLights) const {
+                                      const std::function<double(size_t)>& timeOf) const {
+    const SceneGraph& graph = scene.geometry.models[size_t(model_)];
     for (size_t i = 0; i < scene.lights.size(); ++i) {
         Light& L = scene.lights[i];
         if (L.model != model_ || L.node < 0 || size_t(L.node) >= renderFromNode.size()) continue;
@@ -298,9 +299,15 @@ void GltfAnimationPlayer::applyLights(Scene& scene, const std::vector<DMat4>& re
                 default: break;
             }
         }
-        if (L.type == LightType::Spot) L.innerCone = std::min(L.innerCone, L.outerCone);
-        if (!visible.empty() && !visible[node]) L.intensity = 0.f;
-        else if (!intensityKeyed && restLights && i < restLights->size()) L.intensity = (*restLights)[i].intensity;
+        // As the loader orders them: the outer cone no narrower than the inner one.
+        if (L.type == LightType::Spot) L.outerCone = std::max(L.outerCone, L.innerCone);
+        if (!visible.empty() && !visible[node]) {
+            L.intensity = 0.f;
+        } else if (!intensityKeyed) {
+            // Shown: a light hidden at rest was loaded dark; it gives what it gives when shown.
+            for (const auto& [light, shown] : graph.restHiddenLights)
+                if (size_t(light) == i) L.intensity = shown;
+        }
     }
 }
 
@@ -411,7 +418,7 @@ bool GltfAnimationPlayer::animatesCamera(int camera) const {
     return false;
 }
 
-void GltfAnimationPlayer::apply(Scene& scene, double t, const std::vector<Light>* restLights) const {
+void GltfAnimationPlayer::apply(Scene& scene, double t) const {
     if (model_ < 0 || model_ >= static_cast<int>(scene.geometry.models.size())) return;
     std::vector<DMat4> renderFromNode;
     std::vector<std::vector<double>> weights;
@@ -420,7 +427,7 @@ void GltfAnimationPlayer::apply(Scene& scene, double t, const std::vector<Light>
     const auto timeOf = [&](size_t part) { return localTime(t, part); };
     std::vector<uint8_t> visible;
     if (anyVisibility_) visible = visibleNodes(graph, timeOf);
-    applyLights(scene, renderFromNode, visible, timeOf, restLights);
+    applyLights(scene, renderFromNode, visible, timeOf);
     if (!properties_.empty()) applyMaterials(scene, timeOf);
     if (!visible.empty()) {
         // A hidden node's meshes collapse under a zero matrix (SceneGeometry leaves them out);

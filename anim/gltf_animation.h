@@ -78,11 +78,13 @@ public:
     /// names the nearest of kPoseAnchors poses spaced over it, whose tree a deforming mesh's
     /// is refitted from (SceneGeometry::PoseAnchor).
     /// KHR_animation_pointer properties are set too: the model's lights (their node's motion,
-    /// colour, intensity, range and cones; a light whose node is hidden gives no light, and
-    /// restLights, the scene's lights as loaded, gives back what visibility took), its materials
-    /// (factors and texture transforms) and its nodes' KHR_node_visibility (a hidden node's
-    /// meshes are posed with a zero matrix, which SceneGeometry leaves out of the frame).
-    void apply(Scene& scene, double t, const std::vector<Light>* restLights = nullptr) const;
+    /// colour, intensity, range and cones; a light whose node is hidden gives no light), its
+    /// materials (factors and texture transforms) and its nodes' KHR_node_visibility (a hidden
+    /// node's meshes are posed with a zero matrix, which SceneGeometry leaves out of the frame).
+    /// It sets only what the animations key, on top of the lights as the caller has them:
+    /// Timeline::apply resets them to their loaded values first, so that a frame depends on its
+    /// time alone.
+    void apply(Scene& scene, double t) const;
     /// Sets the properties of the file's camera `camera` (its cameras[] index) that the
     /// animations key (yfov; xmag or ymag, whichever the lens is fitted by) at timeline time t.
     void applyCamera(int camera, double t, Camera& lens) const;
@@ -137,7 +139,7 @@ private:
     /// Each node's visibility (its own and its parents') at the parts' times.
     std::vector<uint8_t> visibleNodes(const SceneGraph& graph, const std::function<double(size_t)>& timeOf) const;
     void applyLights(Scene& scene, const std::vector<DMat4>& renderFromNode, const std::vector<uint8_t>& visible,
-                     const std::function<double(size_t)>& timeOf, const std::vector<Light>* restLights) const;
+                     const std::function<double(size_t)>& timeOf) const;
     void applyMaterials(Scene& scene, const std::function<double(size_t)>& timeOf) const;
 };
 

@@ -197,12 +197,17 @@ bool Timeline::animatesGeometry() const { return spec_ && !spec_->players.empty(
 void Timeline::apply(Scene& scene, double t) const {
     if (!spec_) return;
     const TimelineSpec& s = *spec_;
+    // Every light as loaded first: what the keys below set is then a function of t alone (a
+    // cone clamped, a light hidden or keyed on an earlier frame leaves nothing behind).
+    for (size_t i = 0; i < scene.lights.size() && i < s.restLights.size(); ++i) scene.lights[i] = s.restLights[i];
     if (s.turntable) s.turntable->apply(scene, t, s.restLights);
     applyCamera(s.camera, scene, t);
+    // The models' own keys (KHR_animation_pointer), then the scene file's light tracks, which
+    // override them where both key a light.
+    for (const GltfAnimationPlayer& pl : s.players) pl.apply(scene, t);
     for (const LightTracks& lt : s.lights)
         if (lt.light < static_cast<int>(scene.lights.size()))
             applyLight(lt, s.restLights[lt.light], scene.lights[lt.light], t);
-    for (const GltfAnimationPlayer& pl : s.players) pl.apply(scene, t, &s.restLights);
     if (s.fileCamera) applyFileCamera(*s.fileCamera, s.players, scene, t);
 }
 

@@ -2,6 +2,7 @@
 /// A model's node hierarchy and keyframed animations, kept after loading so anim/ can move
 /// nodes per frame. Engine fills it (glTF loader); anim evaluates it; Scene applies the result.
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "engine/util/vec_math.h"
@@ -124,6 +125,9 @@ struct SceneGraph {
     std::vector<Skin> skins;
     /// The materials that KHR_animation_pointer channels animate (AnimatedMaterial).
     std::vector<AnimatedMaterial> animatedMaterials;
+    /// Lights on nodes hidden at rest that an animation can show (KHR_node_visibility): loaded
+    /// with intensity 0, each with (its Scene::lights index, the intensity it gives when shown).
+    std::vector<std::pair<int, float>> restHiddenLights;
 };
 
 }  // namespace rf

@@ -121,17 +121,23 @@ uint64_t lightsKey(const Scene& scene) {
 /// passes): an animation that keys a material's factors makes the points again.
 uint64_t materialsKey(const Scene& scene) {
     uint64_t h = 0xCBF29CE484222325ull;
-    for (const Material& m : scene.materials) {
-        const float f[] = {m.color.r,        m.color.g,        m.color.b,       m.alpha,           m.alphaCutoff,
-                           m.metallic,       m.roughness,      m.specularWeight, m.emission.r,     m.emission.g,
-                           m.emission.b,     m.transmission,   m.ior,           m.thickness,       m.attenuation.r,
-                           m.attenuation.g,  m.attenuation.b,  m.sheenColor.r,  m.sheenColor.g,    m.sheenColor.b,
-                           m.sheenRoughness, m.clearcoat,      m.clearcoatRoughness, m.occlusionStrength,
-                           m.baseColorTransform.offset.x, m.baseColorTransform.offset.y, m.baseColorTransform.rotation,
-                           m.baseColorTransform.scale.x, m.baseColorTransform.scale.y, m.emissiveTransform.offset.x,
-                           m.emissiveTransform.offset.y, m.emissiveTransform.rotation, m.emissiveTransform.scale.x,
-                           m.emissiveTransform.scale.y};
+    auto transform = [&](const TextureTransform& t) {
+        const float f[] = {t.offset.x, t.offset.y, t.rotation, t.scale.x, t.scale.y};
         h = hashBytes(h, f, sizeof f);
+    };
+    for (const Material& m : scene.materials) {
+        const float f[] = {m.color.r,        m.color.g,          m.color.b,         m.alpha,          m.alphaCutoff,
+                           m.metallic,       m.roughness,        m.specularWeight,  m.emission.r,     m.emission.g,
+                           m.emission.b,     m.transmission,     m.ior,             m.thickness,      m.attenuation.r,
+                           m.attenuation.g,  m.attenuation.b,    m.sheenColor.r,    m.sheenColor.g,   m.sheenColor.b,
+                           m.sheenRoughness, m.clearcoat,        m.clearcoatRoughness, m.occlusionStrength,
+                           m.normalScale,    m.clearcoatNormalScale};
+        h = hashBytes(h, f, sizeof f);
+        for (const TextureTransform* t :
+             {&m.baseColorTransform, &m.normalTransform, &m.metallicRoughnessTransform, &m.occlusionTransform, &m.emissiveTransform,
+              &m.clearcoatTransform, &m.clearcoatRoughnessTransform, &m.clearcoatNormalTransform, &m.specularGlossinessTransform,
+              &m.sheenColorTransform, &m.sheenRoughnessTransform, &m.thicknessTransform})
+            transform(*t);
     }
     return h;
 }

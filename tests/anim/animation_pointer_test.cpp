@@ -214,9 +214,14 @@ TEST(AnimationPointer, ALightsKeyedIntensityScalesItsRadianceAndItsColourTints) 
     EXPECT_NEAR(p[2] / p[0], 0.55, 1e-3);
     ASSERT_EQ(posed.lights.size(), 1u);
     EXPECT_NEAR(p[0] / b.pixel(fx, fy)[0], 1.0, 1e-3);  // red as bright as with white light
-    // The whole stage at 1 s: the cone keyed 0.5 -> 0.9 is halfway.
-    renderAt(loadJson(stage(), "stage", 0), 1.0, &posed);
-    EXPECT_NEAR(posed.lights[0].outerCone, 0.7f, 1e-6);
+    // The whole stage: the outer cone keyed 0.5 -> 0.2 -> 0.9 over 2 s, never narrower than the
+    // inner cone (0.3), which stays.
+    const LoadedScene whole = loadJson(stage(), "stage", 0);
+    renderAt(whole, 0.5, &posed);
+    EXPECT_NEAR(posed.lights[0].outerCone, 0.35f, 1e-6);
+    renderAt(whole, 1.0, &posed);
+    EXPECT_NEAR(posed.lights[0].outerCone, 0.3f, 1e-6);
+    EXPECT_NEAR(posed.lights[0].innerCone, 0.3f, 1e-6);
     EXPECT_NEAR(posed.lights[0].intensity * 683.0, 100.0, 1e-3);
 }
 
@@ -271,7 +276,7 @@ TEST(AnimationPointer, MaterialFactorsAndTextureTransformsFollowTheirKeys) {
     g["images"] = {{{"uri", "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8z8DwHwAFBQIAX8jx0gAAAABJRU5ErkJggg=="}}};
     g["textures"] = {{{"source", 0}}};
     g["materials"][1]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
-    const json& colourKeys = g["accessors"][15];
+    const json& colourKeys = g["accessors"][16];
     ASSERT_EQ(colourKeys["type"], "VEC4");
     g["accessors"].push_back({{"bufferView", colourKeys["bufferView"]}, {"componentType", 5126}, {"count", 2}, {"type", "VEC2"}});
     json& show = g["animations"][0];
@@ -321,6 +326,97 @@ TEST(AnimationPointer, KeysOfTheWrongTypeAndImpossibleTargetsAreRefusedNamingBot
     g["animations"][0]["channels"][4]["target"]["extensions"]["KHR_animation_pointer"]["pointer"] =
         "/materials/1/normalTexture/extensions/KHR_texture_transform/offset";
     EXPECT_NE(refusal(g).find("material 1's normalTexture, which the material lacks"), std::string::npos) << refusal(g);
+}
+
+TEST(AnimationPointer, AFrameIsAFunctionOfItsTimeAlone) {
+    // One scene taken through frames out of order (as a rank handed frames of a resumed film
+    // is) ends each one exactly as a fresh copy posed at that time alone: lights (the cone
+    // clamped at 1 s, the intensity), the camera's field of view, the material, the marker's
+    // visibility. The cone and the visibility are keyed down and back up, so a value left over
+    // from an earlier frame would show.
+    const LoadedScene loaded = loadJson(stage(), "stage", 0);
+    const anim::Timeline tl = anim::Timeline::fromScene(loaded);
+    Scene reused = loaded.scene;
+    for (double t : {1.0, 1.5, 0.25, 1.25, 0.0, 0.75, 1.0}) {
+        tl.apply(reused, t);
+        Scene fresh = loaded.scene;
+        tl.apply(fresh, t);
+        ASSERT_EQ(reused.lights.size(), fresh.lights.size());
+        for (size_t i = 0; i < fresh.lights.size(); ++i) {
+            const Light &a = reused.lights[i], &b = fresh.lights[i];
+            EXPECT_EQ(a.intensity, b.intensity) << t;
+            EXPECT_EQ(a.color, b.color) << t;
+            EXPECT_EQ(a.innerCone, b.innerCone) << t;
+            EXPECT_EQ(a.outerCone, b.outerCone) << t;
+            EXPECT_EQ(a.position, b.position) << t;
+        }
+        EXPECT_EQ(reused.camera.fovDeg, fresh.camera.fovDeg) << t;
+        for (size_t m = 0; m < fresh.materials.size(); ++m) {
+            EXPECT_EQ(reused.materials[m].color, fresh.materials[m].color) << t;
+            EXPECT_EQ(reused.materials[m].emission, fresh.materials[m].emission) << t;
+        }
+        EXPECT_EQ(materialPixels(reused, 96, 54, 2), materialPixels(fresh, 96, 54, 2)) << t;
+    }
+}
+
+TEST(AnimationPointer, ASceneFilesLightTrackOverridesTheModelsKeys) {
+    // A scene file that keys light 0's intensity (a glTF light the model's animation keys too)
+    // gets its own values: the file's keys are applied first, the scene file's over them.
+    const std::string dir = outDir();
+    std::ofstream(dir + "/stage_for_scene.gltf") << stage().dump();
+    std::ofstream(dir + "/keyed.json") << R"({"camera": {"eye": [0, 2, 6], "target": [0, 0.5, 0], "up": [0, 1, 0], "fov": 45},
+  "objects": [{"type": "model", "path": "stage_for_scene.gltf"}],
+  "timeline": {"fps": 2, "duration": 2, "animation": true,
+               "lights": [{"light": 0, "intensity": [{"time": 0, "value": 0.25}, {"time": 2, "value": 0.75}]}]}})";
+    DiskFileSource fs;
+    const LoadedScene loaded = loadScene(dir + "/keyed.json", fs);
+    const anim::Timeline tl = anim::Timeline::fromScene(loaded);
+    Scene s = loaded.scene;
+    tl.apply(s, 1.0);
+    ASSERT_FALSE(s.lights.empty());
+    EXPECT_NEAR(s.lights[0].intensity, 0.5f, 1e-6);
+    // The animation's other keys still play: the colour at 1 s is (1, 0.75, 0.55).
+    EXPECT_NEAR(s.lights[0].color.g, 0.75f, 1e-6);
+}
+
+TEST(AnimationPointer, ANodeHiddenAtRestStaysHiddenWhenNoAnimationPlays) {
+    // The marker hidden at rest, with a point light of its own, and keyed visible before 1 s:
+    // the film shows both before 1 s and neither after; a scene file that plays no animation
+    // ("animation": false) shows neither.
+    json g = stage();
+    g["nodes"][4]["extensions"]["KHR_node_visibility"]["visible"] = false;
+    g["nodes"][4]["extensions"]["KHR_lights_punctual"] = {{"light", 1}};
+    g["extensions"]["KHR_lights_punctual"]["lights"].push_back({{"type", "point"}, {"intensity", 5.0}});
+    const LoadedScene film = loadJson(g, "rest_hidden", 0);
+    ASSERT_EQ(film.scene.lights.size(), 2u);
+    Scene s;
+    renderAt(film, 0.5, &s);
+    EXPECT_GT(materialPixels(s, 96, 54, 2), 10);
+    EXPECT_NEAR(s.lights[1].intensity * 683.0, 5.0, 1e-4);
+    renderAt(film, 1.5, &s);
+    EXPECT_EQ(materialPixels(s, 96, 54, 2), 0);
+    EXPECT_EQ(s.lights[1].intensity, 0.f);
+
+    const std::string dir = outDir();
+    std::ofstream(dir + "/rest_hidden_model.gltf") << g.dump();
+    std::ofstream(dir + "/rest_hidden_still.json") << R"({"camera": {"eye": [0, 2, 6], "target": [0, 0.5, 0], "up": [0, 1, 0], "fov": 45},
+  "objects": [{"type": "model", "path": "rest_hidden_model.gltf"}], "timeline": {"fps": 2, "duration": 1, "animation": false}})";
+    DiskFileSource fs;
+    const LoadedScene still = loadScene(dir + "/rest_hidden_still.json", fs);
+    Scene t = still.scene;
+    anim::Timeline::fromScene(still).apply(t, 0.5);
+    int marker = -1;  // (a scene file numbers its materials its own way)
+    for (size_t m = 0; m < t.materials.size(); ++m)
+        if (t.materials[m].name == "Marker") marker = int(m);
+    ASSERT_GE(marker, 0);
+    EXPECT_EQ(materialPixels(t, 96, 54, marker), 0);
+    // (Where a shown marker would be seen through that camera: it is in view.)
+    Scene shown = film.scene;
+    renderAt(film, 0.5, &shown);
+    shown.camera = t.camera;
+    EXPECT_GT(materialPixels(shown, 96, 54, 2), 10);
+    ASSERT_EQ(t.lights.size(), 2u);
+    EXPECT_EQ(t.lights[1].intensity, 0.f);
 }
 
 }  // namespace rf::anim

@@ -4,7 +4,8 @@ KHR_animation_pointer (issue 42), which Blender 3.4 cannot export (Blender 4 wri
 
 A floor, a box and a small marker cube; a spot light above them and a camera. One animation,
 "Show", 2 s: the spot's intensity 40 -> 160 cd and colour white -> orange, its outer cone
-0.5 -> 0.9 rad; the camera's yfov 0.9 -> 0.6 rad; the box's base colour red -> blue and
+0.5 -> 0.2 -> 0.9 rad (narrower than the 0.3 inner cone for a while, which the outer one then
+follows); the camera's yfov 0.9 -> 0.6 rad; the box's base colour red -> blue and
 its emissive strength 0 -> 3 (emissive factor 0.2); the marker hidden (KHR_node_visibility) from
 1 s on. Every buffer is a data: URI, so the file travels alone.
     python3 tests/anim/make_animated_pointers.py [OUT]
@@ -75,11 +76,12 @@ floor = ([-3, 0, -3, 3, 0, -3, 3, 0, 3, -3, 0, 3], [0, 1, 0] * 4, [0, 2, 1, 0, 3
 meshes = [mesh(*floor, 0), mesh(*box(0.5, 0.5, 0.5), 1), mesh(*box(0.25, 0.25, 0.25), 2)]
 
 two = add("f", [0.0, 2.0], "SCALAR", minmax=True)
+three = add("f", [0.0, 1.0, 2.0], "SCALAR", minmax=True)
 steps = add("f", [0.0, 1.0], "SCALAR", minmax=True)
 samplers = [
     {"input": two, "output": add("f", [40.0, 160.0], "SCALAR")},                         # 0 intensity
     {"input": two, "output": add("f", [1, 1, 1, 1, 0.5, 0.1], "VEC3")},                  # 1 colour
-    {"input": two, "output": add("f", [0.5, 0.9], "SCALAR")},                            # 2 outer cone
+    {"input": three, "output": add("f", [0.5, 0.2, 0.9], "SCALAR")},                    # 2 outer cone
     {"input": two, "output": add("f", [0.9, 0.6], "SCALAR")},                            # 3 yfov
     {"input": two, "output": add("f", [0.8, 0.1, 0.1, 1, 0.1, 0.2, 0.8, 1], "VEC4")},    # 4 base colour
     {"input": two, "output": add("f", [0.0, 3.0], "SCALAR")},                            # 5 emissive strength

@@ -6,6 +6,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "engine/geometry/skinning.h"
 #include "engine/util/errors.h"
 #include "engine/util/load_control.h"
 #include "engine/load/gltf/gltf_lights_cameras.h"
@@ -287,6 +288,7 @@ void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel, int materialOve
     LoadStep step("building its meshes and materials");
     MaterialBuilder materials(scene, model_, path_, assets_);
     DropCounts dropped;
+    const size_t firstMesh = scene.geometry.meshes.size(), firstLight = scene.lights.size();
     for (int node : order_) {
         pollLoadCancel();
         const DMat4 renderFromNode = renderFromModel * modelFromNode_[size_t(node)];
@@ -295,6 +297,23 @@ void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel, int materialOve
         addNodeLightAndCamera(scene, node, renderFromNode, shown);
     }
     noteDrops(dropped);
+    // Hidden at rest, shown by some animation: collapsed and dark until a player shows them, so
+    // a film that plays no such animation (or a still) does not show them either. Joints keep
+    // their place (a skin on a shown node follows them).
+    std::vector<uint8_t> joint(model_.nodes.size(), 0);
+    for (const Skin& sk : skins_)
+        for (int j : sk.joints)
+            if (j >= 0 && size_t(j) < joint.size()) joint[size_t(j)] = 1;
+    for (size_t i = firstMesh; i < scene.geometry.meshes.size(); ++i) {
+        TriangleMesh& m = scene.geometry.meshes[i];
+        if (m.node >= 0 && hidden[size_t(m.node)] && !joint[size_t(m.node)]) poseMesh(m, DMat4(0.0), nullptr, nullptr);
+    }
+    for (size_t i = firstLight; i < scene.lights.size(); ++i) {
+        Light& L = scene.lights[i];
+        if (L.node < 0 || !hidden[size_t(L.node)]) continue;
+        scene.geometry.models.back().restHiddenLights.push_back({int(i), L.intensity});
+        L.intensity = 0.f;
+    }
     addAnimatedMaterials(scene.geometry.models.back(), materials);
     for (const std::string& n : notes_) scene.notes.push_back(path_ + ": " + n);
 }
@@ -316,7 +335,8 @@ void GltfModel::addAnimatedMaterials(SceneGraph& graph, const MaterialBuilder& m
         AnimatedMaterial am;
         am.file = file;
         am.scene = materialOverride_ >= 0 ? -1 : materials.converted(file);
-        if (gm.emissiveFactor.size() == 3) am.emissiveFactor = Color(float(gm.emissiveFactor[0]), float(gm.emissiveFactor[1]), float(gm.emissiveFactor[2]));
+        if (gm.emissiveFactor.size() == 3)  // clamped as the material loader clamps it
+            for (int c = 0; c < 3; ++c) am.emissiveFactor[c] = float(std::clamp(gm.emissiveFactor[size_t(c)], 0.0, 1.0));
         auto number = [](const tinygltf::Value& v, const char* key, double fallback) {
             return v.Has(key) && v.Get(key).IsNumber() ? v.Get(key).GetNumberAsDouble() : fallback;
         };
