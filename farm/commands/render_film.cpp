@@ -60,7 +60,7 @@ std::string describeThreads(const RenderJob& job, const Transport& t) {
 /// Rank 0 after the scene is shared: runFarm with the job's sinks, then the outcome's lines. It
 /// takes the MPI transport for abort(): a lost worker cannot be stopped any other way.
 int runRank0(MpiTransport& t, const RenderJob& job, SharedScene& shared, const std::vector<std::string>& args,
-             Clock::time_point wallStart, const std::string& progressLabel, std::vector<OutputLock>& locks) {
+             Clock::time_point wallStart, const std::string& progressLabel, std::vector<OutputLock>& locks, bool moreFilms) {
     for (const std::string& note : shared.scene.notes) printLine("note", note);  // one write() a line: mpirun interleaves ranks by write
     if (const std::string keep = keepAliveNote(t.size()); !keep.empty()) printLine("note", keep);
     if (bounceLeftOutForMotion(shared.scene, job.settings))
@@ -102,6 +102,13 @@ int runRank0(MpiTransport& t, const RenderJob& job, SharedScene& shared, const s
     }
     if (o.abortRanks) t.abort(code);
     if (o.lostWorkers > 0) {
+        // Every film of a job starts with a broadcast to every rank: the ranks left cannot start
+        // the next one without the lost rank, so the job ends with this film.
+        if (moreFilms) {
+            printLine("error", "a worker was lost during this film: the films after it are not started (the ranks left "
+                               "cannot start one without it); run them again");
+            if (code == 0) code = 1;
+        }
         // A rank given up on may still run (stopped, hung, cut off): MPI_Finalize would wait for
         // it. Without --enable-recovery Open MPI would also end the job when rank 0 leaves
         // without it, with a failure: MPI_Abort with the run's status ends the ranks left and
@@ -114,6 +121,11 @@ int runRank0(MpiTransport& t, const RenderJob& job, SharedScene& shared, const s
         // (minutes, its keepalive's): it is ended if it outlives rank 0 by a few seconds.
         armLauncherReaper(MpiTransport::kLauncherGraceSeconds);
         t.skipFinalize();
+        if (moreFilms) {
+            for (OutputLock& l : locks) l.release();
+            t.flush(1.0);
+            std::_Exit(code);
+        }
     }  // a lost worker cannot be stopped politely, and mpirun waits for it
     return code;
 }
@@ -178,7 +190,7 @@ int renderFilm(MpiTransport& t, const ArgParser& p, const std::vector<std::strin
     }
     std::string label;
     if (film) label = "film " + std::to_string(film->index + 1) + " of " + std::to_string(film->count) + ", " + filmName(job.scenePath);
-    return runRank0(t, job, shared, args, wallStart, label, locks);
+    return runRank0(t, job, shared, args, wallStart, label, locks, film && film->index + 1 < film->count);
 }
 
 }  // namespace rf::cli
