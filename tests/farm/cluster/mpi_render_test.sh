@@ -344,7 +344,7 @@ stalled-worker)
     rm -rf stall.* stallone.*
     small=(render "$FLIGHT" --size 160x90 --spp 9 --frames 0:47 --chunk-frames 6)
     "$RAYFARM" "${small[@]}" -o stallone.mp4 2> stallone.log || { cat stallone.log; fail "one-process reference failed"; }
-    mpirun --oversubscribe -np 3 "$RAYFARM" "${small[@]}" --mode frame -o stall.mp4 --timeout 2 2> stall.log &
+    mpirun --oversubscribe -np 3 "$RAYFARM" "${small[@]}" --mode frame -o stall.mp4 --timeout 4 2> stall.log &
     pid=$!
     wait_for_pngs stall.mp4.frames 4 60
     victim=$(rank_pid "$pid" 2)
@@ -487,13 +487,15 @@ lost-worker)
     # Issue 45 #1: under mpirun --enable-recovery, kill -9 of rank 2 of 4 in MODE (frame,
     # pixel) once AT frames are done (early, late): rank 0 names it, its frames, tiles and chunks
     # go to ranks 1 and 3, and the MP4 and PNGs are byte-identical to one process's; --stats
-    # lists the lost worker. KILL "1 3": two of four killed.
+    # lists the lost worker. RANKS "1 3": two of four killed. --timeout 6: on a machine loaded
+    # ten times over its cores (ctest -j2 beside builds) a live rank's heartbeat was once late by
+    # 4 s, and two such false losses left no rank to render.
     mode=$1 at=$2 victims=${3:-2}
     name=lost_${mode}_$at
     rm -rf $name.* lostone.*
     small=(render "$FLIGHT" --size 160x90 --spp 9 --frames 0:47 --chunk-frames 6)
     "$RAYFARM" "${small[@]}" -o lostone.mp4 2> lostone.log || { cat lostone.log; fail "one-process reference failed"; }
-    mpirun --oversubscribe --enable-recovery -np 4 "$RAYFARM" "${small[@]}" --mode "$mode" --timeout 3 --stats $name.json \
+    mpirun --oversubscribe --enable-recovery -np 4 "$RAYFARM" "${small[@]}" --mode "$mode" --timeout 6 --stats $name.json \
         -o $name.mp4 2> $name.log &
     pid=$!
     wait_for_pngs $name.mp4.frames "$at" 60
@@ -512,7 +514,9 @@ lost-worker)
     python3 - "$name.json" $victims <<'PY' || fail "--stats does not list the lost workers"
 import json, sys
 lost = json.load(open(sys.argv[1])).get("lost_workers", [])
-assert sorted(l["rank"] for l in lost) == sorted(int(r) for r in sys.argv[2:]), lost
+# The killed ranks; on a loaded machine another may have been silent past --timeout too (its
+# work then went elsewhere as well, and the film is still checked byte for byte above).
+assert {int(r) for r in sys.argv[2:]} <= {l["rank"] for l in lost}, lost
 assert all(l["at_s"] > 0 and l["requeued"] and l["doing"] for l in lost), lost
 PY
     echo "lost-worker ($mode, killed at $at frames, ranks $victims): $(grep -c 'warning: rank' $name.log) lost, film byte-identical to one process; $(grep -m1 -Eo 'its work goes to .*' $name.log)"
@@ -583,7 +587,7 @@ poison-frame)
     [ "$rc" != 124 ] || { cat poison.log; fail "still running after 120 s"; }
     grep -q "rayfarm: error: .*frame 20 was being rendered by each of the 2 ranks lost so far holding it" poison.log ||
         { cat poison.log; fail "no error naming frame 20 and the 2 ranks"; }
-    [ "$(grep -c 'stopped answering' poison.log)" = 2 ] || { cat poison.log; fail "expected 2 ranks lost before the stop"; }
+    [ "$(grep -c 'stopped answering' poison.log)" -ge 2 ] || { cat poison.log; fail "expected 2 ranks lost before the stop"; }
     grep -q "to resume: .*--resume$" poison.log || { cat poison.log; fail "no resume command"; }
     echo "poison-frame: $(grep -Eo 'frame 20 was being rendered .{0,40}' poison.log)"
     ;;
