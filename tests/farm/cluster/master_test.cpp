@@ -3,6 +3,7 @@
 // ends the run with a message naming it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <filesystem>
@@ -184,7 +185,7 @@ TEST(Master, ASilentWorkersWorkGoesToTheOthersAndTheFilmCompletes) {
         FrameAssembler assembler(w, h, all, {});
         MasterConfig cfg;
         cfg.quiet = true;
-        cfg.workerTimeout = 0.5;
+        cfg.workerTimeout = 2.0;  // a live rank late by 0.5 s on a loaded machine is no loss
         cfg.requeueLost = true;
         std::vector<std::string> notes;
         cfg.log = [&notes](const std::string& line) { notes.push_back(line); };
@@ -203,6 +204,63 @@ TEST(Master, ASilentWorkersWorkGoesToTheOthersAndTheFilmCompletes) {
         ASSERT_EQ(frames.size(), reference.size()) << m;
         for (const auto& [f, rgb] : reference) EXPECT_TRUE(frames.at(f) == rgb) << m << ": frame " << f << " differs from one renderer's";
     }
+}
+
+// Issue 45 #3: a worker given up on that speaks again (a process continued after SIGSTOP) has
+// what it sends ignored, is said to have come back, and is told to leave (kStopAfterLossExit);
+// the film is one renderer's, frame for frame.
+TEST(Master, AWorkerThatComesBackAfterItWasGivenUpOnIsIgnoredAndToldToLeave) {
+    const auto reference = rf::testing::referenceFarmFrames();
+    LoopbackHub hub(3);
+    auto worker = [&hub](int rank, double startAfter, int* code) {
+        return std::thread([&hub, rank, startAfter, code] {
+            std::this_thread::sleep_for(std::chrono::duration<double>(startAfter));  // stopped, then continued
+            LoopbackTransport t(hub, rank);
+            LoadedScene sLoaded = rf::testing::loadFarmScene();
+            Scene& s = sLoaded.scene;
+            const anim::Timeline tl = anim::Timeline::fromScene(sLoaded);
+            const RenderSettings st = s.settings;
+            RenderEngine engine(std::move(s), tl, st, 1);
+            *code = runWorker(t, engine);
+        });
+    };
+    int code1 = -1, code2 = -1;
+    std::thread w1 = worker(1, 0.0, &code1);
+    std::thread w2 = worker(2, 3.0, &code2);  // silent past the 2 s timeout, then back
+    LoadedScene sceneLoaded = rf::testing::loadFarmScene();
+    Scene& scene = sceneLoaded.scene;
+    const int w = scene.settings.width, h = scene.settings.height;
+    LoopbackTransport t(hub, 0);
+    const anim::FrameRanges all = anim::FrameRanges::span(0, int(reference.size()) - 1);
+    auto sched = makeFrameScheduler(all, w, h, 8);
+    FrameAssembler assembler(w, h, all, {});
+    MasterConfig cfg;
+    cfg.quiet = true;
+    cfg.workerTimeout = 2.0;  // a live rank late by 0.5 s on a loaded machine is no loss
+    cfg.requeueLost = true;
+    std::vector<std::string> notes;
+    cfg.log = [&notes](const std::string& line) { notes.push_back(line); };
+    std::map<int, std::vector<uint8_t>> frames;
+    Master master(t, *sched, assembler, nullptr, [&](ReadyFrame& rf) { frames[rf.frame] = rf.rgb; }, cfg);
+    const MasterOutcome o = master.run();
+    // Rank 2 comes back while the film may still render: rank 0 hears it there, or here.
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    auto heard = [&notes] {
+        return std::any_of(notes.begin(), notes.end(), [](const std::string& n) { return n.find("answered again") != std::string::npos; });
+    };
+    master.idle([&] { return heard() || std::chrono::steady_clock::now() > until; });
+    master.stopWorkers();
+    w1.join();
+    w2.join();
+    ASSERT_EQ(o.end, RunEnd::Done) << o.message;
+    ASSERT_EQ(o.lost.size(), 1u);
+    EXPECT_EQ(o.lost[0].rank, 2);
+    EXPECT_TRUE(std::any_of(notes.begin(), notes.end(), [](const std::string& n) { return n.find("rank 2 answered again") != std::string::npos; }))
+        << "no note that rank 2 came back";
+    EXPECT_EQ(code2, kStopAfterLossExit) << "rank 2 was not told to leave as a lost rank";
+    EXPECT_EQ(code1, kStopAfterLossExit) << "after a loss every rank leaves without MPI_Finalize";
+    ASSERT_EQ(frames.size(), reference.size());
+    for (const auto& [f, rgb] : reference) EXPECT_TRUE(frames.at(f) == rgb) << "frame " << f << " differs from one renderer's";
 }
 
 // Issue 45: no rendering rank left, or one frame held by maxFrameFailures ranks when each was
