@@ -192,8 +192,10 @@ MasterConfig FarmRun::masterConfig(int totalFrames) const {
     // Its own epoch: on workers that served an earlier run (a viewer's cancelled film), late
     // results of that run are dropped rather than taken for work this one never gave.
     cfg.epoch = newEpoch();
-    // A lost worker's work goes to the others (when the launcher keeps the job alive).
-    cfg.requeueLost = true;
+    // A lost worker's work goes to the others (when the launcher keeps the job alive). Not in a
+    // viewer's film (keepWorkers): its ranks go back to the window's views, which stop at a lost
+    // rank (view_session.h), so the film stops there too, as the window reports.
+    cfg.requeueLost = !opts_.keepWorkers;
     cfg.maxFrameFailures = job_.maxFrameFailures;
     cfg.log = opts_.log;
     return cfg;
