@@ -37,8 +37,9 @@ void awaitStop(Transport& t, double seconds) {
 
 namespace {
 
-/// Test hook (tests/farm/fault_*.sh): the frame whose rendering kills this worker, as a crash
-/// would (SIGKILL, once its heartbeat has named the frame); -1 when not set.
+/// Test hook (mpi_render_test.sh poison-frame, docs/testing.md): the frame whose rendering
+/// kills this worker, as a crash would (SIGKILL, once its heartbeat has named the frame); -1
+/// when not set.
 int crashFrameForTests() {
     const char* v = std::getenv("RAYFARM_TEST_CRASH_FRAME");
     return v && *v ? std::atoi(v) : -1;
