@@ -127,7 +127,9 @@ bool ChunkWorkshop::placeTile(TileResult& tile) {
     if (r.x0 < 0 || r.y0 < 0 || r.x1 > w || r.y1 > h || r.x0 >= r.x1 || r.y0 >= r.y1 || tile.layout.channels != ch ||
         tile.rgb.size() != size_t(r.pixels()) * size_t(ch))
         throw std::runtime_error(bad + "does not fit the frame");
-    if (r.pixels() > it->pixelsLeft) throw std::runtime_error(bad + "came twice");  // more than the frame still lacks
+    // A frame or tile that came before: rendered again after its rank was lost (rank 0 had not
+    // heard it was done), the same pixels, so the copy is dropped.
+    if (it->pixelsLeft == 0) return true;
     if (it->pixelsLeft == r.pixels() && it->pixels.empty()) {  // the whole frame at once (frame mode): taken as it is
         it->pixels = std::move(tile.rgb);
         it->pixelsLeft = 0;
@@ -138,8 +140,10 @@ bool ChunkWorkshop::placeTile(TileResult& tile) {
         it->covered.resize(size_t(w) * size_t(h));
     }
     const auto rowOf = [&](int y) { return it->covered.begin() + long(size_t(y) * size_t(w) + size_t(r.x0)); };
-    for (int y = r.y0; y < r.y1; ++y)
-        if (std::find(rowOf(y), rowOf(y) + r.width(), uint8_t{1}) != rowOf(y) + r.width()) throw std::runtime_error(bad + "came twice");
+    int64_t seen = 0;
+    for (int y = r.y0; y < r.y1; ++y) seen += std::count(rowOf(y), rowOf(y) + r.width(), uint8_t{1});
+    if (seen == r.pixels()) return true;  // the same tile again (above)
+    if (seen > 0) throw std::runtime_error(bad + "overlaps one placed before");
     const size_t row = size_t(r.width()) * size_t(ch);
     for (int y = r.y0; y < r.y1; ++y) {
         std::copy_n(tile.rgb.data() + size_t(y - r.y0) * row, row, it->pixels.data() + (size_t(y) * size_t(w) + size_t(r.x0)) * size_t(ch));

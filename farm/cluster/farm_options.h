@@ -82,6 +82,9 @@ struct FarmOutcome {
     /// WorkerLost with workers left: they cannot be stopped politely; the caller ends every rank
     /// (MpiTransport::abort) once it has said why.
     bool abortRanks = false;
+    /// Workers given up on during the run, their work done by the others: the ranks left must
+    /// not call MPI_Finalize, which would wait for them (MpiTransport::skipFinalize).
+    int lostWorkers = 0;
     /// Filled for every end (frames = frames in the video); written to job.statsPath when Done.
     RunStats stats;
 };

@@ -1,6 +1,7 @@
 #include "farm/cluster/master.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <thread>
 #include <utility>
 
@@ -103,7 +104,7 @@ void Master::openAssembly(const WorkItem& chunk) {
     int best = named ? chunk.assembler : -1;
     for (int step = 1; step <= n && !named; ++step) {
         const int r = (lastAssembler_ + step) % n;
-        if (r == 0 && !local_) continue;
+        if ((r == 0 && !local_) || workers_[size_t(r)].lost) continue;
         if (best < 0 || workers_[size_t(r)].assembling.size() < workers_[size_t(best)].assembling.size()) best = r;
     }
     lastAssembler_ = best;
@@ -113,12 +114,13 @@ void Master::openAssembly(const WorkItem& chunk) {
     w.assembling.push_back(chunk);
     ChunkOrder order = chunks_.orderFor(chunk);
     if (best == 0) chunks_.local->submitAssembly(std::move(order));
-    else t_.send(best, kTagChunkAssemble, encodeChunkOrder(order));
+    else sendTo(best, kTagChunkAssemble, encodeChunkOrder(order));
 }
 
 void Master::handle(const Message& m) {
     if (m.source <= 0 || m.source >= int(workers_.size())) return;
     WorkerState& w = workers_[size_t(m.source)];
+    if (w.lost) return lateMessage(w, m.tag);
     w.lastHeard = Clock::now();
     w.answeredAfterInterrupt = true;
     dispatch(m.source, m.tag, m.bytes);
@@ -132,7 +134,8 @@ void Master::dispatch(int rank, int tag, const std::string& bytes) {
         break;
     case kTagTileDone: {
         const TileResult r = decodeTileDone(bytes);
-        if (r.item.epoch == epoch_) tileReturned(rank, r);
+        if (r.item.epoch == epoch_ && tileReturned(rank, r) && cfg_.requeueLost && r.item.assembler >= 0 && r.item.assembler != rank)
+            w.delivered.push_back(r.item);
         break;
     }
     case kTagTile:  // a tile of a chunk rank 0 assembles itself
@@ -186,6 +189,12 @@ void Master::acceptChunkDone(int rank, const WorkItem& item, std::string bytes) 
     }
     chunks.erase(it);
     chunks_.collector->add(item.chunk, std::move(bytes));
+    // Its frames are in: nothing rendered for it need be rendered again.
+    const ChunkPlan& plan = chunks_.collector->plan();
+    for (WorkerState& x : workers_)
+        x.delivered.erase(std::remove_if(x.delivered.begin(), x.delivered.end(),
+                                         [&](const WorkItem& i) { return plan.chunkOf(i.frame) == item.chunk; }),
+                          x.delivered.end());
 }
 
 int Master::creditsOf(const WorkerState& w) const {
@@ -201,10 +210,10 @@ bool Master::handOut() {
     for (bool more = true; more;) {
         more = false;
         for (WorkerState& w : workers_) {
-            if (w.rank == 0 && !local_) continue;
+            if ((w.rank == 0 && !local_) || w.lost) continue;
             if (int(w.outstanding.size()) >= creditsOf(w)) continue;
-            std::optional<WorkItem> item = sched_->nextFor(w.rank);
-            for (; item && chunks_.collector && item->chunk >= 0; item = sched_->nextFor(w.rank)) {
+            std::optional<WorkItem> item = sched_->take(w.rank);
+            for (; item && chunks_.collector && item->chunk >= 0; item = sched_->take(w.rank)) {
                 item->epoch = epoch_;
                 openAssembly(*item);  // a chunk's marker: its frames or tiles follow
                 any = true;
@@ -220,7 +229,7 @@ bool Master::handOut() {
             if (w.rank == 0) {
                 local_->submit(*item);  // with a workshop, its poll routes the result
             } else {
-                t_.send(w.rank, kTagWork, encodeWorkItem(*item));
+                sendTo(w.rank, kTagWork, encodeWorkItem(*item));
             }
             any = more = true;
         }
@@ -235,13 +244,8 @@ void Master::keepAlive(Clock::time_point now) {
         for (WorkerState& w : workers_) w.lastHeard = now;
     if (std::chrono::duration<double>(now - lastBeat_).count() < kMasterBeatSeconds) return;
     lastBeat_ = now;
-    for (int r = 1; r < t_.size(); ++r) {
-        try {
-            t_.send(r, kTagAlive, "");
-        } catch (const TransportError&) {
-            // A lost worker shows up as silence below.
-        }
-    }
+    for (int r = 1; r < t_.size(); ++r)
+        if (!workers_[size_t(r)].lost) sendTo(r, kTagAlive, "");
 }
 
 bool Master::gather() {
@@ -264,7 +268,7 @@ bool Master::gatherLocal(double waitSeconds) {
     if (chunks_.local) {
         for (ChunkWorkshop::Outgoing& o : chunks_.local->poll(waitSeconds)) {
             if (o.dest == 0) dispatch(0, o.tag, o.bytes);
-            else t_.send(o.dest, o.tag, std::move(o.bytes));  // a tile for the rank assembling its frame
+            else sendTo(o.dest, o.tag, std::move(o.bytes));  // a tile for the rank assembling its frame
             any = true;
         }
         if (const std::string err = chunks_.local->error(); !err.empty()) failure_ = "rank 0: " + err;
@@ -306,7 +310,7 @@ bool Master::passOn() {
 
 std::string Master::lostWorker(Clock::time_point now, int* rank) const {
     for (const WorkerState& w : workers_) {
-        if (w.rank == 0) continue;
+        if (w.rank == 0 || w.lost) continue;
         const double silent = std::chrono::duration<double>(now - w.lastHeard).count();
         if (silent > cfg_.workerTimeout) {
             char buf[64];
@@ -324,7 +328,7 @@ ProgressCounts Master::progressCounts(Clock::time_point now) const {
     c.encoded = out_.framesPassed;
     c.rendered = std::max(c.rendered, c.encoded);  // a frame encoded was rendered
     for (const WorkerState& w : workers_) {
-        if (w.rank == 0 && !local_) continue;  // rank 0 only schedules and encodes
+        if ((w.rank == 0 && !local_) || w.lost) continue;  // rank 0 only schedules and encodes
         // Alive: rank 0's own engine, or a rank heard from within the worker timeout.
         const bool alive = w.rank == 0 || std::chrono::duration<double>(now - w.lastHeard).count() <= cfg_.workerTimeout;
         if (!alive) continue;
@@ -374,7 +378,12 @@ MasterOutcome Master::run() {
         // encoder queue) never counts against a worker.
         const auto now = Clock::now();
         keepAlive(now);  // emit may have blocked, or this process been stopped, since the top
-        if (std::string lost = lostWorker(now, &out_.lostRank); !lost.empty()) return finish(RunEnd::WorkerLost, std::move(lost));
+        if (std::string lost = lostWorker(now, &out_.lostRank); !lost.empty()) {
+            if (!cfg_.requeueLost) return finish(RunEnd::WorkerLost, std::move(lost));
+            if (std::string end = loseWorker(out_.lostRank, lost); !end.empty()) return finish(RunEnd::WorkerLost, std::move(end));
+            out_.lostRank = -1;
+            continue;  // its work goes out again at once
+        }
         if (!cfg_.quiet) progress.update(progressCounts(now));
         if (!progressed) {
             if (local_) {
@@ -430,7 +439,7 @@ std::string Master::findSilentWorker(double seconds, int* rank) {
         }
         const WorkerState* silent = nullptr;
         for (const WorkerState& w : workers_)
-            if (w.rank > 0 && !w.answeredAfterInterrupt) {
+            if (w.rank > 0 && !w.lost && !w.answeredAfterInterrupt) {
                 silent = &w;
                 break;
             }
@@ -438,16 +447,116 @@ std::string Master::findSilentWorker(double seconds, int* rank) {
         if (Clock::now() > end) {
             if (rank) *rank = silent->rank;
             return who(silent->rank) + " stopped answering " + describeBusy(*silent) +
-                   " (it probably died: mpirun stops the whole job when a rank does)";
+                   " (it probably died: mpirun stops the whole job when a rank does, unless started with --enable-recovery)";
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }
 }
 
-void tellWorkersToStop(Transport& t, double flushSeconds) {
+void Master::note(const std::string& line) const {
+    if (cfg_.log) cfg_.log(line);
+    else std::fprintf(stderr, "rayfarm: %s\n", line.c_str());
+}
+
+void Master::sendTo(int rank, int tag, std::string bytes) {
+    try {
+        t_.send(rank, tag, std::move(bytes));
+    } catch (const TransportError&) {
+        // A worker that is gone shows up as its silence (lostWorker).
+    }
+}
+
+void Master::lateMessage(WorkerState& w, int tag) {
+    if (w.toldLost) return;
+    w.toldLost = true;
+    note("note: " + who(w.rank) + " answered again (" + (tag == kTagHeartbeat ? std::string("a heartbeat") : "message tag " + std::to_string(tag)) +
+         ") after it was given up on; what it sends is ignored, its work is done elsewhere, and it is told to leave");
+    sendTo(w.rank, kTagStop, kStopAfterLoss);
+}
+
+namespace {
+
+/// "frames 3, 4, 9" from items (each frame once, in the order given).
+std::string framesOf(const std::vector<WorkItem>& items) {
+    std::vector<int> frames;
+    for (const WorkItem& i : items)
+        if (std::find(frames.begin(), frames.end(), i.frame) == frames.end()) frames.push_back(i.frame);
+    std::string s = frames.size() == 1 ? "frame" : "frames";
+    for (size_t i = 0; i < frames.size(); ++i) s += (i ? ", " : " ") + std::to_string(frames[i]);
+    return s;
+}
+
+}  // namespace
+
+std::string Master::loseWorker(int rank, const std::string& why) {
+    WorkerState& w = workers_[size_t(rank)];
+    LostWorker lw;
+    lw.rank = rank;
+    lw.host = t_.host(rank);
+    lw.atSeconds = std::chrono::duration<double>(Clock::now() - started_).count();
+    lw.doing = describeBusy(w);
+    // The frame it was on when it went: a frame that takes every rank down with it is given up on.
+    int culprit = -1;
+    const int said = saidFrame(w);
+    for (const WorkItem& i : w.outstanding)
+        if (i.frame == said) culprit = said;
+    if (culprit < 0 && !w.outstanding.empty()) culprit = w.outstanding.front().frame;
+    // Chunks it assembled open again on other ranks, every frame of them; the items it held of
+    // other chunks (or of no chunk) go out again as they were.
+    std::vector<int> reopened;
+    std::string chunksText;
+    for (const WorkItem& c : w.assembling) {
+        sched_->reopenChunk(c.chunk);
+        reopened.push_back(c.chunk);
+        chunksText += (chunksText.empty() ? "chunk " : ", chunk ") + std::to_string(c.chunk) + " (frames " + std::to_string(c.frame) + "–" +
+                      std::to_string(c.frame + c.frames - 1) + ")";
+    }
+    std::vector<WorkItem> requeued;
+    std::vector<WorkItem> items = w.outstanding;
+    items.insert(items.end(), w.delivered.begin(), w.delivered.end());
+    for (const WorkItem& i : items) {
+        if (chunks_.collector &&
+            std::find(reopened.begin(), reopened.end(), chunks_.collector->plan().chunkOf(i.frame)) != reopened.end())
+            continue;
+        sched_->requeue(i);
+        requeued.push_back(i);
+    }
+    lw.requeued = requeued.empty() ? "" : framesOf(requeued);
+    if (sched_->mode() == Mode::Pixel && !requeued.empty())
+        lw.requeued += " (" + std::to_string(requeued.size()) + (requeued.size() == 1 ? " tile)" : " tiles)");
+    if (!chunksText.empty()) lw.requeued += (lw.requeued.empty() ? "" : "; ") + chunksText;
+    if (lw.requeued.empty()) lw.requeued = "nothing";
+    w.outstanding.clear();
+    w.assembling.clear();
+    w.delivered.clear();
+    w.lost = true;
+    out_.lost.push_back(lw);
+    if (culprit >= 0) {
+        std::vector<int>& ranks = frameFailures_[culprit];
+        ranks.push_back(rank);
+        if (int(ranks.size()) >= std::max(1, cfg_.maxFrameFailures)) {
+            std::string list;
+            for (size_t i = 0; i < ranks.size(); ++i) list += (i ? ", " : "") + std::to_string(ranks[i]);
+            return why + "; frame " + std::to_string(culprit) + " was being rendered by each of the " + std::to_string(ranks.size()) +
+                   " ranks lost so far holding it (ranks " + list + "): a frame that takes down every worker it reaches, "
+                   "given up on (--max-frame-failures " + std::to_string(cfg_.maxFrameFailures) + ")";
+        }
+    }
+    const bool renderersLeft =
+        local_ || std::any_of(workers_.begin() + 1, workers_.end(), [](const WorkerState& x) { return !x.lost; });
+    if (!renderersLeft) return why + "; no worker is left to render";
+    int alive = 0;
+    for (const WorkerState& x : workers_)
+        if (!x.lost && (x.rank > 0 || local_)) ++alive;
+    note("warning: " + why + "; its work goes to the " + std::to_string(alive) + " rendering rank" + (alive == 1 ? "" : "s") +
+         " left: " + lw.requeued);
+    return "";
+}
+
+void tellWorkersToStop(Transport& t, double flushSeconds, bool afterLoss) {
     for (int r = 1; r < t.size(); ++r) {
         try {
-            t.send(r, kTagStop, "");
+            t.send(r, kTagStop, afterLoss ? kStopAfterLoss : "");
         } catch (const TransportError&) {
             // That worker is gone; the others still need the word.
         }
@@ -466,7 +575,8 @@ StopWorkersOnThrow::~StopWorkersOnThrow() {
 
 void Master::stopWorkers() {
     if (std::exchange(stopped_, true)) return;  // a second word would wait for ranks that left
-    tellWorkersToStop(t_);
+    // A lost rank's sends never complete: the others' words go out well within a second.
+    tellWorkersToStop(t_, out_.lost.empty() ? 2.0 : 1.0, !out_.lost.empty());
 }
 
 }  // namespace rf::farm

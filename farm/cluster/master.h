@@ -45,6 +45,22 @@ struct MasterConfig {
     std::function<bool()> between;
     /// Stamped on every item handed out; results of other epochs are dropped (newEpoch()).
     uint64_t epoch = 0;
+    /// A worker lost (silent past workerTimeout: dead, stopped, cut off) has its work handed to
+    /// the others and the run goes on, until no rendering rank is left or one frame was held by
+    /// maxFrameFailures ranks when they were lost. false: the run ends WorkerLost at once.
+    bool requeueLost = false;
+    int maxFrameFailures = 3;
+    /// Where notes about lost workers go (rank 0's log); nullptr: stderr.
+    std::function<void(const std::string&)> log;
+};
+
+/// A worker given up on during a run (MasterConfig::requeueLost).
+struct LostWorker {
+    int rank = 0;
+    std::string host;
+    double atSeconds = 0.0;  ///< since the master started
+    std::string doing;       ///< "while rendering frame 12 ..."
+    std::string requeued;    ///< what went to the other ranks: "frames 12, 13; chunk 3 (frames 30–39)"
 };
 
 enum class RunEnd { Done, Interrupted, WorkerLost, Failed, Yielded };
@@ -58,12 +74,15 @@ struct MasterOutcome {
     RayStats rays;
     std::vector<RankStats> perRank;  ///< index = rank
     std::chrono::steady_clock::time_point firstDispatch{};
+    std::vector<LostWorker> lost;  ///< in the order they were lost
 };
 
 /// Tells every worker (ranks 1..size-1) to leave, skipping any that is gone, and waits up to
 /// flushSeconds for the words to go out. Rank 0 calls it itself when it fails before its
 /// master's loop starts, since a worker that hears nothing waits for work that never comes.
-void tellWorkersToStop(Transport& t, double flushSeconds = 2.0);
+/// afterLoss: a worker was lost, so the others leave without MPI_Finalize (which would wait for
+/// it: kStopAfterLossExit).
+void tellWorkersToStop(Transport& t, double flushSeconds = 2.0, bool afterLoss = false);
 
 /// Rank 0's set-up before its master's loop (the sinks, the frame plan, its own engine): an
 /// exception that leaves the scope before dismiss() tells the workers to stop, so the error
@@ -141,7 +160,13 @@ private:
         bool building = false;  ///< its last heartbeat said it is still building its scene
         int threads = 0;        ///< render threads, as its heartbeat said (0: not yet)
         bool answeredAfterInterrupt = false;
+        bool lost = false;       ///< given up on: its messages are ignored
+        bool toldLost = false;   ///< it spoke again after that, and was told to leave
         std::vector<WorkItem> assembling;  ///< chunked encoding: the chunks it assembles and encodes
+        /// Chunked encoding: items it rendered for another rank's chunk not yet encoded. Their
+        /// pixels may not have reached that rank when this one is lost (a large message needs
+        /// its sender alive), so they are rendered again then (requeueLost).
+        std::vector<WorkItem> delivered;
     };
     void handle(const Message& m);
     /// A message from a rank (rank 0: its own workshop's).
@@ -172,6 +197,16 @@ private:
     /// The frame the rank last said it renders (its heartbeat; rank 0's own engine's), or -1.
     int saidFrame(const WorkerState& w) const;
     std::string who(int rank) const;  // "rank 2 on node7"
+    /// requeueLost: takes back the rank's work and hands it to the others. Returns "" while the
+    /// run can go on, else why it cannot (no rendering rank left, a poison frame).
+    std::string loseWorker(int rank, const std::string& why);
+    /// A message from a rank given up on: said once, and the rank told to leave.
+    void lateMessage(WorkerState& w, int tag);
+    void note(const std::string& line) const;
+    /// Sends to a worker; a worker that is gone shows up as silence, not as an error here.
+    void sendTo(int rank, int tag, std::string bytes);
+    std::chrono::steady_clock::time_point started_ = std::chrono::steady_clock::now();
+    std::unordered_map<int, std::vector<int>> frameFailures_;  ///< frame -> ranks lost holding it
 
     /// Interrupted (a signal or the cancel flag), with every worker's answer to it reset.
     bool interrupted();

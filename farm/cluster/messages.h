@@ -45,6 +45,10 @@ enum Tag : int {
     kTagTileDone = 24,
 };
 
+/// kTagStop's payload when a worker was lost during the run: the others leave without
+/// MPI_Finalize, which would wait for the lost one.
+inline constexpr const char* kStopAfterLoss = "lost";
+
 /// How often a worker says it is alive, even while its threads render a long frame.
 inline constexpr double kHeartbeatSeconds = 0.1;
 /// How often rank 0 tells each worker it is alive, so a worker can notice a silent master.

@@ -40,6 +40,8 @@ struct RenderJob {
     int posterFrame = -1;        ///< --poster-frame (timeline index), -1: the first frame
     int threads = 0;             ///< --threads (0: share the node's cores among its ranks)
     double workerTimeout = 10.0;
+    /// Ranks lost while rendering the same frame before the run gives up on it (a poison frame).
+    int maxFrameFailures = 3;
     int tileSize = 128;
     int chunkFramesOption = 0;   ///< --chunk-frames, 0 if not given (mp4.chunkFrames is decided)
     /// Chunked encoding on the rendering ranks (chunksOnRenderers): decided by `render` before

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <thread>
 #include <utility>
 
@@ -161,6 +162,7 @@ private:
     double rankEncodeSeconds_ = 0.0;  ///< chunk encoders' time on the ranks that encoded them
     int chunksJoined_ = 0;
     int silentRank_ = -1;
+    std::set<int> framesHeard_;  ///< chunked encoding: frames whose ChunkFrame came
     Clock::time_point end_{};
     /// After an interrupt the sinks close on a thread of their own (startClose), so the
     /// interrupted line goes out before mpirun's SIGKILL even while a slow encoder drains.
@@ -190,6 +192,12 @@ MasterConfig FarmRun::masterConfig(int totalFrames) const {
     // Its own epoch: on workers that served an earlier run (a viewer's cancelled film), late
     // results of that run are dropped rather than taken for work this one never gave.
     cfg.epoch = newEpoch();
+    // A lost worker's work goes to the others (when the launcher keeps the job alive). Not in a
+    // viewer's film (keepWorkers): its ranks go back to the window's views, which stop at a lost
+    // rank (view_session.h), so the film stops there too, as the window reports.
+    cfg.requeueLost = !opts_.keepWorkers;
+    cfg.maxFrameFailures = job_.maxFrameFailures;
+    cfg.log = opts_.log;
     return cfg;
 }
 
@@ -222,6 +230,8 @@ ChunkOrder FarmRun::orderFor(const WorkItem& item) const {
 }
 
 void FarmRun::onChunkFrame(const ChunkFrame& f) {
+    // A chunk opened again after its rank was lost sends its frames again: the same pixels.
+    if (!framesHeard_.insert(f.frame).second) return;
     if (!f.png.empty() && sinks_.frames) sinks_.frames->writePng(f.frame, f.png, f.pngSha256);
     if (!f.pixels.empty()) collector_->holdPixels(f.frame, f.pixels);
     if (f.wasKept) ++encodedKept_;
@@ -439,6 +449,7 @@ FarmOutcome FarmRun::conclude(Master& master, const MasterOutcome& o, const std:
     FarmOutcome out;
     out.videoHolds = videoHolds();
     out.stats = stats(o, end_, shared);
+    out.lostWorkers = int(o.lost.size());
     if (o.end == RunEnd::WorkerLost || !silent.empty()) {
         // The lost worker cannot be told to stop, and mpirun waits for it: the caller aborts.
         out.end = FarmEnd::WorkerLost;
@@ -487,6 +498,7 @@ RunStats FarmRun::stats(const MasterOutcome& o, Clock::time_point end, const Sha
     s.threadsPerRank = opts_.threads;
     s.rays = o.rays;
     s.perRank = o.perRank;
+    for (const LostWorker& l : o.lost) s.lostWorkers.push_back({l.rank, l.host, l.atSeconds, l.doing, l.requeued});
     s.extra["frames_rendered"] = double(s.frames - encodedKept_);
     s.extra["frames_kept"] = double(encodedKept_);
     s.extra["video_fps"] = job_.mp4.fps;

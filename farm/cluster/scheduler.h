@@ -2,6 +2,7 @@
 /// What to hand out next. Both modes hand out work dynamically, as workers ask, and keep a
 /// bounded window of open frames (started but not yet written out), so memory on rank 0 does not
 /// grow with the frame count and frames can be written in order.
+#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -31,6 +32,21 @@ public:
         (void)rank;
         return next();
     }
+    /// What the master hands `rank` next: work taken back from a lost rank first (requeue),
+    /// then nextFor's.
+    std::optional<WorkItem> take(int rank) {
+        if (retry_.empty()) return nextFor(rank);
+        WorkItem item = retry_.front();
+        retry_.pop_front();
+        return item;
+    }
+    /// An item a lost rank held, handed out again before anything new (its frame is open
+    /// already: the window does not count it twice).
+    void requeue(const WorkItem& item) { retry_.push_back(item); }
+    /// Chunked encoding: the rank assembling the chunk was lost, with every frame it held of
+    /// it. Its marker goes out again (a new rank assembles it) and then every frame of it not
+    /// kept, as if it had just opened (the window counts it once still).
+    virtual void reopenChunk(int chunk) { (void)chunk; }
     /// Work items one frame is split into.
     virtual int itemsPerFrame() const = 0;
     virtual Mode mode() const = 0;
@@ -38,7 +54,7 @@ public:
     /// Frame was written out: its place in the window is free.
     void frameReleased() { --open_; }
     /// Everything has been handed out.
-    bool exhausted() const { return frames_.atEnd(next_) && !midFrame(); }
+    bool exhausted() const { return retry_.empty() && frames_.atEnd(next_) && !midFrame(); }
     int openFrames() const { return open_; }
     int window() const { return window_; }
 
@@ -56,6 +72,7 @@ protected:
 
 private:
     anim::FrameRanges frames_;
+    std::deque<WorkItem> retry_;  ///< taken back from lost ranks
     anim::FrameCursor next_;
     int window_;
     int open_ = 0;

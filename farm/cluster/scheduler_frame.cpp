@@ -1,3 +1,5 @@
+#include <algorithm>
+
 #include "farm/cluster/scheduler.h"
 
 namespace rf::farm {
@@ -41,13 +43,21 @@ public:
         // Its own chunk's next frame, the oldest chunk first.
         for (OpenChunk& c : open_)
             if (c.owner == rank) return frame(c.next++);
-        // A chunk of its own: the marker now, its first frame when the master asks again.
-        if (const std::optional<int> n = openNextFrame()) {
+        // A chunk of its own: one whose rank was lost first (it holds the film up), then the
+        // next; the marker now, its first frame when the master asks again.
+        std::optional<int> n;
+        if (!reopen_.empty()) {
+            n = reopen_.front();
+            reopen_.pop_front();
+        } else {
+            n = openNextFrame();
+        }
+        if (n) {
             WorkItem marker{plan_.firstFrame(*n), TileRect{}};
             marker.chunk = *n;
             marker.frames = plan_.framesIn(*n);
             marker.assembler = rank;
-            open_.push_back({rank, plan_.firstFrame(*n), plan_.lastFrame(*n)});
+            open_.push_back({rank, plan_.firstFrame(*n), plan_.lastFrame(*n), *n});
             return marker;
         }
         // No chunk can open (all are, or the window is full): the next frame of the one with the
@@ -60,11 +70,16 @@ public:
         if (!most) return std::nullopt;
         return frame(most->next++);
     }
+    void reopenChunk(int chunk) override {
+        open_.erase(std::remove_if(open_.begin(), open_.end(), [&](const OpenChunk& c) { return c.chunk == chunk; }), open_.end());
+        reopen_.push_back(chunk);
+    }
     int itemsPerFrame() const override { return 1; }
     Mode mode() const override { return Mode::Frame; }
 
 protected:
     bool midFrame() const override {
+        if (!reopen_.empty()) return true;
         for (const OpenChunk& c : open_)
             for (int f = c.next; f <= c.last; ++f)
                 if (!kept_.contains(f)) return true;
@@ -75,6 +90,7 @@ private:
     struct OpenChunk {
         int owner;       ///< the rank it was opened for (its marker's assembler)
         int next, last;  ///< the frames not handed out yet lie in [next, last]
+        int chunk;
     };
     /// Drops kept frames from both ends of c's frames still to hand out; false when none is left.
     bool trim(OpenChunk& c) const {
@@ -88,6 +104,7 @@ private:
     anim::FrameRanges kept_;
     TileRect full_;
     std::vector<OpenChunk> open_;
+    std::deque<int> reopen_;  ///< chunks whose rank was lost, to open again
 };
 
 }  // namespace

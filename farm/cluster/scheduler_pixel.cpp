@@ -1,3 +1,6 @@
+#include <algorithm>
+#include <deque>
+
 #include "engine/integrators/render.h"
 #include "farm/cluster/scheduler.h"
 
@@ -45,7 +48,15 @@ public:
 
     std::optional<WorkItem> next() override {
         if (tile_ < tiles_.size()) return WorkItem{frame_, tiles_[tile_++]};
-        if (const std::optional<int> c = openNextFrame()) {
+        // A chunk whose assembling rank was lost first (it holds the film up), then the next.
+        std::optional<int> c;
+        if (!reopen_.empty()) {
+            c = reopen_.front();
+            reopen_.pop_front();
+        } else {
+            c = openNextFrame();
+        }
+        if (c) {
             WorkItem marker{plan_.firstFrame(*c), TileRect{}};
             marker.chunk = *c;
             marker.frames = plan_.framesIn(*c);
@@ -69,12 +80,20 @@ public:
         }
         return std::nullopt;
     }
+    void reopenChunk(int chunk) override {
+        const int first = plan_.firstFrame(chunk), last = plan_.lastFrame(chunk);
+        // The rest of a frame of it being handed out goes with the whole chunk.
+        if (tile_ < tiles_.size() && frame_ >= first && frame_ <= last) tile_ = tiles_.size();
+        open_.erase(std::remove_if(open_.begin(), open_.end(), [&](const OpenChunk& c) { return c.last == last; }), open_.end());
+        turn_ = 0;
+        reopen_.push_back(chunk);
+    }
     int itemsPerFrame() const override { return int(tiles_.size()); }
     Mode mode() const override { return Mode::Pixel; }
 
 protected:
     bool midFrame() const override {
-        if (tile_ < tiles_.size()) return true;
+        if (tile_ < tiles_.size() || !reopen_.empty()) return true;
         for (const OpenChunk& c : open_)
             for (int f = c.next; f <= c.last; ++f)
                 if (!kept_.contains(f)) return true;
@@ -89,6 +108,7 @@ private:
     anim::FrameRanges kept_;
     std::vector<TileRect> tiles_;
     std::vector<OpenChunk> open_;
+    std::deque<int> reopen_;  ///< chunks whose assembling rank was lost, to open again
     size_t turn_ = 0;
     size_t tile_ = SIZE_MAX;
     int frame_ = -1;

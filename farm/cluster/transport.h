@@ -70,6 +70,9 @@ public:
     [[noreturn]] void abort(int code);
     /// Ends MPI normally (also done by the destructor).
     void finalize();
+    /// A rank of the job was lost and the run went on without it: finalize() then only flushes
+    /// (for a second) and leaves MPI as it is, since MPI_Finalize would wait for the lost rank.
+    void skipFinalize() { skipFinalize_ = true; }
 
 private:
     struct Pending;
@@ -78,6 +81,7 @@ private:
     int rank_ = 0, size_ = 1, localRanks_ = 1;
     std::vector<std::string> hosts_;  // by rank
     bool finalized_ = false;
+    bool skipFinalize_ = false;
     bool solo_ = false;  ///< not started by an MPI launcher: one rank, MPI never initialised
     std::deque<std::unique_ptr<Pending>> pending_;
     std::deque<std::unique_ptr<Incoming>> incoming_;  // receives begun, in arrival order

@@ -1,7 +1,9 @@
 #include "farm/cluster/worker.h"
 
 #include <chrono>
+#include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <utility>
 #include <vector>
@@ -35,6 +37,23 @@ void awaitStop(Transport& t, double seconds) {
 
 namespace {
 
+/// Test hook (mpi_render_test.sh poison-frame, docs/testing.md): the frame whose rendering
+/// kills this worker, as a crash would (SIGKILL, once its heartbeat has named the frame); -1
+/// when not set.
+int crashFrameForTests() {
+    const char* v = std::getenv("RAYFARM_TEST_CRASH_FRAME");
+    return v && *v ? std::atoi(v) : -1;
+}
+
+/// Sends, a peer that is gone being no error here: rank 0 notices a lost worker by its
+/// silence, a worker a lost rank 0 by rank 0's.
+void sendQuietly(Transport& t, int dest, int tag, std::string bytes) {
+    try {
+        t.send(dest, tag, std::move(bytes));
+    } catch (const TransportError&) {
+    }
+}
+
 /// "rank 2 on node3": where a message comes from when ranks span hosts.
 std::string whoAmI(const Transport& t) {
     char host[256] = {};
@@ -55,6 +74,7 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
     bool signalled = false;
     bool viewing = false;    ///< a viewer's epochs have come: answer within a millisecond
     int lastItemPixels = 0;  ///< the size of the work coming in (a whole frame, or a tile)
+    const int crashFrame = crashFrameForTests();
     for (;;) {
         const auto now = Clock::now();
         if (pause.resumed(now)) lastFromMaster = now;  // this worker was stopped, not rank 0
@@ -91,7 +111,7 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
                 lastFromMaster = Clock::now();
                 heardMaster = true;
             }
-            if (m.tag == kTagStop) return 0;
+            if (m.tag == kTagStop) return m.bytes == kStopAfterLoss ? kStopAfterLossExit : 0;
             if (m.tag == kTagWork) {
                 if (signalled) continue;
                 arrived.push_back(decodeWorkItem(m.bytes));
@@ -114,8 +134,13 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
             reportWorkerError(t, err);
             return 1;
         }
+        if (crashFrame >= 0 && engine.currentFrame() == crashFrame) {
+            sendQuietly(t, 0, kTagHeartbeat, encodeHeartbeat({crashFrame, 0, 0, engine.threads()}));
+            t.flush(1.0);
+            std::raise(SIGKILL);
+        }
         if (now - lastBeat >= std::chrono::duration<double>(kHeartbeatSeconds)) {
-            t.send(0, kTagHeartbeat, encodeHeartbeat({engine.currentFrame(), signalled ? 1 : 0, 0, engine.threads()}));
+            sendQuietly(t, 0, kTagHeartbeat, encodeHeartbeat({engine.currentFrame(), signalled ? 1 : 0, 0, engine.threads()}));
             lastBeat = now;
         }
         // Wait briefly for a result: short enough to answer messages promptly, long enough not
@@ -127,11 +152,11 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
         const double wait = viewing ? 0.001 : lastItemPixels >= 100000 ? 0.004 : 0.002;
         if (shop) {
             for (ChunkWorkshop::Outgoing& o : shop->poll(wait))
-                if (!signalled) t.send(o.dest, o.tag, std::move(o.bytes));
+                if (!signalled) sendQuietly(t, o.dest, o.tag, std::move(o.bytes));
         } else if (auto r = engine.takeResult(wait)) {
-            if (!signalled) t.send(0, kTagResult, encodeTileResult(*r));
+            if (!signalled) sendQuietly(t, 0, kTagResult, encodeTileResult(*r));
             while ((r = engine.takeResult()))
-                if (!signalled) t.send(0, kTagResult, encodeTileResult(*r));
+                if (!signalled) sendQuietly(t, 0, kTagResult, encodeTileResult(*r));
         }
     }
 }

@@ -13,8 +13,11 @@ namespace rf::farm {
 /// What runWorker returns when rank 0 fell silent: the caller must leave at once (_exit), as
 /// MPI_Finalize would wait for rank 0 forever.
 inline constexpr int kMasterSilentExit = 3;
+/// What runWorker returns when rank 0 says stop after it gave up on a worker (kStopAfterLoss):
+/// the caller leaves at once with status 0, as MPI_Finalize would wait for the lost rank.
+inline constexpr int kStopAfterLossExit = 4;
 
-/// Runs until rank 0 says stop (returns 0), the render fails (the error goes to rank 0 first;
+/// Runs until rank 0 says stop (returns 0, or kStopAfterLossExit), the render fails (the error goes to rank 0 first;
 /// returns 1), a signal arrives and rank 0 does not say stop within a few seconds (returns 130),
 /// or rank 0 says nothing for `masterTimeout` seconds while this worker runs (prints why;
 /// returns kMasterSilentExit).

@@ -48,6 +48,19 @@ std::string shellQuote(const std::string& s) {
     return q + "'";
 }
 
+bool launcherKeepsJobAlive() {
+    if (!std::getenv("OMPI_COMM_WORLD_SIZE")) return true;
+    const char* v = std::getenv("OMPI_MCA_orte_enable_recovery");
+    const std::string on = v ? v : "";
+    return on == "1" || on == "true" || on == "yes" || on == "on";
+}
+
+std::string keepAliveNote(int ranks) {
+    if (ranks < 2 || launcherKeepsJobAlive()) return "";
+    return "mpirun was started without --enable-recovery: a worker that dies ends the whole job (the frames done are kept "
+           "for --resume); with mpirun --enable-recovery its work goes to the other ranks and the film completes";
+}
+
 std::string launcherPrefix(int ranks) {
     if (ranks <= 1 && !std::getenv("OMPI_COMM_WORLD_SIZE")) return "";
     // Read once, while mpirun runs: after a second Ctrl-C the parent is gone when this is asked.

@@ -14,4 +14,14 @@ std::string shellQuote(const std::string& s);
 /// arguments are read at the first call (cmd_render asks early, while mpirun surely runs).
 std::string launcherPrefix(int ranks);
 
+/// Under Open MPI's mpirun with workers: "" when mpirun keeps the job alive when a rank dies
+/// (--enable-recovery, i.e. OMPI_MCA_orte_enable_recovery set), else a note that a dying worker
+/// ends the whole job and how to keep it going. "" for one rank or other launchers.
+std::string keepAliveNote(int ranks);
+
+/// Whether the launcher lets the job go on when a rank dies: Open MPI's mpirun only with
+/// --enable-recovery (OMPI_MCA_orte_enable_recovery); true for other launchers (srun
+/// --no-kill is the user's to give), false for one process.
+bool launcherKeepsJobAlive();
+
 }  // namespace rf::farm

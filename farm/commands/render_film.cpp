@@ -8,10 +8,12 @@
 #include "engine/util/errors.h"
 #include "engine/util/load_control.h"
 #include "engine/util/parallel.h"
+#include "farm/commands/launch_command.h"
 #include "farm/commands/render_decision.h"
 #include "farm/commands/render_options.h"
 #include "farm/commands/render_outcome.h"
 #include "farm/commands/worker_head_start.h"
+#include "farm/cluster/launcher_reaper.h"
 #include "farm/cluster/master.h"
 #include "farm/cluster/run_farm.h"
 #include "farm/cluster/scene_broadcast.h"
@@ -58,8 +60,9 @@ std::string describeThreads(const RenderJob& job, const Transport& t) {
 /// Rank 0 after the scene is shared: runFarm with the job's sinks, then the outcome's lines. It
 /// takes the MPI transport for abort(): a lost worker cannot be stopped any other way.
 int runRank0(MpiTransport& t, const RenderJob& job, SharedScene& shared, const std::vector<std::string>& args,
-             Clock::time_point wallStart, const std::string& progressLabel, std::vector<OutputLock>& locks) {
+             Clock::time_point wallStart, const std::string& progressLabel, std::vector<OutputLock>& locks, bool moreFilms) {
     for (const std::string& note : shared.scene.notes) printLine("note", note);  // one write() a line: mpirun interleaves ranks by write
+    if (const std::string keep = keepAliveNote(t.size()); !keep.empty()) printLine("note", keep);
     if (bounceLeftOutForMotion(shared.scene, job.settings))
         printLine("note", "bounce light left out: the model's geometry moves over the film, and its bounce cache would be "
                           "built again for every frame (--bounce N keeps it, at that cost)");
@@ -97,7 +100,33 @@ int runRank0(MpiTransport& t, const RenderJob& job, SharedScene& shared, const s
                                  (failed.empty() ? "" : " without the " + failed + " that could not be written") + ": " +
                                  resumeCommand(args, t.size(), failed));
     }
-    if (o.abortRanks) t.abort(code);  // a lost worker cannot be stopped politely, and mpirun waits for it
+    if (o.abortRanks) t.abort(code);
+    if (o.lostWorkers > 0) {
+        // Every film of a job starts with a broadcast to every rank: the ranks left cannot start
+        // the next one without the lost rank, so the job ends with this film.
+        if (moreFilms) {
+            printLine("error", "a worker was lost during this film: the films after it are not started (the ranks left "
+                               "cannot start one without it); run them again");
+            if (code == 0) code = 1;
+        }
+        // A rank given up on may still run (stopped, hung, cut off): MPI_Finalize would wait for
+        // it. Without --enable-recovery Open MPI would also end the job when rank 0 leaves
+        // without it, with a failure: MPI_Abort with the run's status ends the ranks left and
+        // mpirun returns that status. (With --enable-recovery MPI_Abort ends rank 0 alone.)
+        if (!launcherKeepsJobAlive()) {
+            for (OutputLock& l : locks) l.release();
+            t.abort(code);
+        }
+        // Open MPI 4.1.4's mpirun --enable-recovery still waits for a daemon on a host cut off
+        // (minutes, its keepalive's): it is ended if it outlives rank 0 by a few seconds.
+        armLauncherReaper(MpiTransport::kLauncherGraceSeconds);
+        t.skipFinalize();
+        if (moreFilms) {
+            for (OutputLock& l : locks) l.release();
+            t.flush(1.0);
+            std::_Exit(code);
+        }
+    }  // a lost worker cannot be stopped politely, and mpirun waits for it
     return code;
 }
 
@@ -148,11 +177,20 @@ int renderFilm(MpiTransport& t, const ArgParser& p, const std::vector<std::strin
         const int code = runFarmWorker(t, shared, job.fpsOption, threadsForRank(job, t), std::max(4.0, 2.0 * job.workerTimeout));
         // A silent master: leave now, as MPI_Finalize would wait for rank 0 forever.
         if (code == kMasterSilentExit) std::_Exit(1);
+        // Rank 0 went on without a lost rank. With a launcher that keeps the job alive, leave
+        // now: MPI_Finalize would wait for the lost rank. Plain mpirun takes a rank leaving
+        // without MPI_Finalize for a failure and ends the job: this rank waits in MPI_Finalize
+        // instead until rank 0 ends the job (MPI_Abort with the run's status, runRank0).
+        if (code == kStopAfterLossExit) {
+            if (!launcherKeepsJobAlive()) return 0;
+            t.flush(1.0);
+            std::_Exit(0);
+        }
         return code;
     }
     std::string label;
     if (film) label = "film " + std::to_string(film->index + 1) + " of " + std::to_string(film->count) + ", " + filmName(job.scenePath);
-    return runRank0(t, job, shared, args, wallStart, label, locks);
+    return runRank0(t, job, shared, args, wallStart, label, locks, film && film->index + 1 < film->count);
 }
 
 }  // namespace rf::cli

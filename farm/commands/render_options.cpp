@@ -78,17 +78,22 @@ const char* kRenderHelp =
     "                    rank that renders a chunk in frame mode encodes it; the file is the same\n"
     "                    at any rank count for the same N\n"
     "  --threads N       render threads per rank (default: the node's cores shared by its ranks)\n"
-    "  --timeout S       seconds a worker may stay silent before the run stops (default 10)\n"
+    "  --timeout S       seconds a worker may stay silent before it counts as lost (default 10):\n"
+    "                    its work goes to the other ranks (mpirun --enable-recovery keeps the job\n"
+    "                    alive when a rank dies; without it mpirun ends the job)\n"
+    "  --max-frame-failures K  stop when K ranks were lost while rendering the same frame (a\n"
+    "                    frame that takes down every worker it reaches; default 3)\n"
     "  --stats FILE      write run statistics as JSON (sustained_fps, per-rank busy time, ...)\n"
     "\n"
     "Ctrl-C stops cleanly: the MP4 holds the frames done so far and the command to resume is\n"
-    "printed. A worker that dies or stays silent stops the run with a message naming it.\n"
+    "printed. A worker that dies or stays silent is named and its work goes to the others; the\n"
+    "run stops, with the command to resume, when no rendering rank is left.\n"
     "Threads: Open MPI binds each rank to one core when it starts two or fewer ranks; each rank\n"
     "renders with the cores it is bound to (mpirun --bind-to none: the node's cores shared).\n";
 
 void declareRenderOptions(ArgParser& p) {
     for (const char* o : {"-o", "--mode", "--frames", "--fps", "--size", "--spp", "--depth", "--min-weight", "--indirect", "--bounce", "--tonemap",
-                          "--exposure", "--frames-dir", "--crf", "--preset", "--stats", "--threads", "--timeout", "--codec",
+                          "--exposure", "--frames-dir", "--crf", "--preset", "--stats", "--threads", "--timeout", "--max-frame-failures", "--codec",
                           "--background", "--frames-format", "--contact-sheet", "--poster", "--poster-frame", "--chunk-frames"})
         p.option(o);
     for (const char* f : {"--resume", "--overwrite", "--lossless", "--no-frames", "--preview", "--help", "-h"}) p.flag(f);
@@ -136,6 +141,7 @@ const std::vector<OptionRole>& renderOptionRoles() {
         {"--poster-frame", nullptr, "which frame the poster shows"},
         {"--threads", nullptr, "a frame is bit-identical at any thread count"},
         {"--timeout", nullptr, "how long a silent worker is waited for"},
+        {"--max-frame-failures", nullptr, "when a run gives up on a frame"},
         {"--asset-root", nullptr, "only limits where files may come from; the files read are in the input digests"},
         {"--preview", nullptr, "a window on the frames"},
         {"--resume", nullptr, "how the run starts"},
@@ -230,6 +236,7 @@ farm::RenderJob jobFromOptions(const ArgParser& p, const std::string& scene, con
     j.threads = p.intValue("--threads", 0, 1, 4096);
     j.workerTimeout = p.doubleValue("--timeout", 10.0);
     if (!(j.workerTimeout >= 0.5 && j.workerTimeout <= 86400)) throw UsageError("--timeout: expected seconds from 0.5 to 86400");
+    j.maxFrameFailures = p.intValue("--max-frame-failures", 3, 1, 1 << 20);
     if (p.has("--fps")) {
         j.fpsOption = p.doubleValue("--fps", 30.0);
         if (!anim::fpsInRange(j.fpsOption)) throw UsageError(std::string("--fps: ") + anim::kFpsRangeText);

@@ -32,6 +32,12 @@ void writeStatsJson(const std::string& path, const RunStats& s) {
     for (const RankStats& r : s.perRank)
         ranks.push_back({{"rank", r.rank}, {"busy_s", r.busySeconds}, {"frames", r.frames}, {"tiles", r.tiles}});
     j["per_rank"] = ranks;
+    if (!s.lostWorkers.empty()) {
+        nlohmann::ordered_json lost = nlohmann::ordered_json::array();
+        for (const RunStats::LostRank& l : s.lostWorkers)
+            lost.push_back({{"rank", l.rank}, {"host", l.host}, {"at_s", l.atSeconds}, {"doing", l.doing}, {"requeued", l.requeued}});
+        j["lost_workers"] = lost;
+    }
     for (const auto& [k, v] : s.extra) j[k] = v;
     for (const auto& [k, v] : s.extraText) j[k] = v;
     const std::string text = j.dump(2) + "\n";

@@ -27,6 +27,15 @@ struct RunStats {
     double encodeSeconds = 0.0;
     RayStats rays;
     std::vector<RankStats> perRank;
+    /// Workers given up on during the run (their work went to the others): written as
+    /// "lost_workers" when there are any.
+    struct LostRank {
+        int rank = 0;
+        std::string host;
+        double atSeconds = 0.0;  ///< since rendering started
+        std::string doing, requeued;
+    };
+    std::vector<LostRank> lostWorkers;
     std::map<std::string, double> extra;  ///< further numeric fields, written as they are named
     std::map<std::string, std::string> extraText;
 };

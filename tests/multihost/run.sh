@@ -7,10 +7,10 @@
 #      render their frames, in pixel mode on the hosts that assembled them from every host's tiles);
 #   2. kill -9 of the worker on farm2: the run stops, naming rank 1 and farm2;
 #   3. farm3's link cut mid-chunk (frame mode, chunks of 8 frames rendered and encoded on the
-#      hosts): the shell gets control back within 15 s, the run names rank 2, farm3 and its
-#      chunk, the video is playable, and farm3's processes end by themselves within 30 s;
-#   4. --resume on the two hosts left re-renders that chunk there, and the video is the same
-#      file, byte for byte, as one uninterrupted process gives.
+#      hosts), at Open MPI's default keepalive and then with mpirun --enable-recovery and a short
+#      keepalive (issue 45): the run names rank 2, farm3 and its chunk, gives its work to the
+#      hosts left, and the film completes, the same file byte for byte as one uninterrupted
+#      process gives; the shell gets control back within 25 s and farm3's processes end.
 # Prints one summary line. Removes namespaces, bridge and name files even when a step fails;
 # /etc/hosts is never touched (checked). Needs root; exits 77 (skipped) without it.
 set -euo pipefail
@@ -54,10 +54,11 @@ printf 'farm1 slots=1\nfarm2 slots=1\n' > hosts2
 # cut-off host) notice a dead link in seconds; Open MPI's default is 300 s + 9 × 20 s.
 MCA=(--mca plm_rsh_agent "$AGENT" --mca btl tcp,self --mca btl_tcp_if_include "$SUBNET" --mca oob_tcp_if_include "$SUBNET")
 KEEPALIVE=(--mca oob_tcp_keepalive_time 2 --mca oob_tcp_keepalive_intvl 1 --mca oob_tcp_keepalive_probes 3)
+RECOVERY=()
 farm() {  # hostfile np rayfarm-args...: mpirun on farm1, as a user logged in there would start it
     local hf=$1 np=$2
     shift 2
-    on_host farm1 mpirun --hostfile "$hf" -np "$np" "${MCA[@]}" "${KEEPALIVE[@]}" "$RAYFARM" "$@"
+    on_host farm1 mpirun --hostfile "$hf" -np "$np" "${MCA[@]}" "${KEEPALIVE[@]}" "${RECOVERY[@]}" "$RAYFARM" "$@"
 }
 pngs_md5() { (cd "$1" && md5sum frame_*.png); }
 frames_in() { ffprobe -v error -select_streams v:0 -count_frames -show_entries stream=nb_read_frames -of csv=p=0 "$1"; }
@@ -129,9 +130,11 @@ echo "multihost: kill -9 of rank 1 on farm2: stopped in $kill_s s, MP4 plays $pl
      "$(grep -Eo 'rank 1 on farm2 .{0,60}|process rank 1 with PID [0-9]+ on node farm2 exited on signal 9' kill.log | head -1)"
 
 # 3a. farm3's cable pulled, Open MPI at its default keepalive (a user's plain mpirun). rank 0
-# names the lost host; mpirun would wait minutes for its daemon on farm3, so rank 0's reaper ends
-# it; the worker on farm3 leaves its silent master by itself (after 2 x 3 s). Open MPI's daemon
-# there lingers until its own keepalive (minutes): it is ended here, and counted.
+# names the lost host and gives its chunk to the hosts left (issue 45): the film completes, the
+# same file as one process makes. mpirun would then wait minutes for its daemon on farm3, so
+# rank 0's reaper ends it; the worker on farm3 leaves its silent master by itself (after 2 x 3 s).
+# Open MPI's daemon there lingers until its own keepalive (minutes): it is ended here, and counted.
+"$RAYFARM" "${long[@]}" -o whole.mp4 2> whole.log || { cat whole.log; fail "uninterrupted run failed"; }
 saved=("${KEEPALIVE[@]}")
 KEEPALIVE=()
 timed_bg cut0 farm hosts3 3 "${long[@]}" -o cut0.mp4 2> cut0.log
@@ -154,29 +157,36 @@ for _ in $(seq 300); do
 done
 worker_s=$(since "$t0")
 ! runs "$rank2" && within "$worker_s" 12 || fail "rank 2 still runs on farm3 $worker_s s after the cut (bound 2 x 3 s + 6 s)"
-( sleep 30; kill -9 $(host_pids farm1) 2> /dev/null ) &  # a guard, should the test fail
+( sleep 40; kill -9 $(host_pids farm1) 2> /dev/null ) > /dev/null 2>&1 &  # a guard, should the test fail
 guard=$!
 wait "$job" || true
-[ -f cut0.end ] || fail "default keepalive: mpirun had not returned 30 s after the cut"
+[ -f cut0.end ] || fail "default keepalive: mpirun had not returned 40 s after the cut"
 shell0_s=$(since "$t0" "$(cat cut0.end)")
 kill "$guard" 2> /dev/null || true
-grep -q "rayfarm: error: rank 2 on farm3 stopped answering" cut0.log || { cat cut0.log; fail "default keepalive: no line naming rank 2 on farm3"; }
-within "$shell0_s" 15 || fail "default keepalive: mpirun returned $shell0_s s after the cut (bound 15 s)"
+grep -q "rayfarm: warning: rank 2 on farm3 stopped answering .*its work goes to the 1 rendering rank left" cut0.log ||
+    { cat cut0.log; fail "default keepalive: no line naming rank 2 on farm3 and where its work went"; }
+grep -q "^rayfarm: wrote cut0.mp4: 48 frames" cut0.log || { cat cut0.log; fail "default keepalive: the film did not complete"; }
+cmp -s whole.mp4 cut0.mp4 || fail "default keepalive: the video differs from one uninterrupted process's"
+within "$shell0_s" 25 || fail "default keepalive: mpirun returned $shell0_s s after the cut (bound 25 s)"
 left=$(host_pids farm3 | xargs -r ps -o comm= -p | sort | uniq -c | xargs)
 kill -9 $(host_pids farm2) $(host_pids farm3) 2> /dev/null || true
 restore_link farm3
 KEEPALIVE=("${saved[@]}")
-echo "multihost: farm3 cut off, default keepalive: named after ${named_s:-?} s, shell back in $shell0_s s, farm3's worker left by itself in $worker_s s;" \
-     "left on farm3: ${left:-nothing}"
+echo "multihost: farm3 cut off, default keepalive: named after ${named_s:-?} s, film completed byte-identical, shell back in $shell0_s s," \
+     "farm3's worker left by itself in $worker_s s; left on farm3: ${left:-nothing}"
 
-# 3. farm3's cable pulled mid-run (issue 14 #6).
+# 3. farm3's cable pulled mid-run (issue 14 #6), under mpirun --enable-recovery (issue 45), which
+# keeps the job going when its daemon on farm3 is lost (the short keepalive finds that out).
+RECOVERY=(--enable-recovery)
 timed_bg cut farm hosts3 3 "${long[@]}" -o cut.mp4 2> cut.log
 job=$!
 wait_for_pngs cut.mp4.frames 3
 t0=$(now)
 cut_link farm3
+( sleep 60; kill -9 $(host_pids farm1) 2> /dev/null ) > /dev/null 2>&1 &  # a guard, should the test fail
+guard=$!
 wait "$job" || true
-rc=$(ended cut)
+kill "$guard" 2> /dev/null || true
 shell_s=$(since "$t0" "$(cat cut.end)")
 # Empty twice, 0.2 s apart: one lookup during the exits can come back empty for a moment.
 host_empty() { [ -z "$(host_pids "$1")" ] && sleep 0.2 && [ -z "$(host_pids "$1")" ]; }
@@ -184,21 +194,11 @@ for _ in $(seq 300); do host_empty farm3 && break; sleep 0.1; done
 gone_s=$(since "$t0")
 host_empty farm3 && within "$gone_s" 30 ||
     fail "processes still on farm3 $gone_s s after its link went down: $(host_pids farm3 | xargs -r ps -o comm= -p | tr '\n' ' ')"
-[ "$rc" -ne 0 ] || fail "a run that lost a host exited 0"
-within "$shell_s" 15 || fail "mpirun returned $shell_s s after the cut (bound 15 s)"
-grep -Eq "rayfarm: error: rank 2 on farm3 stopped answering .*while rendering frame [0-9]+ of chunk [0-9]+" cut.log ||
-    { cat cut.log; fail "the stop does not name rank 2 on farm3 and its chunk"; }
+within "$shell_s" 25 || fail "mpirun returned $shell_s s after the cut (bound 25 s)"
+grep -Eq "rayfarm: warning: rank 2 on farm3 stopped answering .*while rendering frame [0-9]+ of chunk [0-9]+" cut.log ||
+    { cat cut.log; fail "the warning does not name rank 2 on farm3 and its chunk"; }
 cut_chunk=$(grep -Eo "of chunk [0-9]+ \(frames [0-9]+–[0-9]+\)" cut.log | head -1)
-played=$(frames_in cut.mp4)
-kept=$(ls cut.mp4.frames | grep -c '^frame_.*\.png$')
-[ "$played" -ge 1 ] && [ "$played" -le "$kept" ] || fail "after the cut the MP4 plays $played frames, $kept PNGs kept"
-echo "multihost: farm3 cut off mid-chunk ($cut_chunk): shell back in $shell_s s, farm3 empty in $gone_s s, MP4 plays $played frames, $kept kept"
-
-# 4. Resume on the hosts left, against one uninterrupted process.
-farm hosts2 2 "${long[@]}" -o cut.mp4 --resume 2> resume.log || { cat resume.log; fail "resume on farm1-2 failed"; }
-grep -q "rayfarm: resume: $kept of 48 frames kept" resume.log || { cat resume.log; fail "resume did not keep the $kept frames"; }
-"$RAYFARM" "${long[@]}" -o whole.mp4 2> whole.log || { cat whole.log; fail "uninterrupted run failed"; }
-cmp -s <(decoded_md5 whole.mp4) <(decoded_md5 cut.mp4) || fail "the resumed video differs from an uninterrupted run"
-cmp -s whole.mp4 cut.mp4 || fail "the resumed MP4 is not byte-identical to an uninterrupted run's"
+grep -q "^rayfarm: wrote cut.mp4: 48 frames" cut.log || { cat cut.log; fail "--enable-recovery: the film did not complete"; }
+cmp -s whole.mp4 cut.mp4 || fail "--enable-recovery: the video differs from one uninterrupted process's"
 echo "multihost: PASS in $(since "$start") s: 3 hosts bit-identical to 1 process; killed worker stopped in $kill_s s;" \
-     "cut host mid-chunk: shell back in $shell_s s, its processes gone in $gone_s s, $kept frames kept; resume on 2 hosts byte-identical"
+     "farm3 cut off mid-chunk ($cut_chunk) under --enable-recovery: film completed byte-identical, shell back in $shell_s s, farm3 empty in $gone_s s"

@@ -3,6 +3,7 @@
 // ends the run with a message naming it.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <filesystem>
@@ -157,6 +158,139 @@ TEST(Master, SilentWorkerStopsTheRunNamingRankAndFrame) {
     EXPECT_NE(o.message.find("rank 2 stopped answering"), std::string::npos) << o.message;
     EXPECT_NE(o.message.find("frame"), std::string::npos) << o.message;
     EXPECT_LT(took, 5.0);  // a bound on detection, not a speed measurement
+}
+
+// Issue 45: with requeueLost the silent rank's frames go to the rank still working, and the
+// film completes, every frame as one renderer makes it, the lost rank listed in the outcome.
+// In pixel mode its tiles go out again the same way.
+TEST(Master, ASilentWorkersWorkGoesToTheOthersAndTheFilmCompletes) {
+    const auto reference = rf::testing::referenceFarmFrames();
+    for (const Mode mode : {Mode::Frame, Mode::Pixel}) {
+        LoopbackHub hub(3);  // rank 2 takes work and never answers
+        std::thread worker([&hub] {
+            LoopbackTransport t(hub, 1);
+            LoadedScene sLoaded = rf::testing::loadFarmScene();
+            Scene& s = sLoaded.scene;
+            const anim::Timeline tl = anim::Timeline::fromScene(sLoaded);
+            const RenderSettings st = s.settings;
+            RenderEngine engine(std::move(s), tl, st, 1);
+            runWorker(t, engine);
+        });
+        LoadedScene sceneLoaded = rf::testing::loadFarmScene();
+        Scene& scene = sceneLoaded.scene;
+        const int w = scene.settings.width, h = scene.settings.height;
+        LoopbackTransport t(hub, 0);
+        const anim::FrameRanges all = anim::FrameRanges::span(0, int(reference.size()) - 1);
+        auto sched = mode == Mode::Frame ? makeFrameScheduler(all, w, h, 8) : makePixelScheduler(all, w, h, 16, 4);
+        FrameAssembler assembler(w, h, all, {});
+        MasterConfig cfg;
+        cfg.quiet = true;
+        cfg.workerTimeout = 2.0;  // a live rank late by 0.5 s on a loaded machine is no loss
+        cfg.requeueLost = true;
+        std::vector<std::string> notes;
+        cfg.log = [&notes](const std::string& line) { notes.push_back(line); };
+        std::map<int, std::vector<uint8_t>> frames;
+        Master master(t, *sched, assembler, nullptr, [&](ReadyFrame& rf) { frames[rf.frame] = rf.rgb; }, cfg);
+        const MasterOutcome o = master.run();
+        master.stopWorkers();
+        worker.join();
+        const char* m = mode == Mode::Frame ? "frame mode" : "pixel mode";
+        ASSERT_EQ(o.end, RunEnd::Done) << m << ": " << o.message;
+        ASSERT_EQ(o.lost.size(), 1u) << m;
+        EXPECT_EQ(o.lost[0].rank, 2) << m;
+        EXPECT_NE(o.lost[0].requeued.find("frame"), std::string::npos) << m << ": " << o.lost[0].requeued;
+        ASSERT_EQ(notes.size(), 1u) << m;
+        EXPECT_NE(notes[0].find("rank 2 stopped answering"), std::string::npos) << notes[0];
+        ASSERT_EQ(frames.size(), reference.size()) << m;
+        for (const auto& [f, rgb] : reference) EXPECT_TRUE(frames.at(f) == rgb) << m << ": frame " << f << " differs from one renderer's";
+    }
+}
+
+// Issue 45 #3: a worker given up on that speaks again (a process continued after SIGSTOP) has
+// what it sends ignored, is said to have come back, and is told to leave (kStopAfterLossExit);
+// the film is one renderer's, frame for frame.
+TEST(Master, AWorkerThatComesBackAfterItWasGivenUpOnIsIgnoredAndToldToLeave) {
+    const auto reference = rf::testing::referenceFarmFrames();
+    LoopbackHub hub(3);
+    auto worker = [&hub](int rank, double startAfter, int* code) {
+        return std::thread([&hub, rank, startAfter, code] {
+            std::this_thread::sleep_for(std::chrono::duration<double>(startAfter));  // stopped, then continued
+            LoopbackTransport t(hub, rank);
+            LoadedScene sLoaded = rf::testing::loadFarmScene();
+            Scene& s = sLoaded.scene;
+            const anim::Timeline tl = anim::Timeline::fromScene(sLoaded);
+            const RenderSettings st = s.settings;
+            RenderEngine engine(std::move(s), tl, st, 1);
+            *code = runWorker(t, engine);
+        });
+    };
+    int code1 = -1, code2 = -1;
+    std::thread w1 = worker(1, 0.0, &code1);
+    std::thread w2 = worker(2, 3.0, &code2);  // silent past the 2 s timeout, then back
+    LoadedScene sceneLoaded = rf::testing::loadFarmScene();
+    Scene& scene = sceneLoaded.scene;
+    const int w = scene.settings.width, h = scene.settings.height;
+    LoopbackTransport t(hub, 0);
+    const anim::FrameRanges all = anim::FrameRanges::span(0, int(reference.size()) - 1);
+    auto sched = makeFrameScheduler(all, w, h, 8);
+    FrameAssembler assembler(w, h, all, {});
+    MasterConfig cfg;
+    cfg.quiet = true;
+    cfg.workerTimeout = 2.0;  // a live rank late by 0.5 s on a loaded machine is no loss
+    cfg.requeueLost = true;
+    std::vector<std::string> notes;
+    cfg.log = [&notes](const std::string& line) { notes.push_back(line); };
+    std::map<int, std::vector<uint8_t>> frames;
+    Master master(t, *sched, assembler, nullptr, [&](ReadyFrame& rf) { frames[rf.frame] = rf.rgb; }, cfg);
+    const MasterOutcome o = master.run();
+    // Rank 2 comes back while the film may still render: rank 0 hears it there, or here.
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    auto heard = [&notes] {
+        return std::any_of(notes.begin(), notes.end(), [](const std::string& n) { return n.find("answered again") != std::string::npos; });
+    };
+    master.idle([&] { return heard() || std::chrono::steady_clock::now() > until; });
+    master.stopWorkers();
+    w1.join();
+    w2.join();
+    ASSERT_EQ(o.end, RunEnd::Done) << o.message;
+    ASSERT_EQ(o.lost.size(), 1u);
+    EXPECT_EQ(o.lost[0].rank, 2);
+    EXPECT_TRUE(std::any_of(notes.begin(), notes.end(), [](const std::string& n) { return n.find("rank 2 answered again") != std::string::npos; }))
+        << "no note that rank 2 came back";
+    EXPECT_EQ(code2, kStopAfterLossExit) << "rank 2 was not told to leave as a lost rank";
+    EXPECT_EQ(code1, kStopAfterLossExit) << "after a loss every rank leaves without MPI_Finalize";
+    ASSERT_EQ(frames.size(), reference.size());
+    for (const auto& [f, rgb] : reference) EXPECT_TRUE(frames.at(f) == rgb) << "frame " << f << " differs from one renderer's";
+}
+
+// Issue 45: no rendering rank left, or one frame held by maxFrameFailures ranks when each was
+// lost, ends the run naming why.
+TEST(Master, TheRunStopsWhenNoWorkerIsLeftOrAFrameTookDownTooMany) {
+    LoadedScene sceneLoaded = rf::testing::loadFarmScene();
+    Scene& scene = sceneLoaded.scene;
+    const int w = scene.settings.width, h = scene.settings.height;
+    for (const int failures : {3, 1}) {
+        LoopbackHub hub(3);  // ranks 1 and 2 take work and never answer
+        LoopbackTransport t(hub, 0);
+        auto sched = makeFrameScheduler({0, 1, 2, 3, 4, 5}, w, h, 8);
+        FrameAssembler assembler(w, h, {0, 1, 2, 3, 4, 5}, {});
+        MasterConfig cfg;
+        cfg.quiet = true;
+        cfg.workerTimeout = 0.5;
+        cfg.requeueLost = true;
+        cfg.maxFrameFailures = failures;
+        cfg.log = [](const std::string&) {};
+        Master master(t, *sched, assembler, nullptr, [](ReadyFrame&) {}, cfg);
+        const MasterOutcome o = master.run();
+        EXPECT_EQ(o.end, RunEnd::WorkerLost);
+        if (failures == 1) {
+            EXPECT_EQ(o.lost.size(), 1u);
+            EXPECT_NE(o.message.find("frame 0 was being rendered by each of the 1 ranks"), std::string::npos) << o.message;
+        } else {
+            EXPECT_EQ(o.lost.size(), 2u);
+            EXPECT_NE(o.message.find("no worker is left"), std::string::npos) << o.message;
+        }
+    }
 }
 
 // Issue 30 #4: rank 0 starts its clock once its own build is done; a worker still building

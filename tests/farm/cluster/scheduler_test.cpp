@@ -259,3 +259,51 @@ TEST(Scheduler, ChunkCollectorPassesChunksOnInFilmOrder) {
     EXPECT_TRUE(c.finished());
     EXPECT_EQ(c.framesPopped(), 10);
 }
+
+// Issue 45: work taken back from a lost rank goes out before anything new; a chunk whose rank
+// was lost opens again (its marker, then every frame of it not kept) without opening a window
+// place of its own, and the scheduler is not exhausted until it has.
+TEST(Scheduler, RequeuedItemsGoFirstAndALostChunkOpensAgain) {
+    auto frames = makeFrameScheduler({0, 1, 2, 3}, 8, 8, 2);
+    ASSERT_EQ(frames->take(1)->frame, 0);
+    ASSERT_EQ(frames->take(1)->frame, 1);
+    EXPECT_FALSE(frames->take(1)) << "the window is full";
+    frames->requeue(WorkItem{1, {0, 0, 8, 8}});
+    const auto again = frames->take(2);
+    ASSERT_TRUE(again);
+    EXPECT_EQ(again->frame, 1) << "a requeued item goes out again, window full or not";
+
+    const ChunkPlan plan{0, 11, 4};  // chunks 0-3, 4-7, 8-11
+    auto chunked = makeChunkFrameScheduler(plan, {}, 8, 8, 2);
+    const auto marker0 = chunked->take(1);
+    ASSERT_TRUE(marker0 && marker0->chunk == 0 && marker0->assembler == 1);
+    EXPECT_EQ(chunked->take(1)->frame, 0);
+    EXPECT_EQ(chunked->take(1)->frame, 1);
+    chunked->reopenChunk(0);  // rank 1 lost
+    const auto marker0again = chunked->take(2);
+    ASSERT_TRUE(marker0again);
+    EXPECT_EQ(marker0again->chunk, 0);
+    EXPECT_EQ(marker0again->assembler, 2);
+    for (int f = 0; f < 4; ++f) EXPECT_EQ(chunked->take(2)->frame, f) << "every frame of the chunk again, in order";
+    const auto marker1 = chunked->take(3);
+    ASSERT_TRUE(marker1);
+    EXPECT_EQ(marker1->chunk, 1) << "the window still had room for one more chunk";
+
+    auto tiles = makeChunkTileScheduler(plan, {}, 8, 8, 4, 1);
+    const auto tmarker = tiles->take(1);
+    ASSERT_TRUE(tmarker && tmarker->chunk == 0);
+    int handed = 0;
+    for (; handed < 6; ++handed) ASSERT_TRUE(tiles->take(1));  // frame 0's four tiles, two of frame 1
+    tiles->reopenChunk(0);
+    const auto tmarker2 = tiles->take(1);
+    ASSERT_TRUE(tmarker2);
+    EXPECT_EQ(tmarker2->chunk, 0) << "the marker of the chunk opened again";
+    std::vector<int> seen;
+    while (auto item = tiles->take(1)) {
+        if (item->chunk >= 0) break;  // the next chunk, after the window frees
+        seen.push_back(item->frame);
+    }
+    EXPECT_EQ(seen.size(), 16u) << "four frames of four tiles each, from the start";
+    EXPECT_EQ(seen.front(), 0);
+    EXPECT_FALSE(tiles->exhausted());
+}
