@@ -13,6 +13,11 @@
 /// - glTF cameras (perspective and orthographic, in node order) go to Scene::gltfCameras;
 ///   useGltfCamera() picks one.
 #include <string>
+#include <vector>
+
+namespace tinygltf {
+class Model;
+}  // namespace tinygltf
 
 #include "engine/util/file_source.h"
 #include "engine/scene/scene.h"
@@ -33,6 +38,10 @@ size_t loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFr
 /// margin, and a default key/fill/rim rig when the model brings no lights; the environment
 /// options name (none by default).
 Scene loadGltfScene(const std::string& path, FileSource& fs, const SceneOptions& options = {});
+/// The same for a glTF model made in memory from another format (engine/load/assimp/), with
+/// the notes its import gathered: framed, lit and built exactly as a file would be.
+Scene loadGltfScene(const std::string& path, tinygltf::Model model, std::vector<std::string> notes, FileSource& fs,
+                    const SceneOptions& options = {});
 
 /// scene.gltfCameras[index]; throws InputError if there is none, or if the file's camera is
 /// unusable (a yfov of 0), naming the file and the camera.
