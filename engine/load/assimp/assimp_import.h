@@ -35,6 +35,10 @@ std::string unvouchedAssimpFormat(const std::string& path);
 tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const AssetOptions& assets,
                                   std::vector<std::string>& notes);
 
+/// Appends the model to a scene (a scene file's "model"), as loadGltfModel appends a glTF file.
+void loadAssimpModel(Scene& scene, const std::string& path, const DMat4& worldFromModel, FileSource& fs, int materialOverride = -1,
+                     const AssetOptions& assets = {});
+
 /// The model as a whole scene, as loadGltfScene makes one of a glTF file.
 Scene loadAssimpScene(const std::string& path, FileSource& fs, const SceneOptions& options = {});
 

@@ -20,6 +20,13 @@ size_t loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFr
     return model.variantCount();
 }
 
+size_t loadGltfModel(Scene& scene, const std::string& path, tinygltf::Model parsed, std::vector<std::string> notes,
+                     const DMat4& worldFromModel, int materialOverride, const AssetOptions& assets) {
+    GltfModel model(path, std::move(parsed), std::move(notes), assets);
+    model.addTo(scene, worldFromModel, materialOverride);
+    return model.variantCount();
+}
+
 namespace {
 Scene sceneOf(GltfModel& model, const std::string& path, FileSource& fs, const SceneOptions& options);
 }  // namespace

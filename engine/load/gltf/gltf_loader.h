@@ -34,6 +34,11 @@ namespace rf {
 size_t loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFromModel, FileSource& fs,
                      int materialOverride = -1, const AssetOptions& assets = {});
 
+/// The same for a glTF model made in memory from another format (engine/load/assimp/), with the
+/// notes its import gathered.
+size_t loadGltfModel(Scene& scene, const std::string& path, tinygltf::Model model, std::vector<std::string> notes,
+                     const DMat4& worldFromModel, int materialOverride = -1, const AssetOptions& assets = {});
+
 /// A bare model as a whole scene: the model, a camera framed on its bounding sphere with a
 /// margin, and a default key/fill/rim rig when the model brings no lights; the environment
 /// options name (none by default).

@@ -193,6 +193,26 @@ TEST(AssimpImport, MalformedFilesAreOneLineRefusals) {
     }
 }
 
+TEST(AssimpImport, CountsNoFileOfItsSizeCanHoldAreRefusedBeforeAssimpReadsThem) {
+    TempDir dir;
+    writeFile(dir / "big.ply",
+              "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\n"
+              "property float z\nend_header\n");
+    writeFile(dir / "big.dae", "<?xml version=\"1.0\"?><COLLADA><library_geometries><geometry><mesh><source>"
+                               "<float_array id=\"a\" count=\"900000000\">0 0 0</float_array></source></mesh></geometry>"
+                               "</library_geometries></COLLADA>");
+    for (const char* name : {"big.ply", "big.dae"}) {
+        DiskFileSource fs;
+        std::vector<std::string> notes;
+        try {
+            importAssimpModel(dir / name, fs, {}, notes);
+            ADD_FAILURE() << name << ": imported";
+        } catch (const InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("bytes can hold"), std::string::npos) << e.what();
+        }
+    }
+}
+
 TEST(AssimpImport, ModelsRenderAndWorkersLoadTheSameFromTheBundle) {
     const std::string obj = "/usr/share/assimp/models/OBJ/spider.obj";
     EXPECT_GT(meanOfFrame(obj), 0.01);
@@ -208,4 +228,31 @@ TEST(AssimpImport, ModelsRenderAndWorkersLoadTheSameFromTheBundle) {
     ASSERT_EQ(a.images.size(), b.images.size());
     EXPECT_GE(a.images.size(), 1u);
     for (size_t i = 0; i < a.images.size(); ++i) EXPECT_EQ(a.images[i].image, b.images[i].image);
+}
+
+TEST(AssimpImport, SceneFileModelsMayBeObjOrStl) {
+    TempDir dir;
+    writeFile(dir / "cube.obj", std::string("mtllib cube.mtl\nusemtl red\n") + kCubeFaces);
+    writeFile(dir / "cube.mtl", "newmtl red\nKd 0.8 0.1 0.1\n");
+    writeFile(dir / "t.stl",
+              "solid t\nfacet normal 0 -1 0\nouter loop\nvertex 0 0 0\nvertex 1000 0 0\nvertex 0 0 1000\nendloop\nendfacet\nendsolid t\n");
+    writeFile(dir / "scene.json", R"({"camera": {"eye": [0.5, 0.5, 4], "target": [0.5, 0.5, 0]},
+        "lights": [{"position": [2, 3, 4]}],
+        "objects": [{"type": "model", "path": "cube.obj"},
+                    {"type": "model", "path": "t.stl", "transform": {"translate": [3, 0, 0]}}]})");
+    DiskFileSource fs;
+    const LoadedScene loaded = loadScene(dir / "scene.json", fs);
+    // The cube's red material, and the STL's triangle turned upright in metres: 1000 mm along
+    // +Z becomes 1 m along +Y, at x = 3.
+    bool red = false;
+    for (const Material& m : loaded.scene.materials) red = red || (m.gltfPbr && std::abs(m.color.r - 0.8f) < 1e-6f && std::abs(m.color.g - 0.1f) < 1e-6f);
+    EXPECT_TRUE(red);
+    Hit hit;
+    Ray ray;
+    ray.o = Vec3(DVec3(3.2, 0.5, 2.0) - loaded.scene.renderOrigin);
+    ray.d = Vec3(0.f, 0.f, -1.f);
+    EXPECT_TRUE(loaded.scene.geometry.intersect(ray, hit)) << "the STL's triangle does not stand up";
+    ray.o = Vec3(DVec3(3.2, 0.0, 0.5) - loaded.scene.renderOrigin) + Vec3(0.f, 2.f, 0.f);
+    ray.d = Vec3(0.f, -1.f, 0.f);
+    EXPECT_FALSE(loaded.scene.geometry.intersect(ray, hit)) << "the STL's triangle lies flat";
 }
