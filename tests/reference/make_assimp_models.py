@@ -53,3 +53,25 @@ bpy.ops.export_mesh.ply(filepath=path("suzanne.ply"), axis_forward="-Z", axis_up
                         use_uv_coords=False)
 bpy.ops.export_scene.fbx(filepath=path("suzanne.fbx"))
 bpy.ops.export_scene.fbx(filepath=path("suzanne_zup.fbx"), axis_forward="Y", axis_up="Z")
+
+# An animated model for the node animations of FBX and COLLADA: a cone (its tip shows the turn)
+# that moves up and right and turns about Z over 2 s, keyed linearly at frames 1, 25 and 49
+# (24 fps), over a still box; exported as GLB, FBX and COLLADA (Blender's own exporters).
+bpy.ops.wm.read_factory_settings(use_empty=True)
+bpy.ops.mesh.primitive_cube_add(size=0.5, location=(0.0, 0.0, 0.0))
+bpy.ops.mesh.primitive_cone_add(vertices=6, radius1=0.3, depth=0.6, location=(0.0, 0.0, 0.6), rotation=(0.0, 1.2, 0.0))
+cone = bpy.context.active_object
+bpy.ops.object.shade_flat()
+scene = bpy.context.scene
+scene.frame_start, scene.frame_end, scene.render.fps = 1, 49, 24
+for frame, loc, rot in ((1, (0.0, 0.0, 0.6), 0.0), (25, (0.8, 0.0, 1.2), 1.5), (49, (0.0, 0.0, 0.6), 3.0)):
+    cone.location = loc
+    cone.rotation_euler = (0.0, 1.2, rot)
+    cone.keyframe_insert("location", frame=frame)
+    cone.keyframe_insert("rotation_euler", frame=frame)
+for curve in cone.animation_data.action.fcurves:
+    for key in curve.keyframe_points:
+        key.interpolation = "LINEAR"
+bpy.ops.export_scene.gltf(filepath=path("animated.glb"), export_format="GLB")
+bpy.ops.export_scene.fbx(filepath=path("animated.fbx"), bake_anim_use_all_actions=False, bake_anim_use_nla_strips=False)
+bpy.ops.wm.collada_export(filepath=path("animated.dae"))

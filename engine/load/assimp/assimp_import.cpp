@@ -665,6 +665,14 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
     g.scenes.emplace_back();
     g.scenes[0].nodes = {0};
     g.defaultScene = 0;
+    // Nodes an animation moves carry translation, rotation and scale (glTF animates those, not
+    // a matrix); their channels are matched by name, as assimp matches them.
+    std::set<std::string> animatedNames;
+    for (unsigned a = 0; a < scene->mNumAnimations; ++a)
+        if (const aiAnimation* an = scene->mAnimations[a])
+            for (unsigned c = 0; c < an->mNumChannels; ++c)
+                if (an->mChannels && an->mChannels[c]) animatedNames.insert(an->mChannels[c]->mNodeName.C_Str());
+    std::map<std::string, int> nodeByName;
     std::vector<std::pair<const aiNode*, int>> stack;  // (node, its parent's glTF index)
     if (scene->mRootNode) stack.emplace_back(scene->mRootNode, 0);
     size_t visited = 0;
@@ -676,7 +684,14 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
         tinygltf::Node node;
         node.name = n->mName.C_Str();
         const aiMatrix4x4& t = n->mTransformation;
-        if (!t.IsIdentity()) {
+        if (animatedNames.count(node.name)) {
+            aiVector3D scaling, position;
+            aiQuaternion rotation;
+            t.Decompose(scaling, rotation, position);
+            node.translation = {position.x, position.y, position.z};
+            node.rotation = {rotation.x, rotation.y, rotation.z, rotation.w};
+            node.scale = {scaling.x, scaling.y, scaling.z};
+        } else if (!t.IsIdentity()) {
             const float rows[4][4] = {{t.a1, t.a2, t.a3, t.a4}, {t.b1, t.b2, t.b3, t.b4}, {t.c1, t.c2, t.c3, t.c4}, {t.d1, t.d2, t.d3, t.d4}};
             node.matrix.resize(16);
             for (int r = 0; r < 4; ++r)
@@ -693,6 +708,7 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
             node.mesh = int(g.meshes.size() - 1);
         }
         const int index = int(g.nodes.size());
+        nodeByName.emplace(node.name, index);
         g.nodes.push_back(std::move(node));
         g.nodes[size_t(parent)].children.push_back(index);
         for (unsigned k = n->mNumChildren; k-- > 0;)
@@ -700,11 +716,71 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
     }
     g.extensionsUsed.assign(extensions.begin(), extensions.end());
 
+    // Node animations: each channel's position, rotation and scale keys as glTF samplers (LINEAR;
+    // times from assimp's ticks at its ticks per second, 25 when the file names none). Keys
+    // whose time does not increase are left out, as glTF requires increasing times.
+    size_t animationsRead = 0;
+    for (unsigned a = 0; a < scene->mNumAnimations; ++a) {
+        const aiAnimation* an = scene->mAnimations[a];
+        if (!an || !an->mChannels) continue;
+        const double tps = an->mTicksPerSecond > 0.0 && std::isfinite(an->mTicksPerSecond) ? an->mTicksPerSecond : 25.0;
+        tinygltf::Animation ga;
+        ga.name = an->mName.C_Str();
+        auto sampler = [&](int node, const char* target, size_t count, auto time, auto value, int type, int width) {
+            std::vector<float> in, out;
+            double last = -1.0;
+            for (size_t k = 0; k < count; ++k) {
+                const double t = time(k) / tps;
+                if (!(t > last) || !std::isfinite(t)) continue;
+                last = t;
+                in.push_back(float(t));
+                value(k, out);
+            }
+            if (in.empty() || out.size() != in.size() * size_t(width)) return;
+            tinygltf::AnimationSampler smp;
+            smp.input = w.accessor(w.view(in.data(), in.size() * 4, 0), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, in.size(),
+                                   {double(in.front())}, {double(in.back())});
+            smp.output = w.accessor(w.view(out.data(), out.size() * 4, 0), TINYGLTF_COMPONENT_TYPE_FLOAT, type, in.size());
+            smp.interpolation = "LINEAR";
+            ga.samplers.push_back(smp);
+            tinygltf::AnimationChannel ch;
+            ch.sampler = int(ga.samplers.size() - 1);
+            ch.target_node = node;
+            ch.target_path = target;
+            ga.channels.push_back(ch);
+        };
+        for (unsigned c = 0; c < an->mNumChannels; ++c) {
+            const aiNodeAnim* ch = an->mChannels[c];
+            if (!ch) continue;
+            const auto it = nodeByName.find(ch->mNodeName.C_Str());
+            if (it == nodeByName.end()) continue;
+            if (ch->mPositionKeys && ch->mNumPositionKeys)
+                sampler(it->second, "translation", ch->mNumPositionKeys, [&](size_t k) { return ch->mPositionKeys[k].mTime; },
+                        [&](size_t k, std::vector<float>& o) { const aiVector3D& v = ch->mPositionKeys[k].mValue; o.insert(o.end(), {v.x, v.y, v.z}); },
+                        TINYGLTF_TYPE_VEC3, 3);
+            if (ch->mRotationKeys && ch->mNumRotationKeys)
+                sampler(it->second, "rotation", ch->mNumRotationKeys, [&](size_t k) { return ch->mRotationKeys[k].mTime; },
+                        [&](size_t k, std::vector<float>& o) {
+                            aiQuaternion q = ch->mRotationKeys[k].mValue;
+                            q.Normalize();
+                            o.insert(o.end(), {q.x, q.y, q.z, q.w});
+                        },
+                        TINYGLTF_TYPE_VEC4, 4);
+            if (ch->mScalingKeys && ch->mNumScalingKeys)
+                sampler(it->second, "scale", ch->mNumScalingKeys, [&](size_t k) { return ch->mScalingKeys[k].mTime; },
+                        [&](size_t k, std::vector<float>& o) { const aiVector3D& v = ch->mScalingKeys[k].mValue; o.insert(o.end(), {v.x, v.y, v.z}); },
+                        TINYGLTF_TYPE_VEC3, 3);
+        }
+        if (!ga.channels.empty()) {
+            g.animations.push_back(std::move(ga));
+            ++animationsRead;
+        }
+    }
+
     if (bones) ownNotes.push_back("skinned meshes drawn in their bind pose (skins of " + std::string(formatName) + " files are not read)");
     if (animMeshes) ownNotes.push_back("morph targets of " + std::string(formatName) + " files are not read; drawn at rest");
-    if (scene->mNumAnimations)
-        ownNotes.push_back(std::to_string(scene->mNumAnimations) + " animation(s) not played (animations of " + formatName +
-                           " files are not read)");
+    if (scene->mNumAnimations > animationsRead)
+        ownNotes.push_back(std::to_string(scene->mNumAnimations - animationsRead) + " animation(s) without a channel on a node not played");
     if (scene->mNumCameras) ownNotes.push_back(std::to_string(scene->mNumCameras) + " camera(s) in the file not used");
     if (scene->mNumLights)
         ownNotes.push_back(std::to_string(scene->mNumLights) + " light(s) in the file not used; the model is lit as a glTF without lights");
