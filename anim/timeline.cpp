@@ -155,7 +155,7 @@ Timeline Timeline::fromScene(const Scene& scene, const TimelineSource& source, d
         } else if (const double clip = longestPeriod(p.spec.players); clip > 0.0 && clip <= 3600.0) {
             p.frames = std::max(1, anim::frameCount(clip, p.fps));
         }
-    } else if (isGltfPath(scene.sourcePath)) {
+    } else if (isModelPath(scene.sourcePath)) {
         p.spec.restLights = scene.lights;
         TurntableSettings s = defaultModelTurntable();
         if (fps > 0.0) s.fps = fps;

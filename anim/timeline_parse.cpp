@@ -270,7 +270,7 @@ public:
     TurntableSettings turntable(const json& j, const std::string& w, double fps) const {
         allowKeys(j, w, {"seconds", "fps", "elevation", "distance", "lights", "center", "start_yaw", "fov", "animation", "comment"});
         // A bare model's rig is placed for its camera, so there lights follow it by default.
-        TurntableSettings s = isGltfPath(scene_.sourcePath) ? defaultModelTurntable() : TurntableSettings{};
+        TurntableSettings s = isModelPath(scene_.sourcePath) ? defaultModelTurntable() : TurntableSettings{};
         s.seconds = positive(j, "seconds", w, s.seconds);
         s.fps = fps > 0.0 ? fps : frameRate(j, w, s.fps);
         s.elevationDeg = number(j, "elevation", w, s.elevationDeg);

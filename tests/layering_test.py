@@ -19,7 +19,7 @@ import sys
 # every room, so they may use all of them. The engine's rooms, bottom up: each may use those
 # below it (engine/CMakeLists.txt says what each holds).
 ENGINE_ROOMS = ["engine/util", "engine/geometry", "engine/materials", "engine/lights", "engine/scene",
-                "engine/integrators", "engine/load/gltf", "engine/load"]
+                "engine/integrators", "engine/load/gltf", "engine/load/assimp", "engine/load"]
 ALLOWED = {room: ENGINE_ROOMS[:i] for i, room in enumerate(ENGINE_ROOMS)}
 ENGINE = ENGINE_ROOMS
 ALLOWED.update({
@@ -44,6 +44,7 @@ ONLY_IN = [
     (re.compile(r"^mpi\.h$"), "farm/cluster"),
     (re.compile(r"^libav"), "farm/output"),
     (re.compile(r"^Q[A-Za-z]*(/|$)|^QtCore|^QtGui|^QtWidgets"), "farm/view"),
+    (re.compile(r"^assimp/"), "engine/load/assimp"),
 ]
 INCLUDE = re.compile(r'^\s*#\s*include\s*([<"])([^>"]+)[>"]', re.M)
 

@@ -29,11 +29,12 @@ if [ "${RAYFARM_STRESS:-0}" = "1" ]; then exclude=(-LE shortfall); fi
 ctest --test-dir build --output-on-failure -j"$jobs" "${exclude[@]}"
 
 # glTF robustness under AddressSanitizer + UBSan: broken and glTF 1.0 files must be refused or
-# rendered without a memory error. Only that one small test executable is built with sanitizers.
+# rendered without a memory error; so must every OBJ, STL, PLY, FBX, COLLADA and 3MF file of
+# assimp-testmodels (AssimpSweep). Only those two small test executables are built with sanitizers.
 cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DRAYFARM_SANITIZE=ON -DRAYFARM_WERROR=ON \
   -DRAYFARM_BUILD_FARM=OFF -DRAYFARM_BUILD_BENCH=OFF
-cmake --build build-asan -j"$jobs" --target gltf_robustness_tests
-ctest --test-dir build-asan --output-on-failure -j"$jobs" -R '^GltfRobustness\.'
+cmake --build build-asan -j"$jobs" --target gltf_robustness_tests assimp_tests
+ctest --test-dir build-asan --output-on-failure -j"$jobs" -R '^(GltfRobustness|AssimpImport|AssimpSweep)\.'
 
 # libFuzzer smoke run: replays tests/fuzz/regressions/, then fuzzes each input surface (scene
 # JSON, glTF text, GLB, scene bundle, farm messages) for 20 s under ASan + UBSan (clang).

@@ -13,6 +13,7 @@ packages=(
   libjpeg-dev                                                 # engine/: glTF JPEGs scaled in the DCT and read by scanline (a huge JPEG never costs its full texels)
   libdraco-dev                                                # engine/: KHR_draco_mesh_compression
   libmeshoptimizer-dev                                        # engine/: EXT_meshopt_compression decoders (and filters)
+  libassimp-dev                                               # engine/: OBJ, STL, PLY, FBX, COLLADA and 3MF models through assimp (one library for six formats, already in Debian)
   libopenmpi-dev openmpi-bin                                  # farm/: MPI
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev # farm/: H.264 MP4 through FFmpeg
   libavfilter-dev                                             # farm/: GIF palette (palettegen/paletteuse)

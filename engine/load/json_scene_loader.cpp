@@ -15,6 +15,7 @@
 #include "engine/util/model_path.h"
 #include "engine/util/sample_count.h"
 #include "engine/integrators/shadow_catcher.h"
+#include "engine/load/assimp/assimp_import.h"
 #include "engine/load/gltf/gltf_loader.h"
 #include "engine/util/json_guard.h"
 #include "engine/util/load_control.h"
@@ -374,7 +375,9 @@ private:
                 a.sceneSource = w + ".scene";
             }
             const size_t camerasBefore = s.gltfCameras.size();
-            modelVariants_ += loadGltfModel(s, full, m, fs_, j.contains("material") ? material(j, w) : -1, a);
+            // OBJ, STL, PLY, FBX, COLLADA and 3MF through assimp, as the glTF model each becomes.
+            if (isAssimpPath(full)) loadAssimpModel(s, full, m, fs_, j.contains("material") ? material(j, w) : -1, a);
+            else modelVariants_ += loadGltfModel(s, full, m, fs_, j.contains("material") ? material(j, w) : -1, a);
             // "camera": the film looks through this model's camera N (--camera overrides it).
             if (j.contains("camera")) {
                 if (!j["camera"].is_number_integer() || j["camera"].get<long long>() < 0) rd_.fail(w + ".camera", "expected a camera index from 0");

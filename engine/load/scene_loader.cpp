@@ -1,7 +1,9 @@
 #include "engine/load/scene_loader.h"
+#include "engine/load/model_inspect.h"
 
 #include "engine/util/errors.h"
 #include "engine/util/file_source.h"
+#include "engine/load/assimp/assimp_import.h"
 #include "engine/load/gltf/gltf_loader.h"
 #include "engine/load/json_scene_loader.h"
 #include "engine/util/load_control.h"
@@ -18,7 +20,9 @@ LoadedScene loadScene(const std::string& path, FileSource& fs, const SceneOption
         else if (isGltfPath(path)) loaded.scene = loadGltfScene(path, fs, options);
         else if (const std::string what = notRegularFile(path); !what.empty())
             throw InputError(path, "is " + what + ", not a scene file (expected a .json, .gltf or .glb file)");
-        else throw InputError(path, "unknown scene type (expected .json, .gltf or .glb)");
+        else if (isAssimpPath(path)) loaded.scene = loadAssimpScene(path, fs, options);
+        else if (const std::string why = unvouchedAssimpFormat(path); !why.empty()) throw InputError(path, why);
+        else throw InputError(path, "unknown scene type (expected .json, .gltf or .glb, or a model in " + assimpFormatList() + ")");
         if (options.ground) placeGround(loaded.scene, *options.ground);
         loaded.timeline.animation = options.animation;
         if (options.camera) {
@@ -33,6 +37,12 @@ LoadedScene loadScene(const std::string& path, FileSource& fs, const SceneOption
         // Named by the innermost step the exception left (its scope has closed by now).
         throw OutOfMemoryError(path, lastFailedStep());
     }
+}
+
+GltfInfo inspectModel(const std::string& path, FileSource& fs, const AssetOptions& assets) {
+    if (isGltfPath(path)) return inspectGltf(path, fs, assets);
+    if (isAssimpPath(path)) return inspectAssimp(path, fs, assets);
+    throw InputError(path, "info describes a model: glTF (.gltf or .glb) or " + assimpFormatList());
 }
 
 }  // namespace rf

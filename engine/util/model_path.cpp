@@ -17,4 +17,11 @@ bool isGltfPath(const std::string& path) {
     return e == ".gltf" || e == ".glb";
 }
 
+bool isAssimpPath(const std::string& path) {
+    const std::string e = lowerExtension(path);
+    return e == ".obj" || e == ".stl" || e == ".ply" || e == ".fbx" || e == ".dae" || e == ".3mf";
+}
+
+bool isModelPath(const std::string& path) { return isGltfPath(path) || isAssimpPath(path); }
+
 }  // namespace rf

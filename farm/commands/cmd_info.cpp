@@ -11,6 +11,7 @@
 #include "engine/util/errors.h"
 #include "engine/load/gltf/gltf_inspect.h"
 #include "engine/util/model_path.h"
+#include "engine/load/model_inspect.h"
 #include "engine/load/scene_loader.h"
 #include "anim/gltf_animation.h"
 #include "anim/timeline.h"
@@ -24,7 +25,8 @@ using json = nlohmann::ordered_json;
 const char* kInfoHelp =
     "usage: rayfarm info MODEL [options]\n"
     "\n"
-    "Describes a glTF model (.gltf/.glb): meshes (triangles, bounds), materials and their\n"
+    "Describes a glTF model (.gltf/.glb), or an OBJ, STL, PLY, FBX, COLLADA (.dae) or 3MF model\n"
+    "as the glTF model rayfarm reads it as: meshes (triangles, bounds), materials and their\n"
     "extensions, textures (format, size), animations, skins, cameras, lights (type, intensity,\n"
     "unit), the file's extensions and whether rayfarm supports them, KHR_materials_variants,\n"
     "and the default turntable `rayfarm render MODEL` would make (frames, size, camera).\n"
@@ -117,6 +119,7 @@ json cameraViewsJson(const Scene& scene) {
 json infoJson(const std::string& path, const GltfInfo& info, const json& turntable, const json& views) {
     json j;
     j["file"] = path;
+    if (!info.format.empty()) j["format"] = info.format;  // read through assimp as this glTF model
     j["version"] = info.version;
     j["generator"] = info.generator;
     j["nodes"] = info.nodes;
@@ -230,7 +233,9 @@ std::string joined(const json& arr, const char* sep = ", ") {
 
 /// The same content as the JSON, a line per item.
 std::string infoText(const json& j) {
-    std::string s = j["file"].get<std::string>() + ": glTF " + j["version"].get<std::string>();
+    std::string s = j["file"].get<std::string>() + ": " +
+                    (j.contains("format") ? j["format"].get<std::string>() + " read as glTF " : std::string("glTF ")) +
+                    j["version"].get<std::string>();
     if (!j["generator"].get<std::string>().empty()) s += " from " + quoted(j["generator"]);
     s += ", " + std::to_string(j["nodes"].get<int>()) + " nodes, " + std::to_string(j["triangles"].get<uint64_t>()) + " triangles drawn\n";
     auto section = [&](const char* name, const json& arr) {
@@ -346,7 +351,7 @@ int runInfo(const std::vector<std::string>& args) {
     }
     if (p.positional().size() != 1) throw UsageError("info: expected one MODEL (see rayfarm info --help)");
     const std::string path = p.positional()[0];
-    if (!isGltfPath(path)) throw InputError(path, "info describes a glTF model (.gltf or .glb)");
+    if (!isModelPath(path)) throw InputError(path, "info describes a model: glTF (.gltf or .glb) or .obj, .stl, .ply, .fbx, .dae and .3mf");
     const double fps = p.doubleValue("--fps", 0.0);
     if (p.has("--fps") && !(fps > 0.0 && fps <= 1000.0)) throw UsageError("--fps: expected a number above 0, up to 1000");
     SceneOptions opts = sceneOptions(p);
@@ -355,7 +360,7 @@ int runInfo(const std::vector<std::string>& args) {
     const LoadedScene loaded = loadScene(path, fs, opts);
     const Scene& scene = loaded.scene;
     const anim::Timeline tl = anim::Timeline::fromScene(loaded, fps);
-    const GltfInfo info = inspectGltf(path, fs, opts.assets);
+    const GltfInfo info = inspectModel(path, fs, opts.assets);
     const json j = infoJson(path, info, turntableJson(scene, tl, info.lights.size()), cameraViewsJson(scene));
     const std::string out = p.has("--json") ? j.dump(2) + "\n" : infoText(j);
     std::fwrite(out.data(), 1, out.size(), stdout);

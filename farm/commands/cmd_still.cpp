@@ -27,7 +27,8 @@ namespace {
 const char* kStillHelp =
     "usage: rayfarm still SCENE|MODEL [options]\n"
     "\n"
-    "Renders one frame of a scene file (.json) or glTF model (.gltf/.glb) to a PNG.\n"
+    "Renders one frame of a scene file (.json) or model to a PNG: glTF (.gltf/.glb), or OBJ, STL,\n"
+    "PLY, FBX, COLLADA (.dae) and 3MF read as the glTF model each becomes.\n"
     "\n"
     "  -o FILE           output PNG (default: the scene's name with .png, here)\n"
     "  --size WxH        image size (default: the scene's render.width/height)\n"

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "engine/util/model_path.h"
 #include "engine/util/file_source.h"
 
 namespace rf::view {
@@ -32,11 +33,7 @@ std::string absoluteFrom(const std::string& sceneFile, const std::string& rel) {
     return (base / rel).lexically_normal().string();
 }
 
-bool isModel(const std::string& path) {
-    std::string e = std::filesystem::path(path).extension().string();
-    for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return e == ".gltf" || e == ".glb";
-}
+bool isModel(const std::string& path) { return isModelPath(path); }
 
 const char* toneMapName(ToneMap t) {
     return t == ToneMap::Reinhard ? "reinhard" : t == ToneMap::PbrNeutral ? "pbr-neutral" : "clamp";

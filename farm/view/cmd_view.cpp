@@ -38,7 +38,8 @@ namespace {
 const char* kViewHelp =
     "usage: rayfarm view SCENE|MODEL [options]\n"
     "\n"
-    "Opens a window on a scene file (.json) or glTF model (.gltf/.glb) and renders it live on all\n"
+    "Opens a window on a scene file (.json) or model (glTF, OBJ, STL, PLY, FBX, .dae, 3MF) and\n"
+    "renders it live on all\n"
     "local cores (under mpirun, on every rank: the same farm as render): 1 spp while the camera\n"
     "moves, refined to the scene's spp at rest. The picture at rest is the one `rayfarm still`\n"
     "renders with the same camera and options.\n"

@@ -203,7 +203,10 @@ GltfInfo::Light lightInfo(const tinygltf::Light& gl) {
 
 GltfInfo inspectGltf(const std::string& path, FileSource& fs, const AssetOptions& assets) {
     std::vector<std::string> notes;
-    const tinygltf::Model model = parseGltf(path, fs, assets, notes);
+    return inspectGltf(path, parseGltf(path, fs, assets, notes), assets);
+}
+
+GltfInfo inspectGltf(const std::string& path, const tinygltf::Model& model, const AssetOptions& assets) {
     GltfInfo info;
     info.generator = model.asset.generator;
     info.version = model.asset.version;

@@ -7,6 +7,10 @@
 #include <string>
 #include <vector>
 
+namespace tinygltf {
+class Model;
+}  // namespace tinygltf
+
 #include "engine/util/file_source.h"
 #include "engine/scene/scene_options.h"
 #include "engine/util/vec_math.h"
@@ -80,6 +84,9 @@ struct GltfInfo {
     };
 
     std::string generator, version;
+    /// The file's format when it is not glTF ("OBJ", "STL", ...: read through assimp and
+    /// described as the glTF model it became); "" for glTF.
+    std::string format;
     int nodes = 0;
     std::vector<SceneEntry> scenes;
     int defaultScene = -1;         ///< the file's "scene", -1 when it names none
@@ -99,5 +106,7 @@ struct GltfInfo {
 /// Reads path through the same guards as the loader; throws InputError naming the file on what
 /// the loader would refuse to parse. Geometry is decoded (Draco, meshopt) to give bounds.
 GltfInfo inspectGltf(const std::string& path, FileSource& fs, const AssetOptions& assets = {});
+/// The same for a model already parsed (or made from another format).
+GltfInfo inspectGltf(const std::string& path, const tinygltf::Model& model, const AssetOptions& assets = {});
 
 }  // namespace rf

@@ -1,6 +1,7 @@
 #include "engine/load/gltf/gltf_loader.h"
 
 #include <glm/gtc/matrix_transform.hpp>
+#include <tiny_gltf.h>
 
 #include "engine/scene/default_rig.h"
 #include "engine/scene/env_lighting.h"
@@ -19,11 +20,33 @@ size_t loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFr
     return model.variantCount();
 }
 
+size_t loadGltfModel(Scene& scene, const std::string& path, tinygltf::Model parsed, std::vector<std::string> notes,
+                     const DMat4& worldFromModel, int materialOverride, const AssetOptions& assets) {
+    GltfModel model(path, std::move(parsed), std::move(notes), assets);
+    model.addTo(scene, worldFromModel, materialOverride);
+    return model.variantCount();
+}
+
+namespace {
+Scene sceneOf(GltfModel& model, const std::string& path, FileSource& fs, const SceneOptions& options);
+}  // namespace
+
 Scene loadGltfScene(const std::string& path, FileSource& fs, const SceneOptions& options) {
+    GltfModel model(path, fs, options.assets);
+    return sceneOf(model, path, fs, options);
+}
+
+Scene loadGltfScene(const std::string& path, tinygltf::Model parsed, std::vector<std::string> notes, FileSource& fs,
+                    const SceneOptions& options) {
+    GltfModel model(path, std::move(parsed), std::move(notes), options.assets);
+    return sceneOf(model, path, fs, options);
+}
+
+namespace {
+Scene sceneOf(GltfModel& model, const std::string& path, FileSource& fs, const SceneOptions& options) {
     Scene s;
     s.sourcePath = path;
     applyRenderSize(options, s.settings);
-    GltfModel model(path, fs, options.assets);
     glm::dvec3 lo, hi;
     if (!model.bounds(DMat4(1.0), lo, hi)) throw InputError(path, model.emptyReason());
     if (options.inputsRead) {
@@ -61,6 +84,7 @@ Scene loadGltfScene(const std::string& path, FileSource& fs, const SceneOptions&
     s.build();
     return s;
 }
+}  // namespace
 
 const Camera& chosenGltfCamera(const Scene& scene, int index) {
     if (index < 0 || size_t(index) >= scene.gltfCameras.size())

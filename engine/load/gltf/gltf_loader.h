@@ -13,6 +13,11 @@
 /// - glTF cameras (perspective and orthographic, in node order) go to Scene::gltfCameras;
 ///   useGltfCamera() picks one.
 #include <string>
+#include <vector>
+
+namespace tinygltf {
+class Model;
+}  // namespace tinygltf
 
 #include "engine/util/file_source.h"
 #include "engine/scene/scene.h"
@@ -29,10 +34,19 @@ namespace rf {
 size_t loadGltfModel(Scene& scene, const std::string& path, const DMat4& worldFromModel, FileSource& fs,
                      int materialOverride = -1, const AssetOptions& assets = {});
 
+/// The same for a glTF model made in memory from another format (engine/load/assimp/), with the
+/// notes its import gathered.
+size_t loadGltfModel(Scene& scene, const std::string& path, tinygltf::Model model, std::vector<std::string> notes,
+                     const DMat4& worldFromModel, int materialOverride = -1, const AssetOptions& assets = {});
+
 /// A bare model as a whole scene: the model, a camera framed on its bounding sphere with a
 /// margin, and a default key/fill/rim rig when the model brings no lights; the environment
 /// options name (none by default).
 Scene loadGltfScene(const std::string& path, FileSource& fs, const SceneOptions& options = {});
+/// The same for a glTF model made in memory from another format (engine/load/assimp/), with
+/// the notes its import gathered: framed, lit and built exactly as a file would be.
+Scene loadGltfScene(const std::string& path, tinygltf::Model model, std::vector<std::string> notes, FileSource& fs,
+                    const SceneOptions& options = {});
 
 /// scene.gltfCameras[index]; throws InputError if there is none, or if the file's camera is
 /// unusable (a yfov of 0), naming the file and the camera.

@@ -27,6 +27,15 @@ std::string formatted(double v) {
 
 GltfModel::GltfModel(const std::string& path, FileSource& fs, const AssetOptions& assets) : path_(path), assets_(assets) {
     model_ = parseGltf(path, fs, assets, notes_);
+    resolve();
+}
+
+GltfModel::GltfModel(const std::string& path, tinygltf::Model model, std::vector<std::string> notes, const AssetOptions& assets)
+    : path_(path), assets_(assets), model_(std::move(model)), notes_(std::move(notes)) {
+    resolve();
+}
+
+void GltfModel::resolve() {
     pollLoadCancel();
     LoadStep resolving("resolving its node hierarchy");
     chooseMaterialVariant();

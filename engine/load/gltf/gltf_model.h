@@ -24,6 +24,9 @@ namespace rf::gltf {
 class GltfModel {
 public:
     GltfModel(const std::string& path, FileSource& fs, const AssetOptions& assets);
+    /// A model made in memory from another format (engine/load/assimp/), with the notes its
+    /// import gathered; checked and resolved as a parsed file is.
+    GltfModel(const std::string& path, tinygltf::Model model, std::vector<std::string> notes, const AssetOptions& assets);
 
     /// World-space bounds of the drawn triangles; false if there are none.
     bool bounds(const DMat4& worldFromModel, glm::dvec3& lo, glm::dvec3& hi);
@@ -38,6 +41,7 @@ public:
     std::string emptyReason() const;
 
 private:
+    void resolve();
     const PrimitiveGeometry* primitive(int mesh, int prim);
 
     /// Data a loader could silently work around, said once per primitive.

@@ -73,6 +73,10 @@ public:
     const std::string& violationReason() const { return violationReason_; }
     const std::string& root() const { return root_; }
     const std::string& folder() const { return folder_; }
+    /// A relative path resolved against the folder as a URI is: the joined path, or "" when it
+    /// is refused (violation() then says why). Other loaders' side files (an OBJ's MTL and
+    /// textures) go through this too.
+    std::string resolve(const std::string& relative) { return expandFilePath(folder_ + "/" + relative, this); }
 
 private:
     static bool fileExists(const std::string& path, void* self);

@@ -130,10 +130,27 @@ TEST(SceneLoader, MissingFileAndUnknownExtension) {
         EXPECT_EQ(e.file(), "nowhere.json");
     }
     try {
+        loadScene("scene.xyz", fs);
+        FAIL() << "no error";
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "scene.xyz: unknown scene type (expected .json, .gltf or .glb, or a model in .obj, .stl, .ply, .fbx, .dae and .3mf)");
+    }
+    // A format assimp reads but rayfarm does not vouch for: refused, naming those it reads.
+    try {
+        loadScene("ship.3ds", fs);
+        FAIL() << "no error";
+    } catch (const InputError& e) {
+        EXPECT_EQ(std::string(e.what()),
+                  "ship.3ds: rayfarm does not read .3ds files (assimp could, but rayfarm is not tested on them); it reads .json "
+                  "scene files, glTF (.gltf, .glb) and through assimp .obj, .stl, .ply, .fbx, .dae and .3mf");
+    }
+    // A vouched format that is not there: the file source's own message.
+    try {
         loadScene("scene.obj", fs);
         FAIL() << "no error";
     } catch (const InputError& e) {
-        EXPECT_EQ(std::string(e.what()), "scene.obj: unknown scene type (expected .json, .gltf or .glb)");
+        EXPECT_EQ(e.file(), "scene.obj");
     }
 }
 

@@ -76,7 +76,7 @@ refused() {  # what expected-text args...
 refused "a missing file" "no-such.gltf" "$out/no-such.gltf"
 refused "an index out of range" "IndexOutOfRange" "$assimp/IndexOutOfRange/IndexOutOfRange.gltf"
 refused "a glTF 1.0 file" "glTF 1" "$(ls /usr/share/assimp/models/glTF/*/*.gltf 2>/dev/null | head -1)"
-refused "a scene file" "info describes a glTF model" "$src/scenes/whitted.json"
+refused "a scene file" "info describes a model: glTF" "$src/scenes/whitted.json"
 refused "an unknown animation" "no animation named" --animation walk "$assimp/simple_skin/simple_skin.gltf"
 refused "an unknown option" "--frobnicate" --frobnicate "$data/variants.gltf"
 refused "no model" "expected one MODEL"

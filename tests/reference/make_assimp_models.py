@@ -1,0 +1,77 @@
+# Blender 3.4 script: one model exported by Blender's own exporters as glTF (GLB), OBJ (+MTL),
+# STL (binary: the test writes the ASCII twin), PLY and FBX (Y up, and Z up to exercise the FBX axis settings), for
+# tests/engine/load/assimp/assimp_blender_test.cpp: each format must render alike to the GLB.
+#
+#   blender -b --factory-startup --python tests/reference/make_assimp_models.py -- OUT_DIR
+#
+# The model: Suzanne (flat shaded, so every format carries the same normals) on a bevelled
+# box, both in one material that STL's and PLY's neutral default matches (base colour 0.8,
+# roughness 0.5, metallic 0, specular 0.5: the F0 of 0.04 glTF assumes). Asymmetric on every
+# axis, so a wrong up or front axis shows.
+import os
+import sys
+
+import bpy
+
+out = sys.argv[sys.argv.index("--") + 1] if "--" in sys.argv else "."
+os.makedirs(out, exist_ok=True)
+
+bpy.ops.wm.read_factory_settings(use_empty=True)
+bpy.ops.mesh.primitive_monkey_add(size=1.0, location=(0.0, 0.0, 0.9), rotation=(0.0, 0.0, 0.5))
+monkey = bpy.context.active_object
+bpy.ops.object.shade_flat()
+bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.25, -0.1, 0.2))
+box = bpy.context.active_object
+box.scale = (1.4, 0.8, 0.4)
+bpy.ops.object.transform_apply(location=False, rotation=False, scale=True)
+bpy.ops.object.shade_flat()
+
+mat = bpy.data.materials.new("clay")
+mat.use_nodes = True
+bsdf = mat.node_tree.nodes["Principled BSDF"]
+bsdf.inputs["Base Color"].default_value = (0.8, 0.8, 0.8, 1.0)
+bsdf.inputs["Roughness"].default_value = 0.5
+bsdf.inputs["Metallic"].default_value = 0.0
+bsdf.inputs["Specular"].default_value = 0.5
+for o in (monkey, box):
+    o.data.materials.append(mat)
+
+# One mesh object: every exporter writes the same single node, with the transforms applied.
+bpy.ops.object.select_all(action="SELECT")
+bpy.context.view_layer.objects.active = monkey
+bpy.ops.object.join()
+bpy.ops.object.transform_apply(location=True, rotation=True, scale=True)
+
+path = lambda name: os.path.join(out, name)
+bpy.ops.export_scene.gltf(filepath=path("suzanne.glb"), export_format="GLB")
+bpy.ops.export_scene.obj(filepath=path("suzanne.obj"), use_materials=True, use_normals=True, use_uvs=False)
+bpy.ops.export_mesh.stl(filepath=path("suzanne.stl"), ascii=False)  # Z up, as STL is by convention
+# PLY is Y up by the convention of scans (Stanford's); Blender's exporter writes Z up unless told.
+# Without normals: its exporter writes one smooth normal per merged vertex, and a PLY without
+# normals is drawn flat, as glTF draws a mesh without them.
+bpy.ops.export_mesh.ply(filepath=path("suzanne.ply"), axis_forward="-Z", axis_up="Y", use_normals=False, use_colors=False,
+                        use_uv_coords=False)
+bpy.ops.export_scene.fbx(filepath=path("suzanne.fbx"))
+bpy.ops.export_scene.fbx(filepath=path("suzanne_zup.fbx"), axis_forward="Y", axis_up="Z")
+
+# An animated model for the node animations of FBX and COLLADA: a cone (its tip shows the turn)
+# that moves up and right and turns about Z over 2 s, keyed linearly at frames 1, 25 and 49
+# (24 fps), over a still box; exported as GLB, FBX and COLLADA (Blender's own exporters).
+bpy.ops.wm.read_factory_settings(use_empty=True)
+bpy.ops.mesh.primitive_cube_add(size=0.5, location=(0.0, 0.0, 0.0))
+bpy.ops.mesh.primitive_cone_add(vertices=6, radius1=0.3, depth=0.6, location=(0.0, 0.0, 0.6), rotation=(0.0, 1.2, 0.0))
+cone = bpy.context.active_object
+bpy.ops.object.shade_flat()
+scene = bpy.context.scene
+scene.frame_start, scene.frame_end, scene.render.fps = 1, 49, 24
+for frame, loc, rot in ((1, (0.0, 0.0, 0.6), 0.0), (25, (0.8, 0.0, 1.2), 1.5), (49, (0.0, 0.0, 0.6), 3.0)):
+    cone.location = loc
+    cone.rotation_euler = (0.0, 1.2, rot)
+    cone.keyframe_insert("location", frame=frame)
+    cone.keyframe_insert("rotation_euler", frame=frame)
+for curve in cone.animation_data.action.fcurves:
+    for key in curve.keyframe_points:
+        key.interpolation = "LINEAR"
+bpy.ops.export_scene.gltf(filepath=path("animated.glb"), export_format="GLB")
+bpy.ops.export_scene.fbx(filepath=path("animated.fbx"), bake_anim_use_all_actions=False, bake_anim_use_nla_strips=False)
+bpy.ops.wm.collada_export(filepath=path("animated.dae"))
