@@ -68,7 +68,9 @@ json withPointers(const std::string& firstPointer = "") {
 }
 
 LoadedScene loadJson(const json& g, const std::string& name, int camera = -1) {
-    const std::string path = outDir() + "/" + name + ".gltf";  // its buffer is a data: URI
+    // Named after the test too: ctest runs the tests of this file in parallel processes.
+    const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    const std::string path = outDir() + "/" + test + "-" + name + ".gltf";  // its buffer is a data: URI
     std::ofstream(path) << g.dump();
     DiskFileSource fs;
     SceneOptions o{};
