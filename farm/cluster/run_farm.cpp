@@ -350,7 +350,8 @@ std::string FarmRun::videoHolds() const {
     int encoded = sinks_.video->framesInOutput();
     if (encoded < 0) encoded = sinks_.video->framesDone();
     std::string s = "the video " + printable(job_.output) + " holds " +
-                    (encoded ? "frames " + frameSpan(job_.first, job_.first + encoded - 1) : std::string("no frames")) + " of " +
+                    (encoded ? (encoded == 1 ? "frame " : "frames ") + frameSpan(job_.first, job_.first + encoded - 1)
+                             : std::string("no frames")) + " of " +
                     frameSpan(job_.first, job_.last);
     if (closer_.joinable() && !closed_ && framesPassed_ > encoded)
         s += " so far, " + frameSpan(job_.first, job_.first + framesPassed_ - 1) + " once its encoder finishes";

@@ -30,16 +30,16 @@ wait_for_pngs() {  # dir count timeout-seconds
         sleep 0.1; t=$((t + 1)); [ $t -lt $(($3 * 10)) ] || fail "fewer than $2 frames in $1 after $3 s"
     done
 }
-# The interrupted line's span: "holds frames 0–N of 0–59", and while the encoder still drains
+# The interrupted line's span: "holds frames 0–N of 0–59" ("frame 0" for one), and while the encoder still drains
 # "… so far, 0–M once its encoder finishes" (the video then holds M + 1 frames if the close
 # finishes before mpirun's SIGKILL, N + 1 if not).
-HOLDS='holds frames 0–[0-9]+ of 0–59( so far, 0–[0-9]+ once its encoder finishes)? \(playable\)'
+HOLDS='holds (frame 0|frames 0–[0-9]+) of 0–59( so far, 0(–[0-9]+)? once its encoder finishes)? \(playable\)'
 # Checks that VIDEO plays the frames LOG's last interrupted line says it holds.
 check_held() {  # log video
     local line now later played
     line=$(grep -E "$HOLDS" "$1" | tail -1)
-    now=$(printf '%s\n' "$line" | sed -nE 's/.*holds frames 0–([0-9]+) of.*/\1/p')
-    later=$(printf '%s\n' "$line" | sed -nE 's/.* so far, 0–([0-9]+) once its encoder finishes.*/\1/p')
+    now=$(printf '%s\n' "$line" | sed -nE 's/.*holds frames 0–([0-9]+) of.*/\1/p; s/.*holds frame 0 of.*/0/p')
+    later=$(printf '%s\n' "$line" | sed -nE 's/.* so far, 0–([0-9]+) once its encoder finishes.*/\1/p; s/.* so far, 0 once its encoder finishes.*/0/p')
     played=$(frames_of "$2")
     [ -n "$now" ] || { cat "$1"; fail "$1: no interrupted line with the video's frames"; }
     [ "$played" = $((now + 1)) ] || { [ -n "$later" ] && [ "$played" = $((later + 1)) ]; } ||
@@ -163,14 +163,14 @@ pipe)
     set -e
     [ "$rc" = 141 ] || fail "exit $rc with stderr piped into head -1, expected 141"
     grep -q "^rayfarm: .*frames 0–59 of" head.out || fail "head saw: $(cat head.out)"
-    grep -Eq "^rayfarm: interrupted \(SIGPIPE\): the video p\.mp4 holds frames 0–[0-9]+ of 0–59" p.mp4.frames/rayfarm.log ||
+    grep -Eq "^rayfarm: interrupted \(SIGPIPE\): the video p\.mp4 holds (frame 0|frames 0–[0-9]+) of 0–59" p.mp4.frames/rayfarm.log ||
         { cat p.mp4.frames/rayfarm.log; fail "no interrupted line in the frames log"; }
     python3 - p.json <<'PY' || fail "stats file after the broken pipe"
 import json, sys
 s = json.load(open(sys.argv[1]))
 assert s["interrupted"] == "SIGPIPE", s.get("interrupted")
 assert s["resume"].endswith("--resume"), s.get("resume")
-assert "holds frames" in s["video"], s.get("video")
+assert "holds frame" in s["video"], s.get("video")
 PY
     check_held p.mp4.frames/rayfarm.log p.mp4
     resume=$(python3 -c "import json,sys; print(json.load(open(sys.argv[1]))['resume'])" p.json)
@@ -196,7 +196,7 @@ xfsz)
     (ulimit -f 40; "$RAYFARM" render "$SCENE" --size 160x90 --spp 4 -o u.mp4 2> r.log; echo $? > r.rc)
     set -e
     [ "$(cat r.rc)" = 1 ] || { cat r.log; fail "render past ulimit -f: exit $(cat r.rc), expected 1"; }
-    grep -Eq "^rayfarm: error: u\.mp4: writing failed: File too large; the video u\.mp4 holds frames 0–[0-9]+ of 0–96; finished frames are in u\.mp4\.frames; to resume: .*--resume$" r.log ||
+    grep -Eq "^rayfarm: error: u\.mp4: writing failed: File too large; the video u\.mp4 holds (frame 0|frames 0–[0-9]+) of 0–96; finished frames are in u\.mp4\.frames; to resume: .*--resume$" r.log ||
         { cat r.log; fail "render past ulimit -f: not the full-disk path's message"; }
     "$RAYFARM" render "$SCENE" --size 160x90 --spp 4 -o u.mp4 --resume 2> rr.log || { cat rr.log; fail "resume after EFBIG failed"; }
     [ "$(frames_of u.mp4)" = 97 ] || fail "resumed u.mp4 has $(frames_of u.mp4) frames"

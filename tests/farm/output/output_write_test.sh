@@ -39,7 +39,7 @@ if mount -t tmpfs -o size=64k tmpfs "$mnt" 2>/dev/null; then
     [ "$(grep -c 'rayfarm: error' disk_render.log)" = 1 ] || { cat disk_render.log; fail "render onto a full disk: expected one error line"; }
     # One form whichever thread saw the failure first: the file and the reason, what the video
     # holds, where the frames are and how to resume.
-    grep -Eq "^rayfarm: error: $mnt/frames/frame_[0-9]*\.png.*: cannot write: No space left on device; the video full\.mp4 holds (frames [0-9–]+|no frames) of 0–96; finished frames are in $mnt/frames; to resume: .*--resume\$" disk_render.log ||
+    grep -Eq "^rayfarm: error: $mnt/frames/frame_[0-9]*\.png.*: cannot write: No space left on device; the video full\.mp4 holds (frames? [0-9–]+|no frames) of 0–96; finished frames are in $mnt/frames; to resume: .*--resume\$" disk_render.log ||
         { cat disk_render.log; fail "render onto a full disk: no file, reason or resume command"; }
     if ls "$mnt/frames" | grep -q '\.part$'; then fail "render onto a full disk left a .part file"; fi
     echo "full-disk: render stops with the file, ENOSPC and the resume command; no .part left"

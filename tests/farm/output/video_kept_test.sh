@@ -148,13 +148,13 @@ mpi-2sigint)
     # The user waits for the prompt and reads: the line, the resume command, no lock.
     two_sigints m.mp4
     ranks_gone "$ranks" 10 || fail "ranks $ranks still run 10 s after mpirun ended"
-    grep -Eq "^rayfarm: interrupted \(SIG(TERM|INT)\): the video m\.mp4 holds (no frames|frames 0–[0-9]+) of 0–59.* \(playable\)$" m.mp4.err ||
+    grep -Eq "^rayfarm: interrupted \(SIG(TERM|INT)\): the video m\.mp4 holds (no frames|frame 0|frames 0–[0-9]+) of 0–59.* \(playable\)$" m.mp4.err ||
         { cat m.mp4.err; fail "no interrupted line on mpirun's stderr"; }
     resume=$(sed -n 's/^rayfarm: to resume: //p' m.mp4.err)
     case "$resume" in mpirun\ *--resume) ;; *) cat m.mp4.err; fail "no resume command with mpirun on mpirun's stderr" ;; esac
     ls m.mp4.lock m.mp4.frames.lock 2>/dev/null && fail "a lock was left behind"
     line=$(grep "^rayfarm: interrupted" m.mp4.err)
-    said=$(printf '%s\n' "$line" | sed -nE 's/.*holds frames 0–([0-9]+) of.*/\1/p')
+    said=$(printf '%s\n' "$line" | sed -nE 's/.*holds frames 0–([0-9]+) of.*/\1/p; s/.*holds frame 0 of.*/0/p')
     said=$(( ${said:--1} + 1 ))
     n=$(frames_of m.mp4)
     [ "$n" = "$said" ] || fail "m.mp4 plays $n frames; the line says: $line"
