@@ -41,7 +41,7 @@ echo "ok: cmake --install to a prefix, man page from --help"
 (cd "$build" && cpack -G DEB -B "$out/pkg") > "$out/cpack.log" 2>&1 || { cat "$out/cpack.log"; fail "cpack -G DEB"; }
 deb=$(ls "$out"/pkg/rayfarm_"$version"_*.deb)
 depends=$(dpkg-deb -f "$deb" Depends)
-for want in openmpi-bin libopenmpi libavcodec libavformat libavfilter libc6 libstdc++6; do
+for want in openmpi-bin libopenmpi libavcodec libavformat libavfilter libassimp libc6 libstdc++6; do
     grep -q "$want" <<<"$depends" || fail "$deb: Depends lacks $want: $depends"
 done
 dpkg-deb -c "$deb" > "$out/contents.txt"; grep -q ' ./usr/bin/rayfarm$' "$out/contents.txt" || fail "$deb holds no /usr/bin/rayfarm"
@@ -66,7 +66,16 @@ env -i PATH=/usr/bin:/bin HOME="$out/run" OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RU
     { cat farm.log; fail "mpirun -np 2 rayfarm render from PATH"; }
 grep -q "2 ranks" farm.log || fail "mpirun -np 2 did not give 2 ranks: $(cat farm.log)"
 for f in solo.mp4 farm.mp4; do [ -s "$f" ] || fail "$f was not written"; done
-cmp -s solo.frames/frame_000003.png farm.frames/frame_000003.png || fail "frame 3 differs between one process and mpirun -np 2"
+# The kept frames are in OUTPUT.frames (docs/cli.md, --frames-dir).
+for f in solo.mp4.frames/frame_000003.png farm.mp4.frames/frame_000003.png; do [ -s "$f" ] || fail "$f was not written"; done
+cmp -s solo.mp4.frames/frame_000003.png farm.mp4.frames/frame_000003.png || fail "frame 3 differs between one process and mpirun -np 2"
+# A format read through libassimp (issue 48), from the installed package.
+obj=/usr/share/assimp/models/OBJ/spider.obj
+if [ -s "$obj" ]; then
+    env -i PATH=/usr/bin:/bin HOME="$out/run" rayfarm still "$obj" -o obj.png --size 64x36 2> obj.log ||
+        { cat obj.log; fail "rayfarm still $obj from PATH"; }
+    [ -s obj.png ] || fail "obj.png was not written"
+fi
 man -w rayfarm >/dev/null 2>&1 || [ -s /usr/share/man/man1/rayfarm.1.gz ] || [ -s /usr/share/man/man1/rayfarm.1 ] || fail "no man page installed"
 cleanup
 trap - EXIT
