@@ -129,6 +129,7 @@ json infoJson(const std::string& path, const GltfInfo& info, const json& turntab
         const GltfInfo::Mesh& m = info.meshes[i];
         json o = {{"index", i}, {"name", m.name}, {"primitives", m.primitives}, {"triangles", m.triangles},
                   {"vertices", m.vertices}, {"instances", m.instances}, {"skinned", m.skinned}, {"morph_targets", m.morphTargets}};
+        if (m.gpuInstances) o["gpu_instances"] = m.gpuInstances;  // of "instances", drawn by EXT_mesh_gpu_instancing
         if (m.points) o["points"] = m.points;
         if (m.lineSegments) o["line_segments"] = m.lineSegments;
         o["bounds"] = m.hasBounds ? json{{"min", vec3f(m.min)}, {"max", vec3f(m.max)}} : json(nullptr);
@@ -245,7 +246,9 @@ std::string infoText(const json& j) {
     for (const json& m : j["meshes"]) {
         s += "  " + std::to_string(m["index"].get<int>()) + " " + quoted(m["name"]) + ": " + std::to_string(m["triangles"].get<uint64_t>()) +
              " triangles, " + std::to_string(m["vertices"].get<uint64_t>()) + " vertices, " + std::to_string(m["primitives"].get<int>()) +
-             " primitives, drawn " + std::to_string(m["instances"].get<int>()) + "x";
+             " primitives, drawn " + std::to_string(m["instances"].get<uint64_t>()) + "x";
+        if (m.contains("gpu_instances"))
+            s += " (" + std::to_string(m["gpu_instances"].get<uint64_t>()) + " EXT_mesh_gpu_instancing instances)";
         if (m.contains("points")) s += ", " + std::to_string(m["points"].get<uint64_t>()) + " points";
         if (m.contains("line_segments")) s += ", " + std::to_string(m["line_segments"].get<uint64_t>()) + " line segments";
         if (m["skinned"].get<bool>()) s += ", skinned";

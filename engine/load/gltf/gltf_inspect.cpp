@@ -8,6 +8,7 @@
 #include <tiny_gltf.h>
 
 #include "engine/load/gltf/gltf_accessors.h"
+#include "engine/load/gltf/gltf_instancing.h"
 #include "engine/load/gltf/gltf_geometry.h"
 #include "engine/load/gltf/gltf_images.h"
 #include "engine/load/gltf/gltf_parse.h"
@@ -32,9 +33,11 @@ uint64_t primitiveTriangles(const tinygltf::Model& model, const tinygltf::Primit
     return 0;
 }
 
-/// How many times each mesh is drawn: nodes of scene sc (every root without one).
-std::vector<int> meshInstances(const tinygltf::Model& model, int sc) {
-    std::vector<int> count(model.meshes.size(), 0);
+/// How many times each mesh is drawn: nodes of scene sc (every root without one), each as many
+/// times as its EXT_mesh_gpu_instancing has instances (counted in gpu as well).
+std::vector<uint64_t> meshInstances(const tinygltf::Model& model, int sc, std::vector<uint64_t>& gpu) {
+    std::vector<uint64_t> count(model.meshes.size(), 0);
+    gpu.assign(model.meshes.size(), 0);
     std::vector<int> stack;
     if (sc >= 0 && size_t(sc) < model.scenes.size()) {
         stack = model.scenes[size_t(sc)].nodes;
@@ -53,7 +56,11 @@ std::vector<int> meshInstances(const tinygltf::Model& model, int sc) {
         if (i < 0 || size_t(i) >= model.nodes.size() || seen[size_t(i)]) continue;
         seen[size_t(i)] = 1;
         const tinygltf::Node& n = model.nodes[size_t(i)];
-        if (n.mesh >= 0 && size_t(n.mesh) < count.size()) ++count[size_t(n.mesh)];
+        if (n.mesh >= 0 && size_t(n.mesh) < count.size()) {
+            const uint64_t times = gpuInstanceCount(model, i);
+            count[size_t(n.mesh)] += times;
+            if (n.extensions.count("EXT_mesh_gpu_instancing")) gpu[size_t(n.mesh)] += times;
+        }
         stack.insert(stack.end(), n.children.begin(), n.children.end());
     }
     return count;
@@ -217,11 +224,13 @@ GltfInfo inspectGltf(const std::string& path, const tinygltf::Model& model, cons
     for (const tinygltf::Scene& s : model.scenes) info.scenes.push_back({s.name, int(s.nodes.size())});
     info.defaultScene = model.defaultScene;
     info.drawnScene = assets.scene >= 0 ? assets.scene : model.defaultScene >= 0 ? model.defaultScene : model.scenes.empty() ? -1 : 0;
-    const std::vector<int> instances = meshInstances(model, info.drawnScene);
+    std::vector<uint64_t> gpu;
+    const std::vector<uint64_t> instances = meshInstances(model, info.drawnScene, gpu);
     for (size_t i = 0; i < model.meshes.size(); ++i) {
         info.meshes.push_back(meshInfo(model, int(i), path, skinnedMesh));
         info.meshes.back().instances = instances[i];
-        info.drawnTriangles += uint64_t(instances[i]) * info.meshes.back().triangles;
+        info.meshes.back().gpuInstances = gpu[i];
+        info.drawnTriangles += instances[i] * info.meshes.back().triangles;
     }
     for (const tinygltf::Material& m : model.materials) info.materials.push_back(materialInfo(m));
     for (const tinygltf::Texture& t : model.textures) info.textures.push_back(textureInfo(model, t, path));

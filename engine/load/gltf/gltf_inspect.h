@@ -21,7 +21,8 @@ struct GltfInfo {
     struct Mesh {
         std::string name;
         int primitives = 0;
-        int instances = 0;         ///< nodes of the drawn scene that draw it
+        uint64_t instances = 0;    ///< times the drawn scene draws it: its nodes, each by its EXT_mesh_gpu_instancing count
+        uint64_t gpuInstances = 0; ///< of those, drawn through EXT_mesh_gpu_instancing
         uint64_t triangles = 0;    ///< as the file gives them (strips and fans unrolled), before any is dropped
         uint64_t vertices = 0;     ///< POSITION elements over its primitives
         uint64_t points = 0;       ///< POINTS primitives' points (drawn as dots)

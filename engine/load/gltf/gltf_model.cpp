@@ -9,6 +9,7 @@
 #include "engine/geometry/skinning.h"
 #include "engine/util/errors.h"
 #include "engine/util/load_control.h"
+#include "engine/load/gltf/gltf_instancing.h"
 #include "engine/load/gltf/gltf_lights_cameras.h"
 #include "engine/load/gltf/gltf_safety.h"
 #include "engine/load/gltf/gltf_variants.h"
@@ -35,12 +36,20 @@ GltfModel::GltfModel(const std::string& path, tinygltf::Model model, std::vector
     resolve();
 }
 
+void GltfModel::readGpuInstancing() {
+    for (int node : order_) {
+        GpuInstances g = readGpuInstances(model_, node, path_);
+        if (g.present) gpuInstances_[node] = std::move(g.nodeFromInstance);
+    }
+}
+
 void GltfModel::resolve() {
     pollLoadCancel();
     LoadStep resolving("resolving its node hierarchy");
     chooseMaterialVariant();
     resolveHierarchy();
     checkInstancedSize();
+    readGpuInstancing();
     readAnimations();
     readSkins();
 }
@@ -61,7 +70,25 @@ bool GltfModel::bounds(const DMat4& worldFromModel, glm::dvec3& lo, glm::dvec3& 
             std::vector<Vec3> pos = morphedPositions(g->mesh, defaultWeights(node));
             const bool skinned = skinnedPrimitive(node, *g, int(p));
             if (skinned) pos = restSkinned(node, *g, worldFromModel).positions;
-            for (uint32_t i : g->wire ? g->wirePoints : g->mesh.indices) {
+            // Each instance's corners of the primitive's box in its own space (instances are
+            // many and small, so the box of the boxes), or each vertex without instancing.
+            auto it = skinned ? gpuInstances_.end() : gpuInstances_.find(node);
+            const std::vector<uint32_t>& used = g->wire ? g->wirePoints : g->mesh.indices;
+            if (it != gpuInstances_.end()) {
+                glm::dvec3 plo(std::numeric_limits<double>::infinity()), phi = -plo;
+                for (uint32_t i : used) plo = glm::min(plo, glm::dvec3(pos[i])), phi = glm::max(phi, glm::dvec3(pos[i]));
+                if (used.empty()) continue;
+                for (const DMat4& inst : it->second)
+                    for (int c = 0; c < 8; ++c) {
+                        const glm::dvec3 corner(c & 1 ? phi.x : plo.x, c & 2 ? phi.y : plo.y, c & 4 ? phi.z : plo.z);
+                        const glm::dvec3 q(m * inst * glm::dvec4(corner, 1.0));
+                        lo = glm::min(lo, q);
+                        hi = glm::max(hi, q);
+                        any = true;
+                    }
+                continue;
+            }
+            for (uint32_t i : used) {
                 const glm::dvec3 q = skinned ? glm::dvec3(pos[i]) : glm::dvec3(m * glm::dvec4(glm::dvec3(pos[i]), 1.0));
                 lo = glm::min(lo, q);
                 hi = glm::max(hi, q);
@@ -148,7 +175,9 @@ void GltfModel::addNodeMeshes(Scene& scene, int node, const DMat4& renderFromNod
         dropped.nonFinite += g->droppedNonFinite;
         dropped.generated += g->generatedNormals;
         if (g->mesh.indices.empty()) continue;
+        const auto instanced = gpuInstances_.find(node);
         if (skinnedPrimitive(node, *g, int(p))) {
+            dropped.skinnedInstanced += instanced != gpuInstances_.end();
             // The skin places it (the node's own transform is not used); it always keeps its
             // object-space data, so any animation of its joints can move it.
             TriangleMesh m = restSkinned(node, *g, scene.geometry.models[size_t(modelIndex)].renderFromModel);
@@ -168,7 +197,8 @@ void GltfModel::addNodeMeshes(Scene& scene, int node, const DMat4& renderFromNod
             scene.geometry.meshes.push_back(std::move(m));
             continue;
         }
-        TriangleMesh m = g->mesh;
+        TriangleMesh m = instanced == gpuInstances_.end() ? g->mesh : instancedPrimitive(g->mesh, instanced->second, dropped.instancesUnplaced);
+        if (m.indices.empty()) continue;
         m.name = gm.name;
         m.influences = 0;  // not bound to a skin here: drawn rigidly by its node
         m.skinJoints.clear();
@@ -235,6 +265,10 @@ void GltfModel::noteDrops(const DropCounts& d) {
     if (d.nonFinite) notes_.push_back(std::to_string(d.nonFinite) + " triangles with non-finite or out-of-bounds positions dropped");
     if (d.generated) notes_.push_back("normals generated for " + std::to_string(d.generated) + " primitives");
     if (d.unplaced) notes_.push_back(std::to_string(d.unplaced) + " primitives dropped: their node scales them to nothing or to infinity");
+    if (d.instancesUnplaced)
+        notes_.push_back(std::to_string(d.instancesUnplaced) + " EXT_mesh_gpu_instancing instances (per primitive) dropped: their SCALE is zero");
+    if (d.skinnedInstanced)
+        notes_.push_back(std::to_string(d.skinnedInstanced) + " skinned primitives of instanced nodes drawn once, by their skin (EXT_mesh_gpu_instancing leaves skins out)");
     if (d.wires)
         notes_.push_back(std::to_string(d.wires) + " primitives of points or lines drawn as dots and lines " +
                          formatted(2.0 * wireRadius_) + " units wide (--point-size)");

@@ -89,6 +89,8 @@ private:
     struct DropCounts {
         size_t degenerate = 0, nonFinite = 0, generated = 0, unplaced = 0;
         size_t wires = 0;  ///< primitives of points or lines drawn
+        size_t instancesUnplaced = 0;  ///< EXT_mesh_gpu_instancing instances of zero scale, per primitive
+        size_t skinnedInstanced = 0;   ///< skinned primitives of instanced nodes, drawn once
     };
     SceneGraph sceneGraph(const DMat4& renderFromModel) const;
     void addNodeMeshes(Scene& scene, int node, const DMat4& renderFromNode, int modelIndex, bool dynamic,
@@ -118,6 +120,10 @@ private:
     std::vector<int> order_;  ///< drawn nodes, parents before children
     std::vector<uint8_t> animatedNode_;
     std::vector<uint8_t> visibilityAnimated_;  ///< some channel animates the node's KHR_node_visibility
+    /// EXT_mesh_gpu_instancing: each drawn node's instances (node-from-instance matrices), read
+    /// after the size check; nodes without the extension are absent.
+    std::map<int, std::vector<DMat4>> gpuInstances_;
+    void readGpuInstancing();
     std::vector<Animation> animations_;
     std::vector<Skin> skins_;
     std::vector<DMat4> restModelFromNode_;  ///< every node's rest transform (filled when there are skins)

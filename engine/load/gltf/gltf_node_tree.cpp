@@ -8,6 +8,7 @@
 #include "engine/util/errors.h"
 #include "engine/util/load_control.h"
 #include "engine/load/gltf/gltf_accessors.h"
+#include "engine/load/gltf/gltf_instancing.h"
 #include "engine/load/gltf/gltf_safety.h"
 
 namespace rf::gltf {
@@ -213,21 +214,26 @@ void GltfModel::resolveHierarchy() {
 }
 
 void GltfModel::checkInstancedSize() const {
-    uint64_t tris = 0;
+    const uint64_t cap = Limits::kMaxTriangles;
+    uint64_t corners = 0;  // three per triangle; an upper bound for strips and fans as well, within two per primitive
     for (int node : order_) {
         const int mesh = model_.nodes[size_t(node)].mesh;
         if (mesh < 0) continue;
+        // EXT_mesh_gpu_instancing writes the vertices out once per instance as well.
+        const uint64_t instances = gpuInstanceCount(model_, node);
         for (const tinygltf::Primitive& p : model_.meshes[size_t(mesh)].primitives) {
-            int acc = p.indices;
-            if (acc < 0)
-                if (auto it = p.attributes.find("POSITION"); it != p.attributes.end()) acc = it->second;
-            if (acc >= 0 && size_t(acc) < model_.accessors.size()) tris += model_.accessors[size_t(acc)].count;
+            auto count = [&](int acc) { return acc >= 0 && size_t(acc) < model_.accessors.size() ? uint64_t(model_.accessors[size_t(acc)].count) : 0; };
+            const auto pos = p.attributes.find("POSITION");
+            const uint64_t vertices = pos == p.attributes.end() ? 0 : count(pos->second);
+            uint64_t n = p.indices >= 0 ? count(p.indices) : vertices;
+            if (instances != 1) n = std::max(n, vertices);
+            // Each factor is below 2^27 (an accessor's limit) and the sum stops past the cap:
+            // no overflow.
+            corners += std::min(n, 3 * cap) * std::min(instances, 3 * cap);
+            if (corners / 3 > cap)
+                throw InputError(path_, "over " + std::to_string(cap) + " triangles once nodes instance their meshes (the limit)");
         }
     }
-    tris /= 3;  // an upper bound for strips and fans as well, within two per primitive
-    if (tris > Limits::kMaxTriangles)
-        throw InputError(path_, "about " + std::to_string(tris) + " triangles once nodes instance their meshes, over the limit of " +
-                                    std::to_string(Limits::kMaxTriangles));
 }
 
 void GltfModel::readAnimations() {

@@ -208,7 +208,8 @@ bool isSupportedExtension(const std::string& name) {
                                             "KHR_materials_pbrSpecularGlossiness", "KHR_materials_sheen", "KHR_materials_volume",
                                             "KHR_materials_variants",
                                             "EXT_meshopt_compression", "KHR_meshopt_compression",
-                                            "KHR_texture_basisu", "KHR_node_visibility", "KHR_animation_pointer"};
+                                            "KHR_texture_basisu", "KHR_node_visibility", "KHR_animation_pointer",
+                                            "EXT_mesh_gpu_instancing"};
     return s.count(name) != 0;
 }
 
