@@ -120,6 +120,23 @@ double cameraMovingPeriod(const FileCamera& fc, const Scene& scene, const std::v
 
 }  // namespace
 
+bool Timeline::posesModels() const { return spec_ && !spec_->players.empty(); }
+
+TrialPose::TrialPose(Scene& scene, const Timeline& timeline, bool copy) : original_(scene) {
+    if (copy || timeline.posesModels()) {
+        copy_ = std::make_unique<Scene>(scene);
+    } else {
+        camera_ = scene.camera;
+        lights_ = scene.lights;
+    }
+}
+
+TrialPose::~TrialPose() {
+    if (copy_) return;
+    original_.camera = camera_;
+    original_.lights = std::move(lights_);
+}
+
 std::optional<int> Timeline::fileCamera() const {
     if (spec_ && spec_->fileCamera) return spec_->fileCamera->index;
     return std::nullopt;

@@ -48,6 +48,9 @@ public:
     std::optional<int> fileCamera() const;
     /// Seconds of the animation that moves that camera (0: it stands still, or no file camera).
     double fileCameraPeriod() const;
+    /// True when apply() changes more of a scene than its camera and lights: a model's
+    /// animation poses nodes (its meshes, a refitted BVH) and materials.
+    bool posesModels() const;
 
 private:
     int frames_ = 1;
@@ -55,6 +58,28 @@ private:
     double t0_ = 0.0;
     double fileCameraPeriod_ = 0.0;
     std::shared_ptr<const TimelineSpec> spec_;  ///< null: a still frame, apply() does nothing
+};
+
+/// A scene posed for a look at a few frames (exposure metering, `info`), left as it was
+/// afterwards. A timeline that moves only the camera and the lights poses the scene itself and
+/// puts those two back when the TrialPose goes; one that poses models works on a copy, since
+/// posing leaves traces (a refitted BVH) and the frames rendered later must not depend on
+/// whether this look happened. So a big model that does not move is not copied for a look.
+class TrialPose {
+public:
+    TrialPose(Scene& scene, const Timeline& timeline, bool copy = false);
+    ~TrialPose();
+    TrialPose(const TrialPose&) = delete;
+    TrialPose& operator=(const TrialPose&) = delete;
+    /// The scene to pose and render.
+    Scene& scene() { return copy_ ? *copy_ : original_; }
+    bool copied() const { return bool(copy_); }
+
+private:
+    Scene& original_;
+    std::unique_ptr<Scene> copy_;
+    Camera camera_;
+    std::vector<Light> lights_;
 };
 
 }  // namespace rf::anim

@@ -30,7 +30,7 @@ std::string noLightWarning(const Scene& scene) {
     return s;
 }
 
-void resolveAutoExposure(const Scene& scene, const anim::Timeline& timeline, RenderSettings& settings, int threads,
+void resolveAutoExposure(Scene& scene, const anim::Timeline& timeline, RenderSettings& settings, int threads,
                          const std::function<void(Scene&)>& afterPose,
                          const std::shared_ptr<SceneCacheSlot>& bounceSlot) {
     if (!settings.autoExposure) return;
@@ -46,10 +46,12 @@ void resolveAutoExposure(const Scene& scene, const anim::Timeline& timeline, Ren
     // Unpruned: the pruning rule compares a light's worth after exposure, which is what the
     // meter is about to choose; at EV 0 a scene in small units (a 10 cd lamp) would meter black.
     small.minWeight = 0.f;
-    // Posed on a copy: posing leaves traces in a scene (its BVH is refitted, not rebuilt), and a
-    // farm worker that never metered must render the same frames as rank 0.
+    // A farm worker that never metered must render the same frames as rank 0: the scene is
+    // posed on a copy when posing leaves traces (a model's animation refits its BVH), else
+    // in place with its camera and lights put back (anim::TrialPose).
     LoadStep step("metering the exposure");  // part of the set-up a signal cuts short
-    Scene probe = scene;
+    anim::TrialPose trial(scene, timeline, bool(afterPose));
+    Scene& probe = trial.scene();
     ExposureMeter meter;
     RayStats rays;
     RenderView view{probe.camera, small};

@@ -18,9 +18,10 @@ std::string noLightWarning(const Scene& scene);
 /// frames whichever part of it this run renders, so a still and the film's frame agree), meters
 /// them, stores the EV in settings.exposure, clears autoExposure and prints the EV chosen.
 /// afterPose (if given) runs after each frame is posed, e.g. to look through a glTF camera.
-/// The frames are posed on a copy: the scene is left as it was. bounceSlot: the job's bounce
+/// The scene is left as it was (posed on a copy, or in place with its camera and lights put back:
+/// anim::TrialPose, so a big model that does not move is not copied). bounceSlot: the job's bounce
 /// cache, which the metering frames build or use as the job's frames will (null: their own).
-void resolveAutoExposure(const Scene& scene, const anim::Timeline& timeline, RenderSettings& settings, int threads,
+void resolveAutoExposure(Scene& scene, const anim::Timeline& timeline, RenderSettings& settings, int threads,
                          const std::function<void(Scene&)>& afterPose = {},
                          const std::shared_ptr<SceneCacheSlot>& bounceSlot = nullptr);
 

@@ -50,8 +50,9 @@ double tidy(double v) {
 json vec3f(const DVec3& v) { return json::array({tidy(v.x), tidy(v.y), tidy(v.z)}); }
 
 /// The default turntable of the model: what Timeline::fromScene makes of the loaded scene.
-json turntableJson(const Scene& loaded, const anim::Timeline& tl, size_t fileLights) {
-    Scene scene = loaded;
+json turntableJson(Scene& loaded, const anim::Timeline& tl, size_t fileLights) {
+    anim::TrialPose trial(loaded, tl);  // a model that does not move is not copied
+    Scene& scene = trial.scene();
     tl.applyFrame(scene, 0);
     const DVec3 eye(scene.camera.eye), target(scene.camera.target);
     const DVec3 d = eye - target;
@@ -360,8 +361,8 @@ int runInfo(const std::vector<std::string>& args) {
     SceneOptions opts = sceneOptions(p);
     // The whole load first: a file the renderer refuses is refused here with the same line.
     DiskFileSource fs;
-    const LoadedScene loaded = loadScene(path, fs, opts);
-    const Scene& scene = loaded.scene;
+    LoadedScene loaded = loadScene(path, fs, opts);
+    Scene& scene = loaded.scene;
     const anim::Timeline tl = anim::Timeline::fromScene(loaded, fps);
     const GltfInfo info = inspectModel(path, fs, opts.assets);
     const json j = infoJson(path, info, turntableJson(scene, tl, info.lights.size()), cameraViewsJson(scene));

@@ -237,7 +237,7 @@ Scene sceneAtFrame(const ArgParser& p, const std::string& scenePath, anim::Timel
 }
 
 /// The default setting the sweep is centred on; with --reference, at the reference's size.
-RenderSettings baseSettings(const ArgParser& p, const Scene& scene, const anim::Timeline& timeline,
+RenderSettings baseSettings(const ArgParser& p, Scene& scene, const anim::Timeline& timeline,
                             const report::QualityReportOptions& o, int threads) {
     RenderSettings settings = scene.settings;
     applyQualityOptions(p, settings);

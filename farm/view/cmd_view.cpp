@@ -126,8 +126,8 @@ void checkDisplayAndOutputs(view::ViewOptions& o, const ArgParser& p) {
 }
 
 /// The settings every rank renders with: the scene's, the picture options over them.
-RenderSettings pictureSettings(const ArgParser& p, const LoadedScene& loaded, const std::shared_ptr<SceneCacheSlot>& bounceSlot) {
-    const Scene& scene = loaded.scene;
+RenderSettings pictureSettings(const ArgParser& p, LoadedScene& loaded, const std::shared_ptr<SceneCacheSlot>& bounceSlot) {
+    Scene& scene = loaded.scene;
     RenderSettings settings = scene.settings;
     applyQualityOptions(p, settings);
     // One EV for the whole session, the same on every rank (the meter is deterministic).
