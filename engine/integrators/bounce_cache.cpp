@@ -46,32 +46,54 @@ constexpr int kBounces = 2;
 constexpr uint32_t kMaxGridSide = 64;
 constexpr size_t kGridNodesPerPoint = 16;
 
-/// A sparse matrix in compressed rows, with Color or float values.
+/// A sparse matrix in compressed rows, with Color or float values, kept in parts of up to
+/// kChunk rows (each part its own compressed rows): parts are built in parallel and kept as
+/// they are, so a matrix with a row per vertex of a big model is never copied whole to join them.
 template <class T>
 struct Sparse {
-    std::vector<uint32_t> start{0};
-    std::vector<uint32_t> col;
-    std::vector<T> val;
-    size_t rows() const { return start.size() - 1; }
+    static constexpr size_t kChunk = 256;
+    struct Part {
+        size_t first = 0;                ///< its first row in the matrix
+        std::vector<uint32_t> start{0};  ///< its rows' starts in col and val, and the end
+        std::vector<uint32_t> col;
+        std::vector<T> val;
+    };
+    std::vector<Part> parts;
+    size_t count = 0;
+    size_t rows() const { return count; }
     /// out[r] = Σ val × in[col] (Color in; T scales it).
     void apply(const std::vector<Color>& in, std::vector<Color>& out, int threads) const {
         out.assign(rows(), Color(0.f));
-        const int chunks = int((rows() + 1023) / 1024);
-        parallelFor(chunks, threads, [&](int c, int) {
-            const size_t r1 = std::min(rows(), size_t(c + 1) * 1024);
-            for (size_t r = size_t(c) * 1024; r < r1; ++r) {
+        parallelFor(int(parts.size()), threads, [&](int c, int) {
+            const Part& part = parts[size_t(c)];
+            for (size_t r = 0; r + 1 < part.start.size(); ++r) {
                 Color s(0.f);
-                for (uint32_t k = start[r]; k < start[r + 1]; ++k) s += val[k] * in[col[k]];
-                out[r] = s;
+                for (uint32_t k = part.start[r]; k < part.start[r + 1]; ++k) s += part.val[k] * in[part.col[k]];
+                out[part.first + r] = s;
             }
         });
     }
-    /// Appends rows built separately, in order.
-    void append(const std::vector<std::vector<std::pair<uint32_t, T>>>& rows) {
-        for (const auto& row : rows) {
-            for (const auto& [c, v] : row) col.push_back(c), val.push_back(v);
-            start.push_back(uint32_t(col.size()));
-        }
+    /// Appends n rows, row r made by fill(r, row, w) (row empty on entry; w a scratch list of
+    /// kernel weights to reuse), a part of up to kChunk rows at a time in parallel.
+    template <class Fill>
+    void appendRows(size_t n, int threads, Fill fill) {
+        const size_t first = parts.size();
+        parts.resize(first + (n + kChunk - 1) / kChunk);
+        parallelFor(int(parts.size() - first), threads, [&](int c, int) {
+            Part& part = parts[first + size_t(c)];
+            part.first = count + size_t(c) * kChunk;
+            std::vector<std::pair<uint32_t, T>> row;
+            KernelWeights w;
+            for (size_t r = size_t(c) * kChunk; r < std::min(n, size_t(c + 1) * kChunk); ++r) {
+                row.clear();
+                fill(r, row, w);
+                for (const auto& [cc, v] : row) part.col.push_back(cc), part.val.push_back(v);
+                part.start.push_back(uint32_t(part.col.size()));
+            }
+            part.col.shrink_to_fit();
+            part.val.shrink_to_fit();
+        });
+        count += n;
     }
 };
 
@@ -264,35 +286,24 @@ std::shared_ptr<const BounceGeometry> buildBounceGeometry(const Scene& scene, ui
     }
 
     // The transfer: each gather ray's landing spread over the points around it.
-    {
-        std::vector<std::vector<std::pair<uint32_t, Color>>> rows(geo->points.size());
-        parallelFor(int(rows.size()), threads, [&](int i, int) {
-            KernelWeights w;
-            auto& row = rows[size_t(i)];
-            for (const GatherHit& g : kept[size_t(i)]) {
-                geo->grid.weights(g.p, g.n, w, kLandingScale, kLandingMost);
-                for (const auto& [j, wj] : w) row.emplace_back(j, g.through * (wj / float(kGatherRays)));
-            }
-            std::sort(row.begin(), row.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-            size_t out = 0;
-            for (size_t k = 0; k < row.size(); ++k) {
-                if (out > 0 && row[out - 1].first == row[k].first) row[out - 1].second += row[k].second;
-                else row[out++] = row[k];
-            }
-            row.resize(out);
-        });
-        geo->transfer.append(rows);
-    }
-    {
-        std::vector<std::vector<std::pair<uint32_t, float>>> rows(geo->points.size());
-        parallelFor(int(rows.size()), threads, [&](int i, int) {
-            KernelWeights w;
-            const BouncePoint& bp = geo->points[size_t(i)];
-            geo->grid.weights(bp.si.p, bp.frame.ns, w, 1.f, kSmoothMost);
-            rows[size_t(i)].assign(w.begin(), w.end());
-        });
-        geo->smooth.append(rows);
-    }
+    geo->transfer.appendRows(geo->points.size(), threads, [&](size_t i, std::vector<std::pair<uint32_t, Color>>& row, KernelWeights& w) {
+        for (const GatherHit& g : kept[i]) {
+            geo->grid.weights(g.p, g.n, w, kLandingScale, kLandingMost);
+            for (const auto& [j, wj] : w) row.emplace_back(j, g.through * (wj / float(kGatherRays)));
+        }
+        std::sort(row.begin(), row.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+        size_t out = 0;
+        for (size_t k = 0; k < row.size(); ++k) {
+            if (out > 0 && row[out - 1].first == row[k].first) row[out - 1].second += row[k].second;
+            else row[out++] = row[k];
+        }
+        row.resize(out);
+    });
+    geo->smooth.appendRows(geo->points.size(), threads, [&](size_t i, std::vector<std::pair<uint32_t, float>>& row, KernelWeights& w) {
+        const BouncePoint& bp = geo->points[i];
+        geo->grid.weights(bp.si.p, bp.frame.ns, w, 1.f, kSmoothMost);
+        row.assign(w.begin(), w.end());
+    });
 
     // Nodes: every vertex of a bounce mesh, per side, and grids over triangles wider than the
     // kernel (spacing grows if they would pass kMaxGridNodes).
@@ -367,20 +378,12 @@ std::shared_ptr<const BounceGeometry> buildBounceGeometry(const Scene& scene, ui
             geo->grids.push_back(g);
         }
     }
-    {
-        std::vector<std::vector<std::pair<uint32_t, float>>> rows(nodes.size());
-        const int chunks = int((nodes.size() + 255) / 256);
-        parallelFor(chunks, threads, [&](int c, int) {
-            KernelWeights w;
-            for (size_t k = size_t(c) * 256; k < std::min(nodes.size(), size_t(c + 1) * 256); ++k) {
-                const float len = glm::length(nodes[k].n);
-                if (!(len > 0.f) || !std::isfinite(len)) continue;
-                geo->grid.weights(nodes[k].p, nodes[k].n / len, w, kNodeScale, kNodeMost);
-                rows[k].assign(w.begin(), w.end());
-            }
-        });
-        geo->nodeWeights.append(rows);
-    }
+    geo->nodeWeights.appendRows(nodes.size(), threads, [&](size_t k, std::vector<std::pair<uint32_t, float>>& row, KernelWeights& w) {
+        const float len = glm::length(nodes[k].n);
+        if (!(len > 0.f) || !std::isfinite(len)) return;
+        geo->grid.weights(nodes[k].p, nodes[k].n / len, w, kNodeScale, kNodeMost);
+        row.assign(w.begin(), w.end());
+    });
     return geo;
 }
 
