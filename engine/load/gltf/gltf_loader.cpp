@@ -58,6 +58,7 @@ Scene sceneOf(GltfModel& model, const std::string& path, FileSource& fs, const S
     const glm::dvec3 center = 0.5 * (lo + hi);
     s.renderOrigin = chooseRenderOrigin(center);
     model.addTo(s, DMat4(1.0));
+    model.releaseLoadData();  // the scene holds all it needs now; the build below is the peak
     const float radius = float(0.5 * glm::length(hi - lo));
     const float aspect = float(s.settings.width) / float(s.settings.height);
     s.camera = frameBoundingSphere(Vec3(center - s.renderOrigin), radius > 0.f ? radius : 1.f, aspect);

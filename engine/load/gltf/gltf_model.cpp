@@ -361,6 +361,12 @@ void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel, int materialOve
     for (const std::string& n : notes_) scene.notes.push_back(path_ + ": " + n);
 }
 
+void GltfModel::releaseLoadData() {
+    prims_.clear();
+    for (tinygltf::Buffer& b : model_.buffers) std::vector<unsigned char>().swap(b.data);
+    for (tinygltf::Image& im : model_.images) std::vector<unsigned char>().swap(im.image);
+}
+
 bool GltfModel::nodeVisible(int node) const {
     const tinygltf::Node& n = model_.nodes[size_t(node)];
     auto it = n.extensions.find("KHR_node_visibility");

@@ -37,6 +37,12 @@ public:
     /// materialOverride ≥ 0: every primitive in that scene material, the file's left unread.
     void addTo(Scene& scene, const DMat4& worldFromModel, int materialOverride = -1);
 
+    /// After addTo, when nothing more will be read from the model: frees the file's buffers and
+    /// images and the decoded primitives, so that building the scene's acceleration structure
+    /// does not hold them as well (a big model's peak memory). bounds() and addTo() may not be
+    /// called afterwards.
+    void releaseLoadData();
+
     /// Why bounds() found nothing to draw, for the error message.
     std::string emptyReason() const;
 
