@@ -66,6 +66,9 @@ struct SceneOptions {
     /// overrides a scene file's "asset_root".
     AssetOptions assets;
     bool rootFromCommandLine = false;
+    /// false: a model's acceleration structures are not built (`info` traces nothing); the
+    /// caller calls Scene::build() before anything walks the geometry. Scene files are always built.
+    bool buildAccel = true;
     /// Called once by a loader that has read every input file (the model, its buffers and
     /// images, the environment image) and is about to build from them: rank 0 sends the files
     /// to the other ranks then, so they build their scenes while it builds its own.

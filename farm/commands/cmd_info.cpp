@@ -359,11 +359,15 @@ int runInfo(const std::vector<std::string>& args) {
     const double fps = p.doubleValue("--fps", 0.0);
     if (p.has("--fps") && !(fps > 0.0 && fps <= 1000.0)) throw UsageError("--fps: expected a number above 0, up to 1000");
     SceneOptions opts = sceneOptions(p);
-    // The whole load first: a file the renderer refuses is refused here with the same line.
+    // The whole load first: a file the renderer refuses is refused here with the same line. No
+    // ray is traced, so no acceleration structure is built unless an animation poses the model
+    // for frame 0's camera (posing refits the trees).
+    opts.buildAccel = false;
     DiskFileSource fs;
     LoadedScene loaded = loadScene(path, fs, opts);
     Scene& scene = loaded.scene;
     const anim::Timeline tl = anim::Timeline::fromScene(loaded, fps);
+    if (tl.posesModels()) scene.build();
     const GltfInfo info = inspectModel(path, fs, opts.assets);
     const json j = infoJson(path, info, turntableJson(scene, tl, info.lights.size()), cameraViewsJson(scene));
     const std::string out = p.has("--json") ? j.dump(2) + "\n" : infoText(j);
