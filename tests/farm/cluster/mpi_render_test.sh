@@ -5,7 +5,7 @@
 #                          has the timeline's frame count, size and rate and each frame is within
 #                          PSNR_MIN dB of its PNG; a lossless MP4 decodes to the PNGs exactly
 #   resume | interrupt | interrupt-slow | killed-master EXT | killed-worker | stalled-worker | suspend-all | suspend-master | signals | one-frame
-#   | lost-worker MODE AT [RANKS] | lost-all | lost-master | poison-frame
+#   | lost-worker MODE AT [RANKS] | lost-encoder MODE | lost-all | lost-master | poison-frame
 #   | odd-size | bad-output
 set -euo pipefail
 RAYFARM=$1 SRC=$2 WORK=$3 CASE=$4
@@ -520,6 +520,45 @@ assert {int(r) for r in sys.argv[2:]} <= {l["rank"] for l in lost}, lost
 assert all(l["at_s"] > 0 and l["requeued"] and l["doing"] for l in lost), lost
 PY
     echo "lost-worker ($mode, killed at $at frames, ranks $victims): $(grep -c 'warning: rank' $name.log) lost, film byte-identical to one process; $(grep -m1 -Eo 'its work goes to .*' $name.log)"
+    ;;
+lost-encoder)
+    # Issue 45 #1: kill -9 of a worker in the middle of encoding a chunk, in MODE (frame: the
+    # rank renders the chunk's frames; pixel: it assembles them from every rank's tiles). The
+    # test hook RAYFARM_TEST_STOP_ENCODING=9:FILE stops (SIGSTOP) the first worker whose encoder
+    # has taken frame 9, the fourth of chunk 1 (frames 6-11), and writes its pid to FILE; it is
+    # killed there. Rank 0 names it, chunk 1 opens again on another rank, and the film completes:
+    # the MP4 byte-identical to one process's (its decoded frames too, framemd5) and the PNGs,
+    # so nothing of the dead rank's half-encoded chunk reaches the video.
+    mode=$1
+    name=lenc_$mode
+    rm -rf $name.* lencone.*
+    small=(render "$FLIGHT" --size 160x90 --spp 9 --frames 0:47 --chunk-frames 6)
+    "$RAYFARM" "${small[@]}" -o lencone.mp4 2> lencone.log || { cat lencone.log; fail "one-process reference failed"; }
+    RAYFARM_TEST_STOP_ENCODING=9:$PWD/$name.stopped mpirun -x RAYFARM_TEST_STOP_ENCODING --oversubscribe --enable-recovery -np 4 \
+        "$RAYFARM" "${small[@]}" --mode "$mode" --timeout 6 --stats $name.json -o $name.mp4 2> $name.log &
+    pid=$!
+    ( sleep 120; kill -9 "$pid" $(pgrep -P "$pid") 2> /dev/null ) > /dev/null 2>&1 &  # not holding ctest's pipe open
+    guard=$!
+    for _ in $(seq 600); do grep -qx '[0-9][0-9]*' $name.stopped 2> /dev/null && break; sleep 0.1; done
+    grep -qx '[0-9][0-9]*' $name.stopped 2> /dev/null || { cat $name.log; fail "no worker stopped at the hook within 60 s"; }
+    victim=$(cat $name.stopped)
+    # Stopped at the hook (state T), one of this run's ranks, and not rank 0.
+    for _ in $(seq 50); do [ "$(awk '{print $3}' /proc/"$victim"/stat 2> /dev/null)" = T ] && break; sleep 0.1; done
+    [ "$(awk '{print $3}' /proc/"$victim"/stat 2> /dev/null)" = T ] || fail "pid $victim did not stop at the hook"
+    rank=$(tr '\0' '\n' < /proc/"$victim"/environ | sed -n 's/^OMPI_COMM_WORLD_RANK=//p')
+    [ -n "$rank" ] && [ "$rank" != 0 ] || fail "pid $victim is not a worker of this run (rank '$rank')"
+    kill -9 "$victim"
+    set +e; wait "$pid"; rc=$?; set -e
+    kill "$guard" 2> /dev/null || true
+    [ "$rc" = 0 ] || { cat $name.log; fail "exit $rc"; }
+    grep -q "^rayfarm: wrote $name.mp4: 48 frames" $name.log || { cat $name.log; fail "the film did not complete"; }
+    grep -Eq "rayfarm: warning: rank $rank on [^ ]+ stopped answering .*its work goes to the 2 rendering ranks left: (.*; )?chunk 1 \(frames 6.11\)" $name.log ||
+        { cat $name.log; fail "no warning naming rank $rank and chunk 1 opened again"; }
+    [ "$(probe $name.mp4 | awk '{print $1}')" = 48 ] || fail "the MP4 does not play 48 frames"
+    cmp -s <(video_md5 lencone.mp4) <(video_md5 $name.mp4) || fail "the MP4's decoded frames differ from one process's"
+    cmp -s lencone.mp4 $name.mp4 || fail "the MP4 differs from one process's"
+    cmp -s <(pngs_md5 lencone.mp4.frames) <(pngs_md5 $name.mp4.frames) || fail "PNGs differ from one process's"
+    echo "lost-encoder ($mode): rank $rank killed with frame 9 of chunk 1 (frames 6-11) in its encoder; $(grep -m1 -Eo 'its work goes to .*' $name.log); film byte-identical to one process (file, decoded frames, PNGs)"
     ;;
 lost-all)
     # Issue 45 #2: every worker killed: no rendering rank is left, the run says so with the
