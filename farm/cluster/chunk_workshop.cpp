@@ -2,8 +2,14 @@
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
 #include <map>
 #include <stdexcept>
+
+#include <fcntl.h>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -30,6 +36,24 @@ void addOutgoing(std::vector<ChunkWorkshop::Outgoing>& out, int dest, int tag, s
     o.dest = dest;
     o.tag = tag;
     o.bytes = std::move(bytes);
+}
+
+/// Test hook (mpi_render_test.sh lost-encoder, docs/testing.md): RAYFARM_TEST_STOP_ENCODING=F:FILE
+/// stops (SIGSTOP) the first worker whose encoder has taken frame F into its chunk, the chunk
+/// not yet finished, once it has written its pid to FILE; the test then kill -9's it there. The
+/// file, created exclusively, makes it one rank only: the chunk opened again elsewhere
+/// encodes on. Nothing when unset.
+void stopMidChunkForTests(int rank, int frame) {
+    static const char* const hook = std::getenv("RAYFARM_TEST_STOP_ENCODING");
+    if (!hook || !*hook || rank == 0) return;
+    const char* colon = std::strchr(hook, ':');
+    if (!colon || std::atoi(hook) != frame) return;
+    const int fd = ::open(colon + 1, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+    if (fd < 0) return;  // another rank was stopped here already
+    const std::string pid = std::to_string(::getpid()) + "\n";
+    [[maybe_unused]] const ssize_t n = ::write(fd, pid.data(), pid.size());
+    ::close(fd);
+    std::raise(SIGSTOP);
 }
 
 }  // namespace
@@ -327,6 +351,7 @@ void ChunkWorkshop::encodeTask(Task& t) {
     if (it == st.open.end()) throw std::runtime_error("chunk " + std::to_string(index) + " began mid-chunk");
     EncoderState::Open& c = it->second;
     for (ChunkPacket& p : c.video->add(*pixels)) c.chunk.packets.push_back(std::move(p));
+    if (!t.last) stopMidChunkForTests(rank_, t.frame);
     if (t.last) {
         for (ChunkPacket& p : c.video->finish()) c.chunk.packets.push_back(std::move(p));
         c.chunk.extradata = c.video->extradata();

@@ -242,7 +242,8 @@ bool Master::handOut() {
 void Master::keepAlive(Clock::time_point now) {
     if (pause_.resumed(now))
         for (WorkerState& w : workers_) w.lastHeard = now;
-    if (std::chrono::duration<double>(now - lastBeat_).count() < kMasterBeatSeconds) return;
+    // A worker leaves when rank 0 is silent for --timeout: several beats fit in it.
+    if (std::chrono::duration<double>(now - lastBeat_).count() < std::min(kMasterBeatSeconds, cfg_.workerTimeout / 4)) return;
     lastBeat_ = now;
     for (int r = 1; r < t_.size(); ++r)
         if (!workers_[size_t(r)].lost) sendTo(r, kTagAlive, "");

@@ -364,6 +364,10 @@ std::string FarmRun::videoHolds() const {
 /// longer than kInterruptCloseBudget goes on after the outcome is told (conclude).
 std::string FarmRun::closeSinks(Master& master, const MasterOutcome& o) {
     if (o.end != RunEnd::Interrupted) {
+        // A finished film needs nothing more of the workers: they hear so before the close
+        // (an MP4's remux takes seconds on a long film), since a worker leaves when rank 0 is
+        // silent for --timeout.
+        if (o.end == RunEnd::Done && !opts_.keepWorkers) master.stopWorkers();
         sinks_.close();
         return "";
     }
@@ -581,7 +585,8 @@ FarmOutcome runFarm(Transport& t, const RenderJob& job, SharedScene& shared, Far
     return run.run(shared);
 }
 
-int runFarmWorker(Transport& t, SharedScene& shared, double fpsOption, int threads, double masterTimeout) {
+int runFarmWorker(Transport& t, SharedScene& shared, double fpsOption, int threads, double masterTimeout,
+                  double firstWordTimeout) {
     try {
         WorkerOutputs outputs;
         std::string chunkVideo;
@@ -592,12 +597,12 @@ int runFarmWorker(Transport& t, SharedScene& shared, double fpsOption, int threa
         anim::Timeline timeline = anim::Timeline::fromScene(shared, fpsOption);
         RenderEngine engine(std::move(shared.scene), timeline, settings, threads, outputs.linear != 0,
                             benchFreeWorkRenderer(outputs.linear != 0), shared.bounceSlot);
-        if (chunkVideo.empty()) return runWorker(t, engine, masterTimeout);
+        if (chunkVideo.empty()) return runWorker(t, engine, masterTimeout, nullptr, nullptr, firstWordTimeout);
         // This rank encodes chunks itself, as rank 0 would: chunks whose frames it renders (frame
         // mode, with the film's last frames from other ranks too), or assembles from every
         // rank's tiles (pixel mode).
         ChunkWorkshop shop(engine, decodeChunkVideoSpec(chunkVideo), t.rank());
-        return runWorker(t, engine, masterTimeout, nullptr, &shop);
+        return runWorker(t, engine, masterTimeout, nullptr, &shop, firstWordTimeout);
     } catch (const std::exception& e) {
         reportWorkerError(t, e.what());
         return 1;

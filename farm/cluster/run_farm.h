@@ -65,8 +65,10 @@ FarmOutcome runFarm(Transport& t, const RenderJob& job, SharedScene& shared, Far
 
 /// Ranks 1…N−1: builds the renderer from the broadcast scene and job and serves rank 0 until
 /// it says stop. Returns runWorker's status (0, 1 after a failure told to rank 0, 130 on a
-/// signal, kMasterSilentExit when rank 0 was silent for masterTimeout seconds).
+/// signal, kMasterSilentExit when rank 0 was silent for masterTimeout seconds, or for
+/// firstWordTimeout before its first word: runWorker).
 /// fpsOption is --fps as every rank parsed it (0: the scene's own).
-int runFarmWorker(Transport& t, SharedScene& shared, double fpsOption, int threads, double masterTimeout);
+int runFarmWorker(Transport& t, SharedScene& shared, double fpsOption, int threads, double masterTimeout,
+                  double firstWordTimeout = 0.0);
 
 }  // namespace rf::farm

@@ -64,7 +64,7 @@ std::string whoAmI(const Transport& t) {
 }  // namespace
 
 int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const std::function<void(const Message&)>& other,
-              ChunkWorkshop* shop) {
+              ChunkWorkshop* shop, double firstWordTimeout) {
     using Clock = std::chrono::steady_clock;
     auto lastBeat = Clock::now() - std::chrono::seconds(1);
     auto lastFromMaster = Clock::now();
@@ -75,12 +75,13 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
     bool viewing = false;    ///< a viewer's epochs have come: answer within a millisecond
     int lastItemPixels = 0;  ///< the size of the work coming in (a whole frame, or a tile)
     const int crashFrame = crashFrameForTests();
+    if (firstWordTimeout <= 0.0) firstWordTimeout = 6 * masterTimeout;
     for (;;) {
         const auto now = Clock::now();
         if (pause.resumed(now)) lastFromMaster = now;  // this worker was stopped, not rank 0
         const double masterSilent = std::chrono::duration<double>(now - lastFromMaster).count();
         // Before its first word rank 0 may still be checking kept frames or building its BVH.
-        if (masterSilent > (heardMaster ? masterTimeout : 6 * masterTimeout)) {
+        if (masterSilent > (heardMaster ? masterTimeout : firstWordTimeout)) {
             char line[512];
             std::snprintf(line, sizeof line,
                           "rayfarm: error: %s: rank 0 has been silent for %.1f s (stopped, or its host cut off); this worker stops\n",

@@ -20,13 +20,15 @@ inline constexpr int kStopAfterLossExit = 4;
 /// Runs until rank 0 says stop (returns 0, or kStopAfterLossExit), the render fails (the error goes to rank 0 first;
 /// returns 1), a signal arrives and rank 0 does not say stop within a few seconds (returns 130),
 /// or rank 0 says nothing for `masterTimeout` seconds while this worker runs (prints why;
-/// returns kMasterSilentExit).
+/// returns kMasterSilentExit). Before rank 0's first word (it may still be checking kept
+/// frames or building its renderer) the limit is `firstWordTimeout`, 6 × masterTimeout when 0.
 /// kTagView sets the engine's interactive epoch (RenderEngine::setView); other tags runWorker
 /// does not know go to `other` when given (a viewer's own messages). shop: the rank's
 /// ChunkWorkshop over engine when the job encodes chunks on the ranks (kTagChunkAssemble,
 /// kTagTile).
 int runWorker(Transport& t, RenderEngine& engine, double masterTimeout = 20.0,
-              const std::function<void(const Message&)>& other = nullptr, ChunkWorkshop* shop = nullptr);
+              const std::function<void(const Message&)>& other = nullptr, ChunkWorkshop* shop = nullptr,
+              double firstWordTimeout = 0.0);
 
 /// Tells rank 0 this worker failed (before it could render anything, e.g. while loading).
 void reportWorkerError(Transport& t, const std::string& message);

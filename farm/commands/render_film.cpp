@@ -174,7 +174,11 @@ int renderFilm(MpiTransport& t, const ArgParser& p, const std::vector<std::strin
         return 1;
     }
     if (t.rank() != 0) {
-        const int code = runFarmWorker(t, shared, job.fpsOption, threadsForRank(job, t), std::max(4.0, 2.0 * job.workerTimeout));
+        // Rank 0 lost (killed, its host gone): this worker leaves once rank 0 is silent for
+        // --timeout, as rank 0 gives up on a silent worker. Before rank 0's first word (it may
+        // be checking a resumed film's kept frames) it waits longer.
+        const int code = runFarmWorker(t, shared, job.fpsOption, threadsForRank(job, t), job.workerTimeout,
+                                       std::max(24.0, 12.0 * job.workerTimeout));
         // A silent master: leave now, as MPI_Finalize would wait for rank 0 forever.
         if (code == kMasterSilentExit) std::_Exit(1);
         // Rank 0 went on without a lost rank. With a launcher that keeps the job alive, leave

@@ -7,13 +7,20 @@
 #      byte-identical to one process rendering the same film (--lossless);
 #   2. scancel (SIGTERM to every process of the job) mid-film: the log says interrupted, names
 #      the resume command, and the partial video plays the frames finished;
-#   3. the same script submitted again with --resume: byte-identical to the uninterrupted run.
+#   3. the same script submitted again with --resume: byte-identical to the uninterrupted run;
+#   4. examples/slurm/turntable-srun.sbatch (srun --no-kill as the launcher, 3 tasks) with one
+#      task (rank 2) killed with kill -9 mid-film: either the film completes, byte-identical to
+#      one process's, or (Slurm 22.05's mpi/pmix plugin) the step is ended, which it says, and
+#      the script submitted again with --resume completes the film byte for byte;
+#   5. examples/slurm/turntable-keep-going.sbatch (mpirun --enable-recovery, sbatch --no-kill),
+#      3 ranks, rank 2 killed with kill -9 mid-film: the film completes, byte for byte.
 # Stops every daemon it started and removes the directory, even when a step fails.
 set -euo pipefail
 SRC=$(cd "$(dirname "$0")/../.." && pwd)
 RAYFARM=$(realpath "${1:-$SRC/build/bin/rayfarm}")
 WORK=${2:-$SRC/build/test-output/slurm}
 SCRIPT=$SRC/examples/slurm/turntable.sbatch
+SRUN_SCRIPT=$SRC/examples/slurm/turntable-srun.sbatch
 MODEL=/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf
 
 if [ "${RAYFARM_SLURM:-0}" != 1 ]; then
@@ -69,6 +76,7 @@ for x in s: x.bind(("127.0.0.1", 0))
 print(*(x.getsockname()[1] for x in s))')
 mkdir -p "$T/state" "$T/spool"
 export SLURM_CONF=$T/slurm.conf
+# CPUs=4 on this 2-core machine (config_overrides): steps 4 and 5 run 3 tasks.
 cat > "$SLURM_CONF" <<CONF
 ClusterName=rayfarmtest
 SlurmctldHost=localhost(127.0.0.1)
@@ -96,7 +104,7 @@ AccountingStorageType=accounting_storage/none
 ReturnToService=2
 SlurmdParameters=config_overrides
 KillWait=10
-NodeName=localhost NodeAddr=127.0.0.1 CPUs=2 State=UNKNOWN
+NodeName=localhost NodeAddr=127.0.0.1 CPUs=4 State=UNKNOWN
 PartitionName=test Nodes=localhost Default=YES MaxTime=INFINITE State=UP
 CONF
 for _ in $(seq 50); do [ -S "$T/munge.sock" ] && break; sleep 0.1; done
@@ -115,7 +123,7 @@ echo "slurm: munged, slurmctld and slurmd up on localhost (ports $ctld_port, $sl
 
 mkdir -p "$WORK"
 cd "$WORK"
-rm -rf full.* part.* ref.*
+rm -rf full.* part.* ref.* keep.* keepref.* keepres.* going.*
 probe() {  # file -> frames
     ffprobe -v error -select_streams v:0 -count_frames -show_entries stream=nb_read_frames -of csv=p=0 "$1"
 }
@@ -158,4 +166,63 @@ sbatch --wait --quiet -o resume.log "$SCRIPT" "$MODEL" part.mp4 "${slow[@]}" --r
 grep -q "frames kept in part.mp4.frames" resume.log || { cat resume.log; fail "the resume job kept no frames"; }
 cmp -s part.mp4 ref.mp4 || fail "the resumed video differs from one uninterrupted run"
 echo "slurm: --resume after scancel gave a video byte-identical to an uninterrupted run"
+
+# 4. srun --no-kill, one task killed with kill -9 mid-film. Slurm 22.05's mpi/pmix plugin
+# (Debian 12) ends the whole step when a task dies, whatever --no-kill and --kill-on-bad-exit
+# say: its PMIx error handler calls slurm_kill_job_step(SIGKILL) ("mpi/pmix_v4: _errhandler:
+# ... Error handler invoked", then "STEP N.0 ... CANCELLED"). This step says which happened:
+# the film completed on the others (checked byte for byte), or the step was ended that way
+# (said as such; the script submitted again with --resume then completes the film byte for
+# byte).
+keep=(--size 96x72 --frames 0:119 --spp 64 --lossless --chunk-frames 6 --mode frame --timeout 4)
+"$RAYFARM" render "$MODEL" -o keepref.mp4 --no-frames "${keep[@]}" 2> keepref.log || { cat keepref.log; fail "reference run failed"; }
+kill_task_mid_film() {  # job out rank-variable: kill -9 of that rank once 6 frames are done
+    local job=$1 out=$2 key=$3 p env victim=""
+    for _ in $(seq 600); do
+        [ "$(ls "$out.frames" 2> /dev/null | grep -c '^frame_.*\.png$')" -ge 6 ] && break
+        sleep 0.1
+    done
+    [ "$(ls "$out.frames" 2> /dev/null | grep -c '^frame_.*\.png$')" -ge 6 ] || return 1
+    for p in $(pgrep -x rayfarm); do
+        env=$(tr '\0' '\n' < /proc/"$p"/environ 2> /dev/null || true)
+        grep -qx "SLURM_JOB_ID=$job" <<<"$env" && grep -qx "$key=2" <<<"$env" && victim=$p
+    done
+    [ -n "$victim" ] || return 1
+    kill -9 "$victim"
+}
+wait_job() {  # job: until it leaves the queue (120 s)
+    for _ in $(seq 1200); do [ -z "$(squeue -h -j "$1" 2> /dev/null)" ] && return 0; sleep 0.1; done
+    return 1
+}
+check_film() {  # log out what
+    grep -q "^rayfarm: wrote $2: 120 frames" "$1" || { cat "$1"; fail "$3: the film did not complete"; }
+    [ "$(probe "$2")" = 120 ] || fail "$3: $2 has $(probe "$2") frames, expected 120"
+    cmp -s "$2" keepref.mp4 || fail "$3: $2 differs from one process's film"
+}
+job=$(sbatch --parsable -o keep.log "$SRUN_SCRIPT" "$MODEL" keep.mp4 "${keep[@]}")
+kill_task_mid_film "$job" keep.mp4 SLURM_PROCID || { cat keep.log; fail "srun job $job: task 2 not found, or fewer than 6 frames in 60 s"; }
+wait_job "$job" || { cat keep.log; fail "job $job still queued 120 s after task 2 was killed"; }
+echo "slurm: srun --no-kill, task 2 killed with kill -9: srun said: $(grep '^srun' keep.log | tr '\n' ' ')"
+if grep -q "^rayfarm: wrote keep.mp4: 120 frames" keep.log; then
+    grep -Eq "rayfarm: warning: rank 2 on [^ ]+ stopped answering" keep.log || { cat keep.log; fail "rank 0 did not name rank 2 as lost"; }
+    check_film keep.log keep.mp4 "srun --no-kill"
+    echo "slurm: srun --no-kill with task 2 killed mid-film: the film completed on the others, byte-identical to one process"
+elif grep -q "mpi/pmix.*Error handler invoked" keep.log && grep -q "STEP $job.0 ON .* CANCELLED" "$T/slurmd.log"; then
+    echo "slurm: srun --no-kill did NOT keep the step alive: Slurm's mpi/pmix plugin cancelled step $job.0 (SIGKILL to every task) when task 2 died; keep.mp4 plays $(probe keep.mp4 || echo 0) frames"
+    sbatch --wait --quiet -o keepres.log "$SRUN_SCRIPT" "$MODEL" keep.mp4 "${keep[@]}" --resume || { cat keepres.log; fail "the srun resume job failed"; }
+    check_film keepres.log keep.mp4 "srun --resume"
+    echo "slurm: the srun script submitted again with --resume completed the film, byte-identical to one process"
+else
+    cat keep.log; fail "srun --no-kill with task 2 killed: neither a completed film nor the mpi/pmix step kill"
+fi
+
+# 5. What keeps a film going under Slurm: mpirun --enable-recovery inside an sbatch --no-kill
+# allocation (examples/slurm/turntable-keep-going.sbatch), 3 ranks, rank 2 killed mid-film.
+job=$(sbatch --parsable --ntasks=3 -o going.log "$SRC/examples/slurm/turntable-keep-going.sbatch" "$MODEL" going.mp4 "${keep[@]}")
+kill_task_mid_film "$job" going.mp4 OMPI_COMM_WORLD_RANK || { cat going.log; fail "mpirun job $job: rank 2 not found, or fewer than 6 frames in 60 s"; }
+wait_job "$job" || { cat going.log; fail "job $job still queued 120 s after rank 2 was killed"; }
+grep -Eq "rayfarm: warning: rank 2 on [^ ]+ stopped answering" going.log || { cat going.log; fail "rank 0 did not name rank 2 as lost"; }
+check_film going.log going.mp4 "mpirun --enable-recovery under sbatch --no-kill"
+if pgrep -f "render $MODEL -o going.mp4" > /dev/null; then fail "rayfarm processes left after the job"; fi
+echo "slurm: mpirun --enable-recovery in sbatch --no-kill, rank 2 killed mid-film: the film completed, byte-identical to one process"
 echo "slurm: ok"
