@@ -77,14 +77,25 @@ void prepareFilm(Surface& s, float nv) {
     if (s.metallic < 1.f) {
         f.dielectric = filmDielectricFresnel(s, nv);
         // The film layer's cosine-weighted mean albedo, which the coupled diffuse divides by
-        // (the film's colour varies with the angle, so per surface point, by quadrature).
-        constexpr int kSteps = 32;
-        Color sum(0.f);
-        for (int i = 0; i < kSteps; ++i) {
-            const float mu = (i + 0.5f) / kSteps;
-            sum += filmDielectricFresnel(s, mu) * (singleScatterAlbedo(specularScaleBias(mu, s.roughness)) * mu);
+        // (the film's colour varies with the angle), by quadrature: a pure function of the four
+        // numbers below, so each thread keeps the last one (a material without textures computes
+        // it once per thread; the result is the same to the bit either way).
+        struct AvgCache {
+            float ior = -1.f, filmIor = -1.f, thickness = -1.f, roughness = -1.f;
+            Color avg{0.f};
+        };
+        thread_local AvgCache cache;
+        if (cache.ior != s.ior || cache.filmIor != s.iridescenceIor || cache.thickness != s.iridescenceThickness ||
+            cache.roughness != s.roughness) {
+            constexpr int kSteps = 32;
+            Color sum(0.f);
+            for (int i = 0; i < kSteps; ++i) {
+                const float mu = (i + 0.5f) / kSteps;
+                sum += filmDielectricFresnel(s, mu) * (singleScatterAlbedo(specularScaleBias(mu, s.roughness)) * mu);
+            }
+            cache = {s.ior, s.iridescenceIor, s.iridescenceThickness, s.roughness, sum * (2.f / kSteps)};
         }
-        f.dielectricAvg = sum * (2.f / kSteps);
+        f.dielectricAvg = cache.avg;
     }
 }
 
