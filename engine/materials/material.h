@@ -106,6 +106,9 @@ struct Material {
     int thicknessTexture = -1;
     TextureTransform thicknessTransform;
     Color attenuation{0.f};
+    /// KHR_materials_dispersion (with transmission): 20/V_d; above 0 a refracted ray splits into
+    /// one ray per colour channel, each at dispersedIor (optics.h) for its wavelength.
+    float dispersion = 0.f;
     /// KHR_materials_iridescence: a thin film of weight iridescence (× the texture's R), index
     /// iridescenceIor and thickness in nanometres: iridescenceThicknessMax, or with the thickness
     /// texture mix(min, max, its G). A weight or thickness of 0 is no film.

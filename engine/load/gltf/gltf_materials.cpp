@@ -173,6 +173,14 @@ Material MaterialBuilder::convert(const tinygltf::Material& gm, const std::strin
         else if (name == "KHR_materials_sheen") readSheen(value, m, where + ".extensions.KHR_materials_sheen");
         else if (name == "KHR_materials_iridescence") readIridescence(value, m, where + (gm.name.empty() ? "" : " (\"" + gm.name + "\")") +
                                                                                  ".extensions.KHR_materials_iridescence");
+        else if (name == "KHR_materials_dispersion") {
+            const double d = number(value, "dispersion", 0.0);
+            if (!(d >= 0.0))
+                throw InputError(file_, where + (gm.name.empty() ? "" : " (\"" + gm.name + "\")") +
+                                            ".extensions.KHR_materials_dispersion.dispersion " + shown(d) +
+                                            ": expected a dispersion (20 / Abbe number) of 0 or more");
+            m.dispersion = float(std::min(d, 100.0));
+        }
         else if (name == "KHR_materials_volume") readVolume(value, m, where + ".extensions.KHR_materials_volume");
         else if (name == "KHR_materials_pbrSpecularGlossiness") readSpecularGlossiness(value, m, where + ".extensions." + name);
         else if (!isSupportedExtension(name)) note("material extension " + name + " ignored");
