@@ -97,6 +97,8 @@ TextureTransform* slotTransform(Material& m, TextureSlot slot) {
         case TextureSlot::ClearcoatNormal: return &m.clearcoatNormalTransform;
         case TextureSlot::SheenColor: return &m.sheenColorTransform;
         case TextureSlot::SheenRoughness: return &m.sheenRoughnessTransform;
+        case TextureSlot::Iridescence: return &m.iridescenceTransform;
+        case TextureSlot::IridescenceThickness: return &m.iridescenceThicknessTransform;
         case TextureSlot::Thickness: return &m.thicknessTransform;
         case TextureSlot::None: break;
     }
@@ -147,6 +149,10 @@ void GltfAnimationPlayer::applyMaterials(Scene& scene, const std::function<doubl
                 case AnimProperty::SheenColor: m.sheenColor = unitColor(DVec3(v[0], v[1], v[2])); break;
                 case AnimProperty::SheenRoughness: m.sheenRoughness = unit(v[0]); break;
                 case AnimProperty::Specular: m.specularWeight = unit(v[0]); break;
+                case AnimProperty::Iridescence: m.iridescence = unit(v[0]); break;
+                case AnimProperty::IridescenceIor: m.iridescenceIor = float(std::clamp(v[0], 1.0, 10.0)); break;
+                case AnimProperty::IridescenceThicknessMin: m.iridescenceThicknessMin = float(std::clamp(v[0], 0.0, 1e6)); break;
+                case AnimProperty::IridescenceThicknessMax: m.iridescenceThicknessMax = float(std::clamp(v[0], 0.0, 1e6)); break;
                 case AnimProperty::TextureOffset:
                 case AnimProperty::TextureRotation:
                 case AnimProperty::TextureScale:

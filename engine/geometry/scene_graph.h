@@ -49,7 +49,8 @@ enum class AnimProperty : uint8_t {
     // materials[target]
     BaseColor, Metallic, Roughness, Emissive, EmissiveStrength, AlphaCutoff, NormalScale, OcclusionStrength,
     Transmission, Ior, Thickness, AttenuationColor, AttenuationDistance, Clearcoat, ClearcoatRoughness,
-    ClearcoatNormalScale, SheenColor, SheenRoughness, Specular,
+    ClearcoatNormalScale, SheenColor, SheenRoughness, Specular, Iridescence, IridescenceIor, IridescenceThicknessMin,
+    IridescenceThicknessMax,
     // materials[target]'s texture `slot` (TextureSlot), KHR_texture_transform
     TextureOffset, TextureRotation, TextureScale,
     // nodes[target]: KHR_node_visibility's visible (0 or 1, STEP)
@@ -59,7 +60,7 @@ enum class AnimProperty : uint8_t {
 /// The material textures a KHR_texture_transform pointer can name.
 enum class TextureSlot : uint8_t {
     BaseColor, MetallicRoughness, Normal, Occlusion, Emissive, Clearcoat, ClearcoatRoughness, ClearcoatNormal,
-    SheenColor, SheenRoughness, Thickness, None
+    SheenColor, SheenRoughness, Thickness, Iridescence, IridescenceThickness, None
 };
 
 /// Components of a property's value (1 for scalars and booleans).

@@ -57,6 +57,21 @@ GltfSample gltfSample(const Scene& scene, const SurfaceInteraction& si) {
         if (m.sheenRoughnessTexture >= 0)
             s.sheenRoughness = std::clamp(s.sheenRoughness * texel(m.sheenRoughnessTexture, m.sheenRoughnessTransform).a, 0.f, 1.f);
     }
+    if (m.iridescence > 0.f) {
+        // KHR_materials_iridescence: the film's weight × the texture's R, its thickness the
+        // maximum or, with the thickness texture, mix(minimum, maximum, G). 0 of either: no film.
+        float k = m.iridescence;
+        if (m.iridescenceTexture >= 0) k *= texel(m.iridescenceTexture, m.iridescenceTransform).r;
+        float thickness = m.iridescenceThicknessMax;
+        if (m.iridescenceThicknessTexture >= 0)
+            thickness = glm::mix(m.iridescenceThicknessMin, m.iridescenceThicknessMax,
+                                 texel(m.iridescenceThicknessTexture, m.iridescenceThicknessTransform).g);
+        if (k > 0.f && thickness > 0.f) {
+            s.iridescence = std::min(k, 1.f);
+            s.iridescenceIor = m.iridescenceIor;
+            s.iridescenceThickness = thickness;
+        }
+    }
     return g;
 }
 

@@ -9,6 +9,7 @@
 #include "engine/materials/material_eval.h"
 #include "engine/integrators/material_gltf.h"
 #include "engine/materials/optics.h"
+#include "engine/materials/thin_film.h"
 #include "engine/util/sampler.h"
 #include "engine/integrators/shading_frame.h"
 
@@ -220,6 +221,8 @@ Color WhittedTracer::surfaceHit(const Ray& r, const SurfaceInteraction& si, int 
     Vec3 refrDir(0.f);
     // glTF: the metal part does not transmit (gltfTransmission).
     const float transmission = gltf && m.transmission > 0.f ? gltfTransmission(scene_, si) : m.transmission;
+    if (gltf && m.dispersion > 0.f && transmission > 0.f)
+        return c + dispersiveRays(r, si, depth, weight, stats, seed, transmission, entering, ng, ns);
     if (transmission > 0.f) {
         const float etaI = entering ? 1.f : m.ior, etaT = entering ? m.ior : 1.f;
         float F = fresnelDielectric(-glm::dot(r.d, ns), etaT / etaI);
@@ -258,6 +261,55 @@ Color WhittedTracer::surfaceHit(const Ray& r, const SurfaceInteraction& si, int 
             // Refracted into a volume: Beer–Lambert over the way to the next surface.
             c += kt * filter * (entering ? through * volumeTransmittance(si, t) : through);
         }
+    }
+    return c;
+}
+
+Color WhittedTracer::dispersiveRays(const Ray& r, const SurfaceInteraction& si, int depth, const Color& weight, RayStats& stats,
+                                    uint64_t seed, float transmission, bool entering, const Vec3& ng, const Vec3& ns) const {
+    const Material& m = scene_.materials[si.material];
+    int only = -1, carried = 0;
+    for (int k = 0; k < 3; ++k)
+        if (weight[k] != 0.f) only = k, ++carried;
+    const int first = carried == 1 ? only : 0, last = carried == 1 ? only : 2;
+    const Color filter = baseColor(scene_, si);
+    Color c(0.f), kr(0.f);
+    for (int k = first; k <= last; ++k) {
+        // The channel's index at its wavelength (the ones the thin film uses, thin_film.h).
+        const float ior = dispersedIor(m.ior, m.dispersion, pbr::kFilmWavelengthsNm[k]);
+        const float etaI = entering ? 1.f : ior, etaT = entering ? ior : 1.f;
+        Vec3 refrDir(0.f);
+        float F = fresnelDielectric(-glm::dot(r.d, ns), etaT / etaI);
+        bool through = F < 1.f && refract(r.d, ns, etaI / etaT, refrDir);
+        if (through && glm::dot(refrDir, ng) >= 0.f) {
+            F = fresnelDielectric(-glm::dot(r.d, ng), etaT / etaI);
+            through = F < 1.f && refract(r.d, ng, etaI / etaT, refrDir);
+        }
+        kr[k] = transmission * F;
+        if (!through) continue;
+        const float kt = transmission * (1.f - F);
+        Color mask(0.f);
+        mask[k] = 1.f;
+        const Color w = weight * kt * filter * mask;
+        if (!(maxComponent(w) > settings_.minWeight)) continue;
+        const uint32_t skip = scene_.geometry.skipFor(si, refrDir);
+        Ray tr;
+        tr.o = spawnOrigin(si.p, si, ng, refrDir, skip);
+        tr.d = refrDir;
+        tr.coneWidth = si.coneWidth;
+        tr.coneSpread = si.coneSpread;
+        ++stats.refraction;
+        float t = kInf;
+        const Color passed = trace(tr, depth + 1, w, stats, childSeed(seed, 20 + uint64_t(k)), skip, &t);
+        c += kt * filter * mask * (entering ? passed * volumeTransmittance(si, t) : passed);
+    }
+    const Color w = weight * kr;
+    if (maxComponent(w) > settings_.minWeight) {
+        Vec3 dir = reflect(r.d, ns);
+        if (glm::dot(dir, ng) <= 0.f) dir = reflect(r.d, ng);
+        float t = kInf;
+        const Color back = traceReflection(si, ng, dir, depth, w, stats, childSeed(seed, 1), &t);
+        c += kr * (entering ? back : back * volumeTransmittance(si, t));
     }
     return c;
 }

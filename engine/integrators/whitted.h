@@ -52,6 +52,13 @@ private:
     /// One surface's light at si, met by r: its shading, then its mirror and refracted rays.
     Color surfaceHit(const Ray& r, const SurfaceInteraction& si, int depth, const Color& weight, RayStats& stats,
                      uint64_t seed) const;
+    /// surfaceHit's mirror and refracted rays at a dispersive glTF surface (KHR_materials_dispersion
+    /// with transmission): each colour channel refracts at its own wavelength's index, one ray per
+    /// channel, and the mirror ray weighs each channel's Fresnel. A ray that carries one channel
+    /// only (its weight is 0 in the others: a ray split so before) refracts at that one's index.
+    /// ng faces the incoming ray, ns is on its side (as surfaceHit has them).
+    Color dispersiveRays(const Ray& r, const SurfaceInteraction& si, int depth, const Color& weight, RayStats& stats,
+                         uint64_t seed, float transmission, bool entering, const Vec3& ng, const Vec3& ns) const;
     /// Blended surfaces one ray passes before the rest counts as covered (a bound on the work
     /// of a line through very many of them; each leaves its uncovered share to the next).
     static constexpr int kBlendCrossings = 64;

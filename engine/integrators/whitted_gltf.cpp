@@ -45,10 +45,13 @@ Color WhittedTracer::traceReflection(const SurfaceInteraction& si, const Vec3& n
 Color WhittedTracer::shadeGltf(const SurfaceInteraction& si, const Vec3& d, int depth, const Color& weight,
                                RayStats& stats, uint64_t seed) const {
     const Vec3 V = -d;
-    const GltfSample g = gltfSample(scene_, si);
+    GltfSample g = gltfSample(scene_, si);
     const pbr::Surface& s = g.surface;
     if (g.unlit) return s.baseColor;  // KHR_materials_unlit: no light, no reflection
     const ShadingFrame frame = shadingFrame(scene_, si, V);
+    // KHR_materials_iridescence: the film's terms at this view, once for all the lights and the
+    // environment (only where there is a film).
+    if (s.iridescence > 0.f) pbr::prepareFilm(g.surface, std::max(glm::dot(frame.ns, V), 1e-4f));
     const bool coated = s.clearcoat > 0.f;
     const bool sheen = s.sheenColor != Color(0.f);  // KHR_materials_sheen: over the base, under the coat
     Color c = g.emission;

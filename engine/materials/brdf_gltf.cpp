@@ -2,6 +2,8 @@
 
 #include <array>
 
+#include "engine/materials/thin_film.h"
+
 namespace rf::pbr {
 
 float f0FromIor(float ior) {
@@ -51,8 +53,74 @@ ViewTerms viewTerms(const Surface& s, const Vec3& n, const Vec3& v) {
     const float f0 = f0FromIor(s.ior), w = s.specular;
     vt.diffuseOut = 1.f - w * dielectricAlbedo(f0, s.roughness, nv);
     vt.diffuseAvg = std::max(1e-4f, 1.f - w * dielectricAlbedoAverage(f0, s.roughness));
+    if (s.iridescence > 0.f) {
+        vt.filmOut = Color(1.f) - w * s.film.dielectric * singleScatterAlbedo(specularScaleBias(nv, s.roughness));
+        vt.filmAvg = glm::max(Color(1e-4f), Color(1.f) - w * s.film.dielectricAvg);
+    }
     return vt;
 }
+
+Color filmDielectricFresnel(const Surface& s, float cosTheta) {
+    return thinFilmFresnel(cosTheta, s.iridescenceIor, s.iridescenceThickness, std::max(s.ior, 1.f));
+}
+
+Color filmMetalFresnel(const Surface& s, float cosTheta) {
+    const Color baseIor(iorFromF0(s.baseColor.r), iorFromF0(s.baseColor.g), iorFromF0(s.baseColor.b));
+    return thinFilmFresnel(cosTheta, s.iridescenceIor, s.iridescenceThickness, baseIor);
+}
+
+void prepareFilm(Surface& s, float nv) {
+    Surface::FilmTerms& f = s.film;
+    f = {};
+    if (!(s.iridescence > 0.f)) return;
+    if (s.metallic > 0.f) f.metal = filmMetalFresnel(s, nv);
+    if (s.metallic < 1.f) {
+        f.dielectric = filmDielectricFresnel(s, nv);
+        // The film layer's cosine-weighted mean albedo, which the coupled diffuse divides by
+        // (the film's colour varies with the angle), by quadrature: a pure function of the four
+        // numbers below, so each thread keeps the last one (a material without textures computes
+        // it once per thread; the result is the same to the bit either way).
+        struct AvgCache {
+            float ior = -1.f, filmIor = -1.f, thickness = -1.f, roughness = -1.f;
+            Color avg{0.f};
+        };
+        thread_local AvgCache cache;
+        if (cache.ior != s.ior || cache.filmIor != s.iridescenceIor || cache.thickness != s.iridescenceThickness ||
+            cache.roughness != s.roughness) {
+            constexpr int kSteps = 32;
+            Color sum(0.f);
+            for (int i = 0; i < kSteps; ++i) {
+                const float mu = (i + 0.5f) / kSteps;
+                sum += filmDielectricFresnel(s, mu) * (singleScatterAlbedo(specularScaleBias(mu, s.roughness)) * mu);
+            }
+            cache = {s.ior, s.iridescenceIor, s.iridescenceThickness, s.roughness, sum * (2.f / kSteps)};
+        }
+        f.dielectricAvg = cache.avg;
+    }
+}
+
+namespace {
+
+/// evalBrdf for a surface with a film: the film's Fresnel (thin_film.h) in its share of the
+/// metal's and the dielectric's Schlick terms; the coupled diffuse below the dielectric layer
+/// mixed the same way, the film's share coupled to the film's own albedo per channel. The film's
+/// Fresnel is the one at the view, n·v (s.film), as the Khronos sample viewer evaluates it, not
+/// at v·h: the lobe's albedo is then exactly that Fresnel × (A + B), the albedo the coupled
+/// diffuse leaves room for (at v·h a rough white film reflected up to 1.04 of what arrives).
+Color evalBrdfFilm(const Surface& s, float nl, float vh, float dv, const ViewTerms& vt) {
+    const float k = s.iridescence, f0 = f0FromIor(s.ior);
+    Color metal(0.f), dielectric(0.f);
+    if (s.metallic > 0.f) metal = (1.f - k) * schlickFresnel(s.baseColor, vh) + k * s.film.metal;
+    if (s.metallic < 1.f) dielectric = (1.f - k) * schlickFresnel(f0, vh) + k * s.film.dielectric;
+    const Color spec = (s.metallic * metal + (1.f - s.metallic) * s.specular * dielectric) * dv;
+    if (s.metallic >= 1.f || s.transmission >= 1.f) return spec;
+    const float base = vt.diffuseOut * (1.f - s.specular * dielectricAlbedo(f0, s.roughness, nl)) / vt.diffuseAvg;
+    const Color filmIn = Color(1.f) - s.specular * filmDielectricFresnel(s, nl) * singleScatterAlbedo(specularScaleBias(nl, s.roughness));
+    const Color couple = (1.f - k) * base + k * vt.filmOut * filmIn / vt.filmAvg;
+    return (1.f - s.metallic) * (1.f - s.transmission) * couple * s.baseColor * (1.f / kPi) + spec;
+}
+
+}  // namespace
 
 Color evalBrdf(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l) { return evalBrdf(s, n, v, l, viewTerms(s, n, v)); }
 
@@ -67,6 +135,7 @@ Color evalBrdf(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l, co
     const Vec3 nxh = glm::cross(n, h);
     const float alpha = std::max(alphaFromRoughness(s.roughness), kMinAlpha);
     const float dv = ggxD(nh * nh, glm::dot(nxh, nxh), alpha) * smithVisibility(nl, nv, alpha);
+    if (s.iridescence > 0.f) return evalBrdfFilm(s, nl, vh, dv, vt);
     // The metal's and the dielectric's Fresnel-weighted lobes, mixed by metallic; the
     // dielectric's Fresnel layer weighs `specular` (KHR_materials_specular; 1 without it).
     const float f0 = f0FromIor(s.ior);
@@ -265,6 +334,13 @@ float dielectricAlbedoAverage(float f0, float roughness) {
 Color specularAlbedo(const Surface& s, float nv) { return specularAlbedo(s, specularScaleBias(nv, s.roughness)); }
 
 Color specularAlbedo(const Surface& s, Vec2 ab) {
+    if (s.iridescence > 0.f) {
+        // The film's share reflects its Fresnel at n·v over the lobe's albedo for F = 1.
+        const float k = s.iridescence, e = singleScatterAlbedo(ab);
+        const Color metal = (1.f - k) * (s.baseColor * ab.x + Color(ab.y)) + k * e * s.film.metal;
+        const Color dielectric = s.specular * ((1.f - k) * Color(f0FromIor(s.ior) * ab.x + ab.y) + k * e * s.film.dielectric);
+        return s.metallic * metal + (1.f - s.metallic) * dielectric;
+    }
     const float dielectric = s.specular * (f0FromIor(s.ior) * ab.x + ab.y);
     return s.metallic * (s.baseColor * ab.x + Color(ab.y)) + Color((1.f - s.metallic) * dielectric);
 }
@@ -281,7 +357,9 @@ Color metalMultipleScatteringAlbedo(const Surface& s, Vec2 ab) {
     if (!(s.metallic > 0.f)) return Color(0.f);
     const float eAvg = dielectricAlbedoAverage(1.f, s.roughness);
     if (!(eAvg < 1.f - 1e-4f)) return Color(0.f);  // a mirror loses nothing
-    return s.metallic * std::max(0.f, 1.f - singleScatterAlbedo(ab)) * metalMultipleScattering(s.baseColor, eAvg);
+    // Under a film, the further bounces see the film's reflectance in its share.
+    const Color f0 = s.iridescence > 0.f ? glm::mix(s.baseColor, s.film.metal, s.iridescence) : s.baseColor;
+    return s.metallic * std::max(0.f, 1.f - singleScatterAlbedo(ab)) * metalMultipleScattering(f0, eAvg);
 }
 
 Color environmentLight(const Surface& s, float nv, const Color& specularRadiance, const Color& diffuseRadiance) {
@@ -289,6 +367,15 @@ Color environmentLight(const Surface& s, float nv, const Color& specularRadiance
 }
 
 Color environmentLight(const Surface& s, Vec2 ab, const Color& specularRadiance, const Color& diffuseRadiance) {
+    if (s.iridescence > 0.f) {
+        // As below, with the dielectric layer's albedo per channel (the film's share coloured).
+        const Color ed = s.specular * ((1.f - s.iridescence) * Color(f0FromIor(s.ior) * ab.x + ab.y) +
+                                       s.iridescence * singleScatterAlbedo(ab) * s.film.dielectric);
+        Color spec = specularAlbedo(s, ab) * specularRadiance;
+        if (s.metallic > 0.f) spec += metalMultipleScatteringAlbedo(s, ab) * diffuseRadiance;
+        const Color diffuse = (1.f - s.metallic) * (1.f - s.transmission) * (Color(1.f) - ed) * s.baseColor * diffuseRadiance;
+        return s.occlusion * (spec + diffuse);
+    }
     const float ed = s.specular * (f0FromIor(s.ior) * ab.x + ab.y);
     Color spec = specularAlbedo(s, ab) * specularRadiance;
     // The metal's multiple scattering leaves in all directions, as its lobe (1 − E(n·l)) is

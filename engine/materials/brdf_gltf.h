@@ -20,7 +20,27 @@ struct Surface {
     float clearcoatRoughness = 0.f;  ///< its perceptual roughness
     Color sheenColor{0.f};           ///< KHR_materials_sheen: the sheen's colour (0: none), brdf_sheen.h
     float sheenRoughness = 0.f;      ///< its perceptual roughness
+    /// KHR_materials_iridescence: a thin film of this weight (0: none, and nothing below is
+    /// read), index and thickness (nm) over the base. Its Fresnel (thin_film.h) replaces the
+    /// Schlick Fresnel of the metal and of the dielectric layer in that share.
+    float iridescence = 0.f;
+    float iridescenceIor = 1.3f;
+    float iridescenceThickness = 0.f;
+    /// What the film gives at the view direction, filled by prepareFilm (which every caller of
+    /// the functions below must run first on a surface with a film).
+    struct FilmTerms {
+        Color metal{0.f};          ///< the film's Fresnel over the metal at n·v
+        Color dielectric{0.f};     ///< the film's Fresnel over the dielectric (index ior) at n·v
+        Color dielectricAvg{0.f};  ///< 2∫E_f(μ)μ dμ, E_f(μ) = that Fresnel at μ × (A + B)(μ)
+    } film;
 };
+
+/// Fills s.film for the view cosine nv (a surface with iridescence > 0 only).
+void prepareFilm(Surface& s, float nv);
+/// The film's Fresnel at cos θ over the dielectric base (index s.ior) and over the metal (the
+/// index whose f0 is the base colour, per channel, as the specification converts it).
+Color filmDielectricFresnel(const Surface& s, float cosTheta);
+Color filmMetalFresnel(const Surface& s, float cosTheta);
 
 /// Smallest α analytic lights see: a delta lobe would make a point light's highlight vanish (or
 /// turn into 0/0). Roughness below ~0.045 shades direct light as this; mirrors still reflect.
@@ -58,6 +78,8 @@ Color evalBrdf(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l);
 struct ViewTerms {
     float diffuseOut = 0.f;  ///< 1 − w·E(n·v)
     float diffuseAvg = 1.f;  ///< max(1e-4, 1 − w·E_avg)
+    Color filmOut{0.f};      ///< with a film: the same for the film's layer, per channel
+    Color filmAvg{1.f};
 };
 ViewTerms viewTerms(const Surface& s, const Vec3& n, const Vec3& v);
 Color evalBrdf(const Surface& s, const Vec3& n, const Vec3& v, const Vec3& l, const ViewTerms& vt);

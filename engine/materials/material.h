@@ -106,6 +106,20 @@ struct Material {
     int thicknessTexture = -1;
     TextureTransform thicknessTransform;
     Color attenuation{0.f};
+    /// KHR_materials_dispersion (with transmission): 20/V_d; above 0 a refracted ray splits into
+    /// one ray per colour channel, each at dispersedIor (optics.h) for its wavelength.
+    float dispersion = 0.f;
+    /// KHR_materials_iridescence: a thin film of weight iridescence (× the texture's R), index
+    /// iridescenceIor and thickness in nanometres: iridescenceThicknessMax, or with the thickness
+    /// texture mix(min, max, its G). A weight or thickness of 0 is no film.
+    float iridescence = 0.f;
+    float iridescenceIor = 1.3f;
+    float iridescenceThicknessMin = 100.f;
+    float iridescenceThicknessMax = 400.f;
+    int iridescenceTexture = -1;  ///< linear; R
+    TextureTransform iridescenceTransform;
+    int iridescenceThicknessTexture = -1;  ///< linear; G
+    TextureTransform iridescenceThicknessTransform;
     /// True where the material is a volume at all (thickness factor > 0 with transmission).
     bool volume() const { return gltfPbr && transmission > 0.f && thickness > 0.f; }
     /// True where light can pass the surface at all: it transmits, or it blends (alpha BLEND),

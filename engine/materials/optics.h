@@ -37,6 +37,14 @@ inline float fresnelDielectric(float cosI, float eta) {
     return 0.5f * (rParl * rParl + rPerp * rPerp);
 }
 
+/// KHR_materials_dispersion: the index at wavelength λ (nm) of a material of index n_d (at the
+/// d line, 587.6 nm) and dispersion 20/V_d (V_d the Abbe number), by the specification's
+/// two-term Cauchy fit: max(n_d + (n_d − 1)/V_d · (523655/λ² − 1.5168), 1).
+inline float dispersedIor(float ior, float dispersion, double wavelengthNm) {
+    const double abbeInverse = double(dispersion) / 20.0;
+    return float(std::max(ior + (ior - 1.0) * abbeInverse * (523655.0 / (wavelengthNm * wavelengthNm) - 1.5168), 1.0));
+}
+
 /// Schlick's approximation, kept for comparison in tests only.
 inline float fresnelSchlick(float cosI, float eta) {
     const float r0 = (eta - 1.f) / (eta + 1.f);

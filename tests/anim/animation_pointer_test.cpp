@@ -421,4 +421,33 @@ TEST(AnimationPointer, ANodeHiddenAtRestStaysHiddenWhenNoAnimationPlays) {
     EXPECT_EQ(t.lights[1].intensity, 0.f);
 }
 
+TEST(AnimationPointer, IridescenceFactorsFollowTheirKeys) {
+    // KHR_materials_iridescence's factor keyed by the camera's yfov keys (0.9 -> 0.6 over 2 s)
+    // and its thickness maximum by the spot's intensity keys (40 -> 160): 0.75 and 100 nm at 1 s;
+    // at rest the file's own 1 and 400 nm.
+    json g = stage();
+    g["extensionsUsed"].push_back("KHR_materials_iridescence");
+    g["materials"][1]["extensions"]["KHR_materials_iridescence"] = {{"iridescenceFactor", 1}};
+    json& show = g["animations"][0];
+    auto key = [&](int sampler, const std::string& field) {
+        show["channels"].push_back(
+            {{"sampler", sampler},
+             {"target",
+              {{"path", "pointer"},
+               {"extensions", {{"KHR_animation_pointer", {{"pointer", "/materials/1/extensions/KHR_materials_iridescence/" + field}}}}}}}});
+    };
+    key(3, "iridescenceFactor");
+    key(0, "iridescenceThicknessMaximum");
+    const LoadedScene loaded = loadJson(g, "stage_film", 0);
+    for (const std::string& n : loaded.scene.notes) EXPECT_EQ(n.find("iridescence"), std::string::npos) << n;
+    Scene s;
+    renderAt(loaded, 1.0, &s);
+    const Material& box = s.materials[size_t(s.geometry.meshes[1].material)];
+    EXPECT_NEAR(box.iridescence, 0.75f, 1e-6);
+    EXPECT_NEAR(box.iridescenceThicknessMax, 100.f, 1e-4);
+    const Material& rest = loaded.scene.materials[size_t(loaded.scene.geometry.meshes[1].material)];
+    EXPECT_EQ(rest.iridescence, 1.f);
+    EXPECT_EQ(rest.iridescenceThicknessMax, 400.f);
+}
+
 }  // namespace rf::anim

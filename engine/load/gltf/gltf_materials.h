@@ -51,6 +51,7 @@ private:
     /// KHR_materials_clearcoat: factors, and the coat's weight, roughness and normal textures.
     void readClearcoat(const tinygltf::Value& v, Material& m, const std::string& where);
     void readSheen(const tinygltf::Value& v, Material& m, const std::string& where);
+    void readIridescence(const tinygltf::Value& v, Material& m, const std::string& where);
     void readVolume(const tinygltf::Value& v, Material& m, const std::string& where);
     void readSpecularGlossiness(const tinygltf::Value& v, Material& m, const std::string& where);
     /// KHR_materials_ior's ior (1.5 when absent); throws InputError naming the material (where,

@@ -27,6 +27,8 @@ const std::map<std::string, TextureSlot>& textureSlots() {
         {"extensions/KHR_materials_sheen/sheenColorTexture", TextureSlot::SheenColor},
         {"extensions/KHR_materials_sheen/sheenRoughnessTexture", TextureSlot::SheenRoughness},
         {"extensions/KHR_materials_volume/thicknessTexture", TextureSlot::Thickness},
+        {"extensions/KHR_materials_iridescence/iridescenceTexture", TextureSlot::Iridescence},
+        {"extensions/KHR_materials_iridescence/iridescenceThicknessTexture", TextureSlot::IridescenceThickness},
     };
     return slots;
 }
@@ -53,6 +55,10 @@ const std::map<std::string, AnimProperty>& materialProperties() {
         {"extensions/KHR_materials_sheen/sheenColorFactor", AnimProperty::SheenColor},
         {"extensions/KHR_materials_sheen/sheenRoughnessFactor", AnimProperty::SheenRoughness},
         {"extensions/KHR_materials_specular/specularFactor", AnimProperty::Specular},
+        {"extensions/KHR_materials_iridescence/iridescenceFactor", AnimProperty::Iridescence},
+        {"extensions/KHR_materials_iridescence/iridescenceIor", AnimProperty::IridescenceIor},
+        {"extensions/KHR_materials_iridescence/iridescenceThicknessMinimum", AnimProperty::IridescenceThicknessMin},
+        {"extensions/KHR_materials_iridescence/iridescenceThicknessMaximum", AnimProperty::IridescenceThicknessMax},
     };
     return props;
 }
@@ -75,6 +81,8 @@ bool hasTexture(const tinygltf::Material& gm, TextureSlot slot) {
         case TextureSlot::SheenColor: return inExtension("KHR_materials_sheen", "sheenColorTexture");
         case TextureSlot::SheenRoughness: return inExtension("KHR_materials_sheen", "sheenRoughnessTexture");
         case TextureSlot::Thickness: return inExtension("KHR_materials_volume", "thicknessTexture");
+        case TextureSlot::Iridescence: return inExtension("KHR_materials_iridescence", "iridescenceTexture");
+        case TextureSlot::IridescenceThickness: return inExtension("KHR_materials_iridescence", "iridescenceThicknessTexture");
         case TextureSlot::None: break;
     }
     return false;

@@ -206,6 +206,7 @@ bool isSupportedExtension(const std::string& name) {
                                             "KHR_lights_punctual", "KHR_mesh_quantization", "EXT_texture_webp", "KHR_materials_unlit",
                                             "KHR_materials_clearcoat", "KHR_draco_mesh_compression",
                                             "KHR_materials_pbrSpecularGlossiness", "KHR_materials_sheen", "KHR_materials_volume",
+                                            "KHR_materials_iridescence", "KHR_materials_dispersion",
                                             "KHR_materials_variants",
                                             "EXT_meshopt_compression", "KHR_meshopt_compression",
                                             "KHR_texture_basisu", "KHR_node_visibility", "KHR_animation_pointer",
