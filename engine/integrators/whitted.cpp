@@ -300,7 +300,8 @@ Color WhittedTracer::dispersiveRays(const Ray& r, const SurfaceInteraction& si, 
         tr.coneSpread = si.coneSpread;
         ++stats.refraction;
         float t = kInf;
-        const Color passed = trace(tr, depth + 1, w, stats, childSeed(seed, 20 + uint64_t(k)), skip, &t);
+        // Streams of their own: 16 + crossing (up to kBlendCrossings) are the blended crossings'.
+        const Color passed = trace(tr, depth + 1, w, stats, childSeed(seed, 1024 + uint64_t(k)), skip, &t);
         c += kt * filter * mask * (entering ? passed * volumeTransmittance(si, t) : passed);
     }
     const Color w = weight * kr;

@@ -364,10 +364,11 @@ std::string FarmRun::videoHolds() const {
 /// longer than kInterruptCloseBudget goes on after the outcome is told (conclude).
 std::string FarmRun::closeSinks(Master& master, const MasterOutcome& o) {
     if (o.end != RunEnd::Interrupted) {
-        // A finished film needs nothing more of the workers: they hear so before the close
-        // (an MP4's remux takes seconds on a long film), since a worker leaves when rank 0 is
-        // silent for --timeout.
-        if (o.end == RunEnd::Done && !opts_.keepWorkers) master.stopWorkers();
+        // A film that ended (done, or failed for good) needs nothing more of the workers: they
+        // hear so before the close (an MP4's remux takes seconds on a long film), since a worker
+        // leaves when rank 0 is silent for --timeout, and under a plain mpirun its exit would
+        // end the job mid-remux. A lost worker's end keeps its own stop message.
+        if (o.end != RunEnd::WorkerLost && !opts_.keepWorkers) master.stopWorkers();
         sinks_.close();
         return "";
     }

@@ -79,17 +79,6 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
     for (;;) {
         const auto now = Clock::now();
         if (pause.resumed(now)) lastFromMaster = now;  // this worker was stopped, not rank 0
-        const double masterSilent = std::chrono::duration<double>(now - lastFromMaster).count();
-        // Before its first word rank 0 may still be checking kept frames or building its BVH.
-        if (masterSilent > (heardMaster ? masterTimeout : firstWordTimeout)) {
-            char line[512];
-            std::snprintf(line, sizeof line,
-                          "rayfarm: error: %s: rank 0 has been silent for %.1f s (stopped, or its host cut off); this worker stops\n",
-                          whoAmI(t).c_str(), masterSilent);
-            [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, line, std::strlen(line));
-            engine.cancelQueued();
-            return kMasterSilentExit;
-        }
         if (!signalled && interruptSignal()) {
             // Finish nothing more: rank 0 is closing the video and only needs to know we live.
             signalled = true;
@@ -131,6 +120,19 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
             else if (m.tag != kTagAlive && other) other(m);
         }
         submitArrived();
+        // Silence is judged after the messages that came are read: a loop held up here (a
+        // large send, a starved core) must not miss rank 0's beats already waiting.
+        const double masterSilent = std::chrono::duration<double>(Clock::now() - lastFromMaster).count();
+        // Before its first word rank 0 may still be checking kept frames or building its BVH.
+        if (masterSilent > (heardMaster ? masterTimeout : firstWordTimeout)) {
+            char line[512];
+            std::snprintf(line, sizeof line,
+                          "rayfarm: error: %s: rank 0 has been silent for %.1f s (stopped, or its host cut off); this worker stops\n",
+                          whoAmI(t).c_str(), masterSilent);
+            [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, line, std::strlen(line));
+            engine.cancelQueued();
+            return kMasterSilentExit;
+        }
         if (const std::string err = shop ? shop->error() : engine.error(); !err.empty()) {
             reportWorkerError(t, err);
             return 1;

@@ -8,16 +8,16 @@ namespace rf::cli {
 
 using namespace rf::farm;
 
-void prebuildBounceCache(const Scene& scene, const anim::Timeline& tl, const RenderSettings& settings, int frame,
+void prebuildBounceCache(Scene& scene, const anim::Timeline& tl, const RenderSettings& settings, int frame,
                          int threads, SceneCacheSlot& bounceSlot) {
     if (settings.bounce <= 0 || !bounceApplies(scene)) return;
-    Scene posed = scene;
-    tl.applyFrame(posed, frame);
-    bounceCache(posed, settings, &bounceSlot, threads > 0 ? threads : hardwareThreads());
+    anim::TrialPose trial(scene, tl);  // a model that does not move is posed in place, not copied
+    tl.applyFrame(trial.scene(), frame);
+    bounceCache(trial.scene(), settings, &bounceSlot, threads > 0 ? threads : hardwareThreads());
 }
 
-void workerHeadStart(const LoadedScene& loaded, SceneCacheSlot& bounceSlot, const ArgParser& p, const RenderJob& job, int threads) {
-    const Scene& scene = loaded.scene;
+void workerHeadStart(LoadedScene& loaded, SceneCacheSlot& bounceSlot, const ArgParser& p, const RenderJob& job, int threads) {
+    Scene& scene = loaded.scene;
     RenderSettings settings = scene.settings;
     applyQualityOptions(p, settings);
     const anim::Timeline tl = anim::Timeline::fromScene(loaded, job.fpsOption);

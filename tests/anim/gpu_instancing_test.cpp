@@ -200,20 +200,64 @@ TEST(GpuInstancing, EachInstanceCoversTheSquareItsTransformGives) {
 }
 
 TEST(GpuInstancing, RotationAndTheNodesTransformApply) {
-    // An eighth of a turn about z (45°) and the node moved to (2, 1): a diamond |x − 2| + |y − 1|
-    // < √½, which covers 112 pixel centres (28 a quadrant) where the unturned square covers 100.
-    const float s = float(std::sin(M_PI / 8)), c = float(std::cos(M_PI / 8));
-    json g = cubes({{{0, 0, 0}, {0, 0, s, c}, {1, 1, 1}}});
+    // A 2 x 1 box turned 30° counter-clockwise about z, under a node moved to (2, 1): the
+    // rectangle |(p − c)·u| < 1, |(p − c)·v| < ½ with u = (cos 30°, sin 30°), v = (−sin 30°,
+    // cos 30°). A turn the other way (or a quaternion read w-first) covers other pixels.
+    const double a = M_PI / 6;
+    json g = cubes({{{0, 0, 0}, {0, 0, float(std::sin(a / 2)), float(std::cos(a / 2))}, {2, 1, 1}}});
     g["nodes"][0]["translation"] = {2, 1, 0};
-    std::vector<uint8_t> want(100 * 100, 0);
-    int n = 0;
-    for (int y = 0; y < 100; ++y)
-        for (int x = 0; x < 100; ++x) {
-            const double wx = -5.0 + (x + 0.5) * 0.1, wy = 5.0 - (y + 0.5) * 0.1;
-            n += want[size_t(y * 100 + x)] = std::abs(wx - 2.0) + std::abs(wy - 1.0) < std::sqrt(0.5);
-        }
-    EXPECT_EQ(n, 112);
-    EXPECT_EQ(differing(covered(load(g, "turned")), want), 0);
+    auto rectangle = [&](double turn) {
+        std::vector<uint8_t> want(100 * 100, 0);
+        for (int y = 0; y < 100; ++y)
+            for (int x = 0; x < 100; ++x) {
+                const double dx = -5.0 + (x + 0.5) * 0.1 - 2.0, dy = 5.0 - (y + 0.5) * 0.1 - 1.0;
+                const double along = dx * std::cos(turn) + dy * std::sin(turn), across = -dx * std::sin(turn) + dy * std::cos(turn);
+                want[size_t(y * 100 + x)] = std::abs(along) < 1.0 && std::abs(across) < 0.5;
+            }
+        return want;
+    };
+    const std::vector<uint8_t> got = covered(load(g, "turned"));
+    EXPECT_EQ(differing(got, rectangle(a)), 0);
+    EXPECT_GT(differing(got, rectangle(-a), "-the-other-way"), 100);  // the check can tell the turns apart
+}
+
+TEST(GpuInstancing, AMirroringInstanceKeepsItsFrontFacesOutward) {
+    // SCALE (−1, 1, 1) mirrors the cube: its triangles' corners are swapped back, so every
+    // surface the camera sees faces it (geometric normal against the ray), as the unmirrored one.
+    for (float sx : {1.f, -1.f}) {
+        const LoadedScene l = load(cubes({{{0, 0, 0}, {0, 0, 0, 1}, {sx, 1, 1}}}), sx < 0 ? "mirrored" : "plain");
+        Scene s = l.scene;
+        Timeline::fromScene(l).apply(s, 0.0);
+        const CameraRays rays(s.camera, 100, 100);
+        int hits = 0, facing = 0;
+        for (int y = 40; y < 60; ++y)
+            for (int x = 40; x < 60; ++x) {
+                Hit h;
+                const Ray r = rays.generate(x + 0.5f, y + 0.5f);
+                if (!s.geometry.intersect(r, h)) continue;
+                ++hits;
+                const SurfaceInteraction si = s.geometry.interaction(r, h);
+                facing += glm::dot(si.ng, r.d) < 0.f && glm::dot(si.ns, r.d) < 0.f;
+            }
+        EXPECT_EQ(hits, 100) << "scale x " << sx;
+        EXPECT_EQ(facing, hits) << "scale x " << sx;
+    }
+}
+
+TEST(GpuInstancing, TheSizeCapCountsEveryInstance) {
+    // 3,000,000 instances (a TRANSLATION accessor without a buffer view: zeros) of a 12-triangle
+    // cube: 36 M triangles, over the 2^25 cap, refused before anything is read.
+    json g = cubes(threeCubes());
+    json& attrs = g["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"];
+    g["accessors"].push_back({{"componentType", 5126}, {"count", 3000000}, {"type", "VEC3"}});
+    attrs = {{"TRANSLATION", int(g["accessors"].size()) - 1}};
+    EXPECT_NE(refusal(g).find("triangles once nodes instance their meshes"), std::string::npos) << refusal(g);
+    // An application's own attribute alone gives the count: identity instances.
+    json h = cubes(threeCubes());
+    json& own = h["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"];
+    own = {{"_ID", own["TRANSLATION"]}};
+    const LoadedScene l = load(h, "ids");
+    EXPECT_EQ(differing(covered(l), rectangles({{-0.5, 0.5, -0.5, 0.5}})), 0);
 }
 
 TEST(GpuInstancing, AnAnimatedNodeMovesEveryInstance) {

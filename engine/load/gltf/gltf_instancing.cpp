@@ -41,12 +41,18 @@ uint64_t gpuInstanceCount(const tinygltf::Model& model, int node) {
     if (!ext || !ext->Has("attributes") || !ext->Get("attributes").IsObject()) return 1;
     const tinygltf::Value* attrs = &ext->Get("attributes");
     uint64_t count = 0;
-    for (const char* name : kAttributes) {
-        if (!attrs->Has(name) || !attrs->Get(name).IsInt()) continue;
+    for (const std::string& name : attrs->Keys()) {
+        if (!attrs->Get(name).IsInt()) continue;
         const int a = attrs->Get(name).Get<int>();
         if (a >= 0 && size_t(a) < model.accessors.size()) count = std::max<uint64_t>(count, model.accessors[size_t(a)].count);
     }
     return count;
+}
+
+DMat4 InstanceTrs::matrix() const {
+    const DMat4 tm = glm::translate(DMat4(1.0), glm::dvec3(t[0], t[1], t[2]));
+    const DMat4 rm = glm::mat4_cast(DQuat(r[3], r[0], r[1], r[2]));  // glTF xyzw → glm wxyz
+    return tm * rm * glm::scale(DMat4(1.0), glm::dvec3(s[0], s[1], s[2]));
 }
 
 GpuInstances readGpuInstances(const tinygltf::Model& model, int node, const std::string& file) {
@@ -55,67 +61,81 @@ GpuInstances readGpuInstances(const tinygltf::Model& model, int node, const std:
     if (!ext) return out;
     out.present = true;
     const std::string w = "nodes[" + std::to_string(node) + "].extensions." + kExtension;
-    if (!ext->IsObject() || !ext->Has("attributes") || !ext->Get("attributes").IsObject())
-        throw InputError(file, w + ": no attributes (TRANSLATION, ROTATION or SCALE)");
+    if (!ext->IsObject() || !ext->Has("attributes") || !ext->Get("attributes").IsObject() || ext->Get("attributes").Keys().empty())
+        throw InputError(file, w + ": no attributes (TRANSLATION, ROTATION, SCALE or an application's own)");
     const tinygltf::Value* attrs = &ext->Get("attributes");
     AccessorData data[3];
     size_t count = 0;
-    int given = 0, first = -1;
+    std::string first;  // the attribute the count was taken from
+    auto setCount = [&](size_t n, const std::string& name, const std::string& what) {
+        if (!first.empty() && n != count)
+            throw InputError(file, what + ": " + std::to_string(n) + " instances, but " + first + " has " + std::to_string(count) +
+                                       "; every attribute must have the same count");
+        count = n;
+        if (first.empty()) first = name;
+    };
     for (int k = 0; k < 3; ++k) {
         const int a = attributeAccessor(model, *attrs, kAttributes[k], w, file);
         if (a < 0) continue;
         const tinygltf::Accessor& acc = model.accessors[size_t(a)];
-        const bool floats = acc.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT;
-        const bool normalizedInt = acc.normalized && (acc.componentType == TINYGLTF_COMPONENT_TYPE_BYTE ||
-                                                      acc.componentType == TINYGLTF_COMPONENT_TYPE_SHORT ||
-                                                      (k != 1 && (acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                                                                  acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT)));
         const std::string what = w + ".attributes." + kAttributes[k] + " (accessors[" + std::to_string(a) + "])";
         if (acc.type != (k == 1 ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3))
             throw InputError(file, what + ": must be " + (k == 1 ? "VEC4 (a quaternion)" : "VEC3"));
-        if (!floats && !normalizedInt)
-            throw InputError(file, what + ": must be float or normalized " + (k == 1 ? "signed " : "") + "byte or short");
+        // As a mesh's attributes under KHR_mesh_quantization: a rotation is float or a
+        // normalized signed byte or short; a translation and a scale may be any of those, or
+        // integers as they are.
+        const int c = acc.componentType;
+        const bool floats = c == TINYGLTF_COMPONENT_TYPE_FLOAT;
+        const bool signedNormalized = acc.normalized && (c == TINYGLTF_COMPONENT_TYPE_BYTE || c == TINYGLTF_COMPONENT_TYPE_SHORT);
+        const bool smallInt = c == TINYGLTF_COMPONENT_TYPE_BYTE || c == TINYGLTF_COMPONENT_TYPE_SHORT ||
+                              c == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || c == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+        if (k == 1 ? !(floats || signedNormalized) : !(floats || smallInt))
+            throw InputError(file, what + (k == 1 ? ": must be float or normalized signed byte or short"
+                                                  : ": must be float, or byte or short (normalized or not)"));
         data[k] = readAccessor(model, a, file, {k == 1 ? TINYGLTF_TYPE_VEC4 : TINYGLTF_TYPE_VEC3});
-        if (given && data[k].count != count)
-            throw InputError(file, what + ": " + std::to_string(data[k].count) + " instances, but " + kAttributes[first] +
-                                       " has " + std::to_string(count) + "; every attribute must have the same count");
-        count = data[k].count;
-        if (!given) first = k;
-        ++given;
+        setCount(data[k].count, kAttributes[k], what);
         for (float x : data[k].values)
             if (!std::isfinite(x)) throw InputError(file, what + ": a value is not finite");
     }
-    if (!given) throw InputError(file, w + ": no attributes (TRANSLATION, ROTATION or SCALE)");
-    out.nodeFromInstance.reserve(count);
+    // An application's own attributes ("_ID"): only their count is read.
+    for (const std::string& name : attrs->Keys()) {
+        if (name == kAttributes[0] || name == kAttributes[1] || name == kAttributes[2]) continue;
+        const int a = attributeAccessor(model, *attrs, name.c_str(), w, file);
+        setCount(model.accessors[size_t(a)].count, name, w + ".attributes." + name + " (accessors[" + std::to_string(a) + "])");
+    }
+    out.instances.resize(count);
     for (size_t i = 0; i < count; ++i) {
         if (i % 65536 == 0) pollLoadCancel();
-        DMat4 t(1.0), r(1.0), s(1.0);
-        if (data[0].count) t = glm::translate(DMat4(1.0), glm::dvec3(data[0].at(i, 0), data[0].at(i, 1), data[0].at(i, 2)));
+        InstanceTrs& in = out.instances[i];
+        for (int c = 0; c < 3 && data[0].count; ++c) in.t[c] = data[0].at(i, c);
+        for (int c = 0; c < 3 && data[2].count; ++c) in.s[c] = data[2].at(i, c);
         if (data[1].count) {
-            DQuat q(data[1].at(i, 3), data[1].at(i, 0), data[1].at(i, 1), data[1].at(i, 2));  // glTF xyzw → glm wxyz
-            const double len = glm::length(q);
+            const double x = data[1].at(i, 0), y = data[1].at(i, 1), z = data[1].at(i, 2), q = data[1].at(i, 3);
+            const double len = std::sqrt(x * x + y * y + z * z + q * q);
             if (!(len > 0.0))
                 throw InputError(file, w + ".attributes.ROTATION: instance " + std::to_string(i) + " is not a usable quaternion");
-            r = glm::mat4_cast(q / len);
+            in.r[0] = float(x / len), in.r[1] = float(y / len), in.r[2] = float(z / len), in.r[3] = float(q / len);
         }
-        if (data[2].count) s = glm::scale(DMat4(1.0), glm::dvec3(data[2].at(i, 0), data[2].at(i, 1), data[2].at(i, 2)));
-        out.nodeFromInstance.push_back(t * r * s);
     }
     return out;
 }
 
-TriangleMesh instancedPrimitive(const TriangleMesh& g, const std::vector<DMat4>& nodeFromInstance, size_t& unplaced) {
+TriangleMesh instancedPrimitive(const TriangleMesh& g, const std::vector<InstanceTrs>& instances, size_t& unplaced) {
     TriangleMesh m = g;
-    const size_t nv = g.positions.size();
-    auto clearData = [&](TriangleMesh& x) {
-        x.positions.clear(), x.normals.clear(), x.uvs.clear(), x.uvs1.clear(), x.tangents.clear(), x.colors.clear(), x.indices.clear();
-        for (auto& d : x.morphPositions) d.clear();
-        for (auto& d : x.morphNormals) d.clear();
-        for (auto& d : x.morphTangents) d.clear();
+    const size_t nv = g.positions.size(), n = instances.size();
+    // Each array once at its full size: instances x vertices may be tens of millions.
+    auto sized = [&](auto& out, const auto& in) {
+        out.clear();
+        out.reserve(in.size() * n);
     };
-    clearData(m);
+    sized(m.positions, g.positions), sized(m.normals, g.normals), sized(m.uvs, g.uvs), sized(m.uvs1, g.uvs1);
+    sized(m.tangents, g.tangents), sized(m.colors, g.colors), sized(m.indices, g.indices);
+    for (size_t k = 0; k < g.morphPositions.size(); ++k) sized(m.morphPositions[k], g.morphPositions[k]);
+    for (size_t k = 0; k < g.morphNormals.size(); ++k) sized(m.morphNormals[k], g.morphNormals[k]);
+    for (size_t k = 0; k < g.morphTangents.size(); ++k) sized(m.morphTangents[k], g.morphTangents[k]);
     size_t placed = 0;
-    for (const DMat4& M : nodeFromInstance) {
+    for (const InstanceTrs& trs : instances) {
+        const DMat4 M = trs.matrix();
         const glm::dmat3 l(M);
         const double det = glm::determinant(l);
         if (!(std::abs(det) > 0.0) || !std::isfinite(det)) {

@@ -22,14 +22,24 @@ namespace rf::gltf {
 /// the accessors, not read), or 1 without the extension. For the size cap, before anything is read.
 uint64_t gpuInstanceCount(const tinygltf::Model& model, int node);
 
-/// The node's instances as node-from-instance matrices T·R·S (a missing attribute is the
-/// identity), in order. present false: the node has no EXT_mesh_gpu_instancing. Throws
-/// InputError naming the node and attribute when the extension is malformed: no attributes, an
-/// attribute that is not an accessor, of the wrong type or component type, counts that differ,
-/// a non-finite value.
+/// One instance: TRANSLATION, ROTATION (x, y, z, w; unit length) and SCALE as stored (40
+/// bytes, where a matrix would take 128: a million instances are read before anything is drawn).
+struct InstanceTrs {
+    float t[3] = {0.f, 0.f, 0.f};
+    float r[4] = {0.f, 0.f, 0.f, 1.f};
+    float s[3] = {1.f, 1.f, 1.f};
+    /// node-from-instance: T·R·S.
+    DMat4 matrix() const;
+};
+
+/// The node's instances, in order (a missing attribute is the identity). present false: the
+/// node has no EXT_mesh_gpu_instancing. Throws InputError naming the node and attribute when
+/// the extension is malformed: no attributes, an attribute that is not an accessor, of the
+/// wrong type or component type, counts that differ, a non-finite value, a zero quaternion.
+/// Attributes beyond the three (an application's "_ID") only give the count.
 struct GpuInstances {
     bool present = false;
-    std::vector<DMat4> nodeFromInstance;
+    std::vector<InstanceTrs> instances;
 };
 GpuInstances readGpuInstances(const tinygltf::Model& model, int node, const std::string& file);
 
@@ -37,6 +47,6 @@ GpuInstances readGpuInstances(const tinygltf::Model& model, int node, const std:
 /// the instance's matrix, normals and tangents by its linear part (normals by the inverse
 /// transpose), a mirroring instance's triangles turned back to counter-clockwise. An instance
 /// with a zero scale is left out (counted in unplaced).
-TriangleMesh instancedPrimitive(const TriangleMesh& g, const std::vector<DMat4>& nodeFromInstance, size_t& unplaced);
+TriangleMesh instancedPrimitive(const TriangleMesh& g, const std::vector<InstanceTrs>& instances, size_t& unplaced);
 
 }  // namespace rf::gltf

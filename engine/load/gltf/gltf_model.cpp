@@ -38,8 +38,9 @@ GltfModel::GltfModel(const std::string& path, tinygltf::Model model, std::vector
 
 void GltfModel::readGpuInstancing() {
     for (int node : order_) {
+        if (model_.nodes[size_t(node)].mesh < 0) continue;  // the extension places a node's mesh
         GpuInstances g = readGpuInstances(model_, node, path_);
-        if (g.present) gpuInstances_[node] = std::move(g.nodeFromInstance);
+        if (g.present) gpuInstances_[node] = std::move(g.instances);
     }
 }
 
@@ -78,14 +79,16 @@ bool GltfModel::bounds(const DMat4& worldFromModel, glm::dvec3& lo, glm::dvec3& 
                 glm::dvec3 plo(std::numeric_limits<double>::infinity()), phi = -plo;
                 for (uint32_t i : used) plo = glm::min(plo, glm::dvec3(pos[i])), phi = glm::max(phi, glm::dvec3(pos[i]));
                 if (used.empty()) continue;
-                for (const DMat4& inst : it->second)
+                for (const InstanceTrs& inst : it->second) {
+                    const DMat4 placed = m * inst.matrix();
                     for (int c = 0; c < 8; ++c) {
                         const glm::dvec3 corner(c & 1 ? phi.x : plo.x, c & 2 ? phi.y : plo.y, c & 4 ? phi.z : plo.z);
-                        const glm::dvec3 q(m * inst * glm::dvec4(corner, 1.0));
+                        const glm::dvec3 q(placed * glm::dvec4(corner, 1.0));
                         lo = glm::min(lo, q);
                         hi = glm::max(hi, q);
                         any = true;
                     }
+                }
                 continue;
             }
             for (uint32_t i : used) {
@@ -363,6 +366,7 @@ void GltfModel::addTo(Scene& scene, const DMat4& worldFromModel, int materialOve
 
 void GltfModel::releaseLoadData() {
     prims_.clear();
+    gpuInstances_.clear();
     for (tinygltf::Buffer& b : model_.buffers) std::vector<unsigned char>().swap(b.data);
     for (tinygltf::Image& im : model_.images) std::vector<unsigned char>().swap(im.image);
 }

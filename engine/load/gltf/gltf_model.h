@@ -12,6 +12,7 @@
 #include "engine/scene/scene.h"
 #include "engine/scene/scene_options.h"
 #include "engine/load/gltf/gltf_geometry.h"
+#include "engine/load/gltf/gltf_instancing.h"
 #include "engine/load/gltf/gltf_materials.h"
 #include "engine/load/gltf/gltf_parse.h"
 #include "engine/load/gltf/gltf_variants.h"
@@ -126,9 +127,9 @@ private:
     std::vector<int> order_;  ///< drawn nodes, parents before children
     std::vector<uint8_t> animatedNode_;
     std::vector<uint8_t> visibilityAnimated_;  ///< some channel animates the node's KHR_node_visibility
-    /// EXT_mesh_gpu_instancing: each drawn node's instances (node-from-instance matrices), read
-    /// after the size check; nodes without the extension are absent.
-    std::map<int, std::vector<DMat4>> gpuInstances_;
+    /// EXT_mesh_gpu_instancing: each drawn node's instances, read after the size check; nodes
+    /// without a mesh or without the extension are absent.
+    std::map<int, std::vector<InstanceTrs>> gpuInstances_;
     void readGpuInstancing();
     std::vector<Animation> animations_;
     std::vector<Skin> skins_;

@@ -215,7 +215,7 @@ void GltfModel::resolveHierarchy() {
 
 void GltfModel::checkInstancedSize() const {
     const uint64_t cap = Limits::kMaxTriangles;
-    uint64_t corners = 0;  // three per triangle; an upper bound for strips and fans as well, within two per primitive
+    uint64_t corners = 0;  // three per triangle drawn, an upper bound
     for (int node : order_) {
         const int mesh = model_.nodes[size_t(node)].mesh;
         if (mesh < 0) continue;
@@ -226,10 +226,14 @@ void GltfModel::checkInstancedSize() const {
             const auto pos = p.attributes.find("POSITION");
             const uint64_t vertices = pos == p.attributes.end() ? 0 : count(pos->second);
             uint64_t n = p.indices >= 0 ? count(p.indices) : vertices;
-            if (instances != 1) n = std::max(n, vertices);
-            // Each factor is below 2^27 (an accessor's limit) and the sum stops past the cap:
-            // no overflow.
-            corners += std::min(n, 3 * cap) * std::min(instances, 3 * cap);
+            // Points become 8 triangles each and line segments 12 (wireGeometry): 24 and 36
+            // corners an element at most; strips and fans at most one triangle an element.
+            if (p.mode == TINYGLTF_MODE_POINTS) n *= 24;
+            else if (p.mode >= TINYGLTF_MODE_LINE && p.mode <= TINYGLTF_MODE_LINE_STRIP) n *= 36;
+            else if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP || p.mode == TINYGLTF_MODE_TRIANGLE_FAN) n *= 3;
+            if (instances != 1) n = std::max({n, vertices, uint64_t(1)});  // each instance costs something
+            // Each factor is at most 36 · 2^26 and the sum stops past the cap: no overflow.
+            corners += std::min(n, 3 * cap + 1) * std::min(instances, 3 * cap + 1);
             if (corners / 3 > cap)
                 throw InputError(path_, "over " + std::to_string(cap) + " triangles once nodes instance their meshes (the limit)");
         }
