@@ -121,8 +121,12 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
         }
         submitArrived();
         // Silence is judged after the messages that came are read: a loop held up here (a
-        // large send, a starved core) must not miss rank 0's beats already waiting.
-        const double masterSilent = std::chrono::duration<double>(Clock::now() - lastFromMaster).count();
+        // large send, a starved core) must not miss rank 0's beats already waiting. A stop of
+        // this process since the loop's top (the whole job paused inside an MPI call) is a
+        // pause, as at the top, not rank 0's silence.
+        const auto judged = Clock::now();
+        if (pause.resumed(judged)) lastFromMaster = judged;
+        const double masterSilent = std::chrono::duration<double>(judged - lastFromMaster).count();
         // Before its first word rank 0 may still be checking kept frames or building its BVH.
         if (masterSilent > (heardMaster ? masterTimeout : firstWordTimeout)) {
             char line[512];

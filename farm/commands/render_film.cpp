@@ -174,10 +174,16 @@ int renderFilm(MpiTransport& t, const ArgParser& p, const std::vector<std::strin
         return 1;
     }
     if (t.rank() != 0) {
-        // Rank 0 lost (killed, its host gone): this worker leaves once rank 0 is silent for
-        // --timeout, as rank 0 gives up on a silent worker. Before rank 0's first word (it may
-        // be checking a resumed film's kept frames) it waits longer.
-        const int code = runFarmWorker(t, shared, job.fpsOption, threadsForRank(job, t), job.workerTimeout,
+        // Rank 0 lost (killed, its host gone): this worker leaves once rank 0 has been silent
+        // for twice --timeout, 4 s at least. Not sooner: on a host whose link is cut, a worker
+        // that exits makes Open MPI's daemon there report it to mpirun over the dead link, and
+        // with data unacknowledged TCP stops the keepalive that would end the daemon: it then
+        // lingers for the retransmission timeout (minutes; tests/multihost, --timeout 3: the
+        // worker gone at 2.9 s left the daemon running past 39 s; at 6 s the daemon's keepalive
+        // ended it and the host was empty in 7.1 s). Before rank 0's first word (it may be
+        // checking a resumed film's kept frames) it waits longer.
+        const double silentLimit = std::max(4.0, 2.0 * job.workerTimeout);
+        const int code = runFarmWorker(t, shared, job.fpsOption, threadsForRank(job, t), silentLimit,
                                        std::max(24.0, 12.0 * job.workerTimeout));
         // A silent master: leave now, as MPI_Finalize would wait for rank 0 forever.
         if (code == kMasterSilentExit) std::_Exit(1);

@@ -82,7 +82,7 @@ const char* kRenderHelp =
     "  --timeout S       seconds a worker may stay silent before it counts as lost (default 10):\n"
     "                    its work goes to the other ranks (mpirun --enable-recovery keeps the job\n"
     "                    alive when a rank dies; without it mpirun ends the job); the workers\n"
-    "                    leave when rank 0 is silent that long\n"
+    "                    leave when rank 0 is silent twice that long\n"
     "  --max-frame-failures K  stop when K ranks were lost while rendering the same frame (a\n"
     "                    frame that takes down every worker it reaches; default 3)\n"
     "  --stats FILE      write run statistics as JSON (sustained_fps, per-rank busy time, ...)\n"

@@ -585,8 +585,8 @@ lost-all)
     ;;
 lost-master)
     # Issue 45 #2: kill -9 of rank 0 under --enable-recovery (which keeps the job alive): every
-    # worker leaves by itself once rank 0 has been silent for --timeout, so no rank process is
-    # left --timeout + 2 s after the kill (they used to wait twice --timeout: 8 s here), and
+    # worker leaves by itself once rank 0 has been silent for twice --timeout (render_film.cpp
+    # says why not sooner), so no rank process is left 2 x --timeout + 2 s after the kill, and
     # --resume completes the film byte for byte (MP4 and PNGs) as one clean process makes it.
     timeout=4
     rm -rf lmaster.* lmasterone.*
@@ -607,7 +607,7 @@ lost-master)
     while [ -n "$left" ]; do
         still=""; for p in $left; do kill -0 "$p" 2> /dev/null && still="$still $p"; done; left=$still
         [ -z "$left" ] && break
-        python3 -c "import sys,time; sys.exit(time.time()-float(sys.argv[1]) > float(sys.argv[2]))" "$start" $((timeout + 2)) || break
+        python3 -c "import sys,time; sys.exit(time.time()-float(sys.argv[1]) > float(sys.argv[2]))" "$start" $((2 * timeout + 2)) || break
         sleep 0.05
     done
     took=$(python3 -c "import sys,time; print(round(time.time()-float(sys.argv[1]),2))" "$start")
