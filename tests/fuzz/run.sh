@@ -12,14 +12,12 @@ here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 build=${RAYFARM_FUZZ_BUILD:-$root/build-fuzz}
 # Models through assimp: a harness per format (fuzz_obj, fuzz_stl, fuzz_ply, fuzz_fbx, fuzz_dae,
-# fuzz_3mf). Only OBJ and STL run by default: on the others Debian's assimp 5.2.5 itself
-# fails within seconds, which rayfarm cannot fix or bound from outside (docs/testing.md): a
-# 3MF that makes it abort(), a PLY it spins on past the 25 s timeout, a 42 KB COLLADA file
-# (sphere.dae with one index digit made a letter) on which it allocates gigabytes, an FBX on
-# which its importer frees a buffer twice (found by this smoke run in CI's rehearsal on
-# 2026-12-07, 120 executions in; the input is tests/fuzz/assimp_crashes/fbx-double-free.fbx).
-# `run.sh 600 ply dae 3mf fbx` runs them on demand.
-harnesses=(scene_json gltf_text glb scene_bundle farm_messages environment obj stl)
+# fuzz_3mf), all six in the default run. Debian's assimp 5.2.5 itself fails on some inputs within
+# seconds (a 3MF that makes it abort(), a PLY it spins on, a 42 KB COLLADA file on which it
+# allocates gigabytes, an FBX it frees a buffer of twice: tests/fuzz/assimp_crashes/); since it
+# reads in a child process with a time and a memory limit (engine/load/assimp/assimp_isolated.h),
+# those are refused files, and a finding is a failure of rayfarm's own.
+harnesses=(scene_json gltf_text glb scene_bundle farm_messages environment obj stl ply fbx dae 3mf)
 [ $# -gt 1 ] && harnesses=("${@:2}")
 models=/usr/share/assimp/models/glTF2
 
@@ -33,7 +31,10 @@ max_len() { [ "$1" = environment ] && echo 131072 || echo 65536; }
 # assimp leaks on its own error paths (a mesh, a zlib stream: inside libassimp.so, never in
 # rayfarm's frames), so leak detection is off for the model harnesses; rayfarm's conversion
 # holds everything in containers.
-extra_flags() { case "$1" in obj|stl|ply|fbx|dae|3mf) echo -detect_leaks=0 ;; esac; }
+# libFuzzer's malloc limit hooks every allocation, the importer's child's too (which would then
+# write an artifact of its own): raised for them, where the child's RLIMIT_DATA bounds assimp and
+# -rss_limit_mb still bounds the harness.
+extra_flags() { case "$1" in obj|stl|ply|fbx|dae|3mf) echo "-detect_leaks=0 -malloc_limit_mb=1048576" ;; esac; }
 asan_options() { case "$1" in obj|stl|ply|fbx|dae|3mf) echo detect_leaks=0 ;; *) echo "${ASAN_OPTIONS:-}" ;; esac; }
 
 # Seed corpora (small files only: libFuzzer's input length is capped below).

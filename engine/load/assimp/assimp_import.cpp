@@ -18,6 +18,7 @@
 #include <assimp/scene.h>
 #include <assimp/version.h>
 
+#include "engine/load/assimp/assimp_isolated.h"
 #include "engine/util/errors.h"
 #include "engine/util/load_control.h"
 #include "engine/util/model_path.h"
@@ -85,7 +86,9 @@ public:
         if (p.empty() || !fs_.exists(p)) return nullptr;
         const uint64_t limit = p == model_ ? Limits::kMaxFileBytes : Limits::kMaxBufferBytes;
         try {
-            return new StringStream(fs_.read(p, limit));
+            auto* stream = new StringStream(fs_.read(p, limit));
+            read_.emplace_back(p, limit);
+            return stream;
         } catch (const InputError& e) {
             if (error_.empty()) error_ = e.what();
             return nullptr;
@@ -95,6 +98,8 @@ public:
     bool ComparePaths(const char* a, const char* b) const override { return std::strcmp(a, b) == 0; }
     /// A side file that could not be read (too big, not a regular file), as FileSource said.
     const std::string& error() const { return error_; }
+    /// The files read (path, byte limit), in order.
+    const std::vector<std::pair<std::string, uint64_t>>& filesRead() const { return read_; }
 
 private:
     /// The model as given; anything else relative to the model's folder, through ConfinedFs
@@ -118,6 +123,7 @@ private:
     std::string model_;
     ConfinedFs& confined_;
     mutable std::string error_;
+    std::vector<std::pair<std::string, uint64_t>> read_;
 };
 
 double metaNumber(const aiMetadata* meta, const char* key, double fallback) {
@@ -566,40 +572,55 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
         if (ext == f.ext) formatName = f.name;
     LoadStep reading("reading the model through assimp");
     // The file first, against its size limit, so a message about it names it plainly.
+    const uint64_t fileBytes = fs.read(path, Limits::kMaxFileBytes).size();
     if (const std::string why = impossibleCount(ext, fs.read(path, Limits::kMaxFileBytes)); !why.empty()) throw InputError(path, why);
     const std::string folderPath = std::filesystem::path(path).parent_path().string();
     const std::string folder = folderPath.empty() ? "." : folderPath;
     ConfinedFs confined(fs, folder, gltf::assetRootFor(path, assets.root));
-    Assimp::Importer importer;
-    auto* io = new ConfinedIoSystem(fs, path, confined);
-    importer.SetIOHandler(io);  // the importer owns it
-    importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);
-    // Points and lines are kept (a PLY point cloud is drawn as dots), sorted from triangles.
-    importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, 0);
-    // Read first, then post-process: a point cloud (a PLY or OBJ of vertices alone) has no faces,
-    // which assimp's validation refuses, so each of its vertices becomes a point first. The
-    // validation then runs before any other step, as it does within ReadFile.
-    const aiScene* scene = importer.ReadFile(path, 0);
-    if (scene && scene->mMeshes) {
-        for (unsigned i = 0; i < scene->mNumMeshes; ++i) {
-            aiMesh* m = scene->mMeshes[i];
-            if (!m || m->mNumFaces != 0 || m->mFaces || m->mNumVertices == 0 || !m->mVertices) continue;
-            m->mFaces = new aiFace[m->mNumVertices];  // freed by assimp's aiMesh (delete[])
-            m->mNumFaces = m->mNumVertices;
-            for (unsigned v = 0; v < m->mNumVertices; ++v) {
-                m->mFaces[v].mNumIndices = 1;
-                m->mFaces[v].mIndices = new unsigned[1]{v};
+    // assimp reads and post-processes the file in a child process (assimp_isolated.h).
+    auto readFile = [&](ChildImportReport& report) -> const aiScene* {
+        // Kept to the child's end (never deleted): it owns the scene returned, dumped after this.
+        Assimp::Importer& importer = *new Assimp::Importer;
+        auto* io = new ConfinedIoSystem(fs, path, confined);
+        importer.SetIOHandler(io);  // the importer owns it
+        importer.SetPropertyBool(AI_CONFIG_IMPORT_FBX_PRESERVE_PIVOTS, false);
+        // Points and lines are kept (a PLY point cloud is drawn as dots), sorted from triangles.
+        importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, 0);
+        // Read first, then post-process: a point cloud (a PLY or OBJ of vertices alone) has no faces,
+        // which assimp's validation refuses, so each of its vertices becomes a point first. The
+        // validation then runs before any other step, as it does within ReadFile.
+        const aiScene* scene = importer.ReadFile(path, 0);
+        if (scene && scene->mMeshes) {
+            for (unsigned i = 0; i < scene->mNumMeshes; ++i) {
+                aiMesh* m = scene->mMeshes[i];
+                if (!m || m->mNumFaces != 0 || m->mFaces || m->mNumVertices == 0 || !m->mVertices) continue;
+                m->mFaces = new aiFace[m->mNumVertices];  // freed by assimp's aiMesh (delete[])
+                m->mNumFaces = m->mNumVertices;
+                for (unsigned v = 0; v < m->mNumVertices; ++v) {
+                    m->mFaces[v].mNumIndices = 1;
+                    m->mFaces[v].mIndices = new unsigned[1]{v};
+                }
+                m->mPrimitiveTypes = aiPrimitiveType_POINT;
             }
-            m->mPrimitiveTypes = aiPrimitiveType_POINT;
         }
-    }
-    const unsigned flags = aiProcess_ValidateDataStructure | aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_FlipUVs;
-    if (scene) scene = importer.ApplyPostProcessing(flags);
-    if (!confined.violation().empty())
-        throw InputError(path, "file \"" + confined.violation() + "\": " + confined.violationReason() + "; refused");
-    if (!io->error().empty()) throw InputError(path, "a file it names cannot be read: " + io->error());
+        const unsigned flags = aiProcess_ValidateDataStructure | aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_FlipUVs;
+        if (scene) scene = importer.ApplyPostProcessing(flags);
+        report.importerError = firstLine(importer.GetErrorString());
+        report.violation = confined.violation();
+        report.violationReason = confined.violationReason();
+        report.ioError = io->error();
+        report.filesRead = io->filesRead();
+        return scene;
+    };
+    Assimp::Importer importer;
+    ChildImportReport report;
+    const aiScene* scene = importInChild(importer, path, fileBytes, readFile, report);
+    // What the child read, read here too: the farm's bundle carries the side files.
+    for (const auto& [file, limit] : report.filesRead) fs.read(file, limit);
+    if (!report.violation.empty()) throw InputError(path, "file \"" + report.violation + "\": " + report.violationReason + "; refused");
+    if (!report.ioError.empty()) throw InputError(path, "a file it names cannot be read: " + report.ioError);
     if (!scene) {
-        std::string why = firstLine(importer.GetErrorString());
+        const std::string& why = report.importerError;
         throw InputError(path, std::string("assimp cannot read it as ") + formatName + (why.empty() ? "" : ": " + why));
     }
     pollLoadCancel();

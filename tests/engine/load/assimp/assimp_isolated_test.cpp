@@ -1,0 +1,151 @@
+// assimp in a child process (assimp_isolated.h): a crash, a hang, a runaway allocation or a
+// cancel in the importer costs the child, and the parent says which, with real processes.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <thread>
+
+#include <assimp/Importer.hpp>
+#include <assimp/scene.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "engine/load/assimp/assimp_import.h"
+#include "engine/load/assimp/assimp_isolated.h"
+#include "engine/util/errors.h"
+#include "engine/util/file_source.h"
+#include "engine/util/load_control.h"
+
+using namespace rf;
+
+namespace {
+
+/// The message importInChild throws for read, which must throw InputError.
+std::string refusal(const std::function<const aiScene*(ChildImportReport&)>& read, ChildImportLimits limits = {}) {
+    Assimp::Importer into;
+    ChildImportReport report;
+    try {
+        importInChild(into, "model.fbx", 1000, read, report, limits);
+    } catch (const InputError& e) {
+        return e.what();
+    }
+    ADD_FAILURE() << "no InputError";
+    return "";
+}
+
+/// No child of this process is left (every one was reaped).
+bool noChildLeft() { return ::waitpid(-1, nullptr, WNOHANG) < 0 && errno == ECHILD; }
+
+}  // namespace
+
+TEST(AssimpIsolated, ACrashInTheImporterIsRefusedNamingTheSignal) {
+    const std::string why = refusal([](ChildImportReport&) -> const aiScene* { std::abort(); });
+    EXPECT_EQ(why, "model.fbx: assimp crashed reading it (signal 6, Aborted); the file is refused");
+    const std::string segv = refusal([](ChildImportReport&) -> const aiScene* {
+        std::raise(SIGSEGV);
+        return nullptr;
+    });
+    EXPECT_NE(segv.find("signal 11"), std::string::npos) << segv;
+    EXPECT_TRUE(noChildLeft());
+}
+
+TEST(AssimpIsolated, AnImporterPastItsTimeIsKilled) {
+    ChildImportLimits limits;
+    limits.seconds = 0.5;
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::string why = refusal(
+        [](ChildImportReport&) -> const aiScene* {
+            for (;;) ::pause();
+        },
+        limits);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_NE(why.find("assimp took longer than"), std::string::npos) << why;
+    EXPECT_GE(s, 0.5);
+    EXPECT_LT(s, 5.0);
+    EXPECT_TRUE(noChildLeft());
+}
+
+TEST(AssimpIsolated, AnImporterOverItsMemoryIsRefused) {
+    ChildImportLimits limits;
+    limits.memoryBytes = 256ull << 20;
+    const std::string why = refusal(
+        [](ChildImportReport&) -> const aiScene* {
+            // 2 GiB in one block, touched so that it would be real memory.
+            auto* p = static_cast<volatile char*>(std::malloc(size_t(2) << 30));
+            if (!p) throw std::bad_alloc();
+            for (size_t i = 0; i < (size_t(2) << 30); i += 4096) p[i] = 1;
+            return nullptr;
+        },
+        limits);
+    // A plain build's malloc returns null (bad_alloc, caught in the child); AddressSanitizer's
+    // allocator ends the child instead.
+    EXPECT_TRUE(why.find("assimp failed on it: out of memory") != std::string::npos ||
+                why.find("assimp's process ended before it finished") != std::string::npos)
+        << why;
+    EXPECT_TRUE(noChildLeft());
+}
+
+TEST(AssimpIsolated, ACancelKillsTheImporterAtOnce) {
+    std::thread asker([] {
+        std::this_thread::sleep_for(std::chrono::milliseconds(300));
+        requestLoadCancel(SIGINT);
+    });
+    const auto t0 = std::chrono::steady_clock::now();
+    bool cancelled = false;
+    try {
+        Assimp::Importer into;
+        ChildImportReport report;
+        importInChild(into, "model.fbx", 1000, [](ChildImportReport&) -> const aiScene* {
+            for (;;) ::pause();
+        }, report);
+    } catch (const LoadCancelled& c) {
+        cancelled = c.signal == SIGINT;
+    }
+    asker.join();
+    requestLoadCancel(0);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    EXPECT_TRUE(cancelled);
+    EXPECT_LT(s, 2.0);
+    EXPECT_TRUE(noChildLeft());
+}
+
+TEST(AssimpIsolated, WhatTheChildSaysReachesTheParent) {
+    Assimp::Importer into;
+    ChildImportReport report;
+    const aiScene* scene = importInChild(into, "model.fbx", 1000, [](ChildImportReport& r) -> const aiScene* {
+        r.importerError = "no meshes";
+        r.violation = "../x.png";
+        r.violationReason = "outside the asset root";
+        r.filesRead = {{"model.fbx", 7}, {"side.mtl", 9}};
+        return nullptr;
+    }, report);
+    EXPECT_EQ(scene, nullptr);
+    EXPECT_EQ(report.importerError, "no meshes");
+    EXPECT_EQ(report.violation, "../x.png");
+    EXPECT_EQ(report.violationReason, "outside the asset root");
+    ASSERT_EQ(report.filesRead.size(), 2u);
+    EXPECT_EQ(report.filesRead[1].first, "side.mtl");
+    EXPECT_EQ(report.filesRead[1].second, 9u);
+}
+
+// The file fuzzing found (Debian's libassimp 5.2 frees a buffer twice in its FBX importer):
+// refused, and this process goes on.
+TEST(AssimpIsolated, TheFbxThatCrashesAssimpIsRefused) {
+    const std::string path = std::string(RAYFARM_SOURCE_DIR) + "/tests/fuzz/assimp_crashes/fbx-double-free.fbx";
+    DiskFileSource fs;
+    std::vector<std::string> notes;
+    try {
+        importAssimpModel(path, fs, {}, notes);
+        FAIL() << "imported";
+    } catch (const InputError& e) {
+        const std::string why = e.what();
+        // Under AddressSanitizer the child reports the double free and exits with status 1.
+        EXPECT_TRUE(why.find("assimp crashed reading it (signal 6") != std::string::npos ||
+                    why.find("assimp's process ended before it finished") != std::string::npos)
+            << why;
+    }
+    EXPECT_TRUE(noChildLeft());
+}
