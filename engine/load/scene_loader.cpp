@@ -12,15 +12,18 @@
 
 namespace rf {
 
-LoadedScene loadScene(const std::string& path, FileSource& fs, const SceneOptions& options) {
+LoadedScene loadScene(const std::string& path, FileSource& fs, const SceneOptions& options, GltfInfo* inspect) {
     LoadStep step("reading the scene");
     try {
         LoadedScene loaded;
+        if (inspect && !isModelPath(path)) *inspect = inspectModel(path, fs, options.assets);  // refuses it
         if (lowerExtension(path) == ".json") loaded = loadJsonScene(path, fs, options);
-        else if (isGltfPath(path)) loaded.scene = loadGltfScene(path, fs, options);
-        else if (const std::string what = notRegularFile(path); !what.empty())
+        else if (isGltfPath(path)) {
+            loaded.scene = loadGltfScene(path, fs, options);
+            if (inspect) *inspect = inspectGltf(path, fs, options.assets);
+        } else if (const std::string what = notRegularFile(path); !what.empty())
             throw InputError(path, "is " + what + ", not a scene file (expected a .json, .gltf or .glb file)");
-        else if (isAssimpPath(path)) loaded.scene = loadAssimpScene(path, fs, options);
+        else if (isAssimpPath(path)) loaded.scene = loadAssimpScene(path, fs, options, inspect);
         else if (const std::string why = unvouchedAssimpFormat(path); !why.empty()) throw InputError(path, why);
         else throw InputError(path, "unknown scene type (expected .json, .gltf or .glb, or a model in " + assimpFormatList() + ")");
         if (options.ground) placeGround(loaded.scene, *options.ground);

@@ -364,11 +364,11 @@ int runInfo(const std::vector<std::string>& args) {
     // for frame 0's camera (posing refits the trees).
     opts.buildAccel = false;
     DiskFileSource fs;
-    LoadedScene loaded = loadScene(path, fs, opts);
+    GltfInfo info;
+    LoadedScene loaded = loadScene(path, fs, opts, &info);
     Scene& scene = loaded.scene;
     const anim::Timeline tl = anim::Timeline::fromScene(loaded, fps);
     if (tl.posesModels()) scene.build();
-    const GltfInfo info = inspectModel(path, fs, opts.assets);
     const json j = infoJson(path, info, turntableJson(scene, tl, info.lights.size()), cameraViewsJson(scene));
     const std::string out = p.has("--json") ? j.dump(2) + "\n" : infoText(j);
     std::fwrite(out.data(), 1, out.size(), stdout);

@@ -816,20 +816,28 @@ void loadAssimpModel(Scene& scene, const std::string& path, const DMat4& worldFr
     loadGltfModel(scene, path, std::move(model), std::move(notes), worldFromModel, materialOverride, assets);
 }
 
-Scene loadAssimpScene(const std::string& path, FileSource& fs, const SceneOptions& options) {
-    std::vector<std::string> notes;
-    tinygltf::Model model = importAssimpModel(path, fs, options.assets, notes);
-    return loadGltfScene(path, std::move(model), std::move(notes), fs, options);
-}
+namespace {
 
-GltfInfo inspectAssimp(const std::string& path, FileSource& fs, const AssetOptions& assets) {
-    std::vector<std::string> notes;
-    const tinygltf::Model model = importAssimpModel(path, fs, assets, notes);
+GltfInfo describe(const std::string& path, const tinygltf::Model& model, const AssetOptions& assets) {
     GltfInfo info = inspectGltf(path, model, assets);
     const std::string ext = lowerExtension(path);
     for (const Format& f : kFormats)
         if (ext == f.ext) info.format = f.name;
     return info;
+}
+
+}  // namespace
+
+Scene loadAssimpScene(const std::string& path, FileSource& fs, const SceneOptions& options, GltfInfo* inspect) {
+    std::vector<std::string> notes;
+    tinygltf::Model model = importAssimpModel(path, fs, options.assets, notes);
+    if (inspect) *inspect = describe(path, model, options.assets);
+    return loadGltfScene(path, std::move(model), std::move(notes), fs, options);
+}
+
+GltfInfo inspectAssimp(const std::string& path, FileSource& fs, const AssetOptions& assets) {
+    std::vector<std::string> notes;
+    return describe(path, importAssimpModel(path, fs, assets, notes), assets);
 }
 
 }  // namespace rf

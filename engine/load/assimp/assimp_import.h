@@ -39,8 +39,9 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
 void loadAssimpModel(Scene& scene, const std::string& path, const DMat4& worldFromModel, FileSource& fs, int materialOverride = -1,
                      const AssetOptions& assets = {});
 
-/// The model as a whole scene, as loadGltfScene makes one of a glTF file.
-Scene loadAssimpScene(const std::string& path, FileSource& fs, const SceneOptions& options = {});
+/// The model as a whole scene, as loadGltfScene makes one of a glTF file; with inspect, also
+/// what inspectAssimp says of it, from the same import.
+Scene loadAssimpScene(const std::string& path, FileSource& fs, const SceneOptions& options = {}, GltfInfo* inspect = nullptr);
 
 /// What `rayfarm info` says of it: the glTF model it became, with its format named.
 GltfInfo inspectAssimp(const std::string& path, FileSource& fs, const AssetOptions& assets = {});

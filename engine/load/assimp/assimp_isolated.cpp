@@ -19,6 +19,7 @@
 
 #include <assimp/Exporter.hpp>
 #include <assimp/Importer.hpp>
+#include <assimp/mesh.h>
 #include <assimp/scene.h>
 
 #include "engine/util/errors.h"
@@ -106,6 +107,64 @@ uint64_t currentData() {
     return 0;
 }
 
+/// A mesh's per-vertex arrays and faces travel raw beside the dump: assimp's binary writer and
+/// reader handle them value by value (1.5 s for a 10⁶-triangle STL), a copy of the bytes does not.
+/// In the child they are taken out of the mesh before the dump (left to the child's end) and
+/// listed as byte ranges to write; the parent puts them back into the mesh it read.
+struct Segment {
+    const void* data;
+    size_t bytes;
+};
+constexpr unsigned kColorSets = AI_MAX_NUMBER_OF_COLOR_SETS, kUvSets = AI_MAX_NUMBER_OF_TEXTURECOORDS;
+
+/// The mesh's arrays, in a fixed order: positions, normals, tangents, bitangents, colours, UVs.
+std::vector<std::pair<void**, size_t>> vertexArrays(aiMesh& m) {
+    std::vector<std::pair<void**, size_t>> a;
+    const auto vec = sizeof(aiVector3D), col = sizeof(aiColor4D);
+    a.emplace_back(reinterpret_cast<void**>(&m.mVertices), vec);
+    a.emplace_back(reinterpret_cast<void**>(&m.mNormals), vec);
+    a.emplace_back(reinterpret_cast<void**>(&m.mTangents), vec);
+    a.emplace_back(reinterpret_cast<void**>(&m.mBitangents), vec);
+    for (unsigned c = 0; c < kColorSets; ++c) a.emplace_back(reinterpret_cast<void**>(&m.mColors[c]), col);
+    for (unsigned t = 0; t < kUvSets; ++t) a.emplace_back(reinterpret_cast<void**>(&m.mTextureCoords[t]), vec);
+    return a;
+}
+
+/// Child: the header of every mesh into msg, their arrays into segments (faces flattened into
+/// faceData, which must outlive the writes), and the meshes emptied for the dump.
+void takeMeshArrays(aiScene& scene, std::string& msg, std::vector<Segment>& segments, std::vector<std::vector<uint32_t>>& faceData) {
+    putU64(msg, scene.mNumMeshes);
+    faceData.reserve(scene.mNumMeshes);
+    for (unsigned i = 0; i < scene.mNumMeshes; ++i) {
+        aiMesh& m = *scene.mMeshes[i];
+        uint64_t present = 0;
+        const auto arrays = vertexArrays(m);
+        for (size_t k = 0; k < arrays.size(); ++k)
+            if (*arrays[k].first) present |= uint64_t(1) << k;
+        putU64(msg, m.mNumVertices);
+        putU64(msg, present);
+        for (unsigned t = 0; t < kUvSets; ++t) putU64(msg, m.mNumUVComponents[t]);
+        std::vector<uint32_t>& faces = faceData.emplace_back();  // counts, then the indices
+        size_t indices = 0;
+        for (unsigned f = 0; f < m.mNumFaces; ++f) indices += m.mFaces[f].mNumIndices;
+        faces.reserve(m.mNumFaces + indices);
+        for (unsigned f = 0; f < m.mNumFaces; ++f) faces.push_back(m.mFaces[f].mNumIndices);
+        for (unsigned f = 0; f < m.mNumFaces; ++f) faces.insert(faces.end(), m.mFaces[f].mIndices, m.mFaces[f].mIndices + m.mFaces[f].mNumIndices);
+        putU64(msg, m.mNumFaces);
+        putU64(msg, indices);
+        for (size_t k = 0; k < arrays.size(); ++k)
+            if (*arrays[k].first) {
+                segments.push_back({*arrays[k].first, arrays[k].second * m.mNumVertices});
+                *arrays[k].first = nullptr;
+            }
+        segments.push_back({faces.data(), faces.size() * sizeof(uint32_t)});
+        m.mNumVertices = 0;
+        m.mNumFaces = 0;
+        m.mFaces = nullptr;
+        for (unsigned t = 0; t < kUvSets; ++t) m.mNumUVComponents[t] = 0;
+    }
+}
+
 /// The child: reads, dumps the scene and writes the message; never returns.
 [[noreturn]] void runChild(int fd, pid_t parent, uint64_t memoryBytes, const std::function<const aiScene*(ChildImportReport&)>& read) {
     ::prctl(PR_SET_PDEATHSIG, SIGKILL);
@@ -131,6 +190,9 @@ uint64_t currentData() {
     ChildImportReport report;
     const aiExportDataBlob* blob = nullptr;
     Assimp::Exporter exporter;
+    std::string meshHeaders;
+    std::vector<Segment> segments;
+    std::vector<std::vector<uint32_t>> faceData;
     try {
         const aiScene* constScene = read(report);
         if (constScene) {
@@ -144,6 +206,7 @@ uint64_t currentData() {
                 scene->mRootNode->mParent = wrapper;
                 scene->mRootNode = wrapper;
             }
+            takeMeshArrays(*scene, meshHeaders, segments, faceData);
             blob = exporter.ExportToBlob(scene, "assbin");
             if (!blob) failure = std::string("assimp could not pass the scene on: ") + exporter.GetErrorString();
         }
@@ -163,8 +226,18 @@ uint64_t currentData() {
         putU64(msg, limit);
     }
     putU64(msg, blob ? blob->size : 0);
+    // The length of all that follows the magic and this length, so the parent can reserve it.
+    uint64_t total = msg.size() - sizeof kMagic;
+    if (blob) {
+        total += blob->size + meshHeaders.size();
+        for (const Segment& g : segments) total += g.bytes;
+    }
+    msg.insert(sizeof kMagic, reinterpret_cast<const char*>(&total), sizeof total);
     bool ok = writeAll(fd, msg.data(), msg.size());
     if (ok && blob) ok = writeAll(fd, static_cast<const char*>(blob->data), blob->size);
+    if (ok && blob) ok = writeAll(fd, meshHeaders.data(), meshHeaders.size());
+    for (const Segment& g : segments)
+        if (ok && blob) ok = writeAll(fd, static_cast<const char*>(g.data), g.bytes);
     ::close(fd);
     ::_exit(ok ? 0 : 4);  // no atexit handlers, no stdio flush: the parent's, not the child's
 }
@@ -181,6 +254,55 @@ void endChild(pid_t pid) {
     }
 }
 
+/// Parent: the arrays takeMeshArrays sent, back into the meshes read from the dump.
+void putMeshArrays(aiScene& scene, Reader& in) {
+    if (in.u64() != scene.mNumMeshes) throw std::runtime_error("mesh count");
+    struct Header {
+        uint64_t vertices, present, uv[kUvSets], faces, indices;
+    };
+    std::vector<Header> headers(scene.mNumMeshes);
+    for (Header& h : headers) {
+        h.vertices = in.u64();
+        h.present = in.u64();
+        for (uint64_t& c : h.uv) c = in.u64();
+        h.faces = in.u64();
+        h.indices = in.u64();
+        if (h.vertices > UINT32_MAX || h.faces > UINT32_MAX || h.present >> (4 + kColorSets + kUvSets)) throw std::runtime_error("mesh header");
+    }
+    for (unsigned i = 0; i < scene.mNumMeshes; ++i) {
+        aiMesh& m = *scene.mMeshes[i];
+        const Header& h = headers[i];
+        const auto arrays = vertexArrays(m);
+        for (size_t k = 0; k < arrays.size(); ++k) {
+            if (!(h.present >> k & 1)) continue;
+            const size_t bytes = arrays[k].second * h.vertices;
+            const char* src = in.take(bytes);
+            // Allocated as aiMesh's destructor frees them (delete[] of the element type).
+            void* dst = arrays[k].second == sizeof(aiColor4D) ? static_cast<void*>(new aiColor4D[h.vertices])
+                                                              : static_cast<void*>(new aiVector3D[h.vertices]);
+            std::memcpy(dst, src, bytes);
+            *arrays[k].first = dst;
+        }
+        m.mNumVertices = unsigned(h.vertices);
+        for (unsigned t = 0; t < kUvSets; ++t) m.mNumUVComponents[t] = unsigned(h.uv[t]);
+        const char* counts = in.take(h.faces * sizeof(uint32_t));  // unaligned in the message: copied out
+        const char* indices = in.take(h.indices * sizeof(uint32_t));
+        m.mFaces = new aiFace[h.faces];
+        m.mNumFaces = unsigned(h.faces);
+        uint64_t at = 0;
+        for (uint64_t f = 0; f < h.faces; ++f) {
+            uint32_t n;
+            std::memcpy(&n, counts + f * sizeof n, sizeof n);
+            if (n > h.indices - at) throw std::runtime_error("face indices");
+            m.mFaces[f].mNumIndices = n;
+            m.mFaces[f].mIndices = new unsigned[n];
+            std::memcpy(m.mFaces[f].mIndices, indices + at * sizeof(uint32_t), n * sizeof(uint32_t));
+            at += n;
+        }
+        if (at != h.indices) throw std::runtime_error("face indices");
+    }
+}
+
 /// Takes the wrapper root off again, putting its metadata back on the scene.
 void unwrapMetadata(aiScene& scene) {
     aiNode* wrapper = scene.mRootNode;
@@ -194,6 +316,42 @@ void unwrapMetadata(aiScene& scene) {
     wrapper->mMetaData = nullptr;
     delete wrapper;
     scene.mRootNode = root;
+}
+
+/// The child's message into report and, where it made one, the scene in into. Throws
+/// InputError: what the child says failed, or a malformed (short) message.
+const aiScene* readMessage(Assimp::Importer& into, const std::string& path, const std::string& msg, ChildImportReport& report) {
+    try {
+        Reader in(msg);
+        if (std::memcmp(in.take(sizeof kMagic), kMagic, sizeof kMagic) != 0) throw std::runtime_error("no header");
+        if (in.u64() != msg.size() - sizeof kMagic - 8) throw std::runtime_error("short");
+        const bool hasScene = *in.take(1) == 1;
+        std::string failure;
+        for (std::string* s : {&report.importerError, &report.violation, &report.violationReason, &report.ioError, &failure})
+            *s = in.string();
+        const uint64_t files = in.u64();
+        for (uint64_t i = 0; i < files; ++i) {
+            std::string file = in.string();
+            report.filesRead.emplace_back(std::move(file), in.u64());
+        }
+        const uint64_t blobSize = in.u64();
+        const char* blob = in.take(blobSize);
+        if (!failure.empty()) throw InputError(path, "assimp failed on it: " + failure);
+        if (!hasScene) {
+            if (!in.atEnd()) throw std::runtime_error("trailing bytes");
+            return nullptr;
+        }
+        const aiScene* scene = into.ReadFileFromMemory(blob, size_t(blobSize), 0, "assbin");
+        if (!scene) throw InputError(path, std::string("could not read back the scene assimp made: ") + into.GetErrorString());
+        auto& s = *const_cast<aiScene*>(scene);  // the importer's, which hands it to us to finish
+        putMeshArrays(s, in);
+        if (!in.atEnd()) throw std::runtime_error("trailing bytes");
+        unwrapMetadata(s);
+        return scene;
+    } catch (const std::runtime_error& e) {
+        if (dynamic_cast<const InputError*>(&e)) throw;
+        throw InputError(path, std::string("the importer's process sent a malformed answer (") + e.what() + ")");
+    }
 }
 
 }  // namespace
@@ -221,9 +379,11 @@ const aiScene* importInChild(Assimp::Importer& into, const std::string& path, ui
         runChild(fds[1], parent, memory, read);
     }
     ::close(fds[1]);
+    ::fcntl(fds[0], F_SETPIPE_SZ, 1 << 20);  // fewer switches for a big scene; 64 KiB if refused
 
-    // The message, read as it comes (a pipe holds 64 KiB), while watching the clock and cancels.
+    // The message, read as it comes, while watching the clock and cancels.
     std::string msg;
+    bool reserved = false;
     const uint64_t maxMessage = memory + (64ull << 20);
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
     std::string stopped;  // why the parent stopped reading before the end
@@ -255,53 +415,48 @@ const aiScene* importInChild(Assimp::Importer& into, const std::string& path, ui
             break;
         }
         msg.append(chunk.data(), size_t(n));
+        if (!reserved && msg.size() >= sizeof kMagic + 8) {
+            uint64_t total;
+            std::memcpy(&total, msg.data() + sizeof kMagic, 8);
+            if (total > maxMessage) {
+                stopped = "assimp made more of it than a file of its size may take";
+                break;
+            }
+            msg.reserve(sizeof kMagic + 8 + total);
+            reserved = true;
+        }
     }
     ::close(fds[0]);
-    int status = 0;
     if (!stopped.empty()) {
         endChild(pid);
         throw InputError(path, stopped + "; refused");
     }
-    // The pipe closed: the child has ended or is about to.
-    for (;;) {
-        const pid_t w = ::waitpid(pid, &status, 0);
-        if (w == pid) break;
-        if (errno != EINTR) {
-            status = 0;
-            break;
-        }
-    }
-    if (loadCancelSignal() != 0) pollLoadCancel();  // a Ctrl-C that reached the child as well
-    if (WIFSIGNALED(status))
-        throw InputError(path, "assimp crashed reading it (" + signalName(WTERMSIG(status)) + "); the file is refused");
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-        throw InputError(path, "assimp's process ended before it finished (exit status " + std::to_string(WEXITSTATUS(status)) + ")");
-
+    // The pipe closed: the child has ended or is about to. Its message is read first, so that the
+    // child's exit (unmapping all it allocated) overlaps with the reading back; its status then
+    // says why a message is short.
+    auto reap = [pid] {
+        int status = 0;
+        while (::waitpid(pid, &status, 0) < 0)
+            if (errno != EINTR) return 0;
+        return status;
+    };
+    auto whyDead = [](int status) -> std::string {
+        if (WIFSIGNALED(status)) return "assimp crashed reading it (" + signalName(WTERMSIG(status)) + "); the file is refused";
+        if (WIFEXITED(status) && WEXITSTATUS(status) != 0)
+            return "assimp's process ended before it finished (exit status " + std::to_string(WEXITSTATUS(status)) + ")";
+        return "";
+    };
+    const aiScene* scene = nullptr;
     try {
-        Reader in(msg);
-        if (std::memcmp(in.take(sizeof kMagic), kMagic, sizeof kMagic) != 0) throw std::runtime_error("no header");
-        const bool hasScene = *in.take(1) == 1;
-        std::string failure;
-        for (std::string* s : {&report.importerError, &report.violation, &report.violationReason, &report.ioError, &failure})
-            *s = in.string();
-        const uint64_t files = in.u64();
-        for (uint64_t i = 0; i < files; ++i) {
-            std::string file = in.string();
-            report.filesRead.emplace_back(std::move(file), in.u64());
-        }
-        const uint64_t blobSize = in.u64();
-        const char* blob = in.take(blobSize);
-        if (!in.atEnd()) throw std::runtime_error("trailing bytes");
-        if (!failure.empty()) throw InputError(path, "assimp failed on it: " + failure);
-        if (!hasScene) return nullptr;
-        const aiScene* scene = into.ReadFileFromMemory(blob, size_t(blobSize), 0, "assbin");
-        if (!scene) throw InputError(path, std::string("could not read back the scene assimp made: ") + into.GetErrorString());
-        unwrapMetadata(*const_cast<aiScene*>(scene));
-        return scene;
-    } catch (const std::runtime_error& e) {
-        if (dynamic_cast<const InputError*>(&e)) throw;
-        throw InputError(path, std::string("the importer's process sent a malformed answer (") + e.what() + ")");
+        scene = readMessage(into, path, msg, report);
+    } catch (const InputError&) {
+        const std::string dead = whyDead(reap());
+        if (loadCancelSignal() != 0) pollLoadCancel();  // a Ctrl-C that reached the child as well
+        if (!dead.empty()) throw InputError(path, dead);
+        throw;
     }
+    reap();
+    return scene;
 }
 
 }  // namespace rf

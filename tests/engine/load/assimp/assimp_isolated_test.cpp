@@ -64,7 +64,7 @@ TEST(AssimpIsolated, AnImporterPastItsTimeIsKilled) {
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     EXPECT_NE(why.find("assimp took longer than"), std::string::npos) << why;
     EXPECT_GE(s, 0.5);
-    EXPECT_LT(s, 5.0);
+    EXPECT_LT(s, 20.0);  // the child loops forever: only the limit ends it (generous for a loaded machine)
     EXPECT_TRUE(noChildLeft());
 }
 
@@ -108,7 +108,7 @@ TEST(AssimpIsolated, ACancelKillsTheImporterAtOnce) {
     requestLoadCancel(0);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     EXPECT_TRUE(cancelled);
-    EXPECT_LT(s, 2.0);
+    EXPECT_LT(s, 10.0);  // the child waits forever: only the cancel ends it
     EXPECT_TRUE(noChildLeft());
 }
 
@@ -132,7 +132,9 @@ TEST(AssimpIsolated, WhatTheChildSaysReachesTheParent) {
 }
 
 // The file fuzzing found (Debian's libassimp 5.2 frees a buffer twice in its FBX importer):
-// refused, and this process goes on.
+// refused, and this process goes on. Whether glibc notices the double free depends on the heap's
+// state (in one test binary it aborts, in another not), so the child either crashes or reads on
+// and the texture the file names outside its folder is refused; either is one InputError.
 TEST(AssimpIsolated, TheFbxThatCrashesAssimpIsRefused) {
     const std::string path = std::string(RAYFARM_SOURCE_DIR) + "/tests/fuzz/assimp_crashes/fbx-double-free.fbx";
     DiskFileSource fs;
@@ -143,8 +145,9 @@ TEST(AssimpIsolated, TheFbxThatCrashesAssimpIsRefused) {
     } catch (const InputError& e) {
         const std::string why = e.what();
         // Under AddressSanitizer the child reports the double free and exits with status 1.
-        EXPECT_TRUE(why.find("assimp crashed reading it (signal 6") != std::string::npos ||
-                    why.find("assimp's process ended before it finished") != std::string::npos)
+        EXPECT_TRUE(why.find("assimp crashed reading it (signal ") != std::string::npos ||
+                    why.find("assimp's process ended before it finished") != std::string::npos ||
+                    why.find("GridGrey.tga\": resolves to") != std::string::npos)
             << why;
     }
     EXPECT_TRUE(noChildLeft());
