@@ -444,6 +444,10 @@ tinygltf::Material material(const aiScene& scene, const aiMaterial& m, const std
     if ((fbx || color(m, AI_MATKEY_COLOR_SPECULAR, c)) && !(ext == ".stl" || ext == ".ply")) {
         tinygltf::Value::Object spec;
         spec["specularColorFactor"] = numbers({2.0 * clamp01(c.r), 2.0 * clamp01(c.g), 2.0 * clamp01(c.b)});
+        // A black specular colour (MTL's Ks 0, common in older files) means no specular at all:
+        // Blender's Specular 0 leaves none, where specularColorFactor 0 alone keeps glTF's
+        // Fresnel rim (F90 stays specularFactor), a pale sheen over dark rough surfaces.
+        if (clamp01(c.r) + clamp01(c.g) + clamp01(c.b) == 0.0) spec["specularFactor"] = tinygltf::Value(0.0);
         g.extensions["KHR_materials_specular"] = tinygltf::Value(std::move(spec));
         extensions.insert("KHR_materials_specular");
     }

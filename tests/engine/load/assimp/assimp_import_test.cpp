@@ -85,6 +85,33 @@ TEST(AssimpImport, ObjMaterialMapsOntoTheGltfBrdf) {
     EXPECT_TRUE(m.nodes[0].matrix.empty());
 }
 
+// MTL's Ks 0 (spider.obj's, and many older files'): no specular reflection at all, as Blender's
+// Specular 0 renders it. specularColorFactor 0 alone would keep glTF's Fresnel rim (F90 is
+// specularFactor), which lit the dark rough spider to a mean colour of 0.276 0.214 0.169 where
+// Cycles shows 0.222 0.163 0.109 (0.238 0.171 0.112 without the rim;
+// AssimpCycles.ObjWithMtlTexturesMatchesBlendersImport). Ks above 0 keeps specularFactor 1.
+TEST(AssimpImport, ObjBlackKsMeansNoSpecular) {
+    TempDir dir;
+    writeFile(dir / "cube.obj", std::string("mtllib cube.mtl\nusemtl matte\nusemtl shiny\n") + kCubeFaces);
+    writeFile(dir / "cube.mtl", "newmtl matte\nKd 0.2 0.2 0.2\nKs 0 0 0\nNs 0\nnewmtl shiny\nKd 0.2 0.2 0.2\nKs 0.01 0 0\n");
+    const tinygltf::Model m = import(dir / "cube.obj");
+    int seen = 0;
+    for (const auto& mat : m.materials) {
+        if (mat.name != "matte" && mat.name != "shiny") continue;
+        ++seen;
+        ASSERT_TRUE(mat.extensions.count("KHR_materials_specular")) << mat.name;
+        const tinygltf::Value& spec = mat.extensions.at("KHR_materials_specular");
+        EXPECT_NEAR(spec.Get("specularColorFactor").Get(0).GetNumberAsDouble(), mat.name == "matte" ? 0.0 : 0.02, 1e-6) << mat.name;
+        if (mat.name == "matte") {
+            ASSERT_TRUE(spec.Has("specularFactor"));
+            EXPECT_EQ(spec.Get("specularFactor").GetNumberAsDouble(), 0.0);
+        } else {
+            EXPECT_FALSE(spec.Has("specularFactor"));  // glTF's default, 1
+        }
+    }
+    EXPECT_EQ(seen, 2);
+}
+
 TEST(AssimpImport, ObjPbrExtensionRoughnessMetallic) {
     TempDir dir;
     writeFile(dir / "cube.obj", std::string("mtllib cube.mtl\nusemtl metal\n") + kCubeFaces);
