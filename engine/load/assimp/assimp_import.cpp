@@ -1,4 +1,5 @@
 #include "engine/load/assimp/assimp_import.h"
+#include "engine/load/assimp/assimp_skin.h"
 
 #include <algorithm>
 #include <cmath>
@@ -237,7 +238,7 @@ public:
         tinygltf::Primitive prim;
         bool ok = false;
     };
-    Prim mesh(const aiMesh& m, int material) {
+    Prim mesh(const aiMesh& m, int material, const AssimpSkin& skin) {
         Prim out;
         const size_t n = m.mNumVertices;
         if (n == 0 || !m.mVertices || m.mNumFaces == 0 || !m.mFaces) return out;
@@ -301,6 +302,19 @@ public:
             }
             out.prim.attributes["COLOR_0"] = accessor(view(c.data(), c.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER),
                                                       TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, count);
+        }
+        for (int set = 0; set < skin.sets; ++set) {
+            std::vector<uint16_t> j(4 * count);
+            std::vector<float> wt(4 * count);
+            const size_t width = size_t(4 * skin.sets);
+            for (size_t i = 0; i < count; ++i)
+                for (size_t c = 0; c < 4; ++c)
+                    j[4 * i + c] = skin.joints[from(i) * width + size_t(4 * set) + c], wt[4 * i + c] = skin.weights[from(i) * width + size_t(4 * set) + c];
+            const std::string n = std::to_string(set);
+            out.prim.attributes["JOINTS_" + n] = accessor(view(j.data(), j.size() * 2, TINYGLTF_TARGET_ARRAY_BUFFER),
+                                                          TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC4, count);
+            out.prim.attributes["WEIGHTS_" + n] = accessor(view(wt.data(), wt.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER),
+                                                           TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, count);
         }
         out.prim.indices = accessor(view(indices.data(), indices.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
                                     TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, indices.size());
@@ -546,6 +560,55 @@ std::string impossibleCount(const std::string& ext, const std::string& bytes) {
     return "";
 }
 
+/// A skinned mesh's glTF node, made while the node tree is.
+struct SkinnedNode {
+    int node;       ///< the glTF node that draws the mesh
+    unsigned mesh;  ///< assimp's mesh
+    int holder;     ///< the glTF node of assimp's node that holds the mesh
+};
+
+/// Each skinned mesh's node gets its skin: the joints are the nodes its bones name (the first
+/// node of that name, as assimp's animation channels find theirs), so the node animations
+/// already converted pose it. A bone that names no node leaves the mesh in its bind pose.
+void makeSkins(GltfWriter& w, const aiScene& scene, const std::vector<AssimpSkin>& skins, const std::vector<SkinnedNode>& skinned,
+               const std::map<std::string, int>& nodeByName, std::vector<std::string>& notes) {
+    tinygltf::Model& g = w.model();
+    std::map<unsigned, int> inverseBindOf;  // one accessor a mesh, whichever nodes draw it
+    std::set<unsigned> posed;
+    for (const SkinnedNode& sn : skinned) {
+        const AssimpSkin& s = skins[sn.mesh];
+        const std::string mesh = "mesh \"" + printable(scene.mMeshes[sn.mesh]->mName.C_Str()) + "\"";
+        tinygltf::Skin skin;
+        skin.name = scene.mMeshes[sn.mesh]->mName.C_Str();
+        for (const std::string& name : s.jointNames) {
+            const auto it = name.empty() ? nodeByName.end() : nodeByName.find(name);
+            if (!name.empty() && it == nodeByName.end()) {
+                notes.push_back(mesh + " drawn in its bind pose: its bone \"" + printable(name) + "\" names no node");
+                skin.joints.clear();
+                break;
+            }
+            skin.joints.push_back(name.empty() ? sn.holder : it->second);
+        }
+        if (skin.joints.empty()) continue;
+        auto [ibm, fresh] = inverseBindOf.try_emplace(sn.mesh, -1);
+        if (fresh)
+            ibm->second = w.accessor(w.view(s.inverseBind.data(), s.inverseBind.size() * sizeof(float), 0), TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                     TINYGLTF_TYPE_MAT4, s.jointNames.size());
+        skin.inverseBindMatrices = ibm->second;
+        g.skins.push_back(std::move(skin));
+        g.nodes[size_t(sn.node)].skin = int(g.skins.size() - 1);
+        if (!posed.insert(sn.mesh).second) continue;
+        if (s.verticesOverCap)
+            notes.push_back(mesh + ": " + std::to_string(s.verticesOverCap) + " vertices weighted by more than " +
+                            std::to_string(AssimpSkin::kMaxInfluences) + " bones follow their " +
+                            std::to_string(AssimpSkin::kMaxInfluences) + " largest weights, scaled to sum to 1");
+        if (s.unweighted)
+            notes.push_back(mesh + ": " + std::to_string(s.unweighted) + " vertices that no bone weighs stay with the mesh's node");
+        if (s.weightsDropped)
+            notes.push_back(mesh + ": " + std::to_string(s.weightsDropped) + " bone weights negative, not finite or of no vertex; ignored");
+    }
+}
+
 }  // namespace
 
 std::string assimpFormatList() { return ".obj, .stl, .ply, .fbx, .dae and .3mf"; }
@@ -636,16 +699,21 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
 
     std::vector<tinygltf::Primitive> prims(scene->mNumMeshes);
     std::vector<uint8_t> drawable(scene->mNumMeshes, 0);
-    size_t bones = 0, animMeshes = 0;
+    // Each mesh's bones as a glTF skin's data (assimp_skin.h); the skins themselves are made
+    // once the nodes their joints name exist.
+    std::vector<AssimpSkin> skins(scene->mNumMeshes);
+    size_t animMeshes = 0;
     for (unsigned i = 0; i < scene->mNumMeshes; ++i) {
         pollLoadCancel();
         const aiMesh* m = scene->mMeshes[i];
         if (!m) continue;
-        bones += m->mNumBones;
         animMeshes += m->mNumAnimMeshes;
+        skins[i] = assimpSkin(*m);
+        if (!skins[i].refused.empty())
+            ownNotes.push_back("mesh \"" + printable(m->mName.C_Str()) + "\" drawn in its bind pose: " + skins[i].refused);
         int mat = m->mMaterialIndex < materialOf.size() ? materialOf[m->mMaterialIndex] : -1;
         if (neutralOnly || mat < 0) mat = neutralMaterial(m->mColors[0] != nullptr);
-        GltfWriter::Prim p = w.mesh(*m, mat);
+        GltfWriter::Prim p = w.mesh(*m, mat, skins[i]);
         if (p.ok) prims[i] = std::move(p.prim), drawable[i] = 1;
     }
 
@@ -673,6 +741,7 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
             for (unsigned c = 0; c < an->mNumChannels; ++c)
                 if (an->mChannels && an->mChannels[c]) animatedNames.insert(an->mChannels[c]->mNodeName.C_Str());
     std::map<std::string, int> nodeByName;
+    std::vector<SkinnedNode> skinnedNodes;
     std::vector<std::pair<const aiNode*, int>> stack;  // (node, its parent's glTF index)
     if (scene->mRootNode) stack.emplace_back(scene->mRootNode, 0);
     size_t visited = 0;
@@ -699,9 +768,12 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
         }
         tinygltf::Mesh mesh;
         mesh.name = node.name;
+        std::vector<unsigned> skinned;
         for (unsigned k = 0; k < n->mNumMeshes; ++k) {
             const unsigned mi = n->mMeshes ? n->mMeshes[k] : scene->mNumMeshes;
-            if (mi < scene->mNumMeshes && drawable[mi]) mesh.primitives.push_back(prims[mi]);
+            if (mi >= scene->mNumMeshes || !drawable[mi]) continue;
+            if (skins[mi].sets > 0) skinned.push_back(mi);
+            else mesh.primitives.push_back(prims[mi]);
         }
         if (!mesh.primitives.empty()) {
             g.meshes.push_back(std::move(mesh));
@@ -711,10 +783,27 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
         nodeByName.emplace(node.name, index);
         g.nodes.push_back(std::move(node));
         g.nodes[size_t(parent)].children.push_back(index);
+        // A glTF node has one skin, but each of assimp's meshes has bones of its own: each
+        // skinned mesh is drawn by a node of its own under the one that holds it (whose
+        // transform then counts only if the skin cannot be made).
+        for (const unsigned mi : skinned) {
+            tinygltf::Node holder;
+            holder.name = g.nodes[size_t(index)].name + " (skinned mesh " + std::to_string(mi) + ")";
+            tinygltf::Mesh one;
+            one.name = scene->mMeshes[mi]->mName.C_Str();
+            one.primitives = {prims[mi]};
+            g.meshes.push_back(std::move(one));
+            holder.mesh = int(g.meshes.size() - 1);
+            const int at = int(g.nodes.size());
+            g.nodes.push_back(std::move(holder));
+            g.nodes[size_t(index)].children.push_back(at);
+            skinnedNodes.push_back({at, mi, index});
+        }
         for (unsigned k = n->mNumChildren; k-- > 0;)
             if (n->mChildren && n->mChildren[k]) stack.emplace_back(n->mChildren[k], index);
     }
     g.extensionsUsed.assign(extensions.begin(), extensions.end());
+    makeSkins(w, *scene, skins, skinnedNodes, nodeByName, ownNotes);
 
     // Node animations: each channel's position, rotation and scale keys as glTF samplers (LINEAR;
     // times from assimp's ticks at its ticks per second, 25 when the file names none). Keys
@@ -777,7 +866,6 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
         }
     }
 
-    if (bones) ownNotes.push_back("skinned meshes drawn in their bind pose (skins of " + std::string(formatName) + " files are not read)");
     if (animMeshes) ownNotes.push_back("morph targets of " + std::string(formatName) + " files are not read; drawn at rest");
     if (scene->mNumAnimations > animationsRead)
         ownNotes.push_back(std::to_string(scene->mNumAnimations - animationsRead) + " animation(s) without a channel on a node not played");
