@@ -167,3 +167,43 @@ bpy.ops.export_scene.gltf(filepath=path("skinned.glb"), export_format="GLB")
 bpy.ops.export_scene.fbx(filepath=path("skinned.fbx"), add_leaf_bones=False, bake_anim_use_all_actions=False,
                          bake_anim_use_nla_strips=False)
 bpy.ops.wm.collada_export(filepath=path("skinned.dae"))
+
+# Morph targets (shape keys) for FBX's blend shapes: a sphere with two shape keys, "tall"
+# (twice as tall, its bottom at rest) and "wide" (1.8 times as wide in X), keyed over 2 s (frames
+# 0, 24, 48 at 24 fps, linear): tall 0 → 1 → 0 while wide 0 → 0 → 1, so at some keys only one
+# curve has a key of its own. Clay material, exported as GLB and FBX (Blender 3.4's COLLADA
+# exporter writes no shape keys' animation).
+bpy.ops.wm.read_factory_settings(use_empty=True)
+bpy.ops.mesh.primitive_uv_sphere_add(segments=24, ring_count=12, radius=0.5, location=(0.0, 0.0, 0.5))
+ball = bpy.context.active_object
+bpy.ops.object.shade_smooth()
+putty = bpy.data.materials.new("clay")
+putty.use_nodes = True
+b = putty.node_tree.nodes["Principled BSDF"]
+b.inputs["Base Color"].default_value = (0.8, 0.8, 0.8, 1.0)
+b.inputs["Roughness"].default_value = 0.5
+b.inputs["Metallic"].default_value = 0.0
+b.inputs["Specular"].default_value = 0.5
+ball.data.materials.append(putty)
+ball.shape_key_add(name="Basis")
+tall = ball.shape_key_add(name="tall")
+for v in tall.data:
+    v.co.z = 2.0 * v.co.z + 0.5
+wide = ball.shape_key_add(name="wide")
+for v in wide.data:
+    v.co.x *= 1.8
+scene = bpy.context.scene
+scene.frame_start, scene.frame_end, scene.render.fps = 0, 48, 24
+for frame, a, b in ((0, 0.0, 0.0), (24, 1.0, 0.0), (48, 0.0, 1.0)):
+    tall.value, wide.value = a, b
+    tall.keyframe_insert("value", frame=frame)
+    wide.keyframe_insert("value", frame=frame)
+# No key of "wide" at frame 24: its curve runs from 0 at frame 0 to 1 at frame 48.
+wide_curve = [c for c in ball.data.shape_keys.animation_data.action.fcurves if "wide" in c.data_path][0]
+wide_curve.keyframe_points.remove(wide_curve.keyframe_points[1])
+for curve in ball.data.shape_keys.animation_data.action.fcurves:
+    for key in curve.keyframe_points:
+        key.interpolation = "LINEAR"
+scene.frame_set(0)
+bpy.ops.export_scene.gltf(filepath=path("morph.glb"), export_format="GLB")
+bpy.ops.export_scene.fbx(filepath=path("morph.fbx"), bake_anim_use_all_actions=False, bake_anim_use_nla_strips=False)

@@ -1,15 +1,18 @@
-// assimp's bones as glTF skin data (engine/load/assimp/assimp_skin.h), on meshes made here with
-// every case a file can hold (more than 8 weights, none, weights that do not sum to 1, weights
-// of no vertex), and on Blender's skinned FBX and COLLADA as the glTF model they become.
+// assimp's bones and morph targets as glTF skin and morph data (engine/load/assimp/assimp_skin.h,
+// assimp_morph.h), on meshes made here with every case a file can hold (more than 8 weights,
+// none, weights that do not sum to 1, sparse morph keys, targets without normals), and on
+// Blender's skinned FBX and COLLADA and shape-keyed FBX as the glTF model they become.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
+#include <assimp/anim.h>
 #include <assimp/mesh.h>
 
 #include "engine/util/file_source.h"
 #include "engine/load/assimp/assimp_import.h"
+#include "engine/load/assimp/assimp_morph.h"
 #include "engine/load/assimp/assimp_skin.h"
 
 using namespace rf;
@@ -141,5 +144,105 @@ TEST(AssimpSkin, BlenderFbxAndColladaSkinsBecomeGltfSkins) {
         }
         EXPECT_EQ(skinned, 1) << name;
         for (const std::string& n : notes) EXPECT_EQ(n.find("bind pose"), std::string::npos) << name << ": " << n;
+    }
+}
+
+// Blender's FBX shape keys as glTF morph targets: two targets on the sphere's own node, its
+// weights 0 at rest, one "weights" channel; Blender writes each shape's normals as the base's,
+// so their offsets are made from the positions (the top of "tall" keeps pointing up, the side
+// of "wide" turns towards ±X less: non-zero offsets, as the GLB's own targets have).
+TEST(AssimpMorph, BlenderFbxShapeKeysBecomeGltfMorphTargets) {
+    DiskFileSource files;
+    std::vector<std::string> notes;
+    const tinygltf::Model g = importAssimpModel(std::string(RAYFARM_SOURCE_DIR) + "/tests/reference/assimp/morph.fbx", files, {}, notes);
+    int morphed = -1;
+    for (size_t i = 0; i < g.nodes.size(); ++i)
+        if (g.nodes[i].mesh >= 0 && !g.meshes[size_t(g.nodes[i].mesh)].primitives.at(0).targets.empty()) morphed = int(i);
+    ASSERT_GE(morphed, 0);
+    const tinygltf::Mesh& mesh = g.meshes[size_t(g.nodes[size_t(morphed)].mesh)];
+    EXPECT_EQ(mesh.weights, (std::vector<double>{0.0, 0.0}));
+    const auto& targets = mesh.primitives.at(0).targets;
+    ASSERT_EQ(targets.size(), 2u);
+    for (const auto& t : targets) {
+        ASSERT_TRUE(t.count("POSITION") && t.count("NORMAL"));
+        const tinygltf::Accessor& a = g.accessors[size_t(t.at("NORMAL"))];
+        const tinygltf::BufferView& v = g.bufferViews[size_t(a.bufferView)];
+        const auto* f = reinterpret_cast<const float*>(g.buffers[0].data.data() + v.byteOffset);
+        double largest = 0.0;
+        for (size_t k = 0; k < a.count * 3; ++k) largest = std::max(largest, double(std::abs(f[k])));
+        EXPECT_GT(largest, 0.2) << "normal offsets of a target that moves the surface";
+    }
+    ASSERT_EQ(g.animations.size(), 1u);
+    ASSERT_EQ(g.animations[0].channels.size(), 1u);
+    EXPECT_EQ(g.animations[0].channels[0].target_path, "weights");
+    EXPECT_EQ(g.animations[0].channels[0].target_node, morphed);
+    const tinygltf::AnimationSampler& s = g.animations[0].samplers[0];
+    EXPECT_EQ(g.accessors[size_t(s.output)].count, 2 * g.accessors[size_t(s.input)].count);
+}
+
+// A morph channel whose keys name only the targets keyed there (as assimp gives FBX's): each
+// target is interpolated between its own keys, held past its ends, 0 when never keyed.
+TEST(AssimpMorph, SparseKeysAreInterpolatedPerTarget) {
+    aiMeshMorphAnim ch;
+    ch.mNumKeys = 3;
+    ch.mKeys = new aiMeshMorphKey[3];  // freed by aiMeshMorphAnim, with each key's arrays
+    auto key = [&](unsigned k, double time, std::vector<std::pair<unsigned, double>> vw) {
+        aiMeshMorphKey& K = ch.mKeys[k];
+        K.mTime = time;
+        K.mNumValuesAndWeights = unsigned(vw.size());
+        K.mValues = new unsigned[vw.size()];
+        K.mWeights = new double[vw.size()];
+        for (size_t i = 0; i < vw.size(); ++i) K.mValues[i] = vw[i].first, K.mWeights[i] = vw[i].second;
+    };
+    key(0, 0.0, {{0, 0.0}, {1, 0.2}});
+    key(1, 10.0, {{0, 1.0}, {7, 0.5}});  // target 7: beyond the 3 the mesh has
+    key(2, 40.0, {{1, 0.8}});
+    const MorphTrack t = morphTrack(ch, 3);
+    ASSERT_EQ(t.times, (std::vector<double>{0.0, 10.0, 40.0}));
+    ASSERT_EQ(t.weights.size(), 9u);
+    EXPECT_EQ(t.outOfRange, 1u);
+    // target 0: 0, 1, then held at 1; target 1: 0.2, 0.2 + 0.6·10/40 = 0.35, 0.8; target 2: 0.
+    const float want[9] = {0.f, 0.2f, 0.f, 1.f, 0.35f, 0.f, 1.f, 0.8f, 0.f};
+    for (size_t i = 0; i < 9; ++i) EXPECT_NEAR(t.weights[i], want[i], 1e-6) << i;
+}
+
+TEST(AssimpMorph, ChannelNamesNameTheirNode) {
+    EXPECT_EQ(morphChannelNode("Sphere*0"), "Sphere");    // FBX: node * geometry index
+    EXPECT_EQ(morphChannelNode("Head*12"), "Head");
+    EXPECT_EQ(morphChannelNode("face-node"), "face-node");  // COLLADA: the node
+    EXPECT_EQ(morphChannelNode("a*b"), "a*b");
+    EXPECT_EQ(morphChannelNode("star*"), "star*");
+}
+
+// A target that moves the surface, given without normals, gets normal offsets that turn each
+// normal as its triangles turn: a flat quad in z = 0 (normals +Z) whose target lifts one edge
+// by its width tilts 45° about X.
+TEST(AssimpMorph, NormalsOfATargetWithoutThemFollowItsTriangles) {
+    aiMesh m;
+    m.mNumVertices = 4;
+    m.mVertices = new aiVector3D[4]{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+    m.mNormals = new aiVector3D[4]{{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+    m.mNumFaces = 2;
+    m.mFaces = new aiFace[2];
+    for (unsigned f = 0; f < 2; ++f) {
+        m.mFaces[f].mNumIndices = 3;
+        m.mFaces[f].mIndices = f == 0 ? new unsigned[3]{0, 1, 2} : new unsigned[3]{0, 2, 3};
+    }
+    m.mNumAnimMeshes = 1;
+    m.mAnimMeshes = new aiAnimMesh*[1];
+    m.mAnimMeshes[0] = new aiAnimMesh;
+    m.mAnimMeshes[0]->mNumVertices = 4;
+    m.mAnimMeshes[0]->mVertices = new aiVector3D[4]{{0, 0, 0}, {1, 0, 0}, {1, 1, 1}, {0, 1, 1}};
+    const AssimpMorph morph = assimpMorph(m);
+    ASSERT_EQ(morph.targets(), 1u);
+    EXPECT_EQ(morph.derivedNormals, 1u);
+    ASSERT_EQ(morph.normals[0].size(), 4u);
+    const float s = std::sqrt(0.5f);
+    for (size_t i = 0; i < 4; ++i) {
+        const aiVector3D n = m.mNormals[i] + morph.normals[0][i];
+        EXPECT_NEAR(n.x, 0.f, 1e-5) << i;
+        EXPECT_NEAR(n.y, -s, 1e-5) << i;
+        EXPECT_NEAR(n.z, s, 1e-5) << i;
+        EXPECT_NEAR(morph.positions[0][i].z, i >= 2 ? 1.f : 0.f, 1e-6) << i;
     }
 }
