@@ -575,56 +575,6 @@ std::string impossibleCount(const std::string& ext, const std::string& bytes) {
     return "";
 }
 
-/// The glTF node of a mesh with a skin or morph targets, made while the node tree is.
-struct OwnNode {
-    int node;       ///< the glTF node that draws the mesh
-    unsigned mesh;  ///< assimp's mesh
-    int holder;     ///< the glTF node of assimp's node that holds the mesh
-};
-
-/// Each skinned mesh's node gets its skin: the joints are the nodes its bones name (the first
-/// node of that name, as assimp's animation channels find theirs), so the node animations
-/// already converted pose it. A bone that names no node leaves the mesh in its bind pose.
-void makeSkins(GltfWriter& w, const aiScene& scene, const std::vector<AssimpSkin>& skins, const std::vector<OwnNode>& skinned,
-               const std::map<std::string, int>& nodeByName, std::vector<std::string>& notes) {
-    tinygltf::Model& g = w.model();
-    std::map<unsigned, int> inverseBindOf;  // one accessor a mesh, whichever nodes draw it
-    std::set<unsigned> posed;
-    for (const OwnNode& sn : skinned) {
-        const AssimpSkin& s = skins[sn.mesh];
-        if (s.sets == 0) continue;
-        const std::string mesh = "mesh \"" + printable(scene.mMeshes[sn.mesh]->mName.C_Str()) + "\"";
-        tinygltf::Skin skin;
-        skin.name = scene.mMeshes[sn.mesh]->mName.C_Str();
-        for (const std::string& name : s.jointNames) {
-            const auto it = name.empty() ? nodeByName.end() : nodeByName.find(name);
-            if (!name.empty() && it == nodeByName.end()) {
-                notes.push_back(mesh + " drawn in its bind pose: its bone \"" + printable(name) + "\" names no node");
-                skin.joints.clear();
-                break;
-            }
-            skin.joints.push_back(name.empty() ? sn.holder : it->second);
-        }
-        if (skin.joints.empty()) continue;
-        auto [ibm, fresh] = inverseBindOf.try_emplace(sn.mesh, -1);
-        if (fresh)
-            ibm->second = w.accessor(w.view(s.inverseBind.data(), s.inverseBind.size() * sizeof(float), 0), TINYGLTF_COMPONENT_TYPE_FLOAT,
-                                     TINYGLTF_TYPE_MAT4, s.jointNames.size());
-        skin.inverseBindMatrices = ibm->second;
-        g.skins.push_back(std::move(skin));
-        g.nodes[size_t(sn.node)].skin = int(g.skins.size() - 1);
-        if (!posed.insert(sn.mesh).second) continue;
-        if (s.verticesOverCap)
-            notes.push_back(mesh + ": " + std::to_string(s.verticesOverCap) + " vertices weighted by more than " +
-                            std::to_string(AssimpSkin::kMaxInfluences) + " bones follow their " +
-                            std::to_string(AssimpSkin::kMaxInfluences) + " largest weights, scaled to sum to 1");
-        if (s.unweighted)
-            notes.push_back(mesh + ": " + std::to_string(s.unweighted) + " vertices that no bone weighs stay with the mesh's node");
-        if (s.weightsDropped)
-            notes.push_back(mesh + ": " + std::to_string(s.weightsDropped) + " bone weights negative, not finite or of no vertex; ignored");
-    }
-}
-
 }  // namespace
 
 std::string assimpFormatList() { return ".obj, .stl, .ply, .fbx, .dae and .3mf"; }
@@ -806,16 +756,16 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
         // has bones and targets of its own: each such mesh is drawn by a node of its own under
         // the one that holds it (whose transform a skin then ignores).
         for (const unsigned mi : own) {
-            tinygltf::Node holder;
-            holder.name = g.nodes[size_t(index)].name + " (mesh " + std::to_string(mi) + ")";
+            tinygltf::Node drawer;
+            drawer.name = g.nodes[size_t(index)].name + " (mesh " + std::to_string(mi) + ")";
             tinygltf::Mesh one;
             one.name = scene->mMeshes[mi]->mName.C_Str();
             one.primitives = {prims[mi]};
             one.weights.assign(morphs[mi].targets(), 0.0);
             g.meshes.push_back(std::move(one));
-            holder.mesh = int(g.meshes.size() - 1);
+            drawer.mesh = int(g.meshes.size() - 1);
             const int at = int(g.nodes.size());
-            g.nodes.push_back(std::move(holder));
+            g.nodes.push_back(std::move(drawer));
             g.nodes[size_t(index)].children.push_back(at);
             ownNodes.push_back({at, mi, index});
         }
@@ -823,7 +773,9 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
             if (n->mChildren && n->mChildren[k]) stack.emplace_back(n->mChildren[k], index);
     }
     g.extensionsUsed.assign(extensions.begin(), extensions.end());
-    makeSkins(w, *scene, skins, ownNodes, nodeByName, ownNotes);
+    makeSkins(g, *scene, skins, ownNodes, nodeByName, ownNotes, [&](const std::vector<float>& m) {
+        return w.accessor(w.view(m.data(), m.size() * sizeof(float), 0), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_MAT4, m.size() / 16);
+    });
 
     // Node animations: each channel's position, rotation and scale keys as glTF samplers (LINEAR;
     // times from assimp's ticks at its ticks per second, 25 when the file names none). Keys

@@ -3,8 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <set>
 
 #include <assimp/mesh.h>
+#include <assimp/scene.h>
+
+#include "engine/util/errors.h"
 
 namespace rf {
 
@@ -107,6 +111,44 @@ AssimpSkin assimpSkin(const aiMesh& m) {
         appendColumnMajor(aiMatrix4x4(), s.inverseBind);
     }
     return s;
+}
+
+void makeSkins(tinygltf::Model& g, const aiScene& scene, const std::vector<AssimpSkin>& skins, const std::vector<OwnNode>& skinned,
+               const std::map<std::string, int>& nodeByName, std::vector<std::string>& notes,
+               const std::function<int(const std::vector<float>&)>& mat4Accessor) {
+    std::map<unsigned, int> inverseBindOf;  // one accessor a mesh, whichever nodes draw it
+    std::set<unsigned> posed;
+    for (const OwnNode& sn : skinned) {
+        const AssimpSkin& s = skins[sn.mesh];
+        if (s.sets == 0) continue;
+        const std::string mesh = "mesh \"" + printable(scene.mMeshes[sn.mesh]->mName.C_Str()) + "\"";
+        tinygltf::Skin skin;
+        skin.name = scene.mMeshes[sn.mesh]->mName.C_Str();
+        for (const std::string& name : s.jointNames) {
+            const auto it = name.empty() ? nodeByName.end() : nodeByName.find(name);
+            if (!name.empty() && it == nodeByName.end()) {
+                notes.push_back(mesh + " drawn in its bind pose: its bone \"" + printable(name) + "\" names no node");
+                skin.joints.clear();
+                break;
+            }
+            skin.joints.push_back(name.empty() ? sn.holder : it->second);
+        }
+        if (skin.joints.empty()) continue;
+        auto [ibm, fresh] = inverseBindOf.try_emplace(sn.mesh, -1);
+        if (fresh) ibm->second = mat4Accessor(s.inverseBind);
+        skin.inverseBindMatrices = ibm->second;
+        g.skins.push_back(std::move(skin));
+        g.nodes[size_t(sn.node)].skin = int(g.skins.size() - 1);
+        if (!posed.insert(sn.mesh).second) continue;
+        if (s.verticesOverCap)
+            notes.push_back(mesh + ": " + std::to_string(s.verticesOverCap) + " vertices weighted by more than " +
+                            std::to_string(AssimpSkin::kMaxInfluences) + " bones follow their " +
+                            std::to_string(AssimpSkin::kMaxInfluences) + " largest weights, scaled to sum to 1");
+        if (s.unweighted)
+            notes.push_back(mesh + ": " + std::to_string(s.unweighted) + " vertices that no bone weighs stay with the mesh's node");
+        if (s.weightsDropped)
+            notes.push_back(mesh + ": " + std::to_string(s.weightsDropped) + " bone weights negative, not finite or of no vertex; ignored");
+    }
 }
 
 }  // namespace rf

@@ -8,10 +8,15 @@
 /// skinned mesh's.
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
+#include <tiny_gltf.h>
+
 struct aiMesh;
+struct aiScene;
 
 namespace rf {
 
@@ -38,5 +43,23 @@ struct AssimpSkin {
 /// The skin of m (sets 0 when it has no bones, or refused says why its bones are unusable).
 /// Time and memory linear in the mesh's vertices and weights.
 AssimpSkin assimpSkin(const aiMesh& m);
+
+/// The glTF node of a mesh with a skin or morph targets: a glTF node has one skin and one set
+/// of morph weights, but each of assimp's meshes has bones and targets of its own, so each such
+/// mesh is drawn by a node of its own under the one that holds it (made with the node tree).
+struct OwnNode {
+    int node;       ///< the glTF node that draws the mesh
+    unsigned mesh;  ///< assimp's mesh
+    int holder;     ///< the glTF node of assimp's node that holds the mesh
+};
+
+/// Gives each skinned mesh's node its skin: the joints are the nodes its bones name (the first
+/// node of that name in nodeByName, as assimp's animation channels find theirs), so the node
+/// animations already converted pose it; mat4Accessor writes the inverse bind matrices (16
+/// floats each) and returns their accessor. A bone that names no node leaves the mesh in its
+/// bind pose, noted, as are the weights assimpSkin left out or changed.
+void makeSkins(tinygltf::Model& g, const aiScene& scene, const std::vector<AssimpSkin>& skins, const std::vector<OwnNode>& nodes,
+               const std::map<std::string, int>& nodeByName, std::vector<std::string>& notes,
+               const std::function<int(const std::vector<float>&)>& mat4Accessor);
 
 }  // namespace rf
