@@ -1,4 +1,6 @@
 #include "engine/load/assimp/assimp_import.h"
+#include "engine/load/assimp/assimp_morph.h"
+#include "engine/load/assimp/assimp_skin.h"
 
 #include <algorithm>
 #include <cmath>
@@ -243,7 +245,7 @@ public:
         tinygltf::Primitive prim;
         bool ok = false;
     };
-    Prim mesh(const aiMesh& m, int material) {
+    Prim mesh(const aiMesh& m, int material, const AssimpSkin& skin, const AssimpMorph& morph) {
         Prim out;
         const size_t n = m.mNumVertices;
         if (n == 0 || !m.mVertices || m.mNumFaces == 0 || !m.mFaces) return out;
@@ -290,8 +292,8 @@ public:
             normals = flatNormal.data();
         }
         auto from = [&](size_t i) { return src.empty() ? i : size_t(src[i]); };
-        if (f32(pos, count, out, "POSITION", TINYGLTF_TYPE_VEC3, true) < 0) return out;
-        if (normals) f32(normals, count, out, "NORMAL", TINYGLTF_TYPE_VEC3, false);
+        if (f32(pos, count, out, "POSITION", true) < 0) return out;
+        if (normals) f32(normals, count, out, "NORMAL", false);
         if (m.mTextureCoords[0]) {
             std::vector<float> uv(2 * count);
             for (size_t i = 0; i < count; ++i) uv[2 * i] = m.mTextureCoords[0][from(i)].x, uv[2 * i + 1] = m.mTextureCoords[0][from(i)].y;
@@ -307,6 +309,28 @@ public:
             }
             out.prim.attributes["COLOR_0"] = accessor(view(c.data(), c.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER),
                                                       TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, count);
+        }
+        for (int set = 0; set < skin.sets; ++set) {
+            std::vector<uint16_t> j(4 * count);
+            std::vector<float> wt(4 * count);
+            const size_t width = size_t(4 * skin.sets);
+            for (size_t i = 0; i < count; ++i)
+                for (size_t c = 0; c < 4; ++c)
+                    j[4 * i + c] = skin.joints[from(i) * width + size_t(4 * set) + c], wt[4 * i + c] = skin.weights[from(i) * width + size_t(4 * set) + c];
+            const std::string n = std::to_string(set);
+            out.prim.attributes["JOINTS_" + n] = accessor(view(j.data(), j.size() * 2, TINYGLTF_TARGET_ARRAY_BUFFER),
+                                                          TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_VEC4, count);
+            out.prim.attributes["WEIGHTS_" + n] = accessor(view(wt.data(), wt.size() * 4, TINYGLTF_TARGET_ARRAY_BUFFER),
+                                                           TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC4, count);
+        }
+        for (size_t t = 0; t < morph.targets(); ++t) {
+            std::map<std::string, int>& target = out.prim.targets.emplace_back();
+            std::vector<aiVector3D> d(count);
+            for (size_t i = 0; i < count; ++i) d[i] = morph.positions[t][from(i)];
+            target["POSITION"] = vec3(d.data(), count, true);
+            if (morph.normals[t].empty()) continue;
+            for (size_t i = 0; i < count; ++i) d[i] = morph.normals[t][from(i)];
+            target["NORMAL"] = vec3(d.data(), count, false);
         }
         out.prim.indices = accessor(view(indices.data(), indices.size() * 4, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
                                     TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, indices.size());
@@ -367,7 +391,14 @@ private:
         return int(model_.textures.size() - 1);
     }
 
-    int f32(const aiVector3D* v, size_t n, Prim& out, const char* attribute, int type, bool bounds) {
+    int f32(const aiVector3D* v, size_t n, Prim& out, const char* attribute, bool bounds) {
+        const int a = vec3(v, n, bounds);
+        if (a >= 0) out.prim.attributes[attribute] = a;
+        return a;
+    }
+
+    /// A VEC3 float accessor of v, with its finite bounds if asked (-1 when none is finite).
+    int vec3(const aiVector3D* v, size_t n, bool bounds) {
         std::vector<double> lo, hi;
         if (bounds) {
             lo.assign(3, std::numeric_limits<double>::infinity());
@@ -379,10 +410,8 @@ private:
             }
             if (!(lo[0] <= hi[0])) return -1;  // no finite position
         }
-        const int a = accessor(view(v, n * sizeof(aiVector3D), TINYGLTF_TARGET_ARRAY_BUFFER), TINYGLTF_COMPONENT_TYPE_FLOAT, type, n,
-                               std::move(lo), std::move(hi));
-        out.prim.attributes[attribute] = a;
-        return a;
+        return accessor(view(v, n * sizeof(aiVector3D), TINYGLTF_TARGET_ARRAY_BUFFER), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n,
+                        std::move(lo), std::move(hi));
     }
 
     std::string path_;
@@ -661,16 +690,24 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
 
     std::vector<tinygltf::Primitive> prims(scene->mNumMeshes);
     std::vector<uint8_t> drawable(scene->mNumMeshes, 0);
-    size_t bones = 0, animMeshes = 0;
+    // Each mesh's bones as a glTF skin's data (assimp_skin.h); the skins themselves are made
+    // once the nodes their joints name exist.
+    std::vector<AssimpSkin> skins(scene->mNumMeshes);
+    std::vector<AssimpMorph> morphs(scene->mNumMeshes);
     for (unsigned i = 0; i < scene->mNumMeshes; ++i) {
         pollLoadCancel();
         const aiMesh* m = scene->mMeshes[i];
         if (!m) continue;
-        bones += m->mNumBones;
-        animMeshes += m->mNumAnimMeshes;
+        skins[i] = assimpSkin(*m);
+        morphs[i] = assimpMorph(*m);
+        if (morphs[i].unusable)
+            ownNotes.push_back("mesh \"" + printable(m->mName.C_Str()) + "\": " + std::to_string(morphs[i].unusable) +
+                               " morph target(s) without a position a vertex; left flat");
+        if (!skins[i].refused.empty())
+            ownNotes.push_back("mesh \"" + printable(m->mName.C_Str()) + "\" drawn in its bind pose: " + skins[i].refused);
         int mat = m->mMaterialIndex < materialOf.size() ? materialOf[m->mMaterialIndex] : -1;
         if (neutralOnly || mat < 0) mat = neutralMaterial(m->mColors[0] != nullptr);
-        GltfWriter::Prim p = w.mesh(*m, mat);
+        GltfWriter::Prim p = w.mesh(*m, mat, skins[i], morphs[i]);
         if (p.ok) prims[i] = std::move(p.prim), drawable[i] = 1;
     }
 
@@ -698,6 +735,7 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
             for (unsigned c = 0; c < an->mNumChannels; ++c)
                 if (an->mChannels && an->mChannels[c]) animatedNames.insert(an->mChannels[c]->mNodeName.C_Str());
     std::map<std::string, int> nodeByName;
+    std::vector<OwnNode> ownNodes;
     std::vector<std::pair<const aiNode*, int>> stack;  // (node, its parent's glTF index)
     if (scene->mRootNode) stack.emplace_back(scene->mRootNode, 0);
     size_t visited = 0;
@@ -724,9 +762,12 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
         }
         tinygltf::Mesh mesh;
         mesh.name = node.name;
+        std::vector<unsigned> own;
         for (unsigned k = 0; k < n->mNumMeshes; ++k) {
             const unsigned mi = n->mMeshes ? n->mMeshes[k] : scene->mNumMeshes;
-            if (mi < scene->mNumMeshes && drawable[mi]) mesh.primitives.push_back(prims[mi]);
+            if (mi >= scene->mNumMeshes || !drawable[mi]) continue;
+            if (skins[mi].sets > 0 || morphs[mi].targets() > 0) own.push_back(mi);
+            else mesh.primitives.push_back(prims[mi]);
         }
         if (!mesh.primitives.empty()) {
             g.meshes.push_back(std::move(mesh));
@@ -736,18 +777,38 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
         nodeByName.emplace(node.name, index);
         g.nodes.push_back(std::move(node));
         g.nodes[size_t(parent)].children.push_back(index);
+        // A glTF node has one skin and one set of morph weights, but each of assimp's meshes
+        // has bones and targets of its own: each such mesh is drawn by a node of its own under
+        // the one that holds it (whose transform a skin then ignores).
+        for (const unsigned mi : own) {
+            tinygltf::Node drawer;
+            drawer.name = g.nodes[size_t(index)].name + " (mesh " + std::to_string(mi) + ")";
+            tinygltf::Mesh one;
+            one.name = scene->mMeshes[mi]->mName.C_Str();
+            one.primitives = {prims[mi]};
+            one.weights.assign(morphs[mi].targets(), 0.0);
+            g.meshes.push_back(std::move(one));
+            drawer.mesh = int(g.meshes.size() - 1);
+            const int at = int(g.nodes.size());
+            g.nodes.push_back(std::move(drawer));
+            g.nodes[size_t(index)].children.push_back(at);
+            ownNodes.push_back({at, mi, index});
+        }
         for (unsigned k = n->mNumChildren; k-- > 0;)
             if (n->mChildren && n->mChildren[k]) stack.emplace_back(n->mChildren[k], index);
     }
     g.extensionsUsed.assign(extensions.begin(), extensions.end());
+    makeSkins(g, *scene, skins, ownNodes, nodeByName, ownNotes, [&](const std::vector<float>& m) {
+        return w.accessor(w.view(m.data(), m.size() * sizeof(float), 0), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_MAT4, m.size() / 16);
+    });
 
     // Node animations: each channel's position, rotation and scale keys as glTF samplers (LINEAR;
     // times from assimp's ticks at its ticks per second, 25 when the file names none). Keys
     // whose time does not increase are left out, as glTF requires increasing times.
-    size_t animationsRead = 0;
+    size_t animationsRead = 0, morphChannelsUnplaced = 0, morphKeysOutOfRange = 0;
     for (unsigned a = 0; a < scene->mNumAnimations; ++a) {
         const aiAnimation* an = scene->mAnimations[a];
-        if (!an || !an->mChannels) continue;
+        if (!an) continue;
         const double tps = an->mTicksPerSecond > 0.0 && std::isfinite(an->mTicksPerSecond) ? an->mTicksPerSecond : 25.0;
         tinygltf::Animation ga;
         ga.name = an->mName.C_Str();
@@ -765,7 +826,9 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
             tinygltf::AnimationSampler smp;
             smp.input = w.accessor(w.view(in.data(), in.size() * 4, 0), TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_SCALAR, in.size(),
                                    {double(in.front())}, {double(in.back())});
-            smp.output = w.accessor(w.view(out.data(), out.size() * 4, 0), TINYGLTF_COMPONENT_TYPE_FLOAT, type, in.size());
+            // As many elements as keys, but for weights: a scalar a target a key.
+            smp.output = w.accessor(w.view(out.data(), out.size() * 4, 0), TINYGLTF_COMPONENT_TYPE_FLOAT, type,
+                                    out.size() / size_t(tinygltf::GetNumComponentsInType(uint32_t(type))));
             smp.interpolation = "LINEAR";
             ga.samplers.push_back(smp);
             tinygltf::AnimationChannel ch;
@@ -774,7 +837,7 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
             ch.target_path = target;
             ga.channels.push_back(ch);
         };
-        for (unsigned c = 0; c < an->mNumChannels; ++c) {
+        for (unsigned c = 0; c < an->mNumChannels && an->mChannels; ++c) {
             const aiNodeAnim* ch = an->mChannels[c];
             if (!ch) continue;
             const auto it = nodeByName.find(ch->mNodeName.C_Str());
@@ -796,14 +859,37 @@ tinygltf::Model importAssimpModel(const std::string& path, FileSource& fs, const
                         [&](size_t k, std::vector<float>& o) { const aiVector3D& v = ch->mScalingKeys[k].mValue; o.insert(o.end(), {v.x, v.y, v.z}); },
                         TINYGLTF_TYPE_VEC3, 3);
         }
+        // Morph channels: each the "weights" of the nodes of the node it names that draw a mesh
+        // with targets, resampled to one row of weights a key (glTF's layout).
+        for (unsigned c = 0; c < an->mNumMorphMeshChannels && an->mMorphMeshChannels; ++c) {
+            const aiMeshMorphAnim* ch = an->mMorphMeshChannels[c];
+            if (!ch) continue;
+            const std::string target = morphChannelNode(ch->mName.C_Str());
+            bool placed = false;
+            for (const OwnNode& on : ownNodes) {
+                const size_t targets = morphs[on.mesh].targets();
+                if (targets == 0 || g.nodes[size_t(on.holder)].name != target) continue;
+                const MorphTrack track = morphTrack(*ch, targets);
+                morphKeysOutOfRange += track.outOfRange;
+                sampler(on.node, "weights", track.times.size(), [&](size_t k) { return track.times[k]; },
+                        [&](size_t k, std::vector<float>& o) {
+                            o.insert(o.end(), track.weights.begin() + std::ptrdiff_t(k * targets),
+                                     track.weights.begin() + std::ptrdiff_t((k + 1) * targets));
+                        },
+                        TINYGLTF_TYPE_SCALAR, int(targets));
+                placed = true;
+            }
+            if (!placed) ++morphChannelsUnplaced;
+        }
         if (!ga.channels.empty()) {
             g.animations.push_back(std::move(ga));
             ++animationsRead;
         }
     }
 
-    if (bones) ownNotes.push_back("skinned meshes drawn in their bind pose (skins of " + std::string(formatName) + " files are not read)");
-    if (animMeshes) ownNotes.push_back("morph targets of " + std::string(formatName) + " files are not read; drawn at rest");
+    if (morphChannelsUnplaced)
+        ownNotes.push_back(std::to_string(morphChannelsUnplaced) + " morph animation channel(s) naming no node with morph targets not played");
+    if (morphKeysOutOfRange) ownNotes.push_back(std::to_string(morphKeysOutOfRange) + " morph keys naming a target the mesh lacks ignored");
     if (scene->mNumAnimations > animationsRead)
         ownNotes.push_back(std::to_string(scene->mNumAnimations - animationsRead) + " animation(s) without a channel on a node not played");
     if (scene->mNumCameras) ownNotes.push_back(std::to_string(scene->mNumCameras) + " camera(s) in the file not used");

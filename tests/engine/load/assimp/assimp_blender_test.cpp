@@ -158,3 +158,63 @@ TEST(AssimpBlender, NodeAnimationsPlayLikeTheGlb) {
     const auto [ssim, iou] = score(still(kData + "animated.dae", 30), still(kData + "animated.dae", 0));
     EXPECT_LT(iou, 0.9) << "the COLLADA animation does not move the cone (SSIM " << ssim << ")";
 }
+
+// Skins of FBX and COLLADA pose as glTF skins do: Blender's export of a tube bound to a chain of
+// three bones that bend and twist it over 2 s (make_assimp_models.py), as FBX and COLLADA against
+// the GLB, at frames of the default film (30 fps; the keys start at 0 s in every file), through
+// the GLB film's camera at that frame, scored by masked SSIM and the coverage's IoU. The same
+// file drawn in its bind pose (as before skins were read: the scene as loaded, before any
+// frame's pose) through the same camera must fail both thresholds at the bent frames, so a skin
+// that is not posed shows.
+TEST(AssimpBlender, SkinsPoseLikeTheGlb) {
+    const std::string out = std::string(RAYFARM_TEST_OUT) + "/assimp-blender";
+    fs::create_directories(out);
+    for (int frame : {15, 30, 45, 55}) {
+        const Still glb = still(kData + "skinned.glb", frame);
+        for (const char* name : {"skinned.fbx", "skinned.dae"}) {
+            const Still s = still(kData + name, frame, &glb.camera);
+            const Still rest = still(kData + name, -1, &glb.camera);
+            const auto [ssim, iou] = score(s, glb);
+            const auto [restSsim, restIou] = score(rest, glb);
+            std::printf("%-12s frame %2d: masked SSIM %.4f, coverage IoU %.4f against the GLB; bind pose %.4f, %.4f\n", name, frame, ssim,
+                        iou, restSsim, restIou);
+            EXPECT_GE(ssim, 0.98) << name << " frame " << frame;
+            EXPECT_GE(iou, 0.99) << name << " frame " << frame;
+            EXPECT_TRUE(restSsim < 0.98 || restIou < 0.99) << name << " frame " << frame << ": the bind pose passes too";
+            if (!(ssim >= 0.98) || !(iou >= 0.99)) {
+                const std::string base = out + "/" + name + "." + std::to_string(frame);
+                writePng(base + ".png", kW, kH, s.rgb);
+                writePng(base + ".glb.png", kW, kH, glb.rgb);
+                writePng(base + ".diff.png", kW, kH, falseColorErrorRgb8(s.rgb, glb.rgb, kW, kH, 0.1));
+            }
+        }
+    }
+}
+
+// Morph targets of FBX (blend shapes) play as glTF's: Blender's sphere with two shape keys
+// keyed over 2 s (make_assimp_models.py), as FBX against the GLB, at frames of the default film
+// through the GLB film's camera, by masked SSIM and coverage IoU; the file at rest (the scene as
+// loaded, every weight 0) through the same camera must fail them, so unplayed weights show.
+// (Blender's COLLADA exporter writes no shape-key animation: COLLADA's morphs are not compared.)
+TEST(AssimpBlender, MorphTargetsPlayLikeTheGlb) {
+    const std::string out = std::string(RAYFARM_TEST_OUT) + "/assimp-blender";
+    fs::create_directories(out);
+    for (int frame : {10, 24, 36, 50}) {
+        const Still glb = still(kData + "morph.glb", frame);
+        const Still s = still(kData + "morph.fbx", frame, &glb.camera);
+        const Still rest = still(kData + "morph.fbx", -1, &glb.camera);
+        const auto [ssim, iou] = score(s, glb);
+        const auto [restSsim, restIou] = score(rest, glb);
+        std::printf("morph.fbx frame %2d: masked SSIM %.4f, coverage IoU %.4f against the GLB; at rest %.4f, %.4f\n", frame, ssim, iou,
+                    restSsim, restIou);
+        EXPECT_GE(ssim, 0.98) << "frame " << frame;
+        EXPECT_GE(iou, 0.99) << "frame " << frame;
+        EXPECT_TRUE(restSsim < 0.98 || restIou < 0.99) << "frame " << frame << ": the sphere at rest passes too";
+        if (!(ssim >= 0.98) || !(iou >= 0.99)) {
+            const std::string base = out + "/morph.fbx." + std::to_string(frame);
+            writePng(base + ".png", kW, kH, s.rgb);
+            writePng(base + ".glb.png", kW, kH, glb.rgb);
+            writePng(base + ".diff.png", kW, kH, falseColorErrorRgb8(s.rgb, glb.rgb, kW, kH, 0.1));
+        }
+    }
+}
