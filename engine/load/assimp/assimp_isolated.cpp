@@ -117,8 +117,10 @@ struct Segment {
 };
 constexpr unsigned kColorSets = AI_MAX_NUMBER_OF_COLOR_SETS, kUvSets = AI_MAX_NUMBER_OF_TEXTURECOORDS;
 
-/// The mesh's arrays, in a fixed order: positions, normals, tangents, bitangents, colours, UVs.
-std::vector<std::pair<void**, size_t>> vertexArrays(aiMesh& m) {
+/// The arrays of a mesh or a morph target (aiAnimMesh), in a fixed order: positions, normals,
+/// tangents, bitangents, colours, UVs.
+template <class Mesh>
+std::vector<std::pair<void**, size_t>> vertexArrays(Mesh& m) {
     std::vector<std::pair<void**, size_t>> a;
     const auto vec = sizeof(aiVector3D), col = sizeof(aiColor4D);
     a.emplace_back(reinterpret_cast<void**>(&m.mVertices), vec);
@@ -165,6 +167,62 @@ void takeMeshArrays(aiScene& scene, std::string& msg, std::vector<Segment>& segm
     }
 }
 
+void putF64(std::string& out, double v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); }
+
+/// Child: what assimp's binary dump leaves out, into out: meshes' names, embedded textures' file
+/// names (by which materials find them), morph targets (aiMesh::mAnimMeshes, mMethod) and morph
+/// channels (aiAnimation::mMorphMeshChannels); the last two taken off the scene before the dump.
+/// AssimpIsolated.EveryModelConvertsAsInProcess finds what else would be missing.
+void takeExtras(aiScene& scene, std::string& out) {
+    putU64(out, scene.mNumTextures);
+    for (unsigned i = 0; i < scene.mNumTextures; ++i) putString(out, scene.mTextures[i] ? scene.mTextures[i]->mFilename.C_Str() : "");
+    putU64(out, scene.mNumMeshes);
+    for (unsigned i = 0; i < scene.mNumMeshes; ++i) {
+        aiMesh& m = *scene.mMeshes[i];
+        putString(out, m.mName.C_Str());
+        const unsigned n = m.mAnimMeshes ? m.mNumAnimMeshes : 0;
+        putU64(out, n);
+        putU64(out, m.mMethod);
+        for (unsigned t = 0; t < n; ++t) {
+            aiAnimMesh& a = *m.mAnimMeshes[t];
+            putString(out, a.mName.C_Str());
+            putU64(out, a.mNumVertices);
+            putF64(out, a.mWeight);
+            const auto arrays = vertexArrays(a);
+            uint64_t present = 0;
+            for (size_t k = 0; k < arrays.size(); ++k)
+                if (*arrays[k].first) present |= uint64_t(1) << k;
+            putU64(out, present);
+            for (const auto& [array, size] : arrays)
+                if (*array) out.append(static_cast<const char*>(*array), size * a.mNumVertices);
+        }
+        m.mNumAnimMeshes = 0;
+        m.mAnimMeshes = nullptr;
+    }
+    putU64(out, scene.mNumAnimations);
+    for (unsigned i = 0; i < scene.mNumAnimations; ++i) {
+        aiAnimation& an = *scene.mAnimations[i];
+        const unsigned n = an.mMorphMeshChannels ? an.mNumMorphMeshChannels : 0;
+        putU64(out, n);
+        for (unsigned c = 0; c < n; ++c) {
+            const aiMeshMorphAnim& ch = *an.mMorphMeshChannels[c];
+            putString(out, ch.mName.C_Str());
+            const unsigned keys = ch.mKeys ? ch.mNumKeys : 0;
+            putU64(out, keys);
+            for (unsigned k = 0; k < keys; ++k) {
+                const aiMeshMorphKey& key = ch.mKeys[k];
+                const unsigned values = key.mValues && key.mWeights ? key.mNumValuesAndWeights : 0;
+                putF64(out, key.mTime);
+                putU64(out, values);
+                out.append(reinterpret_cast<const char*>(key.mValues), values * sizeof(unsigned));
+                out.append(reinterpret_cast<const char*>(key.mWeights), values * sizeof(double));
+            }
+        }
+        an.mNumMorphMeshChannels = 0;
+        an.mMorphMeshChannels = nullptr;
+    }
+}
+
 /// The child: reads, dumps the scene and writes the message; never returns.
 [[noreturn]] void runChild(int fd, pid_t parent, uint64_t memoryBytes, const std::function<const aiScene*(ChildImportReport&)>& read) {
     ::prctl(PR_SET_PDEATHSIG, SIGKILL);
@@ -190,7 +248,7 @@ void takeMeshArrays(aiScene& scene, std::string& msg, std::vector<Segment>& segm
     ChildImportReport report;
     const aiExportDataBlob* blob = nullptr;
     Assimp::Exporter exporter;
-    std::string meshHeaders;
+    std::string meshHeaders, extras;
     std::vector<Segment> segments;
     std::vector<std::vector<uint32_t>> faceData;
     try {
@@ -207,6 +265,7 @@ void takeMeshArrays(aiScene& scene, std::string& msg, std::vector<Segment>& segm
                 scene->mRootNode = wrapper;
             }
             takeMeshArrays(*scene, meshHeaders, segments, faceData);
+            takeExtras(*scene, extras);
             blob = exporter.ExportToBlob(scene, "assbin");
             if (!blob) failure = std::string("assimp could not pass the scene on: ") + exporter.GetErrorString();
         }
@@ -229,7 +288,7 @@ void takeMeshArrays(aiScene& scene, std::string& msg, std::vector<Segment>& segm
     // The length of all that follows the magic and this length, so the parent can reserve it.
     uint64_t total = msg.size() - sizeof kMagic;
     if (blob) {
-        total += blob->size + meshHeaders.size();
+        total += blob->size + meshHeaders.size() + extras.size();
         for (const Segment& g : segments) total += g.bytes;
     }
     msg.insert(sizeof kMagic, reinterpret_cast<const char*>(&total), sizeof total);
@@ -238,6 +297,7 @@ void takeMeshArrays(aiScene& scene, std::string& msg, std::vector<Segment>& segm
     if (ok && blob) ok = writeAll(fd, meshHeaders.data(), meshHeaders.size());
     for (const Segment& g : segments)
         if (ok && blob) ok = writeAll(fd, static_cast<const char*>(g.data), g.bytes);
+    if (ok && blob) ok = writeAll(fd, extras.data(), extras.size());
     ::close(fd);
     ::_exit(ok ? 0 : 4);  // no atexit handlers, no stdio flush: the parent's, not the child's
 }
@@ -303,6 +363,80 @@ void putMeshArrays(aiScene& scene, Reader& in) {
     }
 }
 
+/// Parent: what takeExtras sent, back onto the scene read from the dump.
+void putExtras(aiScene& scene, Reader& in) {
+    auto count = [&in](uint64_t limit) {
+        const uint64_t n = in.u64();
+        if (n > limit) throw std::runtime_error("morph count");
+        return unsigned(n);
+    };
+    auto f64 = [&in] {
+        double v;
+        std::memcpy(&v, in.take(sizeof v), sizeof v);
+        return v;
+    };
+    if (in.u64() != scene.mNumTextures) throw std::runtime_error("texture count");
+    for (unsigned i = 0; i < scene.mNumTextures; ++i) {
+        const std::string name = in.string();
+        if (scene.mTextures[i]) scene.mTextures[i]->mFilename = aiString(name);
+    }
+    if (in.u64() != scene.mNumMeshes) throw std::runtime_error("mesh count");
+    for (unsigned i = 0; i < scene.mNumMeshes; ++i) {
+        aiMesh& m = *scene.mMeshes[i];
+        m.mName = aiString(in.string());
+        const unsigned n = count(UINT32_MAX);
+        m.mMethod = count(UINT32_MAX);
+        if (n == 0) continue;
+        m.mAnimMeshes = new aiAnimMesh*[n]();
+        m.mNumAnimMeshes = n;
+        for (unsigned t = 0; t < n; ++t) {
+            aiAnimMesh& a = *(m.mAnimMeshes[t] = new aiAnimMesh());
+            a.mName = aiString(in.string());
+            a.mNumVertices = count(UINT32_MAX);
+            a.mWeight = float(f64());
+            const uint64_t present = in.u64();
+            const auto arrays = vertexArrays(a);
+            for (size_t k = 0; k < arrays.size(); ++k) {
+                if (!(present >> k & 1)) continue;
+                const size_t bytes = arrays[k].second * a.mNumVertices;
+                const char* src = in.take(bytes);
+                void* dst = arrays[k].second == sizeof(aiColor4D) ? static_cast<void*>(new aiColor4D[a.mNumVertices])
+                                                                  : static_cast<void*>(new aiVector3D[a.mNumVertices]);
+                std::memcpy(dst, src, bytes);
+                *arrays[k].first = dst;
+            }
+        }
+    }
+    if (in.u64() != scene.mNumAnimations) throw std::runtime_error("animation count");
+    for (unsigned i = 0; i < scene.mNumAnimations; ++i) {
+        aiAnimation& an = *scene.mAnimations[i];
+        const unsigned n = count(UINT32_MAX);
+        if (n == 0) continue;
+        an.mMorphMeshChannels = new aiMeshMorphAnim*[n]();
+        an.mNumMorphMeshChannels = n;
+        for (unsigned c = 0; c < n; ++c) {
+            aiMeshMorphAnim& ch = *(an.mMorphMeshChannels[c] = new aiMeshMorphAnim());
+            ch.mName = aiString(in.string());
+            const unsigned keys = count(UINT32_MAX);
+            ch.mKeys = new aiMeshMorphKey[keys];
+            ch.mNumKeys = keys;
+            for (unsigned k = 0; k < keys; ++k) {
+                aiMeshMorphKey& key = ch.mKeys[k];
+                key.mTime = f64();
+                const unsigned values = count(UINT32_MAX);
+                const char* v = in.take(uint64_t(values) * sizeof(unsigned));
+                const char* w = in.take(uint64_t(values) * sizeof(double));
+                if (values == 0) continue;
+                key.mValues = new unsigned[values];
+                key.mWeights = new double[values];
+                key.mNumValuesAndWeights = values;
+                std::memcpy(key.mValues, v, values * sizeof(unsigned));
+                std::memcpy(key.mWeights, w, values * sizeof(double));
+            }
+        }
+    }
+}
+
 /// Takes the wrapper root off again, putting its metadata back on the scene.
 void unwrapMetadata(aiScene& scene) {
     aiNode* wrapper = scene.mRootNode;
@@ -345,6 +479,7 @@ const aiScene* readMessage(Assimp::Importer& into, const std::string& path, cons
         if (!scene) throw InputError(path, std::string("could not read back the scene assimp made: ") + into.GetErrorString());
         auto& s = *const_cast<aiScene*>(scene);  // the importer's, which hands it to us to finish
         putMeshArrays(s, in);
+        putExtras(s, in);
         if (!in.atEnd()) throw std::runtime_error("trailing bytes");
         unwrapMetadata(s);
         return scene;
@@ -364,6 +499,9 @@ const aiScene* importInChild(Assimp::Importer& into, const std::string& path, ui
     if (const char* t = std::getenv("RAYFARM_TEST_ASSIMP_SECONDS"); t && limits.seconds <= 0 && std::atof(t) > 0) seconds = std::atof(t);
     const uint64_t memory = limits.memoryBytes > 0 ? limits.memoryBytes
                                                    : ChildImportLimits::kMemoryBase + ChildImportLimits::kMemoryPerByte * inputBytes;
+    // Tests only: the same read in this process, to check that the child's answer carries all of
+    // it (AssimpIsolated.EveryModelConvertsAsInProcess). The scene stays with read's importer.
+    if (const char* e = std::getenv("RAYFARM_TEST_ASSIMP_IN_PROCESS"); e && *e == '1') return read(report);
     int fds[2];
     if (::pipe2(fds, O_CLOEXEC) != 0) throw InputError(path, std::string("cannot start the importer's process: ") + std::strerror(errno));
     const pid_t parent = ::getpid();
