@@ -310,6 +310,27 @@ std::optional<std::string> decodeDataUri(const std::string& uri, std::string* mi
     return out;
 }
 
+namespace {
+
+/// TGA has no signature: its 18-byte header must be one stb_image decodes (a colour map only
+/// with a colour-mapped type, types 1-3 and 9-11 (run-length coded), a size, 8-32 bits). Asked
+/// last, after every format that has one. glTF names PNG, JPEG (and WebP by extension) only;
+/// TGA comes with the models assimp reads (COLLADA's and OBJ's textures).
+bool looksLikeTga(const unsigned char* b, size_t n) {
+    if (n < 18) return false;
+    const unsigned colourMap = b[1], type = b[2], bits = b[16];
+    const bool mapped = type == 1 || type == 9;
+    if (colourMap > 1 || (mapped && colourMap != 1)) return false;
+    if (!(mapped || type == 2 || type == 3 || type == 10 || type == 11)) return false;
+    if (colourMap == 1 && !(b[7] == 15 || b[7] == 16 || b[7] == 24 || b[7] == 32)) return false;
+    const unsigned width = b[12] | unsigned(b[13]) << 8, height = b[14] | unsigned(b[15]) << 8;
+    if (width == 0 || height == 0) return false;
+    if (mapped ? !(bits == 8 || bits == 16) : !(bits == 8 || bits == 15 || bits == 16 || bits == 24 || bits == 32)) return false;
+    return (b[17] & 0xc0) == 0;  // no interleaving
+}
+
+}  // namespace
+
 ImageFormat sniffImage(const unsigned char* b, size_t n) {
     if (startsWith(b, n, "\x89PNG\r\n\x1a\n", 8)) return ImageFormat::Png;
     if (startsWith(b, n, "\xff\xd8\xff", 3)) return ImageFormat::Jpeg;
@@ -317,6 +338,7 @@ ImageFormat sniffImage(const unsigned char* b, size_t n) {
     if (startsWith(b, n, "\xabKTX 20\xbb\r\n\x1a\n", 12)) return ImageFormat::Ktx2;
     if (startsWith(b, n, "BM", 2)) return ImageFormat::Bmp;
     if (startsWith(b, n, "GIF8", 4)) return ImageFormat::Gif;
+    if (looksLikeTga(b, n)) return ImageFormat::Tga;
     return ImageFormat::Unknown;
 }
 
@@ -328,6 +350,7 @@ const char* formatName(ImageFormat f) {
         case ImageFormat::Ktx2: return "KTX2";
         case ImageFormat::Bmp: return "BMP";
         case ImageFormat::Gif: return "GIF";
+        case ImageFormat::Tga: return "TGA";
         default: return "unknown";
     }
 }
@@ -337,7 +360,7 @@ bool readImageHeader(const unsigned char* bytes, size_t size, ImageHeader& h, st
     h.format = sniffImage(bytes, size);
     int comp = 0;
     switch (h.format) {
-        case ImageFormat::Unknown: why = "not a PNG, JPEG, WebP, BMP or GIF image"; return false;
+        case ImageFormat::Unknown: why = "not a PNG, JPEG, WebP, BMP, GIF or TGA image"; return false;
         case ImageFormat::Ktx2:
             why = "a KTX2 (Basis Universal) image, which rayfarm cannot decode (Debian has no KTX2/Basis decoder)";
             return false;

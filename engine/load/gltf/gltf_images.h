@@ -19,7 +19,7 @@ std::string dataUriMime(const std::string& uri);
 /// The bytes of a data URI (base64 or percent-encoded); nullopt with *why on malformed data.
 std::optional<std::string> decodeDataUri(const std::string& uri, std::string* mime, std::string* why);
 
-enum class ImageFormat { Unknown, Png, Jpeg, WebP, Ktx2, Bmp, Gif };
+enum class ImageFormat { Unknown, Png, Jpeg, WebP, Ktx2, Bmp, Gif, Tga };
 
 /// The format by its first bytes, whatever the file name or MIME type claims.
 ImageFormat sniffImage(const unsigned char* bytes, size_t size);

@@ -2,6 +2,8 @@
 // (a lossless WebP draws exactly as its PNG), KHR_texture_basisu's fallback, KTX2 refused.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include <stb_image.h>
 #include <stb_image_write.h>
 #include <webp/encode.h>
@@ -100,6 +102,52 @@ TEST(GltfImages, FormatsAreToldByTheirBytes) {
     EXPECT_EQ(hw.height, hp.height);
     EXPECT_FALSE(header(std::string("\xabKTX 20\xbb\r\n\x1a\n", 12) + std::string(80, '\0'), hk));
     EXPECT_EQ(hk.format, gltf::ImageFormat::Ktx2);
+}
+
+// TGA, which has no signature, told by its header: the textures of assimp's models (COLLADA's
+// duck). Written by stb_image_write run-length coded and not, read back pixel for pixel.
+TEST(GltfImages, TgaIsToldByItsHeaderAndDecodesExactly) {
+    const int w = 5, h = 3;
+    std::vector<uint8_t> px(size_t(w) * h * 4);
+    for (size_t i = 0; i < px.size(); ++i) px[i] = uint8_t(i % 4 == 3 ? 200 + i % 7 : (i * 37) % 256);
+    for (int rle : {0, 1}) {
+        stbi_write_tga_with_rle = rle;
+        std::string tga;
+        stbi_write_tga_to_func([](void* ctx, void* data, int size) { static_cast<std::string*>(ctx)->append(static_cast<char*>(data), size_t(size)); },
+                               &tga, w, h, 4, px.data());
+        SCOPED_TRACE(rle ? "run-length coded" : "plain");
+        const auto* b = reinterpret_cast<const unsigned char*>(tga.data());
+        EXPECT_EQ(gltf::sniffImage(b, tga.size()), gltf::ImageFormat::Tga);
+        std::string why;
+        const auto img = gltf::decodeImage(b, tga.size(), 0, why);
+        ASSERT_TRUE(img) << why;
+        EXPECT_EQ(img->width, w);
+        EXPECT_EQ(img->height, h);
+        EXPECT_EQ(img->pixels, px);
+    }
+    stbi_write_tga_with_rle = 1;
+    // Not a TGA: a type TGA does not have, a zero width, 12 bits a pixel.
+    std::string bad(18 + 16, '\0');
+    bad[2] = 2, bad[12] = 4, bad[14] = 4, bad[16] = 24;
+    auto sniff = [](const std::string& b) { return gltf::sniffImage(reinterpret_cast<const unsigned char*>(b.data()), b.size()); };
+    EXPECT_EQ(sniff(bad), gltf::ImageFormat::Tga);
+    for (auto [at, value] : {std::pair{2, 5}, std::pair{12, 0}, std::pair{16, 12}}) {
+        std::string b = bad;
+        b[size_t(at)] = char(value);
+        if (at == 12) b[13] = 0;
+        EXPECT_EQ(sniff(b), gltf::ImageFormat::Unknown) << "byte " << at;
+    }
+    // assimp-testmodels' duck texture, a real file: yellow.
+    const std::string duck = "/usr/share/assimp/models/Collada/duckCM.tga";
+    if (!std::filesystem::exists(duck)) return;
+    const std::string bytes = readFile(duck);
+    std::string why;
+    const auto img = gltf::decodeImage(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), 0, why);
+    ASSERT_TRUE(img) << why;
+    double r = 0, g = 0, bl = 0;
+    for (size_t i = 0; i < img->pixels.size(); i += 4) r += img->pixels[i], g += img->pixels[i + 1], bl += img->pixels[i + 2];
+    EXPECT_GT(r, 2 * bl);
+    EXPECT_GT(g, 1.5 * bl);
 }
 
 TEST(GltfImages, LosslessWebPTextureRendersExactlyAsItsPng) {
