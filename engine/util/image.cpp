@@ -235,13 +235,18 @@ std::vector<uint8_t> toRgba8(const Image& img, ToneMap op, float scale) {
     return out;
 }
 
+std::string encodePng(int width, int height, const std::vector<uint8_t>& pixels, int channels) {
+    std::string png;
+    auto append = [](void* out, void* data, int size) { static_cast<std::string*>(out)->append(static_cast<const char*>(data), size_t(size)); };
+    if (!stbi_write_png_to_func(append, &png, width, height, channels, pixels.data(), width * channels)) png.clear();
+    return png;
+}
+
 void writePng(const std::string& path, int width, int height, const std::vector<uint8_t>& pixels, int channels) {
     // Encoded in memory, then written with every write checked: stb's own file writer ignores
     // fwrite errors, so a full disk used to leave an empty PNG behind a success message.
-    std::string png;
-    auto append = [](void* out, void* data, int size) { static_cast<std::string*>(out)->append(static_cast<const char*>(data), size_t(size)); };
-    if (!stbi_write_png_to_func(append, &png, width, height, channels, pixels.data(), width * channels))
-        throw std::runtime_error(path + ": cannot encode PNG");
+    const std::string png = encodePng(width, height, pixels, channels);
+    if (png.empty()) throw std::runtime_error(path + ": cannot encode PNG");
     writeFileChecked(path, png);
 }
 

@@ -86,6 +86,8 @@ void toRgba8Pixel(const float* rgb, float a, ToneMap op, uint8_t* out, float sca
 /// The whole image to 8-bit straight RGBA (alpha 255 where the image has no alpha plane).
 std::vector<uint8_t> toRgba8(const Image& img, ToneMap op, float scale = 1.f);
 
+/// 8-bit RGB (channels 3) or straight RGBA (channels 4) as PNG bytes ("" if it cannot be encoded).
+std::string encodePng(int width, int height, const std::vector<uint8_t>& pixels, int channels);
 /// Writes 8-bit RGB (channels 3) or straight RGBA (channels 4) as PNG; throws
 /// std::runtime_error naming the path on failure.
 void writePng(const std::string& path, int width, int height, const std::vector<uint8_t>& pixels, int channels = 3);

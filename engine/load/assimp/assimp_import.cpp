@@ -1,6 +1,7 @@
 #include "engine/load/assimp/assimp_import.h"
 #include "engine/load/assimp/assimp_morph.h"
 #include "engine/load/assimp/assimp_skin.h"
+#include "engine/load/assimp/assimp_textures.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,6 +10,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 #include <type_traits>
 
@@ -343,39 +345,53 @@ public:
     /// An image for a material's texture path, -1 when none can be used (noted). Throws when
     /// the path leaves the asset root.
     int texture(const aiScene& scene, const aiString& raw, const std::string& where) {
-        std::string name = raw.C_Str();
-        if (name.empty()) return -1;
-        if (auto it = textures_.find(name); it != textures_.end()) return it->second;
-        int index = -1;
-        if (const aiTexture* t = scene.GetEmbeddedTexture(raw.C_Str())) {
-            if (t->mHeight == 0 && t->pcData && t->mWidth > 0 && uint64_t(t->mWidth) <= Limits::kMaxImageBytes) {
-                const auto* p = reinterpret_cast<const unsigned char*>(t->pcData);
-                index = image(std::vector<unsigned char>(p, p + t->mWidth), "embedded " + printable(name));
-            } else {
-                notes_.push_back(where + ": embedded texture \"" + name + "\" is stored as raw texels, which rayfarm does not read; ignored");
-            }
-        } else {
-            std::replace(name.begin(), name.end(), '\\', '/');
-            std::string rel = name;
-            // Authoring tools write absolute paths of the machine they ran on (C:/Users/...):
-            // the file is looked for by its name beside the model, as Blender's importers do.
-            const bool absolute = rel[0] == '/' || (rel.size() > 1 && rel[1] == ':');
-            if (absolute) rel = std::filesystem::path(rel).filename().string();
-            while (rel.compare(0, 2, "./") == 0) rel = rel.substr(2);
-            const std::string resolved = rel.empty() ? std::string() : confined_.resolve(rel);
-            if (resolved.empty() && !confined_.violation().empty())
-                throw InputError(path_, where + ": texture \"" + confined_.violation() + "\": " + confined_.violationReason() + "; refused");
-            if (resolved.empty() || !fs_.exists(resolved)) {
-                notes_.push_back(where + ": texture \"" + name + "\" not found" + (absolute ? " (looked for " + rel + " beside the model)" : "") +
-                                 "; ignored");
-            } else {
-                const std::string bytes = fs_.read(resolved, Limits::kMaxImageBytes);
-                index = image(std::vector<unsigned char>(bytes.begin(), bytes.end()), rel);
-            }
-        }
+        if (raw.length == 0) return -1;
+        if (auto it = textures_.find(raw.C_Str()); it != textures_.end()) return it->second;
+        std::string label;
+        auto bytes = textureBytes(scene, raw, where, label);
+        const int index = bytes ? image(std::move(*bytes), label) : -1;
         textures_[raw.C_Str()] = index;
         return index;
     }
+
+    /// The encoded bytes of a material's texture path (embedded, or a file found as assimp's
+    /// importers and Blender's look for it), with a label for messages; nullopt when none can be
+    /// used (noted). Throws when the path leaves the asset root.
+    std::optional<std::vector<unsigned char>> textureBytes(const aiScene& scene, const aiString& raw, const std::string& where,
+                                                           std::string& label) {
+        std::string name = raw.C_Str();
+        if (name.empty()) return std::nullopt;
+        if (const aiTexture* t = scene.GetEmbeddedTexture(raw.C_Str())) {
+            if (t->mHeight == 0 && t->pcData && t->mWidth > 0 && uint64_t(t->mWidth) <= Limits::kMaxImageBytes) {
+                const auto* p = reinterpret_cast<const unsigned char*>(t->pcData);
+                label = "embedded " + printable(name);
+                return std::vector<unsigned char>(p, p + t->mWidth);
+            }
+            notes_.push_back(where + ": embedded texture \"" + name + "\" is stored as raw texels, which rayfarm does not read; ignored");
+            return std::nullopt;
+        }
+        std::replace(name.begin(), name.end(), '\\', '/');
+        std::string rel = name;
+        // Authoring tools write absolute paths of the machine they ran on (C:/Users/...):
+        // the file is looked for by its name beside the model, as Blender's importers do.
+        const bool absolute = rel[0] == '/' || (rel.size() > 1 && rel[1] == ':');
+        if (absolute) rel = std::filesystem::path(rel).filename().string();
+        while (rel.compare(0, 2, "./") == 0) rel = rel.substr(2);
+        const std::string resolved = rel.empty() ? std::string() : confined_.resolve(rel);
+        if (resolved.empty() && !confined_.violation().empty())
+            throw InputError(path_, where + ": texture \"" + confined_.violation() + "\": " + confined_.violationReason() + "; refused");
+        if (resolved.empty() || !fs_.exists(resolved)) {
+            notes_.push_back(where + ": texture \"" + name + "\" not found" + (absolute ? " (looked for " + rel + " beside the model)" : "") +
+                             "; ignored");
+            return std::nullopt;
+        }
+        const std::string bytes = fs_.read(resolved, Limits::kMaxImageBytes);
+        label = rel;
+        return std::vector<unsigned char>(bytes.begin(), bytes.end());
+    }
+
+    /// An image made here (two maps combined into the one glTF has), PNG-encoded.
+    int madeTexture(std::vector<unsigned char> png, const std::string& label) { return image(std::move(png), label); }
 
 private:
     int image(std::vector<unsigned char> bytes, const std::string& name) {
@@ -513,19 +529,52 @@ tinygltf::Material material(const aiScene& scene, const aiMaterial& m, const std
         if (g.emissiveFactor == std::vector<double>{0.0, 0.0, 0.0}) g.emissiveFactor = {1.0, 1.0, 1.0};
     }
     // glTF packs roughness in G and metalness in B of one texture. A grey roughness map (map_Pr)
-    // works there as it is when metalness is 0 (factor × B = 0); a separate metalness map cannot.
+    // works there as it is when metalness is 0 (factor × B = 0); with a metalness map, the two
+    // are combined into one (assimp_textures.h). A map stands for its value: the factor then 1,
+    // as Blender's importers connect the map in the factor's place.
     const std::string rough = texPath(aiTextureType_DIFFUSE_ROUGHNESS), metal = texPath(aiTextureType_METALNESS);
+    using Bytes = std::optional<std::vector<unsigned char>>;
+    const Bytes noMap = std::vector<unsigned char>{};  // a map not given: combined without it
+    auto bytesOf = [&](aiTextureType type, std::string& label) -> Bytes {
+        aiString p;
+        if (m.GetTextureCount(type) == 0 || m.GetTexture(type, 0, &p) != AI_SUCCESS) return noMap;
+        return w.textureBytes(scene, p, where, label);
+    };
     if (!rough.empty() && (metal.empty() || metal == rough) && (pbr.metallicFactor == 0.0 || metal == rough)) {
         pbr.metallicRoughnessTexture.index = tex(aiTextureType_DIFFUSE_ROUGHNESS);
         if (metal.empty()) pbr.roughnessFactor = number(m, AI_MATKEY_ROUGHNESS_FACTOR, v) ? clamp01(v) : 1.0;
     } else if (!rough.empty() || !metal.empty()) {
-        notes.push_back(where + ": separate metalness and roughness maps are not combined into glTF's one texture; ignored");
+        std::string roughLabel, metalLabel, why;
+        const Bytes r = bytesOf(aiTextureType_DIFFUSE_ROUGHNESS, roughLabel), mt = bytesOf(aiTextureType_METALNESS, metalLabel);
+        if (r && mt) {
+            if (auto combined = metallicRoughnessMap(*r, *mt, why)) {
+                pbr.metallicRoughnessTexture.index = w.madeTexture(std::move(*combined), "metalness " + metalLabel + " and roughness " + roughLabel);
+                if (!rough.empty()) pbr.roughnessFactor = 1.0;
+                if (!metal.empty()) pbr.metallicFactor = 1.0;
+            } else {
+                notes.push_back(where + ": metalness and roughness maps not combined (" + why + "); ignored");
+            }
+        }
     }
+    // glTF takes alpha from the base colour texture: a separate opacity map becomes its alpha.
     const std::string opacityMap = texPath(aiTextureType_OPACITY);
-    if (!opacityMap.empty() && opacityMap != texPath(aiTextureType_DIFFUSE))
-        notes.push_back(where + ": opacity map \"" + printable(opacityMap) + "\" ignored (glTF takes alpha from the base colour texture)");
-    else if (!opacityMap.empty() && g.alphaMode == "OPAQUE")
+    if (!opacityMap.empty() && opacityMap != texPath(aiTextureType_DIFFUSE)) {
+        std::string colourLabel, opacityLabel, why;
+        const int base = pbr.baseColorTexture.index;
+        Bytes colour = noMap;
+        if (base >= 0) colour = bytesOf(m.GetTextureCount(aiTextureType_BASE_COLOR) ? aiTextureType_BASE_COLOR : aiTextureType_DIFFUSE, colourLabel);
+        const auto opacityBytes = bytesOf(aiTextureType_OPACITY, opacityLabel);
+        if (colour && opacityBytes) {
+            if (auto combined = withOpacityMap(*colour, *opacityBytes, why)) {
+                pbr.baseColorTexture.index = w.madeTexture(std::move(*combined), (base >= 0 ? colourLabel + " with alpha from " : "alpha from ") + opacityLabel);
+                if (g.alphaMode == "OPAQUE") g.alphaMode = "BLEND";
+            } else {
+                notes.push_back(where + ": opacity map \"" + printable(opacityMap) + "\" not used (" + why + ")");
+            }
+        }
+    } else if (!opacityMap.empty() && g.alphaMode == "OPAQUE") {
         g.alphaMode = "BLEND";
+    }
     // Blender draws both sides; these formats have no notion of one.
     g.doubleSided = true;
     return g;

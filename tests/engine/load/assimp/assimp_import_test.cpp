@@ -6,6 +6,8 @@
 
 #include "engine/util/errors.h"
 #include "engine/util/file_source.h"
+#include "engine/util/image.h"
+#include "engine/load/gltf/gltf_images.h"
 #include "engine/load/assimp/assimp_import.h"
 #include "engine/load/model_inspect.h"
 #include "engine/load/scene_loader.h"
@@ -125,6 +127,57 @@ TEST(AssimpImport, ObjPbrExtensionRoughnessMetallic) {
             EXPECT_NEAR(mat.pbrMetallicRoughness.metallicFactor, 1.0, 1e-6);
         }
     EXPECT_TRUE(found);
+}
+
+// Maps the formats keep apart and glTF in one texture (assimp_textures.h): MTL's map_d becomes
+// the base colour texture's alpha, map_Pr and map_Pm glTF's metallicRoughness texture (G, B),
+// each at the larger map's size.
+TEST(AssimpImport, SeparateOpacityMetalnessAndRoughnessMapsAreCombined) {
+    TempDir dir;
+    auto grey = [](int side, uint8_t v, uint8_t r = 0, uint8_t g = 0, uint8_t b = 0, bool colour = false) {
+        std::vector<uint8_t> px(size_t(side) * side * 3, v);
+        if (colour)
+            for (size_t i = 0; i < px.size(); i += 3) px[i] = r, px[i + 1] = g, px[i + 2] = b;
+        return encodePng(side, side, px, 3);
+    };
+    writeFile(dir / "base.png", grey(4, 0, 200, 30, 10, true));
+    writeFile(dir / "opacity.png", grey(2, 64));
+    writeFile(dir / "rough.png", grey(4, 51));
+    writeFile(dir / "metal.png", grey(2, 255));
+    writeFile(dir / "cube.obj", std::string("mtllib cube.mtl\nusemtl m\n") + kCubeFaces);
+    writeFile(dir / "cube.mtl", "newmtl m\nKd 1 1 1\nmap_Kd base.png\nmap_d opacity.png\nmap_Pr rough.png\nmap_Pm metal.png\n");
+    std::vector<std::string> notes;
+    const tinygltf::Model m = import(dir / "cube.obj", &notes);
+    const tinygltf::Material* mat = nullptr;
+    for (const auto& x : m.materials)
+        if (x.name == "m") mat = &x;
+    ASSERT_TRUE(mat);
+    auto decoded = [&](int texture) {
+        EXPECT_GE(texture, 0);
+        const auto& img = m.images.at(size_t(m.textures.at(size_t(texture)).source));
+        std::string why;
+        auto out = gltf::decodeImage(img.image.data(), img.image.size(), 0, why);
+        EXPECT_TRUE(out) << why;
+        return out.value_or(gltf::Rgba8Image{});
+    };
+    const gltf::Rgba8Image base = decoded(mat->pbrMetallicRoughness.baseColorTexture.index);
+    ASSERT_EQ(base.width, 4);
+    for (size_t i = 0; i < base.pixels.size(); i += 4) {
+        EXPECT_EQ(base.pixels[i], 200);
+        EXPECT_EQ(base.pixels[i + 1], 30);
+        EXPECT_EQ(base.pixels[i + 2], 10);
+        EXPECT_EQ(base.pixels[i + 3], 64);
+    }
+    EXPECT_EQ(mat->alphaMode, "BLEND");
+    const gltf::Rgba8Image mr = decoded(mat->pbrMetallicRoughness.metallicRoughnessTexture.index);
+    ASSERT_EQ(mr.width, 4);
+    for (size_t i = 0; i < mr.pixels.size(); i += 4) {
+        EXPECT_EQ(mr.pixels[i + 1], 51);   // roughness
+        EXPECT_EQ(mr.pixels[i + 2], 255);  // metalness
+    }
+    EXPECT_EQ(mat->pbrMetallicRoughness.metallicFactor, 1.0);
+    EXPECT_EQ(mat->pbrMetallicRoughness.roughnessFactor, 1.0);
+    for (const std::string& n : notes) EXPECT_EQ(n.find("ignored (glTF takes alpha"), std::string::npos) << n;
 }
 
 TEST(AssimpImport, StlIsZUpMillimetresAndNeutral) {
