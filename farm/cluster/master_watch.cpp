@@ -11,8 +11,10 @@ namespace {
 /// How often a worker looks at rank 0's process (a read of /proc/PID/stat).
 constexpr double kLookSeconds = 0.1;
 /// How long a worker still listens after rank 0's process ended: a stop it sent just before
-/// it left is already on its way (shared memory or a socket keeps it), and wins.
-constexpr double kLastWordsSeconds = 0.3;
+/// it left is already on its way (shared memory or a socket keeps it), and wins; and a rank 0
+/// that ended the job itself (MPI_Abort: a lost display, a lost worker under plain mpirun) has
+/// mpirun end this rank within moments, without a second error line from it.
+constexpr double kLastWordsSeconds = 1.0;
 
 double seconds(MasterWatch::Clock::duration d) { return std::chrono::duration<double>(d).count(); }
 

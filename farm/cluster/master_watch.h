@@ -2,7 +2,8 @@
 /// A worker's watch on rank 0. Rank 0 says it runs several times a second (kTagAlive, also while
 /// it loads the scene); a worker gives it up when
 /// - it can see rank 0's process has ended (rank 0 on the same machine: process_identity.h):
-///   at once, after a moment for rank 0's last words already sent (a stop);
+///   a second later (rank 0's last words already sent, a stop, or mpirun ending the job after
+///   rank 0's MPI_Abort, come first);
 /// - rank 0 has been silent for `silence` seconds (`firstWord` before rank 0's first word): a
 ///   rank 0 on another machine, dead or cut off, or one that hangs.
 /// A stop of this process (the whole job paused: Ctrl-Z, a Slurm suspend) is not rank 0's silence.

@@ -113,7 +113,8 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
         // send, a starved core) must not miss rank 0's beats already waiting, nor a stop it sent
         // before it ended. A stop of this process since the loop's top (the whole job paused
         // inside an MPI call) is a pause, as at the top, not rank 0's silence.
-        if (const std::string line = master.lost(Clock::now()); !line.empty()) {
+        // A signalled worker leaves within 3 s anyway (above), as the signal says.
+        if (const std::string line = signalled ? std::string() : master.lost(Clock::now()); !line.empty()) {
             [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, line.data(), line.size());
             engine.cancelQueued();
             return kMasterSilentExit;

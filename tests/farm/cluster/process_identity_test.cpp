@@ -105,13 +105,13 @@ TEST(MasterWatch, RankZeroSeenEndedIsGivenUpAtOnceAndASilentOneAfterItsSilence) 
         EXPECT_EQ(lostWithin(w, 0.5), "");
         t.ended = true;
         const auto seen = MasterWatch::Clock::now();
-        const std::string line = lostWithin(w, 2.0);
+        const std::string line = lostWithin(w, 3.0);
         const double took = std::chrono::duration<double>(MasterWatch::Clock::now() - seen).count();
         EXPECT_NE(line.find("rank 1 on "), std::string::npos) << line;
         EXPECT_NE(line.find("rank 0's process has ended (killed or crashed); this worker stops"), std::string::npos) << line;
-        // Its last words (a stop already sent) get a moment first; then it goes at once.
-        EXPECT_GE(took, 0.25);
-        EXPECT_LT(took, 1.0);
+        // Its last words (a stop already sent, mpirun's end of the job) get a second first.
+        EXPECT_GE(took, 0.95);
+        EXPECT_LT(took, 1.6);
     }
     t.ended = false;
     {
