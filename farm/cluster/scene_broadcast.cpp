@@ -3,11 +3,17 @@
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
+#include <cstdio>
 #include <exception>
+#include <optional>
 #include <set>
 #include <thread>
 
+#include <unistd.h>
+
 #include "farm/cluster/build_beats.h"
+#include "farm/cluster/master_watch.h"
+#include "farm/cluster/messages.h"
 #include "engine/util/load_control.h"
 #include "farm/process/usage_error.h"
 #include "engine/util/errors.h"
@@ -30,10 +36,54 @@ std::string packOk(const std::string& job, const std::string& bundle) {
     return out;
 }
 
-[[noreturn]] void failBroadcast(Transport& t, const char* code) {
+/// Rank 0's side of a broadcast: beats to every worker while it waits for the broadcast to
+/// leave (a large scene), as while it loads.
+void sendWatched(Transport& t, std::string& bytes) {
+    auto last = std::chrono::steady_clock::now();
+    t.broadcastWatched(bytes, 0, [&t, &last] {
+        const auto now = std::chrono::steady_clock::now();
+        if (std::chrono::duration<double>(now - last).count() < kHeartbeatSeconds) return;
+        last = now;
+        sayAlive(t);
+    });
+}
+
+[[noreturn]] void failBroadcast(Transport& t, std::optional<BuildBeats>& beats, const char* code) {
+    beats.reset();  // joined: this thread uses the transport
     std::string fail = code;
-    t.broadcast(fail, 0);
+    sendWatched(t, fail);
     throw;  // NOLINT: only called from a catch block
+}
+
+/// Test hook (mpi_render_test.sh lost-master-load): RAYFARM_TEST_MASTER_HOLD=files (or job)
+/// holds rank 0 before it broadcasts the scene's files (the job), beating as it does while it
+/// loads a huge model, so that the test can kill it there. Off unless set; lasts at most 120 s.
+void testMasterHold(const char* stage) {
+    static const char* hold = std::getenv("RAYFARM_TEST_MASTER_HOLD");
+    if (!hold || std::strcmp(hold, stage) != 0) return;
+    char line[128];
+    std::snprintf(line, sizeof line, "rayfarm: test: rank 0 holds before broadcasting the %s\n", stage);
+    [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, line, std::strlen(line));
+    LoadStep step("holding (test)");
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (std::chrono::steady_clock::now() < end) {
+        pollLoadCancel();
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+}
+
+/// A worker's side of a broadcast: rank 0's beats read while it waits, and rank 0 given up
+/// (MasterLost) when master_watch.h says so.
+void receiveWatched(Transport& t, std::string& bytes, MasterWatch& watch) {
+    t.broadcastWatched(bytes, 0, [&t, &watch] {
+        const auto now = std::chrono::steady_clock::now();
+        Message m;
+        while (t.take(0, kTagAlive, m)) watch.heard(now);
+        if (const std::string line = watch.lost(now); !line.empty()) {
+            [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, line.data(), line.size());
+            throw MasterLost(line);
+        }
+    });
 }
 
 /// Test hook (tests/farm/cluster/load_signal_test.sh): RAYFARM_TEST_WORKER_BUILD_SECONDS makes a
@@ -62,7 +112,8 @@ FileBundle filesSince(const FileBundle& all, const std::set<std::string>& sent) 
 
 SharedScene shareScene(Transport& t, const std::string& path, const std::function<void()>& preLoad,
                        const std::function<std::string(LoadedScene&, const FileBundle&)>& makeJob, const SceneOptions& options,
-                       const std::function<void(LoadedScene&)>& headStart, std::shared_ptr<SceneCacheSlot> bounceSlot) {
+                       const std::function<void(LoadedScene&)>& headStart, std::shared_ptr<SceneCacheSlot> bounceSlot,
+                       double masterSilence) {
     const auto t0 = std::chrono::steady_clock::now();
     SharedScene out;
     out.bounceSlot = bounceSlot ? std::move(bounceSlot) : std::make_shared<SceneCacheSlot>();
@@ -72,17 +123,24 @@ SharedScene shareScene(Transport& t, const std::string& path, const std::functio
         // environment maps are built), so the workers build their scenes while rank 0 builds its
         // own; then the job, with any file read after the first. One failure code takes the
         // place of whichever broadcast is next.
+        // While it loads, rank 0 tells the workers waiting for it that it runs (its beats stop
+        // while this thread broadcasts, which beats by itself).
         DiskFileSource fs;
         std::set<std::string> sent;
         bool filesShared = false;
+        std::optional<BuildBeats> beats;
+        beats.emplace(t);
         auto shareFiles = [&] {
             if (filesShared) return;
             filesShared = true;
             for (const auto& [p, bytes] : fs.bundle().files) sent.insert(p);
             if (t.size() > 1) {
+                testMasterHold("files");
                 std::string files(1, '0');
                 files += fs.bundle().serialize();
-                t.broadcast(files, 0);
+                beats.reset();
+                sendWatched(t, files);
+                beats.emplace(t);
             }
             if (options.inputsRead) options.inputsRead();
         };
@@ -95,17 +153,22 @@ SharedScene shareScene(Transport& t, const std::string& path, const std::functio
             out.job = makeJob ? makeJob(out, fs.bundle()) : std::string();
             out.bundleBytes = fs.bundle().totalBytes();
             payload = packOk(out.job, filesSince(fs.bundle(), sent).serialize());
+            if (t.size() > 1) testMasterHold("job");
         } catch (const InputError&) {
-            failBroadcast(t, "2");
+            failBroadcast(t, beats, "2");
         } catch (const UsageError&) {
-            failBroadcast(t, "2");
+            failBroadcast(t, beats, "2");
         } catch (...) {
-            failBroadcast(t, "1");
+            failBroadcast(t, beats, "1");
         }
-        if (t.size() > 1) t.broadcast(payload, 0);
+        beats.reset();
+        if (t.size() > 1) sendWatched(t, payload);
     } else {
+        // Rank 0 may load a huge model for minutes before each broadcast: the wait lasts as
+        // long as its beats come, and ends when it is gone (master_watch.h).
+        MasterWatch watch(t, masterSilence, masterSilence);
         auto receive = [&] {
-            t.broadcast(payload, 0);
+            receiveWatched(t, payload, watch);
             if (payload.empty() || payload[0] != '0') throw PeerFailed(payload == "2" ? 2 : 1);
         };
         receive();

@@ -47,10 +47,13 @@ struct SharedScene : LoadedScene {
 /// bundle with the scene's. headStart, if set, runs on each worker once its scene is built,
 /// while rank 0 is still deciding the job (work a worker can begin before the job comes; an
 /// exception from it is dropped). bounceSlot: the one makeJob and headStart fill, handed back
-/// as SharedScene::bounceSlot (null: a new one).
+/// as SharedScene::bounceSlot (null: a new one). Rank 0 tells the workers it runs while it
+/// loads and broadcasts; a worker waiting for a broadcast gives rank 0 up (prints why, throws
+/// MasterLost) once it sees rank 0's process has ended or rank 0 has been silent for
+/// masterSilence seconds (master_watch.h).
 SharedScene shareScene(Transport& t, const std::string& path, const std::function<void()>& preLoad,
                        const std::function<std::string(LoadedScene&, const FileBundle&)>& makeJob,
                        const SceneOptions& options = {}, const std::function<void(LoadedScene&)>& headStart = nullptr,
-                       std::shared_ptr<SceneCacheSlot> bounceSlot = nullptr);
+                       std::shared_ptr<SceneCacheSlot> bounceSlot = nullptr, double masterSilence = 20.0);
 
 }  // namespace rf::farm

@@ -34,6 +34,26 @@ bool launchedByMpi() {
     return false;
 }
 
+/// Waits for a nonblocking collective, calling tick about every millisecond. Open MPI moves a
+/// nonblocking collective on only inside MPI calls: while bytes flow (`flowing`) it is tested
+/// without a pause, as fast as a blocking MPI_Bcast goes; the wait for root to start (it may
+/// load a model for minutes) looks every half millisecond and leaves the core to the build.
+void waitWatched(MPI_Request& request, const std::function<void()>& tick, bool flowing) {
+    using Clock = std::chrono::steady_clock;
+    auto lastTick = Clock::now();
+    for (;;) {
+        int done = 0;
+        check(MPI_Test(&request, &done, MPI_STATUS_IGNORE), "broadcast");
+        if (done) return;
+        const auto now = Clock::now();
+        if (now - lastTick >= std::chrono::milliseconds(1)) {
+            lastTick = now;
+            tick();
+        }
+        if (!flowing) std::this_thread::sleep_for(std::chrono::microseconds(500));
+    }
+}
+
 }  // namespace
 
 struct MpiTransport::Pending {
@@ -73,14 +93,22 @@ MpiTransport::MpiTransport() {
     if (const char* c = std::getenv("RAYFARM_BROADCAST_CHUNK")) setBroadcastChunk(std::atoll(c));
     MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
     MPI_Comm_size(MPI_COMM_WORLD, &size_);
-    // Every rank's host name, once, so that a lost rank can be named with its host.
-    char name[MPI_MAX_PROCESSOR_NAME] = {};
+    // Every rank's host name, once, so that a lost rank can be named with its host, and its
+    // process, so that a rank on the same machine can see it end (processEnded).
+    struct Card {
+        char name[MPI_MAX_PROCESSOR_NAME] = {};
+        ProcessIdentity process;
+    } card;
     int len = 0;
-    MPI_Get_processor_name(name, &len);
-    std::vector<char> all(size_t(size_) * MPI_MAX_PROCESSOR_NAME);
-    if (MPI_Allgather(name, MPI_MAX_PROCESSOR_NAME, MPI_CHAR, all.data(), MPI_MAX_PROCESSOR_NAME, MPI_CHAR, MPI_COMM_WORLD) ==
-        MPI_SUCCESS)
-        for (int r = 0; r < size_; ++r) hosts_.emplace_back(&all[size_t(r) * MPI_MAX_PROCESSOR_NAME]);
+    MPI_Get_processor_name(card.name, &len);
+    card.process = ProcessIdentity::self();
+    std::vector<Card> all(static_cast<size_t>(size_));
+    if (MPI_Allgather(&card, int(sizeof card), MPI_BYTE, all.data(), int(sizeof card), MPI_BYTE, MPI_COMM_WORLD) == MPI_SUCCESS)
+        for (Card& c : all) {
+            c.name[MPI_MAX_PROCESSOR_NAME - 1] = '\0';
+            hosts_.emplace_back(c.name);
+            processes_.push_back(c.process);
+        }
     MPI_Comm node;
     if (MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank_, MPI_INFO_NULL, &node) == MPI_SUCCESS) {
         MPI_Comm_size(node, &localRanks_);
@@ -122,6 +150,10 @@ void MpiTransport::abort(int code) {
     }).detach();
     MPI_Abort(MPI_COMM_WORLD, code);
     std::_Exit(code);
+}
+
+bool MpiTransport::processEnded(int rank) const {
+    return rank >= 0 && rank < int(processes_.size()) && lookAt(processes_[size_t(rank)]) == ProcessSeen::Ended;
 }
 
 std::string MpiTransport::host(int rank) const { return rank >= 0 && rank < int(hosts_.size()) ? hosts_[size_t(rank)] : ""; }
@@ -215,6 +247,40 @@ void MpiTransport::broadcast(std::string& bytes, int root) {
         check(MPI_Bcast(bytes.data() + off, chunk, MPI_BYTE, root, MPI_COMM_WORLD), "broadcast");
         off += uint64_t(chunk);
     }
+}
+
+void MpiTransport::broadcastWatched(std::string& bytes, int root, const std::function<void()>& tick) {
+    if (solo_) return;
+    // As broadcast(), with MPI_Ibcast: a rank waiting for root (which may read a large model for
+    // minutes first) keeps answering tick, and so can notice that root died.
+    uint64_t n = bytes.size();
+    MPI_Request request = MPI_REQUEST_NULL;
+    check(MPI_Ibcast(&n, 1, MPI_UINT64_T, root, MPI_COMM_WORLD, &request), "broadcast");
+    waitWatched(request, tick, false);
+    if (rank_ != root) bytes.resize(n);
+    for (uint64_t off = 0; off < n;) {
+        const int chunk = int(std::min<uint64_t>(n - off, uint64_t(gBroadcastChunk)));
+        check(MPI_Ibcast(bytes.data() + off, chunk, MPI_BYTE, root, MPI_COMM_WORLD, &request), "broadcast");
+        waitWatched(request, tick, true);
+        off += uint64_t(chunk);
+    }
+}
+
+bool MpiTransport::take(int source, int tag, Message& out) {
+    if (solo_) return false;
+    int flag = 0;
+    MPI_Message handle;
+    MPI_Status st;
+    check(MPI_Improbe(source, tag, MPI_COMM_WORLD, &flag, &handle, &st), "probe");
+    if (!flag) return false;
+    int count = 0;
+    check(MPI_Get_count(&st, MPI_BYTE, &count), "message size");
+    out.source = st.MPI_SOURCE;
+    out.tag = st.MPI_TAG;
+    out.bytes.resize(size_t(count));
+    // Blocking: take() is for beats, whose few bytes travel with the envelope.
+    check(MPI_Mrecv(out.bytes.data(), count, MPI_BYTE, &handle, MPI_STATUS_IGNORE), "receive from rank " + std::to_string(source));
+    return true;
 }
 
 }  // namespace rf::farm

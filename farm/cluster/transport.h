@@ -3,10 +3,13 @@
 /// unit-tested in one process (LoopbackHub) and run for real under mpirun (MpiTransport).
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
+
+#include "farm/cluster/process_identity.h"
 
 namespace rf::farm {
 
@@ -36,6 +39,26 @@ public:
     virtual bool flush(double timeoutSeconds) = 0;
     /// Collective: every rank ends with root's bytes (any size; sent in chunks below 2 GiB).
     virtual void broadcast(std::string& bytes, int root) = 0;
+    /// broadcast() that calls `tick` every millisecond or so while it waits, on every rank, so
+    /// that root can say it is alive and the others can watch it (a tick may throw to give up;
+    /// the transport is then good only for leaving). Here: broadcast(), tick never called.
+    virtual void broadcastWatched(std::string& bytes, int root, const std::function<void()>& tick) {
+        (void)tick;
+        broadcast(bytes, root);
+    }
+    /// Takes one waiting message from `source` with `tag`, if there is one, leaving every other
+    /// message where it is; never blocks. Only for messages without payload order concerns (a
+    /// beat). Here: none.
+    virtual bool take(int source, int tag, Message& out) {
+        (void)source, (void)tag, (void)out;
+        return false;
+    }
+    /// True when this process can see that rank's process has ended (the same kernel: the same
+    /// machine); false when it runs, or cannot be seen (process_identity.h).
+    virtual bool processEnded(int rank) const {
+        (void)rank;
+        return false;
+    }
     /// Ranks sharing this rank's node (for sharing its cores among them).
     virtual int ranksOnThisNode() const { return 1; }
     /// The host a rank runs on, for messages about it ("" if unknown).
@@ -59,6 +82,9 @@ public:
     bool poll(Message& out) override;
     bool flush(double timeoutSeconds) override;
     void broadcast(std::string& bytes, int root) override;
+    void broadcastWatched(std::string& bytes, int root, const std::function<void()>& tick) override;
+    bool take(int source, int tag, Message& out) override;
+    bool processEnded(int rank) const override;
     std::string host(int rank) const override;
 
     int ranksOnThisNode() const override { return localRanks_; }
@@ -80,6 +106,7 @@ private:
     void progressSends();
     int rank_ = 0, size_ = 1, localRanks_ = 1;
     std::vector<std::string> hosts_;  // by rank
+    std::vector<ProcessIdentity> processes_;  // by rank
     bool finalized_ = false;
     bool skipFinalize_ = false;
     bool solo_ = false;  ///< not started by an MPI launcher: one rank, MPI never initialised

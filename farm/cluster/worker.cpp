@@ -11,7 +11,7 @@
 #include <unistd.h>
 
 #include "farm/process/interrupt.h"
-#include "farm/cluster/liveness.h"
+#include "farm/cluster/master_watch.h"
 #include "farm/cluster/messages.h"
 
 namespace rf::farm {
@@ -54,31 +54,23 @@ void sendQuietly(Transport& t, int dest, int tag, std::string bytes) {
     }
 }
 
-/// "rank 2 on node3": where a message comes from when ranks span hosts.
-std::string whoAmI(const Transport& t) {
-    char host[256] = {};
-    ::gethostname(host, sizeof host - 1);
-    return "rank " + std::to_string(t.rank()) + " on " + host;
-}
-
 }  // namespace
 
 int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const std::function<void(const Message&)>& other,
               ChunkWorkshop* shop, double firstWordTimeout) {
     using Clock = std::chrono::steady_clock;
     auto lastBeat = Clock::now() - std::chrono::seconds(1);
-    auto lastFromMaster = Clock::now();
-    PauseDetector pause;
-    bool heardMaster = false;
     Clock::time_point signalledAt{};
     bool signalled = false;
     bool viewing = false;    ///< a viewer's epochs have come: answer within a millisecond
     int lastItemPixels = 0;  ///< the size of the work coming in (a whole frame, or a tile)
     const int crashFrame = crashFrameForTests();
     if (firstWordTimeout <= 0.0) firstWordTimeout = 6 * masterTimeout;
+    // Before its first word rank 0 may still be checking kept frames or building its BVH.
+    MasterWatch master(t, masterTimeout, firstWordTimeout);
     for (;;) {
         const auto now = Clock::now();
-        if (pause.resumed(now)) lastFromMaster = now;  // this worker was stopped, not rank 0
+        master.notePause(now);  // this worker was stopped, not rank 0
         if (!signalled && interruptSignal()) {
             // Finish nothing more: rank 0 is closing the video and only needs to know we live.
             signalled = true;
@@ -97,10 +89,7 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
             if (!arrived.empty()) engine.submitAll(std::exchange(arrived, {}));
         };
         while (t.poll(m)) {
-            if (m.source == 0) {
-                lastFromMaster = Clock::now();
-                heardMaster = true;
-            }
+            if (m.source == 0) master.heard(Clock::now());
             if (m.tag == kTagStop) return m.bytes == kStopAfterLoss ? kStopAfterLossExit : 0;
             if (m.tag == kTagWork) {
                 if (signalled) continue;
@@ -120,20 +109,13 @@ int runWorker(Transport& t, RenderEngine& engine, double masterTimeout, const st
             else if (m.tag != kTagAlive && other) other(m);
         }
         submitArrived();
-        // Silence is judged after the messages that came are read: a loop held up here (a
-        // large send, a starved core) must not miss rank 0's beats already waiting. A stop of
-        // this process since the loop's top (the whole job paused inside an MPI call) is a
-        // pause, as at the top, not rank 0's silence.
-        const auto judged = Clock::now();
-        if (pause.resumed(judged)) lastFromMaster = judged;
-        const double masterSilent = std::chrono::duration<double>(judged - lastFromMaster).count();
-        // Before its first word rank 0 may still be checking kept frames or building its BVH.
-        if (masterSilent > (heardMaster ? masterTimeout : firstWordTimeout)) {
-            char line[512];
-            std::snprintf(line, sizeof line,
-                          "rayfarm: error: %s: rank 0 has been silent for %.1f s (stopped, or its host cut off); this worker stops\n",
-                          whoAmI(t).c_str(), masterSilent);
-            [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, line, std::strlen(line));
+        // Rank 0 is judged after the messages that came are read: a loop held up here (a large
+        // send, a starved core) must not miss rank 0's beats already waiting, nor a stop it sent
+        // before it ended. A stop of this process since the loop's top (the whole job paused
+        // inside an MPI call) is a pause, as at the top, not rank 0's silence.
+        // A signalled worker leaves within 3 s anyway (above), as the signal says.
+        if (const std::string line = signalled ? std::string() : master.lost(Clock::now()); !line.empty()) {
+            [[maybe_unused]] const ssize_t n = ::write(STDERR_FILENO, line.data(), line.size());
             engine.cancelQueued();
             return kMasterSilentExit;
         }

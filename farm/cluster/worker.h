@@ -19,8 +19,8 @@ inline constexpr int kStopAfterLossExit = 4;
 
 /// Runs until rank 0 says stop (returns 0, or kStopAfterLossExit), the render fails (the error goes to rank 0 first;
 /// returns 1), a signal arrives and rank 0 does not say stop within a few seconds (returns 130),
-/// or rank 0 says nothing for `masterTimeout` seconds while this worker runs (prints why;
-/// returns kMasterSilentExit). Before rank 0's first word (it may still be checking kept
+/// or rank 0 is lost (prints why; returns kMasterSilentExit): this rank sees rank 0's process
+/// end (the same machine), or rank 0 says nothing for `masterTimeout` seconds (master_watch.h). Before rank 0's first word (it may still be checking kept
 /// frames or building its renderer) the limit is `firstWordTimeout`, 6 × masterTimeout when 0.
 /// kTagView sets the engine's interactive epoch (RenderEngine::setView); other tags runWorker
 /// does not know go to `other` when given (a viewer's own messages). shop: the rank's

@@ -15,6 +15,7 @@
 #include "farm/commands/worker_head_start.h"
 #include "farm/cluster/launcher_reaper.h"
 #include "farm/cluster/master.h"
+#include "farm/cluster/master_watch.h"
 #include "farm/cluster/run_farm.h"
 #include "farm/cluster/scene_broadcast.h"
 #include "farm/cluster/worker.h"
@@ -140,6 +141,15 @@ int renderFilm(MpiTransport& t, const ArgParser& p, const std::vector<std::strin
     const auto bounceSlot = std::make_shared<SceneCacheSlot>();
     std::vector<OutputLock> locks;  // rank 0's, until the film ends
     locks.reserve(2);               // never moved: the load watch may release them from its thread
+    // Rank 0 lost (killed, its host gone): a worker that sees rank 0's process end (the same
+    // machine) leaves at once. One that cannot see it leaves once rank 0 has been silent for
+    // twice --timeout, 4 s at least. Not sooner: on a host whose link is cut, a worker that
+    // exits makes Open MPI's daemon there report it to mpirun over the dead link, and with data
+    // unacknowledged TCP stops the keepalive that would end the daemon: it then lingers for the
+    // retransmission timeout (minutes; tests/multihost, --timeout 3: the worker gone at 2.9 s
+    // left the daemon running past 39 s; at 6 s the daemon's keepalive ended it and the host was
+    // empty in 7.1 s).
+    const double silentLimit = std::max(4.0, 2.0 * job.workerTimeout);
     try {
         // A signal while loading ends the run within a second (load_watch.h).
         LoadWatch watch(job.scenePath, t.rank() == 0, [&locks] {
@@ -156,7 +166,8 @@ int renderFilm(MpiTransport& t, const ArgParser& p, const std::vector<std::strin
                     return encodeWorkerJob(job);
                 },
                 sceneOptions(p),
-                [&](LoadedScene& loaded) { workerHeadStart(loaded, *bounceSlot, p, job, threadsForRank(job, t)); }, bounceSlot);
+                [&](LoadedScene& loaded) { workerHeadStart(loaded, *bounceSlot, p, job, threadsForRank(job, t)); }, bounceSlot,
+                silentLimit);
         } catch (const LoadCancelled& c) {
             const int code = watch.interrupted(c);
             // A worker gets here only when rank 0 loaded and waits for it: say why it will not hear.
@@ -164,6 +175,8 @@ int renderFilm(MpiTransport& t, const ArgParser& p, const std::vector<std::strin
             return code;
         }
         watch.done();
+    } catch (const MasterLost&) {
+        std::_Exit(1);  // it said why; MPI_Finalize would wait for rank 0 forever
     } catch (const PeerFailed& e) {
         // Rank 0 failed (and said why), or was interrupted while loading as this rank was.
         if (loadCancelSignal()) return signalExitStatus(loadCancelSignal());
@@ -174,15 +187,8 @@ int renderFilm(MpiTransport& t, const ArgParser& p, const std::vector<std::strin
         return 1;
     }
     if (t.rank() != 0) {
-        // Rank 0 lost (killed, its host gone): this worker leaves once rank 0 has been silent
-        // for twice --timeout, 4 s at least. Not sooner: on a host whose link is cut, a worker
-        // that exits makes Open MPI's daemon there report it to mpirun over the dead link, and
-        // with data unacknowledged TCP stops the keepalive that would end the daemon: it then
-        // lingers for the retransmission timeout (minutes; tests/multihost, --timeout 3: the
-        // worker gone at 2.9 s left the daemon running past 39 s; at 6 s the daemon's keepalive
-        // ended it and the host was empty in 7.1 s). Before rank 0's first word (it may be
-        // checking a resumed film's kept frames) it waits longer.
-        const double silentLimit = std::max(4.0, 2.0 * job.workerTimeout);
+        // Rank 0 lost: as while the scene came (silentLimit above). Before rank 0's first word
+        // (it may be checking a resumed film's kept frames) a silence may last longer.
         const int code = runFarmWorker(t, shared, job.fpsOption, threadsForRank(job, t), silentLimit,
                                        std::max(24.0, 12.0 * job.workerTimeout));
         // A silent master: leave now, as MPI_Finalize would wait for rank 0 forever.

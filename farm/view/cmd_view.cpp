@@ -24,6 +24,7 @@
 #include "farm/output/output_paths.h"
 #include "engine/load/scene_loader.h"
 #include "engine/integrators/render.h"
+#include "farm/cluster/master_watch.h"
 #include "farm/cluster/scene_broadcast.h"
 #include "farm/cluster/transport.h"
 #include "farm/view/view_messages.h"
@@ -193,6 +194,8 @@ int runFarmView(const ArgParser& p, view::ViewOptions& o, view::ViewJob& job) {
                 return view::encodeViewJob(job);
             },
             sceneOptions(p));
+    } catch (const farm::MasterLost&) {
+        std::_Exit(1);  // it said why; MPI_Finalize would wait for rank 0 forever
     } catch (const farm::PeerFailed& e) {
         return e.code();
     } catch (const std::exception& e) {

@@ -5,7 +5,7 @@
 #                          has the timeline's frame count, size and rate and each frame is within
 #                          PSNR_MIN dB of its PNG; a lossless MP4 decodes to the PNGs exactly
 #   resume | interrupt | interrupt-slow | killed-master EXT | killed-worker | stalled-worker | suspend-all | suspend-master | signals | one-frame
-#   | lost-worker MODE AT [RANKS] | lost-encoder MODE | lost-all | lost-master | poison-frame
+#   | lost-worker MODE AT [RANKS] | lost-encoder MODE | lost-all | lost-master | lost-master-load STAGE NP | poison-frame
 #   | odd-size | bad-output
 set -euo pipefail
 RAYFARM=$1 SRC=$2 WORK=$3 CASE=$4
@@ -589,9 +589,10 @@ lost-all)
     ;;
 lost-master)
     # Issue 45 #2: kill -9 of rank 0 under --enable-recovery (which keeps the job alive): every
-    # worker leaves by itself once rank 0 has been silent for twice --timeout (render_film.cpp
-    # says why not sooner), so no rank process is left 2 x --timeout + 2 s after the kill, and
-    # --resume completes the film byte for byte (MP4 and PNGs) as one clean process makes it.
+    # worker sees rank 0's process end (the same machine: master_watch.h) and leaves by itself,
+    # so no rank process is left --timeout + 2 s after the kill (a worker that cannot see rank
+    # 0 waits for twice --timeout of silence: render_film.cpp says why), and --resume completes
+    # the film byte for byte (MP4 and PNGs) as one clean process makes it.
     timeout=4
     rm -rf lmaster.* lmasterone.*
     small=(render "$FLIGHT" --size 160x90 --spp 9 --frames 0:47 --chunk-frames 6 --mode frame)
@@ -611,20 +612,77 @@ lost-master)
     while [ -n "$left" ]; do
         still=""; for p in $left; do kill -0 "$p" 2> /dev/null && still="$still $p"; done; left=$still
         [ -z "$left" ] && break
-        python3 -c "import sys,time; sys.exit(time.time()-float(sys.argv[1]) > float(sys.argv[2]))" "$start" $((2 * timeout + 2)) || break
+        python3 -c "import sys,time; sys.exit(time.time()-float(sys.argv[1]) > float(sys.argv[2]))" "$start" $((timeout + 2)) || break
         sleep 0.05
     done
     took=$(python3 -c "import sys,time; print(round(time.time()-float(sys.argv[1]),2))" "$start")
     [ -z "$left" ] || { kill -9 $left 2> /dev/null; cat lmaster.log; fail "ranks$left still run $took s after rank 0 was killed (--timeout $timeout)"; }
     set +e; wait "$pid"; set -e
     kill "$guard" 2> /dev/null || true
-    [ "$(grep -c "rank 0 has been silent" lmaster.log)" = 3 ] || { cat lmaster.log; fail "not every worker said rank 0 fell silent"; }
+    [ "$(grep -c "rank 0's process has ended (killed or crashed); this worker stops" lmaster.log)" = 3 ] ||
+        { cat lmaster.log; fail "not every worker said rank 0's process ended"; }
     mpirun --oversubscribe --enable-recovery -np 4 "$RAYFARM" "${small[@]}" --timeout $timeout -o lmaster.mp4 --resume 2> lmasterres.log ||
         { cat lmasterres.log; fail "resume failed"; }
     grep -q "^rayfarm: wrote lmaster.mp4: 48 frames" lmasterres.log || { cat lmasterres.log; fail "the resumed film did not complete"; }
     cmp -s lmasterone.mp4 lmaster.mp4 || fail "resumed: the MP4 differs from one process's"
     cmp -s <(pngs_md5 lmasterone.mp4.frames) <(pngs_md5 lmaster.mp4.frames) || fail "resumed: PNGs differ from one process's"
     echo "lost-master: the last rank left $took s after kill -9 of rank 0 (--timeout $timeout); resumed byte-identical to one process (MP4 and PNGs)"
+    ;;
+lost-master-load)
+    # Issue 45 #2: rank 0 dies before a broadcast of the scene: a test hook
+    # (RAYFARM_TEST_MASTER_HOLD=files: before the scene's files go out, the workers wait for
+    # them; =job: before the job goes out, the workers have built the scene) holds rank 0 there,
+    # beating as while it loads a huge model. The workers wait past every silence limit (rank 0
+    # may load for minutes); kill -9 of rank 0 then ends every rank within --timeout + 2 s; and
+    # --resume (its scene broadcast in 4 KiB pieces) completes the film byte for byte (before
+    # the job rank 0 has no frame list yet: --resume says so, and the run without it does).
+    stage=$1 np=$2 timeout=2
+    rm -rf hold.* holdone.*
+    small=(render "$FLIGHT" --size 160x90 --spp 4 --frames 0:23 --chunk-frames 6 --mode frame)
+    "$RAYFARM" "${small[@]}" -o holdone.mp4 2> holdone.log || { cat holdone.log; fail "one-process reference failed"; }
+    RAYFARM_TEST_MASTER_HOLD=$stage mpirun -x RAYFARM_TEST_MASTER_HOLD --oversubscribe --enable-recovery -np "$np" "$RAYFARM" \
+        "${small[@]}" --timeout $timeout -o hold.mp4 2> hold.log &
+    pid=$!
+    wait_for_line hold.log "rank 0 holds before broadcasting the $stage" 60
+    ranks=""
+    for r in $(seq 0 $((np - 1))); do ranks="$ranks $(rank_pid "$pid" "$r")"; done
+    [ "$(wc -w <<<"$ranks")" = "$np" ] || fail "expected $np ranks, found:$ranks"
+    ( sleep 60; kill -9 $ranks "$pid" 2> /dev/null ) > /dev/null 2>&1 &  # not holding ctest's pipe open
+    guard=$!
+    # Past the silence limit (twice --timeout, 4 s at least): rank 0's beats keep them waiting.
+    sleep 6
+    for p in $ranks; do kill -0 "$p" 2> /dev/null || { cat hold.log; fail "rank pid $p left while rank 0 loaded (and beat)"; }; done
+    start=$(date +%s.%N)
+    kill -9 $(rank_pid "$pid" 0)
+    left=$ranks
+    while [ -n "$left" ]; do
+        still=""; for p in $left; do kill -0 "$p" 2> /dev/null && still="$still $p"; done; left=$still
+        [ -z "$left" ] && break
+        python3 -c "import sys,time; sys.exit(time.time()-float(sys.argv[1]) > float(sys.argv[2]))" "$start" $((timeout + 2)) || break
+        sleep 0.05
+    done
+    took=$(python3 -c "import sys,time; print(round(time.time()-float(sys.argv[1]),2))" "$start")
+    [ -z "$left" ] || { kill -9 $left 2> /dev/null; cat hold.log; fail "ranks$left still run $took s after rank 0 was killed before the $stage broadcast"; }
+    set +e; wait "$pid"; set -e
+    kill "$guard" 2> /dev/null || true
+    [ "$(grep -c "rank 0's process has ended (killed or crashed); this worker stops" hold.log)" = $((np - 1)) ] ||
+        { cat hold.log; fail "not every worker said rank 0's process ended"; }
+    again=(--resume)
+    if [ "$stage" = files ]; then
+        # Killed before it decided the job, rank 0 wrote no frame list: --resume says so, and the
+        # run without it takes over the dead run's locks.
+        # (mpirun --enable-recovery exits 0 whatever its ranks' status: the line tells.)
+        mpirun --oversubscribe --enable-recovery -np "$np" "$RAYFARM" "${small[@]}" --timeout $timeout -o hold.mp4 --resume 2> holdres.log || true
+        grep -q "rayfarm: error: hold.mp4.frames: nothing to resume (no rayfarm-frames.json here; run without --resume)" holdres.log ||
+            { cat holdres.log; fail "--resume after a rank 0 killed before the job: expected 'nothing to resume'"; }
+        again=()
+    fi
+    RAYFARM_BROADCAST_CHUNK=4096 mpirun -x RAYFARM_BROADCAST_CHUNK --oversubscribe --enable-recovery -np "$np" "$RAYFARM" \
+        "${small[@]}" --timeout $timeout -o hold.mp4 "${again[@]}" 2> holdres.log || { cat holdres.log; fail "the run after failed"; }
+    grep -q "^rayfarm: wrote hold.mp4: 24 frames" holdres.log || { cat holdres.log; fail "the resumed film did not complete"; }
+    cmp -s holdone.mp4 hold.mp4 || fail "resumed: the MP4 differs from one process's"
+    cmp -s <(pngs_md5 holdone.mp4.frames) <(pngs_md5 hold.mp4.frames) || fail "resumed: PNGs differ from one process's"
+    echo "lost-master-load: rank 0 held before the $stage broadcast 6 s, $((np - 1)) workers waited; the last rank left $took s after its kill -9 (--timeout $timeout); run again ${again[*]:-without --resume}: byte-identical (MP4 and PNGs)"
     ;;
 poison-frame)
     # Issue 45 #2: a frame that kills every worker rendering it (the test hook
