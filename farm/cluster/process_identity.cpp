@@ -1,5 +1,6 @@
 #include "farm/cluster/process_identity.h"
 
+#include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -11,26 +12,31 @@ namespace rf::farm {
 
 namespace {
 
-/// /proc/PID/stat's state letter and starttime; false when the file cannot be read (no such
-/// process). The command name (field 2) may hold spaces and parentheses: the fields after it
-/// are counted from its last ')'.
-bool readStat(int64_t pid, char& state, uint64_t& startTicks) {
+/// What reading /proc/PID/stat found.
+enum class StatRead { Read, NoProcess, Unreadable };
+
+/// /proc/PID/stat's state letter and starttime. NoProcess only where the kernel says there is
+/// no such process (ENOENT, ESRCH); anything else (out of file descriptors, memory, a refused
+/// read, an odd line) is Unreadable, which proves nothing about the process. The command name
+/// (field 2) may hold spaces and parentheses: the fields after it are counted from its last ')'.
+StatRead readStat(int64_t pid, char& state, uint64_t& startTicks) {
     const std::string path = "/proc/" + std::to_string(pid) + "/stat";
     std::FILE* f = std::fopen(path.c_str(), "re");
-    if (!f) return false;
+    if (!f) return errno == ENOENT || errno == ESRCH ? StatRead::NoProcess : StatRead::Unreadable;
     char buf[1024];
     const size_t n = std::fread(buf, 1, sizeof buf - 1, f);
     std::fclose(f);
     buf[n] = '\0';
+    if (n == 0) return StatRead::NoProcess;  // the process went between the open and the read
     const char* p = std::strrchr(buf, ')');
-    if (!p) return false;
+    if (!p) return StatRead::Unreadable;
     // After ") ": field 3 (state), then fields 4 to 21, then 22 (starttime).
     unsigned long long ticks = 0;
     if (std::sscanf(p + 1, " %c %*s %*s %*s %*s %*s %*s %*s %*s %*s %*s %*s %*s %*s %*s %*s %*s %*s %*s %llu", &state,
                     &ticks) != 2)
-        return false;
+        return StatRead::Unreadable;
     startTicks = ticks;
-    return true;
+    return StatRead::Read;
 }
 
 }  // namespace
@@ -39,7 +45,7 @@ ProcessIdentity ProcessIdentity::self() {
     ProcessIdentity id;
     id.pid = ::getpid();
     char state = 0;
-    if (!readStat(id.pid, state, id.startTicks)) return id;  // no /proc: pidNamespace 0, never comparable
+    if (readStat(id.pid, state, id.startTicks) != StatRead::Read) return id;  // no /proc: pidNamespace 0, never comparable
     struct stat ns {};
     if (::stat("/proc/self/ns/pid", &ns) != 0) return id;
     if (std::FILE* f = std::fopen("/proc/sys/kernel/random/boot_id", "re")) {
@@ -57,7 +63,11 @@ ProcessSeen lookAt(const ProcessIdentity& other) {
         return ProcessSeen::Unknown;
     char state = 0;
     uint64_t ticks = 0;
-    if (!readStat(other.pid, state, ticks)) return ProcessSeen::Ended;
+    switch (readStat(other.pid, state, ticks)) {
+    case StatRead::NoProcess: return ProcessSeen::Ended;
+    case StatRead::Unreadable: return ProcessSeen::Unknown;
+    case StatRead::Read: break;
+    }
     if (ticks != other.startTicks || state == 'Z' || state == 'X') return ProcessSeen::Ended;
     return ProcessSeen::Running;
 }

@@ -1,5 +1,7 @@
 #include "farm/cluster/scene_broadcast.h"
 
+#include <algorithm>
+
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
@@ -165,8 +167,10 @@ SharedScene shareScene(Transport& t, const std::string& path, const std::functio
         if (t.size() > 1) sendWatched(t, payload);
     } else {
         // Rank 0 may load a huge model for minutes before each broadcast: the wait lasts as
-        // long as its beats come, and ends when it is gone (master_watch.h).
-        MasterWatch watch(t, masterSilence, masterSilence);
+        // long as its beats come, and ends when it is gone (master_watch.h). Before its first
+        // beat the limit is longer: in a batch, a worker waits here for the next film while
+        // rank 0, not beating, finishes the last one (its own frame, stats, the next set-up).
+        MasterWatch watch(t, masterSilence, std::max(24.0, 6.0 * masterSilence));
         auto receive = [&] {
             receiveWatched(t, payload, watch);
             if (payload.empty() || payload[0] != '0') throw PeerFailed(payload == "2" ? 2 : 1);

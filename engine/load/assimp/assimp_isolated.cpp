@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <memory>
 #include <new>
 #include <stdexcept>
 
@@ -68,6 +69,19 @@ public:
         const char* p = bytes_.data() + pos_;
         pos_ += n;
         return p;
+    }
+    /// count elements of size bytes, the product checked without overflow.
+    const char* takeArray(uint64_t count, uint64_t size) {
+        if (size != 0 && count > remaining() / size) throw std::runtime_error("truncated");
+        return take(count * size);
+    }
+    uint64_t remaining() const { return bytes_.size() - pos_; }
+    /// A count of records of at least minBytes each that the bytes left can hold: checked before
+    /// anything is allocated for them.
+    unsigned records(uint64_t minBytes) {
+        const uint64_t n = u64();
+        if (n > UINT32_MAX || n > remaining() / minBytes) throw std::runtime_error("count beyond the message");
+        return unsigned(n);
     }
     bool atEnd() const { return pos_ == bytes_.size(); }
 
@@ -228,17 +242,27 @@ void takeExtras(aiScene& scene, std::string& out) {
     ::prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (::getppid() != parent) ::_exit(3);
     if (__sanitizer_set_death_callback) __sanitizer_set_death_callback(nullptr);
-    // A crash ends the child plainly (the parent names the signal), not through handlers the
-    // parent installed: the farm's interrupt handlers, a fuzzer's crash handlers.
+    // The pipe above the standard descriptors (a parent started without them got it there), so
+    // that quieting them below does not close it.
+    if (fd <= STDERR_FILENO) fd = ::fcntl(fd, F_DUPFD_CLOEXEC, STDERR_FILENO + 1);
     // Quiet: a crash's message (glibc's "double free detected", a sanitizer's report) would be a
     // second line beside rayfarm's one. glibc writes those to the controlling terminal, which
-    // a session of its own does not have; stdout and stderr go nowhere.
+    // a session of its own does not have; the standard descriptors go nowhere.
     ::setsid();
     if (const int null = ::open("/dev/null", O_RDWR | O_CLOEXEC); null >= 0) {
-        ::dup2(null, STDOUT_FILENO);
-        ::dup2(null, STDERR_FILENO);
+        for (int to : {STDIN_FILENO, STDOUT_FILENO, STDERR_FILENO}) ::dup2(null, to);
     }
+    // A crash ends the child plainly (the parent names the signal), not through handlers the
+    // parent installed (the farm's interrupt handlers, a fuzzer's crash handlers) nor a mask the
+    // forking thread had; and without a core dump (a crash is the case this is for, and a core
+    // would hold a copy of the parent's scene).
     for (int sig : {SIGINT, SIGTERM, SIGHUP, SIGSEGV, SIGBUS, SIGABRT, SIGILL, SIGFPE, SIGPIPE}) std::signal(sig, SIG_DFL);
+    sigset_t none;
+    sigemptyset(&none);
+    ::sigprocmask(SIG_SETMASK, &none, nullptr);
+    const rlimit noCore{0, 0};
+    ::setrlimit(RLIMIT_CORE, &noCore);
+    ::prctl(PR_SET_DUMPABLE, 0);
     if (const uint64_t now = currentData(); now > 0) {
         const rlimit limit{now + memoryBytes, RLIM_INFINITY};
         ::setrlimit(RLIMIT_DATA, &limit);
@@ -307,12 +331,57 @@ std::string signalName(int sig) {
     return "signal " + std::to_string(sig) + (d ? std::string(", ") + d : std::string());
 }
 
-/// Kills and reaps the child (it may be gone already).
-void endChild(pid_t pid) {
-    ::kill(pid, SIGKILL);
-    while (::waitpid(pid, nullptr, 0) < 0 && errno == EINTR) {
+/// The parent's hold on the child: on every way out (an exception included) its pipe is closed
+/// and the child killed and reaped, unless reap() already reaped it.
+class ChildHold {
+public:
+    ChildHold(pid_t pid, int fd) : pid_(pid), fd_(fd) {}
+    ChildHold(const ChildHold&) = delete;
+    ChildHold& operator=(const ChildHold&) = delete;
+    ~ChildHold() { end(); }
+    void closePipe() {
+        if (fd_ >= 0) ::close(fd_);
+        fd_ = -1;
     }
-}
+    /// Kills and reaps the child (it may be gone already).
+    void end() {
+        closePipe();
+        if (pid_ <= 0) return;
+        ::kill(pid_, SIGKILL);
+        while (::waitpid(pid_, nullptr, 0) < 0 && errno == EINTR) {
+        }
+        pid_ = -1;
+    }
+    /// The child's exit status once it ends, which it does right after its message; killed if it
+    /// has not within a few seconds (0 where no status can be had).
+    int reap() {
+        closePipe();
+        if (pid_ <= 0) return 0;
+        const auto giveUp = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+        int status = 0;
+        for (;;) {
+            const pid_t w = ::waitpid(pid_, &status, WNOHANG);
+            if (w == pid_) break;
+            if (w < 0 && errno != EINTR) {
+                status = 0;
+                break;
+            }
+            if (std::chrono::steady_clock::now() > giveUp) {
+                ::kill(pid_, SIGKILL);
+                while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
+                }
+                break;
+            }
+            ::usleep(2000);
+        }
+        pid_ = -1;
+        return status;
+    }
+
+private:
+    pid_t pid_;
+    int fd_;
+};
 
 /// Parent: the arrays takeMeshArrays sent, back into the meshes read from the dump.
 void putMeshArrays(aiScene& scene, Reader& in) {
@@ -336,7 +405,7 @@ void putMeshArrays(aiScene& scene, Reader& in) {
         for (size_t k = 0; k < arrays.size(); ++k) {
             if (!(h.present >> k & 1)) continue;
             const size_t bytes = arrays[k].second * h.vertices;
-            const char* src = in.take(bytes);
+            const char* src = in.takeArray(h.vertices, arrays[k].second);
             // Allocated as aiMesh's destructor frees them (delete[] of the element type).
             void* dst = arrays[k].second == sizeof(aiColor4D) ? static_cast<void*>(new aiColor4D[h.vertices])
                                                               : static_cast<void*>(new aiVector3D[h.vertices]);
@@ -345,8 +414,8 @@ void putMeshArrays(aiScene& scene, Reader& in) {
         }
         m.mNumVertices = unsigned(h.vertices);
         for (unsigned t = 0; t < kUvSets; ++t) m.mNumUVComponents[t] = unsigned(h.uv[t]);
-        const char* counts = in.take(h.faces * sizeof(uint32_t));  // unaligned in the message: copied out
-        const char* indices = in.take(h.indices * sizeof(uint32_t));
+        const char* counts = in.takeArray(h.faces, sizeof(uint32_t));  // unaligned in the message: copied out
+        const char* indices = in.takeArray(h.indices, sizeof(uint32_t));
         m.mFaces = new aiFace[h.faces];
         m.mNumFaces = unsigned(h.faces);
         uint64_t at = 0;
@@ -384,7 +453,7 @@ void putExtras(aiScene& scene, Reader& in) {
     for (unsigned i = 0; i < scene.mNumMeshes; ++i) {
         aiMesh& m = *scene.mMeshes[i];
         m.mName = aiString(in.string());
-        const unsigned n = count(UINT32_MAX);
+        const unsigned n = in.records(32);  // an anim mesh: name, vertices, weight, arrays present
         m.mMethod = count(UINT32_MAX);
         if (n == 0) continue;
         m.mAnimMeshes = new aiAnimMesh*[n]();
@@ -399,7 +468,7 @@ void putExtras(aiScene& scene, Reader& in) {
             for (size_t k = 0; k < arrays.size(); ++k) {
                 if (!(present >> k & 1)) continue;
                 const size_t bytes = arrays[k].second * a.mNumVertices;
-                const char* src = in.take(bytes);
+                const char* src = in.takeArray(a.mNumVertices, arrays[k].second);
                 void* dst = arrays[k].second == sizeof(aiColor4D) ? static_cast<void*>(new aiColor4D[a.mNumVertices])
                                                                   : static_cast<void*>(new aiVector3D[a.mNumVertices]);
                 std::memcpy(dst, src, bytes);
@@ -410,25 +479,27 @@ void putExtras(aiScene& scene, Reader& in) {
     if (in.u64() != scene.mNumAnimations) throw std::runtime_error("animation count");
     for (unsigned i = 0; i < scene.mNumAnimations; ++i) {
         aiAnimation& an = *scene.mAnimations[i];
-        const unsigned n = count(UINT32_MAX);
+        const unsigned n = in.records(16);  // a channel: name, keys
         if (n == 0) continue;
         an.mMorphMeshChannels = new aiMeshMorphAnim*[n]();
         an.mNumMorphMeshChannels = n;
         for (unsigned c = 0; c < n; ++c) {
             aiMeshMorphAnim& ch = *(an.mMorphMeshChannels[c] = new aiMeshMorphAnim());
             ch.mName = aiString(in.string());
-            const unsigned keys = count(UINT32_MAX);
+            const unsigned keys = in.records(16);  // a key: time, values
             ch.mKeys = new aiMeshMorphKey[keys];
             ch.mNumKeys = keys;
             for (unsigned k = 0; k < keys; ++k) {
                 aiMeshMorphKey& key = ch.mKeys[k];
                 key.mTime = f64();
                 const unsigned values = count(UINT32_MAX);
-                const char* v = in.take(uint64_t(values) * sizeof(unsigned));
-                const char* w = in.take(uint64_t(values) * sizeof(double));
+                const char* v = in.takeArray(values, sizeof(unsigned));
+                const char* w = in.takeArray(values, sizeof(double));
                 if (values == 0) continue;
-                key.mValues = new unsigned[values];
-                key.mWeights = new double[values];
+                auto valueArray = std::make_unique<unsigned[]>(values);
+                auto weightArray = std::make_unique<double[]>(values);
+                key.mValues = valueArray.release();
+                key.mWeights = weightArray.release();
                 key.mNumValuesAndWeights = values;
                 std::memcpy(key.mValues, v, values * sizeof(unsigned));
                 std::memcpy(key.mWeights, w, values * sizeof(double));
@@ -486,10 +557,18 @@ const aiScene* readMessage(Assimp::Importer& into, const std::string& path, cons
     } catch (const std::runtime_error& e) {
         if (dynamic_cast<const InputError*>(&e)) throw;
         throw InputError(path, std::string("the importer's process sent a malformed answer (") + e.what() + ")");
+    } catch (const std::bad_alloc&) {
+        throw InputError(path, "out of memory reading back the scene assimp made");
+    } catch (const std::length_error&) {
+        throw InputError(path, "the importer's process sent a malformed answer (a size beyond any memory)");
     }
 }
 
 }  // namespace
+
+const aiScene* readChildMessage(Assimp::Importer& into, const std::string& path, const std::string& msg, ChildImportReport& report) {
+    return readMessage(into, path, msg, report);
+}
 
 const aiScene* importInChild(Assimp::Importer& into, const std::string& path, uint64_t inputBytes,
                              const std::function<const aiScene*(ChildImportReport&)>& read, ChildImportReport& report,
@@ -517,19 +596,20 @@ const aiScene* importInChild(Assimp::Importer& into, const std::string& path, ui
         runChild(fds[1], parent, memory, read);
     }
     ::close(fds[1]);
+    ChildHold child(pid, fds[0]);
     ::fcntl(fds[0], F_SETPIPE_SZ, 1 << 20);  // fewer switches for a big scene; 64 KiB if refused
 
-    // The message, read as it comes, while watching the clock and cancels.
+    // The message, read as it comes, while watching the clock and cancels, up to the length it
+    // states (not only to the end of the pipe: another fork of this process may hold its end).
     std::string msg;
-    bool reserved = false;
+    uint64_t expected = 0;  // the whole message's length, once its header came
     const uint64_t maxMessage = memory + (64ull << 20);
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
     std::string stopped;  // why the parent stopped reading before the end
     std::vector<char> chunk(1 << 20);
-    for (;;) {
+    while (expected == 0 || msg.size() < expected) {
         if (loadCancelSignal() != 0) {
-            ::close(fds[0]);
-            endChild(pid);
+            child.end();
             pollLoadCancel();
         }
         if (std::chrono::steady_clock::now() > deadline) {
@@ -553,31 +633,24 @@ const aiScene* importInChild(Assimp::Importer& into, const std::string& path, ui
             break;
         }
         msg.append(chunk.data(), size_t(n));
-        if (!reserved && msg.size() >= sizeof kMagic + 8) {
+        if (expected == 0 && msg.size() >= sizeof kMagic + 8) {
             uint64_t total;
             std::memcpy(&total, msg.data() + sizeof kMagic, 8);
             if (total > maxMessage) {
                 stopped = "assimp made more of it than a file of its size may take";
                 break;
             }
-            msg.reserve(sizeof kMagic + 8 + total);
-            reserved = true;
+            expected = sizeof kMagic + 8 + total;
+            msg.reserve(expected);
         }
     }
-    ::close(fds[0]);
+    child.closePipe();
     if (!stopped.empty()) {
-        endChild(pid);
+        child.end();
         throw InputError(path, stopped + "; refused");
     }
-    // The pipe closed: the child has ended or is about to. Its message is read first, so that the
-    // child's exit (unmapping all it allocated) overlaps with the reading back; its status then
-    // says why a message is short.
-    auto reap = [pid] {
-        int status = 0;
-        while (::waitpid(pid, &status, 0) < 0)
-            if (errno != EINTR) return 0;
-        return status;
-    };
+    // The message is read back before the child is reaped, so that its exit (unmapping all it
+    // allocated) overlaps with the reading; its status then says why a message is short.
     auto whyDead = [](int status) -> std::string {
         if (WIFSIGNALED(status)) return "assimp crashed reading it (" + signalName(WTERMSIG(status)) + "); the file is refused";
         if (WIFEXITED(status) && WEXITSTATUS(status) != 0)
@@ -588,12 +661,12 @@ const aiScene* importInChild(Assimp::Importer& into, const std::string& path, ui
     try {
         scene = readMessage(into, path, msg, report);
     } catch (const InputError&) {
-        const std::string dead = whyDead(reap());
-        if (loadCancelSignal() != 0) pollLoadCancel();  // a Ctrl-C that reached the child as well
+        const std::string dead = whyDead(child.reap());
+        pollLoadCancel();  // a cancel that came meanwhile wins
         if (!dead.empty()) throw InputError(path, dead);
         throw;
     }
-    reap();
+    child.reap();
     return scene;
 }
 

@@ -52,4 +52,9 @@ const aiScene* importInChild(Assimp::Importer& into, const std::string& path, ui
                              const std::function<const aiScene*(ChildImportReport&)>& read, ChildImportReport& report,
                              ChildImportLimits limits = {});
 
+/// The parent's side of the message a child sends (what importInChild does with it once read),
+/// for tests: a short or malformed message, or one whose counts no message could hold, is an
+/// InputError, never a crash or an allocation of its counts.
+const aiScene* readChildMessage(Assimp::Importer& into, const std::string& path, const std::string& msg, ChildImportReport& report);
+
 }  // namespace rf

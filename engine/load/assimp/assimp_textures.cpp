@@ -70,7 +70,7 @@ std::optional<std::vector<unsigned char>> metallicRoughnessMap(const std::vector
             uint8_t* o = &out[(size_t(y) * size_t(w) + size_t(x)) * 4];
             o[0] = 255;  // unused by glTF (occlusion's channel when packed)
             o[1] = r ? luminance(nearest(*r, x, y, w, h)) : 255;
-            o[2] = m ? luminance(nearest(*m, x, y, w, h)) : 0;
+            o[2] = m ? luminance(nearest(*m, x, y, w, h)) : 255;  // the factor alone, as without a map
             o[3] = 255;
         }
     return png(w, h, out, why);

@@ -19,7 +19,7 @@ std::optional<std::vector<unsigned char>> withOpacityMap(const std::vector<unsig
                                                          std::string& why);
 
 /// glTF's metallicRoughness texture from a roughness and a metalness map (either may be empty:
-/// roughness then 1, metalness 0, which the factors scale).
+/// its channel then 1, so that the factor alone sets it, as without a map).
 std::optional<std::vector<unsigned char>> metallicRoughnessMap(const std::vector<unsigned char>& roughness,
                                                                const std::vector<unsigned char>& metalness, std::string& why);
 

@@ -178,6 +178,23 @@ TEST(AssimpImport, SeparateOpacityMetalnessAndRoughnessMapsAreCombined) {
     EXPECT_EQ(mat->pbrMetallicRoughness.metallicFactor, 1.0);
     EXPECT_EQ(mat->pbrMetallicRoughness.roughnessFactor, 1.0);
     for (const std::string& n : notes) EXPECT_EQ(n.find("ignored (glTF takes alpha"), std::string::npos) << n;
+
+    // A roughness map alone on a metal (Pm 0.7): B stays 1, so the factor alone sets metalness.
+    writeFile(dir / "metal.obj", std::string("mtllib metal.mtl\nusemtl r\n") + kCubeFaces);
+    writeFile(dir / "metal.mtl", "newmtl r\nKd 1 1 1\nPm 0.7\nmap_Pr rough.png\n");
+    const tinygltf::Model m2 = import(dir / "metal.obj");
+    for (const auto& x : m2.materials)
+        if (x.name == "r") {
+            EXPECT_NEAR(x.pbrMetallicRoughness.metallicFactor, 0.7, 1e-6);
+            const int t = x.pbrMetallicRoughness.metallicRoughnessTexture.index;
+            ASSERT_GE(t, 0);
+            const auto& img = m2.images.at(size_t(m2.textures.at(size_t(t)).source));
+            std::string why;
+            const auto px = gltf::decodeImage(img.image.data(), img.image.size(), 0, why);
+            ASSERT_TRUE(px) << why;
+            EXPECT_EQ(px->pixels[1], 51);
+            EXPECT_EQ(px->pixels[2], 255);
+        }
 }
 
 TEST(AssimpImport, StlIsZUpMillimetresAndNeutral) {
