@@ -383,6 +383,13 @@ private:
     int fd_;
 };
 
+/// Frees an array the dump's reader may have left in a slot the raw arrays replace (typed as
+/// assimp's destructors free it).
+void freeArray(void* p, size_t elementSize) {
+    if (elementSize == sizeof(aiColor4D)) delete[] static_cast<aiColor4D*>(p);
+    else delete[] static_cast<aiVector3D*>(p);
+}
+
 /// Parent: the arrays takeMeshArrays sent, back into the meshes read from the dump.
 void putMeshArrays(aiScene& scene, Reader& in) {
     if (in.u64() != scene.mNumMeshes) throw std::runtime_error("mesh count");
@@ -410,12 +417,14 @@ void putMeshArrays(aiScene& scene, Reader& in) {
             void* dst = arrays[k].second == sizeof(aiColor4D) ? static_cast<void*>(new aiColor4D[h.vertices])
                                                               : static_cast<void*>(new aiVector3D[h.vertices]);
             std::memcpy(dst, src, bytes);
+            freeArray(*arrays[k].first, arrays[k].second);
             *arrays[k].first = dst;
         }
         m.mNumVertices = unsigned(h.vertices);
         for (unsigned t = 0; t < kUvSets; ++t) m.mNumUVComponents[t] = unsigned(h.uv[t]);
         const char* counts = in.takeArray(h.faces, sizeof(uint32_t));  // unaligned in the message: copied out
         const char* indices = in.takeArray(h.indices, sizeof(uint32_t));
+        delete[] m.mFaces;  // the reader's empty array (new aiFace[0] still allocates)
         m.mFaces = new aiFace[h.faces];
         m.mNumFaces = unsigned(h.faces);
         uint64_t at = 0;
@@ -456,6 +465,7 @@ void putExtras(aiScene& scene, Reader& in) {
         const unsigned n = in.records(32);  // an anim mesh: name, vertices, weight, arrays present
         m.mMethod = count(UINT32_MAX);
         if (n == 0) continue;
+        delete[] m.mAnimMeshes;  // none were sent in the dump: an empty array at most
         m.mAnimMeshes = new aiAnimMesh*[n]();
         m.mNumAnimMeshes = n;
         for (unsigned t = 0; t < n; ++t) {
@@ -472,6 +482,7 @@ void putExtras(aiScene& scene, Reader& in) {
                 void* dst = arrays[k].second == sizeof(aiColor4D) ? static_cast<void*>(new aiColor4D[a.mNumVertices])
                                                                   : static_cast<void*>(new aiVector3D[a.mNumVertices]);
                 std::memcpy(dst, src, bytes);
+                freeArray(*arrays[k].first, arrays[k].second);
                 *arrays[k].first = dst;
             }
         }
@@ -481,6 +492,7 @@ void putExtras(aiScene& scene, Reader& in) {
         aiAnimation& an = *scene.mAnimations[i];
         const unsigned n = in.records(16);  // a channel: name, keys
         if (n == 0) continue;
+        delete[] an.mMorphMeshChannels;
         an.mMorphMeshChannels = new aiMeshMorphAnim*[n]();
         an.mNumMorphMeshChannels = n;
         for (unsigned c = 0; c < n; ++c) {
@@ -513,7 +525,9 @@ void unwrapMetadata(aiScene& scene) {
     aiNode* wrapper = scene.mRootNode;
     if (!wrapper || wrapper->mName != aiString(std::string(kMetadataNode)) || wrapper->mNumChildren != 1) return;
     aiNode* root = wrapper->mChildren[0];
-    wrapper->mChildren[0] = nullptr;
+    // assimp 5.2's ~aiNode frees the child array only with children in it: freed here.
+    delete[] wrapper->mChildren;
+    wrapper->mChildren = nullptr;
     wrapper->mNumChildren = 0;
     root->mParent = nullptr;
     delete scene.mMetaData;
