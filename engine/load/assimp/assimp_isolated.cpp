@@ -390,6 +390,22 @@ void freeArray(void* p, size_t elementSize) {
     else delete[] static_cast<aiVector3D*>(p);
 }
 
+/// Parent: the vertex arrays present names (a bit each, vertexArrays' order), count elements
+/// each, into a mesh or a morph target, allocated as assimp's destructors free them.
+template <class Mesh>
+void putVertexArrays(Mesh& m, uint64_t present, uint64_t count, Reader& in) {
+    const auto arrays = vertexArrays(m);
+    for (size_t k = 0; k < arrays.size(); ++k) {
+        if (!(present >> k & 1)) continue;
+        const char* src = in.takeArray(count, arrays[k].second);
+        void* dst = arrays[k].second == sizeof(aiColor4D) ? static_cast<void*>(new aiColor4D[count])
+                                                          : static_cast<void*>(new aiVector3D[count]);
+        std::memcpy(dst, src, arrays[k].second * count);
+        freeArray(*arrays[k].first, arrays[k].second);
+        *arrays[k].first = dst;
+    }
+}
+
 /// Parent: the arrays takeMeshArrays sent, back into the meshes read from the dump.
 void putMeshArrays(aiScene& scene, Reader& in) {
     if (in.u64() != scene.mNumMeshes) throw std::runtime_error("mesh count");
@@ -408,18 +424,7 @@ void putMeshArrays(aiScene& scene, Reader& in) {
     for (unsigned i = 0; i < scene.mNumMeshes; ++i) {
         aiMesh& m = *scene.mMeshes[i];
         const Header& h = headers[i];
-        const auto arrays = vertexArrays(m);
-        for (size_t k = 0; k < arrays.size(); ++k) {
-            if (!(h.present >> k & 1)) continue;
-            const size_t bytes = arrays[k].second * h.vertices;
-            const char* src = in.takeArray(h.vertices, arrays[k].second);
-            // Allocated as aiMesh's destructor frees them (delete[] of the element type).
-            void* dst = arrays[k].second == sizeof(aiColor4D) ? static_cast<void*>(new aiColor4D[h.vertices])
-                                                              : static_cast<void*>(new aiVector3D[h.vertices]);
-            std::memcpy(dst, src, bytes);
-            freeArray(*arrays[k].first, arrays[k].second);
-            *arrays[k].first = dst;
-        }
+        putVertexArrays(m, h.present, h.vertices, in);
         m.mNumVertices = unsigned(h.vertices);
         for (unsigned t = 0; t < kUvSets; ++t) m.mNumUVComponents[t] = unsigned(h.uv[t]);
         const char* counts = in.takeArray(h.faces, sizeof(uint32_t));  // unaligned in the message: copied out
@@ -474,17 +479,7 @@ void putExtras(aiScene& scene, Reader& in) {
             a.mNumVertices = count(UINT32_MAX);
             a.mWeight = float(f64());
             const uint64_t present = in.u64();
-            const auto arrays = vertexArrays(a);
-            for (size_t k = 0; k < arrays.size(); ++k) {
-                if (!(present >> k & 1)) continue;
-                const size_t bytes = arrays[k].second * a.mNumVertices;
-                const char* src = in.takeArray(a.mNumVertices, arrays[k].second);
-                void* dst = arrays[k].second == sizeof(aiColor4D) ? static_cast<void*>(new aiColor4D[a.mNumVertices])
-                                                                  : static_cast<void*>(new aiVector3D[a.mNumVertices]);
-                std::memcpy(dst, src, bytes);
-                freeArray(*arrays[k].first, arrays[k].second);
-                *arrays[k].first = dst;
-            }
+            putVertexArrays(a, present, a.mNumVertices, in);
         }
     }
     if (in.u64() != scene.mNumAnimations) throw std::runtime_error("animation count");
